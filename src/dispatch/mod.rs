@@ -1,0 +1,1 @@
+//! dispatch (see DESIGN in README).

@@ -1,0 +1,13 @@
+//! mavtempo: IxTeT-eXeC style temporal planning, execution and plan repair for MAVLink vehicles.
+//!
+//! Data flow: `lang` → `model` → `planner` (over `plan`, `stn`) → `exec` → `dispatch` → `vehicle`.
+
+pub mod cli;
+pub mod dispatch;
+pub mod exec;
+pub mod lang;
+pub mod model;
+pub mod plan;
+pub mod planner;
+pub mod stn;
+pub mod vehicle;

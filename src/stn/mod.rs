@@ -1,0 +1,1 @@
+//! stn (see DESIGN in README).

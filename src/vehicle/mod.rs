@@ -1,0 +1,1 @@
+//! vehicle (see DESIGN in README).
