@@ -121,8 +121,15 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// A missing `;` is reported just after the previous token, where it belongs.
     fn semi(&mut self) -> PResult<()> {
-        self.expect(Tok::Semi, "`;`").map(|_| ())
+        if self.eat(&Tok::Semi) {
+            return Ok(());
+        }
+        Err(self.src.error_at(
+            self.prev_span().end,
+            format!("expected `;`, found {}", self.peek().describe()),
+        ))
     }
 
     // ---------------------------------------------------------------- files
