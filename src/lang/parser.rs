@@ -93,6 +93,15 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// `kw EXPR` if the next word is `kw`.
+    fn opt_kw_expr(&mut self, kw: &str) -> PResult<Option<Expr>> {
+        if self.eat_kw(kw) {
+            Ok(Some(self.expr()?))
+        } else {
+            Ok(None)
+        }
+    }
+
     fn expect_kw(&mut self, kw: &str) -> PResult<Span> {
         if self.is_kw(kw) {
             Ok(self.bump().span)
@@ -190,11 +199,7 @@ impl<'a> Parser<'a> {
                 let name = self.ident("a resource name")?;
                 self.expect(Tok::Colon, "`:` and `unary` or `reservoir`")?;
                 let kind = self.ident("`unary` or `reservoir`")?;
-                let capacity = if self.eat_kw("capacity") {
-                    Some(self.expr()?)
-                } else {
-                    None
-                };
+                let capacity = self.opt_kw_expr("capacity")?;
                 self.semi()?;
                 Ok(DomainItem::Resource {
                     name,
@@ -226,15 +231,11 @@ impl<'a> Parser<'a> {
             let lat = self.expr()?;
             self.expect_kw("lon")?;
             let lon = self.expr()?;
-            let alt = if self.eat_kw("alt") {
-                Some(self.expr()?)
-            } else {
-                None
-            };
+            let alt = self.opt_kw_expr("alt")?;
             return Ok(PositionAst::Geo {
-                lat,
-                lon,
-                alt,
+                lat: Box::new(lat),
+                lon: Box::new(lon),
+                alt: alt.map(Box::new),
                 span: start.to(self.prev_span()),
             });
         }
@@ -559,39 +560,44 @@ impl<'a> Parser<'a> {
     }
 
     fn sum(&mut self) -> PResult<Expr> {
-        let mut lhs = self.product()?;
-        loop {
-            let op = match self.peek() {
-                Tok::Plus => BinOp::Add,
-                Tok::Minus => BinOp::Sub,
-                _ => return Ok(lhs),
-            };
-            self.bump();
-            let rhs = self.product()?;
-            let span = lhs.span.to(rhs.span);
-            lhs = Expr {
-                kind: ExprKind::Bin(op, Box::new(lhs), Box::new(rhs)),
-                span,
-            };
-        }
+        self.left_assoc(
+            |t| match t {
+                Tok::Plus => Some(BinOp::Add),
+                Tok::Minus => Some(BinOp::Sub),
+                _ => None,
+            },
+            Self::product,
+        )
     }
 
     fn product(&mut self) -> PResult<Expr> {
-        let mut lhs = self.atom()?;
-        loop {
-            let op = match self.peek() {
-                Tok::Star => BinOp::Mul,
-                Tok::Slash => BinOp::Div,
-                _ => return Ok(lhs),
-            };
+        self.left_assoc(
+            |t| match t {
+                Tok::Star => Some(BinOp::Mul),
+                Tok::Slash => Some(BinOp::Div),
+                _ => None,
+            },
+            Self::atom,
+        )
+    }
+
+    /// `operand (op operand)*`, grouping to the left.
+    fn left_assoc(
+        &mut self,
+        op_of: fn(&Tok) -> Option<BinOp>,
+        operand: fn(&mut Self) -> PResult<Expr>,
+    ) -> PResult<Expr> {
+        let mut lhs = operand(self)?;
+        while let Some(op) = op_of(self.peek()) {
             self.bump();
-            let rhs = self.atom()?;
+            let rhs = operand(self)?;
             let span = lhs.span.to(rhs.span);
             lhs = Expr {
                 kind: ExprKind::Bin(op, Box::new(lhs), Box::new(rhs)),
                 span,
             };
         }
+        Ok(lhs)
     }
 
     fn atom(&mut self) -> PResult<Expr> {
@@ -719,11 +725,7 @@ impl<'a> Parser<'a> {
                 let lat = self.expr()?;
                 self.expect_kw("lon")?;
                 let lon = self.expr()?;
-                let alt = if self.eat_kw("alt") {
-                    Some(self.expr()?)
-                } else {
-                    None
-                };
+                let alt = self.opt_kw_expr("alt")?;
                 self.semi()?;
                 Ok(ProblemItem::Home {
                     lat,
@@ -758,11 +760,7 @@ impl<'a> Parser<'a> {
                 loop {
                     let key = self.ident("`level` or `capacity`")?;
                     let value = self.expr()?;
-                    let from = if self.eat_kw("from") {
-                        Some(self.expr()?)
-                    } else {
-                        None
-                    };
+                    let from = self.opt_kw_expr("from")?;
                     items.push(ResourceItemAst { key, value, from });
                     if !self.eat(&Tok::Comma) {
                         break;
@@ -788,11 +786,7 @@ impl<'a> Parser<'a> {
         let attr = self.attr_ref()?;
         self.expect(Tok::Eq, "`=` and the value")?;
         let value = self.expr()?;
-        let at = if self.eat_kw("at") {
-            Some(self.expr()?)
-        } else {
-            None
-        };
+        let at = self.opt_kw_expr("at")?;
         self.semi()?;
         Ok(InitAst {
             attr,
@@ -810,11 +804,7 @@ impl<'a> Parser<'a> {
         } else {
             None
         };
-        let priority = if self.eat_kw("priority") {
-            Some(self.expr()?)
-        } else {
-            None
-        };
+        let priority = self.opt_kw_expr("priority")?;
         let body = self.body()?;
         self.eat(&Tok::Semi);
         Ok(GoalAst {

@@ -12,7 +12,7 @@ use super::ast::{
 };
 use super::diag::Span;
 use super::eval::{self, Clock, Ctx, TimeVal};
-use super::resolve_domain::{geo, position, type_ref, Names};
+use super::resolve_domain::{geo, logical_attr, position, type_ref, Names};
 
 /// A finite, non-negative time, or a reported error.
 fn date(ctx: &mut Ctx<'_>, e: &Expr, clock: Clock) -> Option<Time> {
@@ -296,31 +296,8 @@ fn ground_instances(
     a: &AttrRef,
     wildcard_ok: bool,
 ) -> Option<(AttrId, Vec<Vec<ObjectId>>, bool)> {
-    let Some(id) = domain.attr_id(&a.name.name) else {
-        let msg = if domain.resource_id(&a.name.name).is_some() {
-            format!(
-                "`{}` is a resource: give its level in a `resource` line",
-                a.name.name
-            )
-        } else {
-            format!("unknown attribute `{}`", a.name.name)
-        };
-        ctx.err(a.name.span, msg);
-        return None;
-    };
+    let id = logical_attr(ctx, domain, a, "give its level in a `resource` line")?;
     let attr = domain.attr(id);
-    if a.args.len() != attr.arity() {
-        ctx.err(
-            a.span,
-            format!(
-                "wrong number of arguments: `{}` takes {}, found {}",
-                attr.name,
-                attr.arity(),
-                a.args.len()
-            ),
-        );
-        return None;
-    }
     let mut combos: Vec<Vec<ObjectId>> = vec![Vec::new()];
     let mut wild = false;
     for (e, (_, t)) in a.args.iter().zip(&attr.params) {

@@ -11,7 +11,7 @@ use crate::model::{
 use super::ast::{AttrRef, BinOp, Expr, ExprKind, Ident, InSet, RelOp, Stmt, TaskAst, UsageAst};
 use super::diag::Span;
 use super::eval::{self, Clock, Ctx};
-use super::resolve_domain::{type_ref, Names};
+use super::resolve_domain::{logical_attr, type_ref, Names};
 
 enum Var {
     Sym(SymVarId),
@@ -162,31 +162,8 @@ impl Scope<'_> {
 
     /// `attr(args)` on a logical attribute: lookup, arity and argument types.
     fn attr_ref(&self, ctx: &mut Ctx<'_>, a: &AttrRef) -> Option<(AttrId, Vec<Term>)> {
-        let Some(id) = self.domain.attr_id(&a.name.name) else {
-            let msg = if self.domain.resource_id(&a.name.name).is_some() {
-                format!(
-                    "`{}` is a resource: use `use`, `consume` or `produce`",
-                    a.name.name
-                )
-            } else {
-                format!("unknown attribute `{}`", a.name.name)
-            };
-            ctx.err(a.name.span, msg);
-            return None;
-        };
+        let id = logical_attr(ctx, self.domain, a, "use `use`, `consume` or `produce`")?;
         let attr = self.domain.attr(id);
-        if a.args.len() != attr.arity() {
-            ctx.err(
-                a.span,
-                format!(
-                    "wrong number of arguments: `{}` takes {}, found {}",
-                    attr.name,
-                    attr.arity(),
-                    a.args.len()
-                ),
-            );
-            return None;
-        }
         let mut args = Vec::new();
         for (e, (_, t)) in a.args.iter().zip(&attr.params) {
             args.push(self.sym_term(ctx, e, Some(*t), false));
