@@ -13,6 +13,7 @@
 //! and [`Domain`] / [`Problem`] offer name → index lookups.
 
 mod attr;
+mod display;
 mod domain;
 mod geo;
 mod goal;
@@ -23,6 +24,7 @@ mod task;
 mod types;
 
 pub use attr::{LogicalAttr, ResourceAttr, ResourceKind, Value};
+pub use display::interval_string;
 pub use domain::Domain;
 pub use geo::{GeoPoint, Position};
 pub use goal::{Goal, GoalKind};
