@@ -3,8 +3,8 @@
 use std::collections::HashMap;
 
 use crate::model::{
-    AttrId, Bound, Domain, Fact, Goal, GoalKind, NumConstraint, Object, ObjectId, Problem,
-    ResourceKind, Term, Time, TimeInterval, TimedFact, TypeId, TypeKind, Value,
+    AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalKind, NumConstraint, Object, ObjectId,
+    Problem, ResourceKind, Term, Time, TimeInterval, TimedFact, TypeId, TypeKind, Value,
 };
 
 use super::ast::{
@@ -395,6 +395,23 @@ fn initial(ctx: &mut Ctx<'_>, domain: &Domain, p: &mut Problem, ast: &ProblemAst
             let Some(v) = value(ctx, domain, p, &init.value, domain.attr(attr).value_type) else {
                 continue;
             };
+            if wild {
+                let pattern = init
+                    .attr
+                    .args
+                    .iter()
+                    .map(|e| match &e.kind {
+                        ExprKind::Name(n) => p.object_id(n),
+                        _ => None,
+                    })
+                    .collect();
+                p.defaults.push(DefaultFact {
+                    at,
+                    attr,
+                    args: pattern,
+                    value: v,
+                });
+            }
             for args in instances {
                 let key = (attr, args.clone(), at);
                 match given.get(&key) {

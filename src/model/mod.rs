@@ -30,7 +30,7 @@ pub use geo::{GeoPoint, Position};
 pub use goal::{Goal, GoalKind};
 pub use ids::{AttrId, GoalId, NumVarId, ObjectId, ResourceId, SymVarId, TaskId, TpId, TypeId};
 pub use interval::{Bound, NumInterval, TimeInterval};
-pub use problem::{Fact, Problem, ResourceSetup, TimedFact};
+pub use problem::{DefaultFact, Fact, Problem, ResourceSetup, TimedFact};
 pub use task::{
     Binding, Event, Hold, NumConstraint, NumTerm, NumVar, Preemption, ResourceUsage, SymVar, Task,
     TemporalConstraint, Term, UsageKind,
