@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use crate::model::{
     AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalKind, NumConstraint, Object, ObjectId,
-    Problem, ResourceKind, Term, Time, TimeInterval, TimedFact, TypeId, TypeKind, Value,
+    Problem, ResourceKind, Term, Time, TimeInterval, TypeId, TypeKind, Value,
 };
 
 use super::ast::{
@@ -441,14 +441,7 @@ fn initial(ctx: &mut Ctx<'_>, domain: &Domain, p: &mut Problem, ast: &ProblemAst
             }
         }
     }
-    for (at, fact) in facts {
-        if at == 0 {
-            p.initial.push(fact);
-        } else {
-            p.exogenous.push(TimedFact { at, fact });
-        }
-    }
-    p.exogenous.sort_by_key(|f| f.at);
+    p.add_facts(facts);
 }
 
 /// Resolves a goal declaration against a problem (also used for goals sent at run time).

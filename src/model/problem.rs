@@ -165,7 +165,14 @@ impl Problem {
                 }
             }
         }
-        for (at, fact) in new_facts {
+        self.add_facts(new_facts);
+        id
+    }
+
+    /// Adds facts to the initial scenario: at the origin into `initial`, later ones into `exogenous`
+    /// (kept sorted by time).
+    pub fn add_facts(&mut self, facts: impl IntoIterator<Item = (Time, Fact)>) {
+        for (at, fact) in facts {
             if at == 0 {
                 self.initial.push(fact);
             } else {
@@ -173,7 +180,6 @@ impl Problem {
             }
         }
         self.exogenous.sort_by_key(|f| f.at);
-        id
     }
 
     /// The object named `name` (domain constants included).
