@@ -443,3 +443,31 @@ fn objects_added_at_run_time_get_wildcard_defaults() {
         Value::Obj(Domain::TRUE)
     );
 }
+
+/// A goal's start window is cut to [origin, horizon]; open bounds inside it are kept.
+#[test]
+fn goal_windows_are_cut_to_the_horizon() {
+    let (d, p) = load("rover", "fig2");
+    let g = lang::parse_goal(
+        "<t>",
+        "goal w { hold(PICTURE(p1): true, (st, et)); st in [-5min, 2h]; }",
+        &d,
+        &p,
+    );
+    let g = g.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        (g.start_window.lb, g.start_window.ub),
+        (Bound::Closed(0), Bound::Closed(30 * 60_000))
+    );
+    let g = lang::parse_goal(
+        "<t>",
+        "goal w { hold(PICTURE(p1): true, (st, et)); st in ]1min, 2min[; }",
+        &d,
+        &p,
+    );
+    let g = g.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        (g.start_window.lb, g.start_window.ub),
+        (Bound::Open(60_000), Bound::Open(120_000))
+    );
+}

@@ -579,14 +579,15 @@ pub fn goal(ctx: &mut Ctx<'_>, domain: &Domain, p: &Problem, g: &GoalAst) -> Opt
             "this goal can never start: its start window (after d_achiev) lies outside [origin, horizon]",
         );
     }
+    // I^g within [origin, horizon]: a goal cannot start before the origin nor after the horizon.
     let start_window = TimeInterval {
         lb: match start_window.lb {
-            Bound::Inf => Bound::Closed(0),
-            b => b,
+            Bound::Closed(v) | Bound::Open(v) if v >= 0 => start_window.lb,
+            _ => Bound::Closed(0),
         },
         ub: match start_window.ub {
-            Bound::Inf => Bound::Closed(p.horizon),
-            b => b,
+            Bound::Closed(v) | Bound::Open(v) if v <= p.horizon => start_window.ub,
+            _ => Bound::Closed(p.horizon),
         },
     };
     (ctx.diags.len() == errors_before).then(|| Goal {
