@@ -170,3 +170,19 @@ fn distance_between_unrelated_branches_goes_through_the_origin() {
     assert_eq!(stn.distance(b, a), INF);
     assert!(stn.possibly_before(a, b) && stn.possibly_before(b, a));
 }
+
+#[test]
+fn bench_reports_floyd_warshall_only_up_to_its_limit() {
+    let figures = bench::run(&[40, 60], 40).unwrap();
+    assert_eq!(
+        figures.iter().map(|f| f.n).collect::<Vec<_>>(),
+        vec![40, 60]
+    );
+    assert!(
+        figures[0].floyd_warshall_ms.is_some() && figures[0].speedup_vs_floyd_warshall.is_some()
+    );
+    assert!(
+        figures[1].floyd_warshall_ms.is_none() && figures[1].speedup_vs_floyd_warshall.is_none()
+    );
+    assert!(figures.iter().all(|f| f.constraints >= 3 * f.n / 2));
+}
