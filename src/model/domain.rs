@@ -1,0 +1,182 @@
+//! A domain: types, domain-level constants, attributes, resources and tasks, with name lookups.
+
+use std::collections::HashMap;
+
+use serde::Serialize;
+
+use super::{
+    AttrId, LogicalAttr, Object, ObjectId, ResourceAttr, ResourceId, Task, TaskId, Type, TypeId,
+    TypeKind,
+};
+
+/// Everything a domain file declares. Tables are indexed by the id newtypes; the maps give name → id.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Domain {
+    pub name: String,
+    /// `types[0]` is the builtin `bool`.
+    pub types: Vec<Type>,
+    /// Domain-level constants: `false`, `true` (ids 0 and 1), enumeration members, then `constant`s.
+    /// A problem's object table starts with exactly these, under the same ids.
+    pub objects: Vec<Object>,
+    pub attrs: Vec<LogicalAttr>,
+    pub resources: Vec<ResourceAttr>,
+    pub tasks: Vec<Task>,
+    #[serde(skip)]
+    type_index: HashMap<String, TypeId>,
+    #[serde(skip)]
+    object_index: HashMap<String, ObjectId>,
+    #[serde(skip)]
+    attr_index: HashMap<String, AttrId>,
+    #[serde(skip)]
+    resource_index: HashMap<String, ResourceId>,
+    #[serde(skip)]
+    task_index: HashMap<String, TaskId>,
+}
+
+impl Domain {
+    /// The builtin boolean type.
+    pub const BOOL: TypeId = TypeId(0);
+    /// The builtin constant `false`.
+    pub const FALSE: ObjectId = ObjectId(0);
+    /// The builtin constant `true`.
+    pub const TRUE: ObjectId = ObjectId(1);
+
+    /// An empty domain holding only `bool`, `false` and `true`.
+    pub fn new(name: impl Into<String>) -> Self {
+        let mut d = Domain {
+            name: name.into(),
+            types: Vec::new(),
+            objects: Vec::new(),
+            attrs: Vec::new(),
+            resources: Vec::new(),
+            tasks: Vec::new(),
+            type_index: HashMap::new(),
+            object_index: HashMap::new(),
+            attr_index: HashMap::new(),
+            resource_index: HashMap::new(),
+            task_index: HashMap::new(),
+        };
+        let b = d.add_type("bool", TypeKind::Enum);
+        d.add_enum_member(b, "false");
+        d.add_enum_member(b, "true");
+        d
+    }
+
+    /// Adds a type and returns its id (the caller checks the name is fresh).
+    pub fn add_type(&mut self, name: &str, kind: TypeKind) -> TypeId {
+        let id = TypeId::from_index(self.types.len());
+        self.types.push(Type {
+            name: name.to_string(),
+            kind,
+            members: Vec::new(),
+        });
+        self.type_index.insert(name.to_string(), id);
+        id
+    }
+
+    /// Adds a constant of enumeration `ty` (also usable for domain-level constants of object types).
+    pub fn add_enum_member(&mut self, ty: TypeId, name: &str) -> ObjectId {
+        let id = self.add_object(Object {
+            name: name.to_string(),
+            ty,
+            position: None,
+        });
+        if let Some(t) = self.types.get_mut(ty.index()) {
+            t.members.push(id);
+        }
+        id
+    }
+
+    /// Adds a domain-level object and returns its id.
+    pub fn add_object(&mut self, object: Object) -> ObjectId {
+        let id = ObjectId::from_index(self.objects.len());
+        self.object_index.insert(object.name.clone(), id);
+        self.objects.push(object);
+        id
+    }
+
+    /// Adds a logical attribute.
+    pub fn add_attr(&mut self, attr: LogicalAttr) -> AttrId {
+        let id = AttrId::from_index(self.attrs.len());
+        self.attr_index.insert(attr.name.clone(), id);
+        self.attrs.push(attr);
+        id
+    }
+
+    /// Adds a resource attribute.
+    pub fn add_resource(&mut self, res: ResourceAttr) -> ResourceId {
+        let id = ResourceId::from_index(self.resources.len());
+        self.resource_index.insert(res.name.clone(), id);
+        self.resources.push(res);
+        id
+    }
+
+    /// Adds a task.
+    pub fn add_task(&mut self, task: Task) -> TaskId {
+        let id = TaskId::from_index(self.tasks.len());
+        self.task_index.insert(task.name.clone(), id);
+        self.tasks.push(task);
+        id
+    }
+
+    /// The type named `name`.
+    pub fn type_id(&self, name: &str) -> Option<TypeId> {
+        self.type_index.get(name).copied()
+    }
+
+    /// The domain-level constant named `name` (enumeration members, `true`, `false`).
+    pub fn object_id(&self, name: &str) -> Option<ObjectId> {
+        self.object_index.get(name).copied()
+    }
+
+    /// The logical attribute named `name`.
+    pub fn attr_id(&self, name: &str) -> Option<AttrId> {
+        self.attr_index.get(name).copied()
+    }
+
+    /// The resource named `name`.
+    pub fn resource_id(&self, name: &str) -> Option<ResourceId> {
+        self.resource_index.get(name).copied()
+    }
+
+    /// The task named `name`.
+    pub fn task_id(&self, name: &str) -> Option<TaskId> {
+        self.task_index.get(name).copied()
+    }
+
+    /// The type `id`. Panics on an id from another domain (ids are only made by this domain).
+    pub fn ty(&self, id: TypeId) -> &Type {
+        &self.types[id.index()]
+    }
+
+    /// The attribute `id`.
+    pub fn attr(&self, id: AttrId) -> &LogicalAttr {
+        &self.attrs[id.index()]
+    }
+
+    /// The resource `id`.
+    pub fn resource(&self, id: ResourceId) -> &ResourceAttr {
+        &self.resources[id.index()]
+    }
+
+    /// The task `id`.
+    pub fn task(&self, id: TaskId) -> &Task {
+        &self.tasks[id.index()]
+    }
+
+    /// Tasks with a primary event on `attr` (candidate establishers for an open condition on it).
+    pub fn tasks_establishing(&self, attr: AttrId) -> Vec<TaskId> {
+        (0..self.tasks.len())
+            .map(TaskId::from_index)
+            .filter(|&t| self.task(t).main_attributes().contains(&attr))
+            .collect()
+    }
+
+    /// Tasks producing `res` as a primary effect (candidate resolvers of a reservoir under-flow).
+    pub fn tasks_producing(&self, res: ResourceId) -> Vec<TaskId> {
+        (0..self.tasks.len())
+            .map(TaskId::from_index)
+            .filter(|&t| self.task(t).produced_resources().contains(&res))
+            .collect()
+    }
+}

@@ -1,0 +1,178 @@
+//! Intervals with open / closed / infinite bounds, as written in the language (`]2, 60]`, `[0, +oo[`).
+
+use serde::Serialize;
+
+use super::Time;
+
+/// One end of an interval. `Inf` is −∞ for a lower bound and +∞ for an upper bound.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Bound<T> {
+    /// The value belongs to the interval.
+    Closed(T),
+    /// The value does not belong to the interval.
+    Open(T),
+    /// Unbounded on this side.
+    Inf,
+}
+
+/// A set of durations or dates in milliseconds, `lb .. ub` with each bound open, closed or infinite.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TimeInterval {
+    pub lb: Bound<Time>,
+    pub ub: Bound<Time>,
+}
+
+impl TimeInterval {
+    /// `]-oo, +oo[`: no constraint.
+    pub const ANY: TimeInterval = TimeInterval {
+        lb: Bound::Inf,
+        ub: Bound::Inf,
+    };
+
+    /// `[lb, ub]`.
+    pub fn closed(lb: Time, ub: Time) -> Self {
+        TimeInterval {
+            lb: Bound::Closed(lb),
+            ub: Bound::Closed(ub),
+        }
+    }
+
+    /// `[v, v]`.
+    pub fn exactly(v: Time) -> Self {
+        Self::closed(v, v)
+    }
+
+    /// `[lb, +oo[`.
+    pub fn at_least(lb: Time) -> Self {
+        TimeInterval {
+            lb: Bound::Closed(lb),
+            ub: Bound::Inf,
+        }
+    }
+
+    /// The smallest member on the integer millisecond grid (an open bound `]a` becomes `a + 1`, the STN's
+    /// "one unit inside"); `None` for −∞.
+    pub fn min_ms(&self) -> Option<Time> {
+        match self.lb {
+            Bound::Closed(v) => Some(v),
+            Bound::Open(v) => Some(v.saturating_add(1)),
+            Bound::Inf => None,
+        }
+    }
+
+    /// The largest member on the millisecond grid (`b[` becomes `b − 1`); `None` for +∞.
+    pub fn max_ms(&self) -> Option<Time> {
+        match self.ub {
+            Bound::Closed(v) => Some(v),
+            Bound::Open(v) => Some(v.saturating_sub(1)),
+            Bound::Inf => None,
+        }
+    }
+
+    /// True when no millisecond satisfies the interval (e.g. `[5, 3]` or `]2, 3[`).
+    pub fn is_empty(&self) -> bool {
+        matches!((self.min_ms(), self.max_ms()), (Some(a), Some(b)) if a > b)
+    }
+
+    /// True when `t` belongs to the interval.
+    pub fn contains(&self, t: Time) -> bool {
+        self.min_ms().is_none_or(|a| a <= t) && self.max_ms().is_none_or(|b| t <= b)
+    }
+}
+
+/// A set of reals `lb .. ub` (numeric variable domains, resource quantities).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NumInterval {
+    pub lb: Bound<f64>,
+    pub ub: Bound<f64>,
+}
+
+impl NumInterval {
+    /// `]-oo, +oo[`, the domain of a numeric variable declared without one.
+    pub const ANY: NumInterval = NumInterval {
+        lb: Bound::Inf,
+        ub: Bound::Inf,
+    };
+
+    /// `[lb, ub]`.
+    pub fn closed(lb: f64, ub: f64) -> Self {
+        NumInterval {
+            lb: Bound::Closed(lb),
+            ub: Bound::Closed(ub),
+        }
+    }
+
+    /// The lower end as a number (−∞ when unbounded), ignoring openness.
+    pub fn lo(&self) -> f64 {
+        match self.lb {
+            Bound::Closed(v) | Bound::Open(v) => v,
+            Bound::Inf => f64::NEG_INFINITY,
+        }
+    }
+
+    /// The upper end as a number (+∞ when unbounded), ignoring openness.
+    pub fn hi(&self) -> f64 {
+        match self.ub {
+            Bound::Closed(v) | Bound::Open(v) => v,
+            Bound::Inf => f64::INFINITY,
+        }
+    }
+
+    /// True when no real satisfies the interval.
+    pub fn is_empty(&self) -> bool {
+        let (lo, hi) = (self.lo(), self.hi());
+        let open = matches!(self.lb, Bound::Open(_)) || matches!(self.ub, Bound::Open(_));
+        lo > hi || (lo == hi && open)
+    }
+
+    /// True when `x` belongs to the interval.
+    pub fn contains(&self, x: f64) -> bool {
+        let above = match self.lb {
+            Bound::Closed(v) => x >= v,
+            Bound::Open(v) => x > v,
+            Bound::Inf => true,
+        };
+        let below = match self.ub {
+            Bound::Closed(v) => x <= v,
+            Bound::Open(v) => x < v,
+            Bound::Inf => true,
+        };
+        above && below
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_bounds_step_one_millisecond_inside() {
+        let i = TimeInterval {
+            lb: Bound::Open(2_000),
+            ub: Bound::Closed(60_000),
+        };
+        assert_eq!(i.min_ms(), Some(2_001));
+        assert_eq!(i.max_ms(), Some(60_000));
+        assert!(!i.contains(2_000));
+        assert!(i.contains(2_001));
+        assert!(!i.is_empty());
+        let e = TimeInterval {
+            lb: Bound::Open(3),
+            ub: Bound::Open(4),
+        };
+        assert!(e.is_empty());
+        assert!(!TimeInterval::ANY.is_empty());
+    }
+
+    #[test]
+    fn numeric_emptiness_respects_openness() {
+        assert!(!NumInterval::closed(1.0, 1.0).is_empty());
+        let half_open = NumInterval {
+            lb: Bound::Open(1.0),
+            ub: Bound::Closed(1.0),
+        };
+        assert!(half_open.is_empty());
+        assert!(NumInterval::closed(2.0, 1.0).is_empty());
+        assert!(NumInterval::ANY.contains(-1e300));
+    }
+}

@@ -1,0 +1,164 @@
+//! A problem: objects, the initial scenario Φ_0 (initial values and predicted exogenous changes), resource
+//! levels and availability profiles, a horizon and goals.
+
+use std::collections::HashMap;
+
+use serde::Serialize;
+
+use super::{
+    AttrId, Domain, GeoPoint, Goal, GoalId, Object, ObjectId, ResourceId, Time, TypeId, Value,
+};
+
+/// A ground value of an attribute instance: `attr(args) = value`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize)]
+pub struct Fact {
+    pub attr: AttrId,
+    pub args: Vec<ObjectId>,
+    pub value: Value,
+}
+
+/// A predicted exogenous change (part of Φ_0): from `at` on, the attribute instance takes `fact.value`,
+/// independently of the plan (e.g. visibility windows W1/W2 of a ground station).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize)]
+pub struct TimedFact {
+    pub at: Time,
+    pub fact: Fact,
+}
+
+/// Initial level and expected availability profile of one resource.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResourceSetup {
+    /// The level at the origin (a reservoir's content; unary resources: 1 = free).
+    pub level: f64,
+    /// Piecewise-constant capacity: `(from, capacity)` steps sorted by time, the first at 0.
+    pub profile: Vec<(Time, f64)>,
+}
+
+impl ResourceSetup {
+    /// The expected capacity at time `t` (the last step at or before `t`).
+    pub fn capacity_at(&self, t: Time) -> f64 {
+        self.profile
+            .iter()
+            .take_while(|(from, _)| *from <= t)
+            .last()
+            .or(self.profile.first())
+            .map_or(0.0, |&(_, c)| c)
+    }
+}
+
+/// A planning problem over a [`Domain`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Problem {
+    pub name: String,
+    /// The domain's name (`domain rover;`).
+    pub domain: String,
+    /// Clock time of the origin since midnight (`start 08:00;`), used to print and read clock times.
+    pub start_clock: Option<Time>,
+    /// The geographic home that local coordinates are relative to.
+    pub home: Option<GeoPoint>,
+    /// End of the mission, relative to the origin.
+    pub horizon: Time,
+    /// All objects: the domain's constants first (same ids), then the problem's objects.
+    pub objects: Vec<Object>,
+    /// Initial values at the origin (ground, one per attribute instance; unlisted instances are `+oo`).
+    pub initial: Vec<Fact>,
+    /// Predicted exogenous changes after the origin, sorted by time.
+    pub exogenous: Vec<TimedFact>,
+    /// One setup per domain resource, indexed by [`ResourceId`].
+    pub resources: Vec<ResourceSetup>,
+    /// Φ_g = Φ_ge ∪ Φ_gi, indexed by [`GoalId`].
+    pub goals: Vec<Goal>,
+    #[serde(skip)]
+    object_index: HashMap<String, ObjectId>,
+}
+
+impl Problem {
+    /// An empty problem over `domain`: its constants, default resource setups (full, domain capacity),
+    /// horizon `horizon`.
+    pub fn new(name: impl Into<String>, domain: &Domain, horizon: Time) -> Self {
+        let resources = domain
+            .resources
+            .iter()
+            .map(|r| ResourceSetup {
+                level: r.capacity,
+                profile: vec![(0, r.capacity)],
+            })
+            .collect();
+        let mut p = Problem {
+            name: name.into(),
+            domain: domain.name.clone(),
+            start_clock: None,
+            home: None,
+            horizon,
+            objects: Vec::new(),
+            initial: Vec::new(),
+            exogenous: Vec::new(),
+            resources,
+            goals: Vec::new(),
+            object_index: HashMap::new(),
+        };
+        for o in &domain.objects {
+            p.add_object(o.clone());
+        }
+        p
+    }
+
+    /// Appends an object (a problem object, or a location discovered at run time) and returns its id.
+    pub fn add_object(&mut self, object: Object) -> ObjectId {
+        let id = ObjectId::from_index(self.objects.len());
+        self.object_index.insert(object.name.clone(), id);
+        self.objects.push(object);
+        id
+    }
+
+    /// The object named `name` (domain constants included).
+    pub fn object_id(&self, name: &str) -> Option<ObjectId> {
+        self.object_index.get(name).copied()
+    }
+
+    /// The object `id`.
+    pub fn object(&self, id: ObjectId) -> Option<&Object> {
+        self.objects.get(id.index())
+    }
+
+    /// The name of `id`, or `?` for an unknown id (printing helper).
+    pub fn object_name(&self, id: ObjectId) -> &str {
+        self.object(id).map_or("?", |o| o.name.as_str())
+    }
+
+    /// All objects of type `ty`, in declaration order.
+    pub fn objects_of(&self, ty: TypeId) -> Vec<ObjectId> {
+        (0..self.objects.len())
+            .map(ObjectId::from_index)
+            .filter(|&o| self.objects[o.index()].ty == ty)
+            .collect()
+    }
+
+    /// The goal named `name`.
+    pub fn goal_id(&self, name: &str) -> Option<GoalId> {
+        self.goals
+            .iter()
+            .position(|g| g.name == name)
+            .map(GoalId::from_index)
+    }
+
+    /// The initial value of `attr(args)` (`+oo` if not given).
+    pub fn initial_value(&self, attr: AttrId, args: &[ObjectId]) -> Value {
+        self.initial
+            .iter()
+            .find(|f| f.attr == attr && f.args == args)
+            .map_or(Value::Unknown, |f| f.value)
+    }
+
+    /// Straight-line metres between two objects with positions (`None` if either has none).
+    pub fn distance(&self, a: ObjectId, b: ObjectId) -> Option<f64> {
+        let pa = self.object(a)?.position?;
+        let pb = self.object(b)?.position?;
+        Some(pa.distance(&pb, self.home.as_ref()))
+    }
+
+    /// The resource setup of `r`.
+    pub fn resource(&self, r: ResourceId) -> Option<&ResourceSetup> {
+        self.resources.get(r.index())
+    }
+}
