@@ -1,1 +1,4 @@
-//! plan (see DESIGN in README).
+//! The plan: the planner's output ([`solution`]) and its independent checker ([`validate`]).
+
+pub mod solution;
+pub mod validate;
