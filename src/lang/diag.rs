@@ -1,0 +1,190 @@
+//! Diagnostics: `file:line:col: error: message`, then the source line and a caret under the column.
+
+use std::fmt;
+
+/// A byte range in one source text.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Span {
+    pub start: usize,
+    pub end: usize,
+}
+
+impl Span {
+    pub fn new(start: usize, end: usize) -> Self {
+        Span { start, end }
+    }
+
+    /// The smallest span covering both.
+    pub fn to(self, other: Span) -> Span {
+        Span::new(self.start.min(other.start), self.end.max(other.end))
+    }
+}
+
+/// One error located in a file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// The file name as given (or `<string>` for in-memory sources).
+    pub file: String,
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column, in characters.
+    pub col: usize,
+    pub message: String,
+    /// The offending line, control characters replaced so it prints safely.
+    pub source_line: String,
+}
+
+/// One or more diagnostics (what every loader returns on failure).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Diagnostics(pub Vec<Diagnostic>);
+
+impl Diagnostics {
+    /// A single diagnostic not tied to any source text (e.g. a file that cannot be read).
+    pub fn file_error(file: &str, message: impl Into<String>) -> Self {
+        Diagnostics(vec![Diagnostic {
+            file: file.to_string(),
+            line: 1,
+            col: 1,
+            message: message.into(),
+            source_line: String::new(),
+        }])
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn iter(&self) -> std::slice::Iter<'_, Diagnostic> {
+        self.0.iter()
+    }
+
+    /// Appends all of `other`.
+    pub fn extend(&mut self, other: Diagnostics) {
+        self.0.extend(other.0);
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{}:{}:{}: error: {}",
+            self.file, self.line, self.col, self.message
+        )?;
+        if !self.source_line.is_empty() {
+            writeln!(f, "    {}", self.source_line)?;
+            // Keep tabs so the caret lines up under tab-indented text.
+            let pad: String = self
+                .source_line
+                .chars()
+                .take(self.col.saturating_sub(1))
+                .map(|c| if c == '\t' { '\t' } else { ' ' })
+                .collect();
+            writeln!(f, "    {pad}^")?;
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for Diagnostics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for d in &self.0 {
+            write!(f, "{d}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Diagnostics {}
+
+/// A source text with its file name: turns byte offsets into line/column diagnostics.
+#[derive(Debug, Clone, Copy)]
+pub struct Source<'a> {
+    pub file: &'a str,
+    pub text: &'a str,
+}
+
+impl<'a> Source<'a> {
+    pub fn new(file: &'a str, text: &'a str) -> Self {
+        Source { file, text }
+    }
+
+    /// A diagnostic at byte offset `pos` (clamped to the text and to a char boundary).
+    pub fn error_at(&self, pos: usize, message: impl Into<String>) -> Diagnostic {
+        let mut pos = pos.min(self.text.len());
+        while !self.text.is_char_boundary(pos) {
+            pos -= 1;
+        }
+        let before = &self.text[..pos];
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let line = before.matches('\n').count() + 1;
+        let col = self.text[line_start..pos].chars().count() + 1;
+        let line_end = self.text[line_start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| line_start + i);
+        let source_line = self.text[line_start..line_end]
+            .trim_end_matches('\r')
+            .chars()
+            .map(|c| if c.is_control() && c != '\t' { '?' } else { c })
+            .collect();
+        Diagnostic {
+            file: self.file.to_string(),
+            line,
+            col,
+            message: message.into(),
+            source_line,
+        }
+    }
+
+    /// A diagnostic at the start of `span`.
+    pub fn error(&self, span: Span, message: impl Into<String>) -> Diagnostic {
+        self.error_at(span.start, message)
+    }
+}
+
+/// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte.
+pub fn decode<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, Diagnostics> {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => Ok(s),
+        Err(e) => {
+            let valid = e.valid_up_to();
+            // The prefix is valid UTF-8 by construction.
+            let prefix = std::str::from_utf8(&bytes[..valid]).unwrap_or("");
+            let d = Source::new(file, prefix).error_at(
+                valid,
+                format!(
+                    "invalid UTF-8 (byte 0x{:02x}): source files must be UTF-8 text",
+                    bytes[valid]
+                ),
+            );
+            Err(Diagnostics(vec![d]))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_file_line_col_and_caret() {
+        let src = Source::new("a.ixt", "domain x;\n  type = 3;\n");
+        let d = src.error_at(17, "expected a name");
+        assert_eq!((d.line, d.col), (2, 8));
+        let text = d.to_string();
+        assert!(text.starts_with("a.ixt:2:8: error: expected a name\n"));
+        assert!(text.contains("      type = 3;\n           ^\n"), "{text}");
+    }
+
+    #[test]
+    fn invalid_utf8_is_located() {
+        let bytes = b"domain x;\nab\xffcd";
+        let d = decode("f", bytes).err().map(|d| d.0[0].clone());
+        let d = d.map(|d| (d.line, d.col));
+        assert_eq!(d, Some((2, 3)));
+    }
+}

@@ -1,0 +1,765 @@
+//! Task semantic checks: the body of `task NAME(params) (timepoints) { ... } preemption` → [`Task`].
+
+use std::collections::HashMap;
+
+use crate::model::{
+    AttrId, Binding, Domain, Event, Hold, NumConstraint, NumInterval, NumTerm, NumVar, NumVarId,
+    ObjectId, Preemption, ResourceKind, ResourceUsage, SymVar, SymVarId, Task, TemporalConstraint,
+    Term, Time, TimeInterval, TpId, TypeId, UsageKind,
+};
+
+use super::ast::{AttrRef, BinOp, Expr, ExprKind, Ident, InSet, RelOp, Stmt, TaskAst, UsageAst};
+use super::diag::Span;
+use super::eval::{self, Clock, Ctx};
+use super::resolve_domain::{logical_attr, type_ref, Names};
+
+enum Var {
+    Sym(SymVarId),
+    Num(NumVarId),
+}
+
+struct Scope<'d> {
+    domain: &'d Domain,
+    vars: HashMap<String, Var>,
+    sym: Vec<SymVar>,
+    num: Vec<NumVar>,
+    tps: Vec<String>,
+}
+
+impl Scope<'_> {
+    fn tp(&self, name: &str) -> Option<TpId> {
+        self.tps
+            .iter()
+            .position(|t| t == name)
+            .map(TpId::from_index)
+    }
+
+    fn type_name(&self, t: TypeId) -> &str {
+        self.domain
+            .types
+            .get(t.index())
+            .map_or("?", |t| t.name.as_str())
+    }
+
+    fn term_type(&self, t: Term) -> Option<TypeId> {
+        match t {
+            Term::Var(v) => self.sym.get(v.index()).map(|v| v.ty),
+            Term::Obj(o) => self.domain.objects.get(o.index()).map(|o| o.ty),
+            Term::Unknown => None,
+        }
+    }
+
+    fn tp_ref(&self, ctx: &mut Ctx<'_>, id: &Ident) -> Option<TpId> {
+        let t = self.tp(&id.name);
+        if t.is_none() {
+            ctx.err(
+                id.span,
+                format!(
+                    "unknown timepoint `{}` (this task's timepoints: {})",
+                    id.name,
+                    self.tps.join(", ")
+                ),
+            );
+        }
+        t
+    }
+
+    /// A symbolic term of type `expected` (if given); `+oo` only where a value is expected.
+    fn sym_term(
+        &self,
+        ctx: &mut Ctx<'_>,
+        e: &Expr,
+        expected: Option<TypeId>,
+        allow_unknown: bool,
+    ) -> Option<Term> {
+        let term = match &e.kind {
+            ExprKind::Var(v) => match self.vars.get(v) {
+                Some(Var::Sym(id)) => Term::Var(*id),
+                Some(Var::Num(_)) => {
+                    ctx.err(
+                        e.span,
+                        format!("`?{v}` is a numeric variable; a symbolic value is expected here"),
+                    );
+                    return None;
+                }
+                None => {
+                    ctx.err(e.span, format!("unknown variable `?{v}`"));
+                    return None;
+                }
+            },
+            ExprKind::Name(n) => match self.domain.object_id(n) {
+                Some(o) => Term::Obj(o),
+                None if self.tp(n).is_some() => {
+                    ctx.err(e.span, format!("`{n}` is a timepoint, not a value"));
+                    return None;
+                }
+                None => {
+                    let hint = expected
+                        .map(|t| &self.domain.ty(t).members)
+                        .filter(|m| !m.is_empty())
+                        .map(|m| {
+                            let names: Vec<&str> = m
+                                .iter()
+                                .map(|o| self.domain.objects[o.index()].name.as_str())
+                                .collect();
+                            format!(" (expected one of {})", names.join(", "))
+                        })
+                        .unwrap_or_default();
+                    ctx.err(e.span, format!("unknown value `{n}`{hint}"));
+                    return None;
+                }
+            },
+            ExprKind::PosInf if allow_unknown => return Some(Term::Unknown),
+            ExprKind::PosInf => {
+                ctx.err(e.span, "`+oo` (unknown) can be a value but not an argument");
+                return None;
+            }
+            _ => {
+                ctx.err(
+                    e.span,
+                    "expected a value: a constant, a `?variable` or `+oo`",
+                );
+                return None;
+            }
+        };
+        if let (Some(want), Some(have)) = (expected, self.term_type(term)) {
+            if want != have {
+                ctx.err(
+                    e.span,
+                    format!(
+                        "value outside its domain: expected a {}, found a {}",
+                        self.type_name(want),
+                        self.type_name(have)
+                    ),
+                );
+                return None;
+            }
+        }
+        Some(term)
+    }
+
+    fn num_term(&self, ctx: &mut Ctx<'_>, e: &Expr) -> Option<NumTerm> {
+        match &e.kind {
+            ExprKind::Var(v) => {
+                match self.vars.get(v) {
+                    Some(Var::Num(id)) => Some(NumTerm::Var(*id)),
+                    Some(Var::Sym(_)) => {
+                        ctx.err(
+                            e.span,
+                            format!("`?{v}` is a symbolic variable; a number is expected here"),
+                        );
+                        None
+                    }
+                    None => {
+                        ctx.err(e.span, format!("unknown variable `?{v}` (declare numeric ones with `variable ?{v};`)"));
+                        None
+                    }
+                }
+            }
+            _ => eval::num(ctx, e, false).map(NumTerm::Const),
+        }
+    }
+
+    /// `attr(args)` on a logical attribute: lookup, arity and argument types.
+    fn attr_ref(&self, ctx: &mut Ctx<'_>, a: &AttrRef) -> Option<(AttrId, Vec<Term>)> {
+        let id = logical_attr(ctx, self.domain, a, "use `use`, `consume` or `produce`")?;
+        let attr = self.domain.attr(id);
+        let mut args = Vec::new();
+        for (e, (_, t)) in a.args.iter().zip(&attr.params) {
+            args.push(self.sym_term(ctx, e, Some(*t), false));
+        }
+        let args: Option<Vec<Term>> = args.into_iter().collect();
+        Some((id, args?))
+    }
+
+    /// `(a - b)` with two timepoints: `Some((b, a))` (from, to).
+    fn tp_diff(&self, e: &Expr) -> Option<(TpId, TpId)> {
+        if let ExprKind::Bin(BinOp::Sub, a, b) = &e.kind {
+            if let (ExprKind::Name(a), ExprKind::Name(b)) = (&a.kind, &b.kind) {
+                return Some((self.tp(b)?, self.tp(a)?));
+            }
+        }
+        None
+    }
+}
+
+pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &TaskAst) -> Option<Task> {
+    let errors_before = ctx.diags.len();
+    let mut s = Scope {
+        domain,
+        vars: HashMap::new(),
+        sym: Vec::new(),
+        num: Vec::new(),
+        tps: Vec::new(),
+    };
+    let mut names = Names::default();
+    for (v, t) in &ast.params {
+        if !names.declare(ctx, v, "variable") {
+            continue;
+        }
+        if let Some(ty) = type_ref(ctx, domain, t) {
+            s.vars
+                .insert(v.name.clone(), Var::Sym(SymVarId::from_index(s.sym.len())));
+            s.sym.push(SymVar {
+                name: v.name.clone(),
+                ty,
+            });
+        }
+    }
+    let n_params = s.sym.len();
+    let mut tp_names = Names::default();
+    for tp in &ast.timepoints {
+        if tp_names.declare(ctx, tp, "timepoint") {
+            s.tps.push(tp.name.clone());
+        }
+    }
+    // Declarations first, so statements may use variables declared further down (as in Fig. 3a).
+    for st in &ast.body {
+        if let Stmt::Variables(vs) = st {
+            for (v, t) in vs {
+                if !names.declare(ctx, v, "variable") {
+                    continue;
+                }
+                match t {
+                    Some(t) => {
+                        if let Some(ty) = type_ref(ctx, domain, t) {
+                            s.vars.insert(
+                                v.name.clone(),
+                                Var::Sym(SymVarId::from_index(s.sym.len())),
+                            );
+                            s.sym.push(SymVar {
+                                name: v.name.clone(),
+                                ty,
+                            });
+                        }
+                    }
+                    None => {
+                        s.vars
+                            .insert(v.name.clone(), Var::Num(NumVarId::from_index(s.num.len())));
+                        s.num.push(NumVar {
+                            name: v.name.clone(),
+                            domain: NumInterval::ANY,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let start = TpId(0);
+    let end = TpId::from_index(s.tps.len().saturating_sub(1));
+    let mut task = Task {
+        name: ast.name.name.clone(),
+        sym_vars: Vec::new(),
+        n_params,
+        num_vars: Vec::new(),
+        timepoints: s.tps.clone(),
+        start,
+        end,
+        events: Vec::new(),
+        holds: Vec::new(),
+        usages: Vec::new(),
+        temporal: Vec::new(),
+        bindings: Vec::new(),
+        numeric: Vec::new(),
+        preemption: Preemption::NonPreemptive,
+    };
+    // Implicit: start <= t <= end for every timepoint (kept explicit for the planner).
+    let mut stn = TaskStn::new(s.tps.len());
+    for i in 0..s.tps.len() {
+        let t = TpId::from_index(i);
+        if t != start {
+            task.temporal.push(TemporalConstraint {
+                from: start,
+                to: t,
+                interval: TimeInterval::at_least(0),
+            });
+            stn.add(start, t, TimeInterval::at_least(0));
+        }
+        if t != end && t != start {
+            task.temporal.push(TemporalConstraint {
+                from: t,
+                to: end,
+                interval: TimeInterval::at_least(0),
+            });
+            stn.add(t, end, TimeInterval::at_least(0));
+        }
+    }
+    for st in &ast.body {
+        statement(ctx, &mut s, &mut task, &mut stn, st);
+    }
+    task.preemption = match ast.preemption.as_ref().map(|p| p.name.as_str()) {
+        None | Some("nonPreemptive") => Preemption::NonPreemptive,
+        Some("earlyPreemptive") => Preemption::EarlyPreemptive,
+        _ => Preemption::LatePreemptive,
+    };
+    task.sym_vars = s.sym;
+    task.num_vars = s.num;
+    if s.tps.is_empty() {
+        ctx.err(
+            ast.name.span,
+            "a task needs at least one timepoint, e.g. `(st, et)`",
+        );
+    }
+    (ctx.diags.len() == errors_before).then_some(task)
+}
+
+fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut TaskStn, st: &Stmt) {
+    match st {
+        Stmt::Variables(_) => {}
+        Stmt::Event {
+            secondary,
+            attr,
+            from,
+            to,
+            at,
+            ..
+        } => {
+            let a = s.attr_ref(ctx, attr);
+            let vt = a.as_ref().map(|(id, _)| s.domain.attr(*id).value_type);
+            let f = s.sym_term(ctx, from, vt, true);
+            let t = s.sym_term(ctx, to, vt, true);
+            let at = s.tp_ref(ctx, at);
+            if let (Some((attr_id, args)), Some(from), Some(to), Some(at)) = (a, f, t, at) {
+                if matches!((from, to), (Term::Obj(x), Term::Obj(y)) if x == y) {
+                    ctx.err(
+                        attr.span,
+                        "an event must change the value: `from` and `to` are the same constant",
+                    );
+                }
+                task.events.push(Event {
+                    attr: attr_id,
+                    args,
+                    from,
+                    to,
+                    at,
+                    primary: !secondary,
+                });
+            }
+        }
+        Stmt::Hold {
+            attr,
+            value,
+            from,
+            to,
+            ..
+        } => {
+            let a = s.attr_ref(ctx, attr);
+            let vt = a.as_ref().map(|(id, _)| s.domain.attr(*id).value_type);
+            let v = s.sym_term(ctx, value, vt, true);
+            let f = s.tp_ref(ctx, from);
+            let t = match to {
+                Some(to) => s.tp_ref(ctx, to),
+                None => f,
+            };
+            if let (Some((attr_id, args)), Some(value), Some(from), Some(to)) = (a, v, f, t) {
+                task.holds.push(Hold {
+                    attr: attr_id,
+                    args,
+                    value,
+                    from,
+                    to,
+                });
+            }
+        }
+        Stmt::Usage {
+            kind,
+            secondary,
+            resource,
+            quantity,
+            from,
+            to,
+            span,
+        } => usage(
+            ctx,
+            s,
+            task,
+            (*kind, *secondary),
+            resource,
+            quantity,
+            from,
+            to.as_ref(),
+            *span,
+        ),
+        Stmt::In { lhs, set, span } => {
+            for e in lhs {
+                constrain_in(ctx, s, task, stn, e, set, *span);
+            }
+        }
+        Stmt::Rel { lhs, op, rhs, span } => relation(ctx, s, task, lhs, *op, rhs, *span),
+        Stmt::Achieve(_, span) => ctx.err(*span, "`achieve` belongs in goals, not in tasks"),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn usage(
+    ctx: &mut Ctx<'_>,
+    s: &Scope<'_>,
+    task: &mut Task,
+    (kind, secondary): (UsageAst, bool),
+    resource: &Ident,
+    quantity: &Expr,
+    from: &Ident,
+    to: Option<&Ident>,
+    span: Span,
+) {
+    let Some(r) = s.domain.resource_id(&resource.name) else {
+        let msg = if s.domain.attr_id(&resource.name).is_some() {
+            format!(
+                "`{}` is a logical attribute: use `event` or `hold`",
+                resource.name
+            )
+        } else {
+            format!("unknown resource `{}`", resource.name)
+        };
+        ctx.err(resource.span, msg);
+        return;
+    };
+    let rk = s.domain.resource(r).kind;
+    let q = s.num_term(ctx, quantity);
+    if let Some(NumTerm::Const(c)) = q {
+        if c < 0.0 {
+            ctx.err(quantity.span, "a resource quantity cannot be negative");
+            return;
+        }
+        if rk == ResourceKind::Unary && c > 1.0 {
+            ctx.err(quantity.span, "a unary resource is used with quantity 1");
+            return;
+        }
+    }
+    let f = s.tp_ref(ctx, from);
+    let t = to.and_then(|t| s.tp_ref(ctx, t));
+    let uk = match (kind, to.is_some()) {
+        (UsageAst::Use, true) => t.and_then(|t| f.map(|f| UsageKind::Use { from: f, to: t })),
+        (UsageAst::Use, false) => {
+            ctx.err(
+                span,
+                "`use` borrows over an interval: `use(r: q, (from, to))`",
+            );
+            None
+        }
+        (_, true) => {
+            ctx.err(
+                span,
+                "`consume` / `produce` happen at one timepoint: `consume(r: q, t)`",
+            );
+            None
+        }
+        (UsageAst::Consume, false) => f.map(|at| UsageKind::Consume { at }),
+        (UsageAst::Produce, false) => f.map(|at| UsageKind::Produce { at }),
+    };
+    if rk == ResourceKind::Unary && kind != UsageAst::Use {
+        ctx.err(
+            span,
+            format!(
+                "`{}` is a unary resource: it can only be borrowed with `use`",
+                resource.name
+            ),
+        );
+        return;
+    }
+    if let (Some(kind), Some(quantity)) = (uk, q) {
+        task.usages.push(ResourceUsage {
+            resource: r,
+            kind,
+            quantity,
+            primary: matches!(kind, UsageKind::Produce { .. }) && !secondary,
+        });
+    }
+}
+
+fn constrain_in(
+    ctx: &mut Ctx<'_>,
+    s: &mut Scope<'_>,
+    task: &mut Task,
+    stn: &mut TaskStn,
+    e: &Expr,
+    set: &InSet,
+    span: Span,
+) {
+    if let Some((from, to)) = s.tp_diff(e) {
+        let InSet::Interval(i) = set else {
+            ctx.err(
+                span,
+                "a duration is constrained by an interval such as `[2, 60]`",
+            );
+            return;
+        };
+        if let Some(iv) = eval::time_interval(ctx, i, Clock(None)) {
+            if !stn.add(from, to, iv) {
+                ctx.err(span, "contradictory temporal constraints: no schedule satisfies this with the task's other constraints");
+            }
+            task.temporal.push(TemporalConstraint {
+                from,
+                to,
+                interval: iv,
+            });
+        }
+        return;
+    }
+    match (
+        &e.kind,
+        s.vars.get(match &e.kind {
+            ExprKind::Var(v) => v.as_str(),
+            _ => "",
+        }),
+    ) {
+        (ExprKind::Var(_), Some(Var::Num(id))) => {
+            let id = *id;
+            let InSet::Interval(i) = set else {
+                ctx.err(
+                    span,
+                    "a numeric variable's domain is an interval such as `[0.3, 0.6]`",
+                );
+                return;
+            };
+            if let Some(iv) = eval::num_interval(ctx, i) {
+                let var = &mut s.num[id.index()];
+                var.domain = eval::intersect_num(var.domain, iv);
+                if var.domain.is_empty() {
+                    ctx.err(
+                        span,
+                        format!("contradictory: the domain of `?{}` becomes empty", var.name),
+                    );
+                }
+            }
+        }
+        (ExprKind::Var(_), Some(Var::Sym(id))) => {
+            let id = *id;
+            let InSet::Set(values) = set else {
+                ctx.err(
+                    span,
+                    "a symbolic variable's domain is a set such as `{W1, W2}`",
+                );
+                return;
+            };
+            let ty = s.sym[id.index()].ty;
+            let mut objs: Vec<ObjectId> = Vec::new();
+            for v in values {
+                let ve = Expr {
+                    kind: ExprKind::Name(v.name.clone()),
+                    span: v.span,
+                };
+                if let Some(Term::Obj(o)) = s.sym_term(ctx, &ve, Some(ty), false) {
+                    objs.push(o);
+                }
+            }
+            if objs.len() == values.len() {
+                task.bindings.push(Binding::In(id, objs));
+            }
+        }
+        (ExprKind::Var(v), None) => ctx.err(e.span, format!("unknown variable `?{v}`")),
+        _ => ctx.err(
+            e.span,
+            "expected a `?variable` or a duration `(t2 - t1)` of two timepoints before `in`",
+        ),
+    }
+}
+
+fn is_symbolic(s: &Scope<'_>, e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Var(v) => matches!(s.vars.get(v), Some(Var::Sym(_))),
+        ExprKind::Name(n) => s.domain.object_id(n).is_some(),
+        _ => false,
+    }
+}
+
+fn relation(
+    ctx: &mut Ctx<'_>,
+    s: &Scope<'_>,
+    task: &mut Task,
+    lhs: &Expr,
+    op: RelOp,
+    rhs: &Expr,
+    span: Span,
+) {
+    if is_symbolic(s, lhs) || is_symbolic(s, rhs) {
+        let eq = match op {
+            RelOp::Eq => true,
+            RelOp::Ne => false,
+            _ => {
+                ctx.err(span, "symbolic values are compared with `=` or `!=`");
+                return;
+            }
+        };
+        let a = s.sym_term(ctx, lhs, None, false);
+        let b = s.sym_term(ctx, rhs, None, false);
+        let (Some(a), Some(b)) = (a, b) else { return };
+        if s.term_type(a) != s.term_type(b) {
+            ctx.err(span, "compares values of different types");
+            return;
+        }
+        let contradictory = match (a, b) {
+            (Term::Obj(x), Term::Obj(y)) => (x == y) != eq,
+            (x, y) => x == y && !eq,
+        };
+        if contradictory {
+            ctx.err(span, "contradictory binding constraint: it can never hold");
+            return;
+        }
+        task.bindings.push(if eq {
+            Binding::Eq(a, b)
+        } else {
+            Binding::Ne(a, b)
+        });
+        return;
+    }
+    if s.tp_diff(lhs).is_some() {
+        ctx.err(
+            span,
+            "constrain a duration with an interval: `(et - st) in [a, b]`",
+        );
+        return;
+    }
+    match op {
+        RelOp::Eq => {
+            let var = match s.num_term(ctx, lhs) {
+                Some(NumTerm::Var(var)) => var,
+                Some(NumTerm::Const(_)) => {
+                    ctx.err(
+                        lhs.span,
+                        "the left side of a numeric `=` must be a numeric `?variable`",
+                    );
+                    return;
+                }
+                None => return,
+            };
+            numeric_definition(ctx, s, task, var, rhs);
+        }
+        RelOp::Le | RelOp::Ge => {
+            let a = s.num_term(ctx, lhs);
+            let b = s.num_term(ctx, rhs);
+            if let (Some(a), Some(b)) = (a, b) {
+                task.numeric.push(if op == RelOp::Le {
+                    NumConstraint::Le(a, b)
+                } else {
+                    NumConstraint::Le(b, a)
+                });
+            }
+        }
+        RelOp::Lt | RelOp::Gt => ctx.err(
+            span,
+            "strict comparisons are not supported: use `<=` or `>=`",
+        ),
+        RelOp::Ne => ctx.err(span, "`!=` compares symbolic values, not numbers"),
+    }
+}
+
+/// `?var = distance(a, b) | t2 - t1 | x * y | x + y | x`.
+fn numeric_definition(
+    ctx: &mut Ctx<'_>,
+    s: &Scope<'_>,
+    task: &mut Task,
+    var: NumVarId,
+    rhs: &Expr,
+) {
+    if let Some((from, to)) = s.tp_diff(rhs) {
+        task.numeric.push(NumConstraint::Duration { var, from, to });
+        return;
+    }
+    match &rhs.kind {
+        ExprKind::Call(f, args) if f.name == "distance" => {
+            if args.len() != 2 {
+                ctx.err(rhs.span, format!("wrong number of arguments: `distance` takes 2, found {}", args.len()));
+                return;
+            }
+            let a = s.sym_term(ctx, &args[0], None, false);
+            let b = s.sym_term(ctx, &args[1], None, false);
+            let (Some(a), Some(b)) = (a, b) else { return };
+            for (t, e) in [(a, &args[0]), (b, &args[1])] {
+                let ty = s.term_type(t);
+                if ty.is_some_and(|ty| s.domain.ty(ty).kind != crate::model::TypeKind::Object) {
+                    ctx.err(e.span, "distance() needs places: objects of a type declared without values (e.g. `type location;`)");
+                    return;
+                }
+            }
+            if s.term_type(a) != s.term_type(b) {
+                ctx.err(rhs.span, "distance() between values of different types");
+                return;
+            }
+            task.numeric.push(NumConstraint::Distance { var, a, b });
+        }
+        ExprKind::Call(f, _) => ctx.err(f.span, format!("unknown function `{}` (known: distance)", f.name)),
+        ExprKind::Bin(op @ (BinOp::Mul | BinOp::Add), a, b) => {
+            let a = s.num_term(ctx, a);
+            let b = s.num_term(ctx, b);
+            if let (Some(a), Some(b)) = (a, b) {
+                task.numeric.push(if *op == BinOp::Mul {
+                    NumConstraint::Product { var, a, b }
+                } else {
+                    NumConstraint::Sum { var, a, b }
+                });
+            }
+        }
+        ExprKind::Bin(_, a, b) if is_const(a) && is_const(b) => {
+            if let Some(c) = eval::num(ctx, rhs, false) {
+                task.numeric.push(NumConstraint::Equal(NumTerm::Var(var), NumTerm::Const(c)));
+            }
+        }
+        ExprKind::Bin(..) => ctx.err(
+            rhs.span,
+            "supported numeric forms: `?x = distance(?a, ?b)`, `?x = t2 - t1`, `?x = a * b`, `?x = a + b`, `?x = a`",
+        ),
+        _ => {
+            if let Some(t) = s.num_term(ctx, rhs) {
+                task.numeric.push(NumConstraint::Equal(NumTerm::Var(var), t));
+            }
+        }
+    }
+}
+
+fn is_const(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Num(..) => true,
+        ExprKind::Neg(i) => is_const(i),
+        ExprKind::Bin(_, a, b) => is_const(a) && is_const(b),
+        _ => false,
+    }
+}
+
+/// A tiny all-pairs STN over one task's timepoints, to reject contradictory durations at load time.
+struct TaskStn {
+    n: usize,
+    /// d[i][j] = max of (t_j - t_i), in ms; None = +oo.
+    d: Vec<Vec<Option<Time>>>,
+}
+
+impl TaskStn {
+    fn new(n: usize) -> Self {
+        let mut d = vec![vec![None; n]; n];
+        for (i, row) in d.iter_mut().enumerate() {
+            row[i] = Some(0);
+        }
+        TaskStn { n, d }
+    }
+
+    /// Adds `to - from in iv`; false if the network becomes inconsistent.
+    fn add(&mut self, from: TpId, to: TpId, iv: TimeInterval) -> bool {
+        let (f, t) = (from.index(), to.index());
+        if f >= self.n || t >= self.n {
+            return true;
+        }
+        if let Some(ub) = iv.max_ms() {
+            self.tighten(f, t, ub);
+        }
+        if let Some(lb) = iv.min_ms() {
+            self.tighten(t, f, lb.saturating_neg());
+        }
+        // Floyd–Warshall: n is a handful of timepoints.
+        for k in 0..self.n {
+            for i in 0..self.n {
+                for j in 0..self.n {
+                    if let (Some(a), Some(b)) = (self.d[i][k], self.d[k][j]) {
+                        self.tighten(i, j, a.saturating_add(b));
+                    }
+                }
+            }
+        }
+        (0..self.n).all(|i| self.d[i][i].is_none_or(|v| v >= 0))
+    }
+
+    fn tighten(&mut self, i: usize, j: usize, v: Time) {
+        if self.d[i][j].is_none_or(|old| v < old) {
+            self.d[i][j] = Some(v);
+        }
+    }
+}
