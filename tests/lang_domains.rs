@@ -344,23 +344,43 @@ fn readme_examples_parse() {
     let block = |head: &str| {
         blocks
             .iter()
-            .map(|b| b.trim_start_matches(|c: char| c.is_alphanumeric()).trim_start())
+            .map(|b| {
+                b.trim_start_matches(|c: char| c.is_alphanumeric())
+                    .trim_start()
+            })
             .find(|b| b.starts_with(head))
             .unwrap_or_else(|| panic!("no block starting with {head}"))
     };
     let d = lang::parse_domain("README domain", block("domain rover;"));
     let d = d.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(d.task_id("move").map(|t| d.task(t).preemption), Some(Preemption::LatePreemptive));
+    assert_eq!(
+        d.task_id("move").map(|t| d.task(t).preemption),
+        Some(Preemption::LatePreemptive)
+    );
     let (rover, _) = load("rover", "fig2");
     let p = lang::parse_problem("README problem", block("problem fig2;"), &rover);
     let p = p.unwrap_or_else(|e| panic!("{e}"));
-    let battery = rover.resource_id("BATTERY").unwrap_or_else(|| panic!("no BATTERY"));
+    let battery = rover
+        .resource_id("BATTERY")
+        .unwrap_or_else(|| panic!("no BATTERY"));
     let setup = p.resource(battery).unwrap_or_else(|| panic!("no setup"));
-    assert_eq!((setup.level, setup.capacity_at(0), setup.capacity_at(40 * 60_000)), (90.0, 100.0, 60.0));
+    assert_eq!(
+        (
+            setup.level,
+            setup.capacity_at(0),
+            setup.capacity_at(40 * 60_000)
+        ),
+        (90.0, 100.0, 60.0)
+    );
     let g3 = &p.goals[0];
-    assert_eq!((g3.priority, g3.achieve, g3.duration.max_ms()), (3, 50_000, Some(60_000)));
+    assert_eq!(
+        (g3.priority, g3.achieve, g3.duration.max_ms()),
+        (3, 50_000, Some(60_000))
+    );
     // PICTURE(base) = true overrides the `*` default.
-    let pic = rover.attr_id("PICTURE").unwrap_or_else(|| panic!("no PICTURE"));
+    let pic = rover
+        .attr_id("PICTURE")
+        .unwrap_or_else(|| panic!("no PICTURE"));
     let base = p.object_id("base").unwrap_or_else(|| panic!("no base"));
     assert_eq!(p.initial_value(pic, &[base]), Value::Obj(Domain::TRUE));
     assert_eq!(p.initial.iter().filter(|f| f.attr == pic).count(), 4);

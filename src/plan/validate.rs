@@ -1,1 +1,0 @@
-//! Independent plan checker (being written).
