@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 
+use crate::stn::bench as stn_bench;
+
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// What to measure.
@@ -21,10 +23,51 @@ pub enum BenchWhat {
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
-        BenchWhat::Stn => {
-            tracing::error!("bench stn: not yet implemented");
-            let _ = args.json;
-            ExitCode::FAILURE
+        BenchWhat::Stn => bench_stn(args.json),
+    }
+}
+
+fn bench_stn(json: bool) -> ExitCode {
+    let figures = match stn_bench::run(&[100, 1_000, 10_000], 1_000) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench stn: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if json {
+        for f in &figures {
+            match serde_json::to_string(f) {
+                Ok(line) => println!("{line}"),
+                Err(e) => {
+                    eprintln!("bench stn: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        }
+    } else {
+        println!(
+            "{:>7} {:>8} {:>10} {:>11} {:>13} {:>8} {:>10}",
+            "n", "constr", "insert µs", "execute µs", "exec med µs", "FW ms", "speed-up"
+        );
+        for f in &figures {
+            let fw = f
+                .floyd_warshall_ms
+                .map_or("-".into(), |v| format!("{v:.1}"));
+            let sp = f
+                .speedup_vs_floyd_warshall
+                .map_or("-".into(), |v| format!("{v:.0}×"));
+            println!(
+                "{:>7} {:>8} {:>10.3} {:>11.3} {:>13.3} {:>8} {:>10}",
+                f.n,
+                f.constraints,
+                f.insert_mean_us,
+                f.execute_mean_us,
+                f.execute_median_us,
+                fw,
+                sp
+            );
         }
     }
+    ExitCode::SUCCESS
 }

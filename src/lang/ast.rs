@@ -146,9 +146,9 @@ pub enum PositionAst {
     Local(Vec<Expr>, Span),
     /// `at lat X lon Y [alt Z]`
     Geo {
-        lat: Expr,
-        lon: Expr,
-        alt: Option<Expr>,
+        lat: Box<Expr>,
+        lon: Box<Expr>,
+        alt: Option<Box<Expr>>,
         span: Span,
     },
 }

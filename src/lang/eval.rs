@@ -9,6 +9,8 @@ use super::diag::{Diagnostic, Source, Span};
 /// Largest date or duration accepted: ~31,700 years in ms, far from i64 overflow in STN sums.
 const MAX_MS: f64 = 1e15;
 
+const EMPTY_INTERVAL: &str = "empty interval: its lower bound exceeds its upper bound";
+
 /// Diagnostics collected while resolving one file.
 pub struct Ctx<'a> {
     pub src: Source<'a>,
@@ -166,33 +168,37 @@ pub fn time_interval(ctx: &mut Ctx<'_>, i: &IntervalAst, clock: Clock) -> Option
     let lb = time(ctx, &i.lb, clock);
     let ub = time(ctx, &i.ub, clock);
     let (lb, ub) = (lb?, ub?);
-    let lb = match lb {
-        TimeVal::NegInf => Bound::Inf,
-        TimeVal::PosInf => {
-            ctx.err(i.lb.span, "a lower bound cannot be +oo");
-            return None;
-        }
-        TimeVal::Ms(v) if i.lb_open => Bound::Open(v),
-        TimeVal::Ms(v) => Bound::Closed(v),
-    };
-    let ub = match ub {
-        TimeVal::PosInf => Bound::Inf,
-        TimeVal::NegInf => {
-            ctx.err(i.ub.span, "an upper bound cannot be -oo");
-            return None;
-        }
-        TimeVal::Ms(v) if i.ub_open => Bound::Open(v),
-        TimeVal::Ms(v) => Bound::Closed(v),
-    };
+    let lb = time_bound(ctx, lb, i.lb_open, &i.lb, true)?;
+    let ub = time_bound(ctx, ub, i.ub_open, &i.ub, false)?;
     let iv = TimeInterval { lb, ub };
     if iv.is_empty() {
-        ctx.err(
-            i.span,
-            "empty interval: its lower bound exceeds its upper bound",
-        );
+        ctx.err(i.span, EMPTY_INTERVAL);
         return None;
     }
     Some(iv)
+}
+
+/// One end of a time interval: −oo is only a lower bound, +oo only an upper one.
+fn time_bound(
+    ctx: &mut Ctx<'_>,
+    v: TimeVal,
+    open: bool,
+    e: &Expr,
+    lower: bool,
+) -> Option<Bound<Time>> {
+    match (v, lower) {
+        (TimeVal::NegInf, true) | (TimeVal::PosInf, false) => Some(Bound::Inf),
+        (TimeVal::PosInf, true) => {
+            ctx.err(e.span, "a lower bound cannot be +oo");
+            None
+        }
+        (TimeVal::NegInf, false) => {
+            ctx.err(e.span, "an upper bound cannot be -oo");
+            None
+        }
+        (TimeVal::Ms(v), _) if open => Some(Bound::Open(v)),
+        (TimeVal::Ms(v), _) => Some(Bound::Closed(v)),
+    }
 }
 
 /// A numeric interval; an empty one is reported at `i.span`.
@@ -222,10 +228,7 @@ pub fn num_interval(ctx: &mut Ctx<'_>, i: &IntervalAst) -> Option<NumInterval> {
         ub: bound(ub, i.ub_open),
     };
     if iv.is_empty() {
-        ctx.err(
-            i.span,
-            "empty interval: its lower bound exceeds its upper bound",
-        );
+        ctx.err(i.span, EMPTY_INTERVAL);
         return None;
     }
     Some(iv)

@@ -204,9 +204,11 @@ pub fn lex(src: &Source<'_>) -> Result<Vec<Token>, Diagnostic> {
             span: Span::new(start, i),
         });
     }
+    // "found the end of the file" points just after the last token, on a line that shows it.
+    let eof = out.last().map_or(0, |t: &Token| t.span.end);
     out.push(Token {
         tok: Tok::Eof,
-        span: Span::new(text.len(), text.len()),
+        span: Span::new(eof, eof),
     });
     Ok(out)
 }

@@ -7,6 +7,8 @@ use super::lexer::{lex, Tok, Token};
 
 /// Deepest expression nesting accepted (far beyond any real model).
 const MAX_DEPTH: usize = 64;
+/// Most operator / call nodes in one expression: bounds the tree depth that evaluation recurses over.
+const MAX_NODES: usize = 256;
 
 const DOMAIN_KEYWORDS: &[&str] = &["type", "constant", "attribute", "resource", "task"];
 const PREEMPTIONS: &[&str] = &["nonPreemptive", "earlyPreemptive", "latePreemptive"];
@@ -16,6 +18,7 @@ pub struct Parser<'a> {
     toks: Vec<Token>,
     pos: usize,
     depth: usize,
+    nodes: usize,
 }
 
 type PResult<T> = Result<T, Diagnostic>;
@@ -28,6 +31,7 @@ impl<'a> Parser<'a> {
             toks,
             pos: 0,
             depth: 0,
+            nodes: 0,
         })
     }
 
@@ -93,6 +97,15 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// `kw EXPR` if the next word is `kw`.
+    fn opt_kw_expr(&mut self, kw: &str) -> PResult<Option<Expr>> {
+        if self.eat_kw(kw) {
+            Ok(Some(self.expr()?))
+        } else {
+            Ok(None)
+        }
+    }
+
     fn expect_kw(&mut self, kw: &str) -> PResult<Span> {
         if self.is_kw(kw) {
             Ok(self.bump().span)
@@ -121,8 +134,15 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// A missing `;` is reported just after the previous token, where it belongs.
     fn semi(&mut self) -> PResult<()> {
-        self.expect(Tok::Semi, "`;`").map(|_| ())
+        if self.eat(&Tok::Semi) {
+            return Ok(());
+        }
+        Err(self.src.error_at(
+            self.prev_span().end,
+            format!("expected `;`, found {}", self.peek().describe()),
+        ))
     }
 
     // ---------------------------------------------------------------- files
@@ -183,11 +203,7 @@ impl<'a> Parser<'a> {
                 let name = self.ident("a resource name")?;
                 self.expect(Tok::Colon, "`:` and `unary` or `reservoir`")?;
                 let kind = self.ident("`unary` or `reservoir`")?;
-                let capacity = if self.eat_kw("capacity") {
-                    Some(self.expr()?)
-                } else {
-                    None
-                };
+                let capacity = self.opt_kw_expr("capacity")?;
                 self.semi()?;
                 Ok(DomainItem::Resource {
                     name,
@@ -219,15 +235,11 @@ impl<'a> Parser<'a> {
             let lat = self.expr()?;
             self.expect_kw("lon")?;
             let lon = self.expr()?;
-            let alt = if self.eat_kw("alt") {
-                Some(self.expr()?)
-            } else {
-                None
-            };
+            let alt = self.opt_kw_expr("alt")?;
             return Ok(PositionAst::Geo {
-                lat,
-                lon,
-                alt,
+                lat: Box::new(lat),
+                lon: Box::new(lon),
+                alt: alt.map(Box::new),
                 span: start.to(self.prev_span()),
             });
         }
@@ -540,6 +552,9 @@ impl<'a> Parser<'a> {
     // ---------------------------------------------------------------- expressions
 
     pub fn expr(&mut self) -> PResult<Expr> {
+        if self.depth == 0 {
+            self.nodes = 0;
+        }
         self.depth += 1;
         if self.depth > MAX_DEPTH {
             let e = self.err("a shallower expression (nesting limit reached)");
@@ -552,39 +567,54 @@ impl<'a> Parser<'a> {
     }
 
     fn sum(&mut self) -> PResult<Expr> {
-        let mut lhs = self.product()?;
-        loop {
-            let op = match self.peek() {
-                Tok::Plus => BinOp::Add,
-                Tok::Minus => BinOp::Sub,
-                _ => return Ok(lhs),
-            };
-            self.bump();
-            let rhs = self.product()?;
-            let span = lhs.span.to(rhs.span);
-            lhs = Expr {
-                kind: ExprKind::Bin(op, Box::new(lhs), Box::new(rhs)),
-                span,
-            };
-        }
+        self.left_assoc(
+            |t| match t {
+                Tok::Plus => Some(BinOp::Add),
+                Tok::Minus => Some(BinOp::Sub),
+                _ => None,
+            },
+            Self::product,
+        )
     }
 
     fn product(&mut self) -> PResult<Expr> {
-        let mut lhs = self.atom()?;
-        loop {
-            let op = match self.peek() {
-                Tok::Star => BinOp::Mul,
-                Tok::Slash => BinOp::Div,
-                _ => return Ok(lhs),
-            };
+        self.left_assoc(
+            |t| match t {
+                Tok::Star => Some(BinOp::Mul),
+                Tok::Slash => Some(BinOp::Div),
+                _ => None,
+            },
+            Self::atom,
+        )
+    }
+
+    /// Counts one operator or call node of the current expression.
+    fn node(&mut self) -> PResult<()> {
+        self.nodes += 1;
+        if self.nodes > MAX_NODES {
+            return self.err("a shorter expression (size limit reached)");
+        }
+        Ok(())
+    }
+
+    /// `operand (op operand)*`, grouping to the left.
+    fn left_assoc(
+        &mut self,
+        op_of: fn(&Tok) -> Option<BinOp>,
+        operand: fn(&mut Self) -> PResult<Expr>,
+    ) -> PResult<Expr> {
+        let mut lhs = operand(self)?;
+        while let Some(op) = op_of(self.peek()) {
+            self.node()?;
             self.bump();
-            let rhs = self.atom()?;
+            let rhs = operand(self)?;
             let span = lhs.span.to(rhs.span);
             lhs = Expr {
                 kind: ExprKind::Bin(op, Box::new(lhs), Box::new(rhs)),
                 span,
             };
         }
+        Ok(lhs)
     }
 
     fn atom(&mut self) -> PResult<Expr> {
@@ -712,11 +742,7 @@ impl<'a> Parser<'a> {
                 let lat = self.expr()?;
                 self.expect_kw("lon")?;
                 let lon = self.expr()?;
-                let alt = if self.eat_kw("alt") {
-                    Some(self.expr()?)
-                } else {
-                    None
-                };
+                let alt = self.opt_kw_expr("alt")?;
                 self.semi()?;
                 Ok(ProblemItem::Home {
                     lat,
@@ -751,11 +777,7 @@ impl<'a> Parser<'a> {
                 loop {
                     let key = self.ident("`level` or `capacity`")?;
                     let value = self.expr()?;
-                    let from = if self.eat_kw("from") {
-                        Some(self.expr()?)
-                    } else {
-                        None
-                    };
+                    let from = self.opt_kw_expr("from")?;
                     items.push(ResourceItemAst { key, value, from });
                     if !self.eat(&Tok::Comma) {
                         break;
@@ -781,11 +803,7 @@ impl<'a> Parser<'a> {
         let attr = self.attr_ref()?;
         self.expect(Tok::Eq, "`=` and the value")?;
         let value = self.expr()?;
-        let at = if self.eat_kw("at") {
-            Some(self.expr()?)
-        } else {
-            None
-        };
+        let at = self.opt_kw_expr("at")?;
         self.semi()?;
         Ok(InitAst {
             attr,
@@ -803,11 +821,7 @@ impl<'a> Parser<'a> {
         } else {
             None
         };
-        let priority = if self.eat_kw("priority") {
-            Some(self.expr()?)
-        } else {
-            None
-        };
+        let priority = self.opt_kw_expr("priority")?;
         let body = self.body()?;
         self.eat(&Tok::Semi);
         Ok(GoalAst {
@@ -877,5 +891,15 @@ mod tests {
             "-".repeat(10_000)
         );
         assert!(parse_domain(&text).is_err());
+        // Long operator chains build deep trees too: bounded by the node budget.
+        let chain = |n: usize| {
+            format!(
+                "domain d; task t() (st) {{ variable ?x; ?x = {}1; }}",
+                "1 + ".repeat(n)
+            )
+        };
+        let e = parse_domain(&chain(100_000)).err().map(|d| d.message);
+        assert!(e.is_some_and(|m| m.contains("size limit")));
+        assert!(parse_domain(&chain(200)).is_ok());
     }
 }

@@ -43,6 +43,39 @@ pub fn type_ref(ctx: &mut Ctx<'_>, domain: &Domain, id: &Ident) -> Option<TypeId
     t
 }
 
+/// The logical attribute `a` names, with the right number of arguments; `resource_hint` says what to
+/// write instead when `a` names a resource.
+pub fn logical_attr(
+    ctx: &mut Ctx<'_>,
+    domain: &Domain,
+    a: &super::ast::AttrRef,
+    resource_hint: &str,
+) -> Option<crate::model::AttrId> {
+    let Some(id) = domain.attr_id(&a.name.name) else {
+        let msg = if domain.resource_id(&a.name.name).is_some() {
+            format!("`{}` is a resource: {resource_hint}", a.name.name)
+        } else {
+            format!("unknown attribute `{}`", a.name.name)
+        };
+        ctx.err(a.name.span, msg);
+        return None;
+    };
+    let attr = domain.attr(id);
+    if a.args.len() != attr.arity() {
+        ctx.err(
+            a.span,
+            format!(
+                "wrong number of arguments: `{}` takes {}, found {}",
+                attr.name,
+                attr.arity(),
+                a.args.len()
+            ),
+        );
+        return None;
+    }
+    Some(id)
+}
+
 /// Evaluates `at (e, n[, u])` / `at lat .. lon .. [alt ..]`.
 pub fn position(ctx: &mut Ctx<'_>, p: &PositionAst) -> Option<crate::model::Position> {
     use crate::model::Position;
@@ -65,7 +98,7 @@ pub fn position(ctx: &mut Ctx<'_>, p: &PositionAst) -> Option<crate::model::Posi
             Some(Position::Local { east, north, up })
         }
         PositionAst::Geo { lat, lon, alt, .. } => {
-            let g = geo(ctx, lat, lon, alt.as_ref())?;
+            let g = geo(ctx, lat, lon, alt.as_deref())?;
             Some(Position::Geo(g))
         }
     }
@@ -104,9 +137,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, ast: &DomainAst) -> Domain {
     let mut d = Domain::new(ast.name.name.clone());
     let mut types = Names::default();
     let mut objects = Names::default();
-    for name in ["bool"] {
-        types.0.insert(name.into(), Span::default());
-    }
+    types.0.insert("bool".into(), Span::default());
     for name in ["false", "true"] {
         objects.0.insert(name.into(), Span::default());
     }

@@ -11,7 +11,7 @@ use crate::model::{
 use super::ast::{AttrRef, BinOp, Expr, ExprKind, Ident, InSet, RelOp, Stmt, TaskAst, UsageAst};
 use super::diag::Span;
 use super::eval::{self, Clock, Ctx};
-use super::resolve_domain::{type_ref, Names};
+use super::resolve_domain::{logical_attr, type_ref, Names};
 
 enum Var {
     Sym(SymVarId),
@@ -162,31 +162,8 @@ impl Scope<'_> {
 
     /// `attr(args)` on a logical attribute: lookup, arity and argument types.
     fn attr_ref(&self, ctx: &mut Ctx<'_>, a: &AttrRef) -> Option<(AttrId, Vec<Term>)> {
-        let Some(id) = self.domain.attr_id(&a.name.name) else {
-            let msg = if self.domain.resource_id(&a.name.name).is_some() {
-                format!(
-                    "`{}` is a resource: use `use`, `consume` or `produce`",
-                    a.name.name
-                )
-            } else {
-                format!("unknown attribute `{}`", a.name.name)
-            };
-            ctx.err(a.name.span, msg);
-            return None;
-        };
+        let id = logical_attr(ctx, self.domain, a, "use `use`, `consume` or `produce`")?;
         let attr = self.domain.attr(id);
-        if a.args.len() != attr.arity() {
-            ctx.err(
-                a.span,
-                format!(
-                    "wrong number of arguments: `{}` takes {}, found {}",
-                    attr.name,
-                    attr.arity(),
-                    a.args.len()
-                ),
-            );
-            return None;
-        }
         let mut args = Vec::new();
         for (e, (_, t)) in a.args.iter().zip(&attr.params) {
             args.push(self.sym_term(ctx, e, Some(*t), false));
@@ -307,9 +284,14 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &TaskAst) -> Option<Task
             stn.add(t, end, TimeInterval::at_least(0));
         }
     }
+    let mut numeric_spans: Vec<Span> = Vec::new();
     for st in &ast.body {
         statement(ctx, &mut s, &mut task, &mut stn, st);
+        if let Stmt::Rel { span, .. } = st {
+            numeric_spans.resize(task.numeric.len(), *span);
+        }
     }
+    numeric_contradictions(ctx, &s, &task.numeric, &numeric_spans);
     task.preemption = match ast.preemption.as_ref().map(|p| p.name.as_str()) {
         None | Some("nonPreemptive") => Preemption::NonPreemptive,
         Some("earlyPreemptive") => Preemption::EarlyPreemptive,
@@ -343,10 +325,10 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
             let t = s.sym_term(ctx, to, vt, true);
             let at = s.tp_ref(ctx, at);
             if let (Some((attr_id, args)), Some(from), Some(to), Some(at)) = (a, f, t, at) {
-                if matches!((from, to), (Term::Obj(x), Term::Obj(y)) if x == y) {
+                if from == to && !matches!(from, Term::Var(_)) {
                     ctx.err(
                         attr.span,
-                        "an event must change the value: `from` and `to` are the same constant",
+                        "an event must change the value: `from` and `to` are the same",
                     );
                 }
                 task.events.push(Event {
@@ -726,6 +708,28 @@ fn numeric_definition(
             if let Some(t) = s.num_term(ctx, rhs) {
                 task.numeric.push(NumConstraint::Equal(NumTerm::Var(var), t));
             }
+        }
+    }
+}
+
+/// Constant numeric constraints that can never hold, once every domain is known (declarations may follow
+/// their uses): `?x = c` with `c` outside the domain of `?x`, `a <= b` between constants with `a > b`.
+fn numeric_contradictions(ctx: &mut Ctx<'_>, s: &Scope<'_>, cs: &[NumConstraint], spans: &[Span]) {
+    for (c, span) in cs.iter().zip(spans) {
+        let bad = match *c {
+            NumConstraint::Equal(NumTerm::Var(v), NumTerm::Const(k))
+            | NumConstraint::Equal(NumTerm::Const(k), NumTerm::Var(v)) => {
+                s.num.get(v.index()).is_some_and(|v| !v.domain.contains(k))
+            }
+            NumConstraint::Equal(NumTerm::Const(a), NumTerm::Const(b)) => a != b,
+            NumConstraint::Le(NumTerm::Const(a), NumTerm::Const(b)) => a > b,
+            _ => false,
+        };
+        if bad {
+            ctx.err(
+                *span,
+                "contradictory numeric constraint: it can never hold with the declared domains",
+            );
         }
     }
 }

@@ -1,3 +1,6 @@
+//! The plan: the planner's partial plan P = (A, C, L, F), its output ([`solution`]) and the independent
+//! checker ([`validate`], which shares no code with the search).
+//!
 //! The partial plan P = (A, C, L, F) of seed 1 §2.2, with the extra state the executive needs (§3.1).
 //!
 //! - **A**: [`Action`]s, task instances with their timepoints in the STN, their symbolic variables in the
@@ -25,6 +28,8 @@ mod envelope;
 pub mod flaws;
 mod numeric;
 mod order;
+pub mod solution;
+pub mod validate;
 
 use std::sync::Arc;
 

@@ -1,0 +1,154 @@
+//! `mavtempo check`: exit 0 on the shipped files; a malformed copy of any of them exits non-zero with a
+//! `file:line:col` diagnostic at the place of the damage.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn shipped() -> (Vec<PathBuf>, Vec<PathBuf>) {
+    let mut domains = Vec::new();
+    let mut problems = Vec::new();
+    let rd = |p: &Path| -> Vec<PathBuf> {
+        std::fs::read_dir(p)
+            .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+            .unwrap_or_default()
+    };
+    for d in rd(&root().join("domains"))
+        .into_iter()
+        .filter(|d| d.is_dir())
+    {
+        domains.extend(rd(&d).into_iter().filter(|p| p.is_file()));
+        problems.extend(rd(&d.join("problems")));
+    }
+    domains.sort();
+    problems.sort();
+    (domains, problems)
+}
+
+fn check(files: &[PathBuf]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .arg("check")
+        .args(files)
+        .output();
+    match out {
+        Ok(o) => (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        ),
+        Err(e) => panic!("cannot run mavtempo: {e}"),
+    }
+}
+
+/// 1-based line and column (in chars) of byte offset `pos`.
+fn line_col(text: &str, pos: usize) -> (usize, usize) {
+    let before = &text[..pos];
+    let line = before.matches('\n').count() + 1;
+    let col = before[before.rfind('\n').map_or(0, |i| i + 1)..]
+        .chars()
+        .count()
+        + 1;
+    (line, col)
+}
+
+/// Byte offset of the last `;` outside a `//` comment.
+fn last_code_semicolon(text: &str) -> Option<usize> {
+    let mut found = None;
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let code = line.split("//").next().unwrap_or("");
+        if let Some(i) = code.rfind(';') {
+            found = Some(offset + i);
+        }
+        offset += line.len();
+    }
+    found
+}
+
+#[test]
+fn shipped_files_check_clean() {
+    let (domains, problems) = shipped();
+    assert!(domains.len() >= 3 && problems.len() >= 4);
+    let all: Vec<PathBuf> = domains.iter().chain(&problems).cloned().collect();
+    let (ok, stdout, stderr) = check(&all);
+    assert!(ok, "{stderr}");
+    assert_eq!(
+        stdout.lines().filter(|l| l.contains(": ok (")).count(),
+        all.len(),
+        "{stdout}"
+    );
+    // Problems alone find their domain through their `domain NAME;` header.
+    let (ok, _, stderr) = check(&problems);
+    assert!(ok, "{stderr}");
+}
+
+#[test]
+fn malformed_copies_fail_at_the_damage() {
+    let (domains, problems) = shipped();
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_check");
+    std::fs::create_dir_all(&tmp).unwrap_or_else(|e| panic!("{e}"));
+    for (i, file) in domains.iter().chain(&problems).enumerate() {
+        let text = std::fs::read_to_string(file).unwrap_or_default();
+        let is_problem = text.trim_start().starts_with("problem") || text.contains("\nproblem ");
+        // The domain of a problem copy is given on the command line (the copy lives elsewhere).
+        let domain_arg: Vec<PathBuf> = if is_problem {
+            let dir = file.parent().and_then(|p| p.parent());
+            dir.map(|d| {
+                shipped()
+                    .0
+                    .into_iter()
+                    .filter(|f| f.starts_with(d))
+                    .collect()
+            })
+            .unwrap_or_default()
+        } else {
+            Vec::new()
+        };
+        // 1. The last `;` removed: "expected `;`" exactly where it was.
+        let semi =
+            last_code_semicolon(&text).unwrap_or_else(|| panic!("{}: no `;`", file.display()));
+        let broken = format!("{}{}", &text[..semi], &text[semi + 1..]);
+        // 2. A misspelt name: an attribute in a domain, a value in a problem's initial state.
+        let (anchor, replacement, message) = if is_problem {
+            let init = text.find("initial {").unwrap_or(0);
+            let eq = text[init..].find("= ").map(|k| init + k + 2).unwrap_or(0);
+            (eq, "nowhere", "unknown object `nowhere`")
+        } else {
+            let h = text.find("hold(").map(|k| k + 5).unwrap_or(0);
+            (h, "NO_SUCH_ATTR", "unknown attribute `NO_SUCH_ATTR`")
+        };
+        let end = anchor
+            + text[anchor..]
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(0);
+        let renamed = format!("{}{replacement}{}", &text[..anchor], &text[end..]);
+        for (k, (copy, pos, msg)) in [(broken, semi, "expected `;`"), (renamed, anchor, message)]
+            .into_iter()
+            .enumerate()
+        {
+            let path = tmp.join(format!("copy{i}_{k}.ixt"));
+            std::fs::write(&path, &copy).unwrap_or_else(|e| panic!("{e}"));
+            let mut args = domain_arg.clone();
+            args.push(path.clone());
+            let (ok, _, stderr) = check(&args);
+            let (l, c) = line_col(&text, pos);
+            let want = format!("{}:{l}:{c}: error: {msg}", path.display());
+            assert!(!ok, "{} accepted", path.display());
+            assert!(stderr.contains(&want), "want {want:?} in:\n{stderr}");
+            assert!(stderr.contains('^'));
+        }
+    }
+}
+
+#[test]
+fn unreadable_and_unknown_files_fail_cleanly() {
+    let (ok, _, stderr) = check(&[root().join("domains/no_such_file.ixt")]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("no_such_file.ixt:1:1: error: cannot read"),
+        "{stderr}"
+    );
+}
