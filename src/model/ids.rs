@@ -1,11 +1,11 @@
 //! Index newtypes: every cross-reference in the model is one of these (cheap, `Copy`, ordered).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 macro_rules! index_type {
     ($(#[$doc:meta])* $name:ident) => {
         $(#[$doc])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
         pub struct $name(pub u32);
 
         impl $name {

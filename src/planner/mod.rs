@@ -1,1 +1,237 @@
-//! planner (see DESIGN in README).
+//! The IxTeT planner (seed 1 §2.2, §3.4): ordered depth-first search in the space of partial plans, one
+//! *planning step* at a time, with backtracking on the plan's trail.
+//!
+//! A step selects a flaw ([`select`]), computes its resolvers in order ([`resolvers`]) and applies the first
+//! that keeps the networks consistent; when none does, the search backtracks to the previous choice point and
+//! applies its next resolver. The search state (the plan and the stack of choice points) persists between
+//! steps, so the executive can plan until its deadline and resume in the next cycle (§3.2) — or keep the
+//! tree across cycles when nothing changed. The root of a search is whatever plan it is given: a problem's
+//! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
+
+pub mod bench;
+pub mod resolvers;
+pub mod select;
+
+use std::time::Instant;
+
+use crate::plan::{ActionId, Flaw, PartialPlan, PlanLevel};
+pub use resolvers::Resolver;
+
+/// Why the search stopped without a plan.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FailReason {
+    /// A flaw of the root plan has no (applicable) resolver: no plan exists from this root.
+    #[error("no resolver for the root flaw: {flaw}")]
+    NoResolver { flaw: String },
+    /// Every branch was explored.
+    #[error("search exhausted after {steps} steps")]
+    Exhausted { steps: u64 },
+    /// The budget (time or steps) ran out; the search can be resumed.
+    #[error("deadline reached after {steps} steps")]
+    Deadline { steps: u64 },
+}
+
+/// What a planning step achieved.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StepOutcome {
+    /// The current plan has no flaw.
+    Solved,
+    /// A resolver was applied (possibly after backtracking).
+    Progress,
+    Failed(FailReason),
+}
+
+/// How long [`Search::run`] may go on.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Budget {
+    pub max_steps: Option<u64>,
+    pub deadline: Option<Instant>,
+}
+
+impl Budget {
+    pub fn steps(n: u64) -> Self {
+        Budget {
+            max_steps: Some(n),
+            deadline: None,
+        }
+    }
+}
+
+/// A choice point: the plan before the choice, the flaw, its resolvers and the next one to try.
+#[derive(Clone, Debug)]
+struct Choice {
+    level: PlanLevel,
+    flaw: Flaw,
+    resolvers: Vec<Resolver>,
+    next: usize,
+    applied_any: bool,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Status {
+    Running,
+    Solved,
+    Failed(FailReason),
+}
+
+/// A resumable plan-space search.
+#[derive(Clone, Debug)]
+pub struct Search {
+    plan: PartialPlan,
+    stack: Vec<Choice>,
+    steps: u64,
+    backtracks: u64,
+    status: Status,
+}
+
+impl Search {
+    /// A search whose root is `plan` (the incremental flaw detection is rebuilt from scratch).
+    pub fn new(mut plan: PartialPlan) -> Self {
+        plan.recompute_candidates();
+        Search {
+            plan,
+            stack: Vec::new(),
+            steps: 0,
+            backtracks: 0,
+            status: Status::Running,
+        }
+    }
+
+    /// The current node's partial plan.
+    pub fn plan(&self) -> &PartialPlan {
+        &self.plan
+    }
+
+    /// The current plan, mutably (for queries that update the detection caches; changes made through it
+    /// become part of the current node).
+    pub fn plan_mut(&mut self) -> &mut PartialPlan {
+        &mut self.plan
+    }
+
+    pub fn into_plan(self) -> PartialPlan {
+        self.plan
+    }
+
+    /// Planning steps done.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Backtracks done.
+    pub fn backtracks(&self) -> u64 {
+        self.backtracks
+    }
+
+    /// Number of choices on the current branch.
+    pub fn depth(&self) -> usize {
+        self.stack.len()
+    }
+
+    /// Whether the current node's plan is *executable* (Definition 5) given the running actions.
+    pub fn executable(&mut self, running: &[ActionId]) -> bool {
+        self.plan.executable(running)
+    }
+
+    /// Backs up the current branch to its deepest executable node (the root when none deeper is): the
+    /// "last labelled node" of §3.2 on this branch. Returns whether an executable node was found.
+    pub fn rewind_to_executable(&mut self, running: &[ActionId]) -> bool {
+        loop {
+            if self.plan.executable(running) {
+                return true;
+            }
+            let Some(top) = self.stack.pop() else {
+                return false;
+            };
+            self.plan.restore(top.level);
+            self.status = Status::Running;
+        }
+    }
+
+    /// One planning step.
+    pub fn step(&mut self) -> StepOutcome {
+        match &self.status {
+            Status::Solved => return StepOutcome::Solved,
+            Status::Failed(r) => return StepOutcome::Failed(r.clone()),
+            Status::Running => {}
+        }
+        self.steps += 1;
+        match select::pick(&mut self.plan) {
+            None => {
+                self.status = Status::Solved;
+                tracing::debug!(steps = self.steps, "plan found");
+                StepOutcome::Solved
+            }
+            Some((flaw, resolvers)) => {
+                tracing::trace!(flaw = %self.plan.flaw_text(&flaw), n = resolvers.len(), "step");
+                let level = self.plan.save();
+                self.stack.push(Choice {
+                    level,
+                    flaw,
+                    resolvers,
+                    next: 0,
+                    applied_any: false,
+                });
+                self.advance()
+            }
+        }
+    }
+
+    /// Applies the next applicable resolver of the top choice, backtracking as needed.
+    fn advance(&mut self) -> StepOutcome {
+        loop {
+            let Some(top) = self.stack.last_mut() else {
+                let r = FailReason::Exhausted { steps: self.steps };
+                self.status = Status::Failed(r.clone());
+                return StepOutcome::Failed(r);
+            };
+            let level = top.level;
+            if top.next < top.resolvers.len() {
+                let r = top.resolvers[top.next].clone();
+                top.next += 1;
+                self.plan.restore(level);
+                match resolvers::apply(&mut self.plan, &r) {
+                    Ok(()) => {
+                        if let Some(top) = self.stack.last_mut() {
+                            top.applied_any = true;
+                        }
+                        return StepOutcome::Progress;
+                    }
+                    Err(_) => self.plan.restore(level),
+                }
+            } else {
+                let Some(top) = self.stack.pop() else {
+                    continue;
+                };
+                self.plan.restore(top.level);
+                self.backtracks += 1;
+                if self.stack.is_empty() {
+                    let r = if top.applied_any {
+                        FailReason::Exhausted { steps: self.steps }
+                    } else {
+                        FailReason::NoResolver {
+                            flaw: self.plan.flaw_text(&top.flaw),
+                        }
+                    };
+                    self.status = Status::Failed(r.clone());
+                    return StepOutcome::Failed(r);
+                }
+            }
+        }
+    }
+
+    /// Steps until solved, failed, or the budget runs out (then `Failed(Deadline)`; the search can resume).
+    pub fn run(&mut self, budget: Budget) -> StepOutcome {
+        let start = self.steps;
+        loop {
+            if budget.max_steps.is_some_and(|n| self.steps - start >= n)
+                || budget.deadline.is_some_and(|d| Instant::now() >= d)
+            {
+                return StepOutcome::Failed(FailReason::Deadline { steps: self.steps });
+            }
+            match self.step() {
+                StepOutcome::Progress => {}
+                other => return other,
+            }
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! The binding CSP (seed 1 §2.2: "the other CSP manages symbolic variables with constraints such as domain
+//! restrictions, equalities or inequalities").
+//!
+//! Variables have finite domains of objects. Equalities merge variables into one class (union-find without
+//! path compression, so that a trail can undo a union); inequalities are kept as pairs and propagated by
+//! forward checking (a singleton class removes its value from the other side). Every change is trailed:
+//! [`Bindings::save`] / [`Bindings::restore`].
+//!
+//! This is the *minimal domain* view IxTeT keeps for least commitment: nothing is bound unless a resolver
+//! requires it. Forward checking is not complete for ≠ (a pigeonhole of ≠ may pass); the checker instantiates
+//! the final plan and would catch it.
+
+use serde::Serialize;
+
+use crate::model::{ObjectId, Value};
+
+/// A symbolic variable of the plan (one per variable of each inserted task).
+#[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug, Serialize)]
+pub struct VarId(pub u32);
+
+/// A symbolic term of the plan: a variable, an object, or IxTeT's `+oo` (unknown / in transit).
+#[derive(Copy, Clone, Eq, PartialEq, Hash, Debug, Serialize)]
+pub enum STerm {
+    Var(VarId),
+    Obj(ObjectId),
+    Unknown,
+}
+
+impl From<Value> for STerm {
+    fn from(v: Value) -> Self {
+        match v {
+            Value::Obj(o) => STerm::Obj(o),
+            Value::Unknown => STerm::Unknown,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+enum Entry {
+    NewVar,
+    /// Old domain of a class root.
+    Domain(u32, Vec<ObjectId>),
+    /// `child` was attached under a root: undo by making it a root again.
+    Union(u32),
+    NewNe,
+}
+
+/// A trail level of the binding CSP.
+#[derive(Copy, Clone, Eq, PartialEq, Debug)]
+pub struct BLevel(usize);
+
+/// The binding constraint network.
+#[derive(Clone, Debug, Default)]
+pub struct Bindings {
+    parent: Vec<u32>,
+    /// Domain of each class root (sorted); stale for non-roots.
+    domain: Vec<Vec<ObjectId>>,
+    size: Vec<u32>,
+    ne: Vec<(u32, u32)>,
+    trail: Vec<Entry>,
+    /// Variables whose class domain changed since the last [`Bindings::take_changed`] (for the numeric CSP).
+    changed: Vec<u32>,
+}
+
+/// The constraints cannot all hold.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("inconsistent bindings")]
+pub struct BindingConflict;
+
+impl Bindings {
+    /// A new variable ranging over `domain`.
+    pub fn new_var(&mut self, mut domain: Vec<ObjectId>) -> VarId {
+        domain.sort();
+        domain.dedup();
+        let v = self.parent.len() as u32;
+        self.parent.push(v);
+        self.domain.push(domain);
+        self.size.push(1);
+        self.trail.push(Entry::NewVar);
+        VarId(v)
+    }
+
+    pub fn num_vars(&self) -> usize {
+        self.parent.len()
+    }
+
+    fn root(&self, mut v: u32) -> u32 {
+        while self.parent[v as usize] != v {
+            v = self.parent[v as usize];
+        }
+        v
+    }
+
+    /// The current domain of `v` (of its class).
+    pub fn domain(&self, v: VarId) -> &[ObjectId] {
+        &self.domain[self.root(v.0) as usize]
+    }
+
+    /// The value of `t` if it is bound (an object, `+oo`, or a variable with a singleton domain).
+    pub fn value(&self, t: STerm) -> Option<Value> {
+        match t {
+            STerm::Obj(o) => Some(Value::Obj(o)),
+            STerm::Unknown => Some(Value::Unknown),
+            STerm::Var(v) => match self.domain(v) {
+                [o] => Some(Value::Obj(*o)),
+                _ => None,
+            },
+        }
+    }
+
+    fn has_ne(&self, a: u32, b: u32) -> bool {
+        let (a, b) = (self.root(a), self.root(b));
+        self.ne.iter().any(|&(x, y)| {
+            let (x, y) = (self.root(x), self.root(y));
+            (x == a && y == b) || (x == b && y == a)
+        })
+    }
+
+    /// Whether `a = b` is consistent with the current constraints (forward-checking view).
+    pub fn possibly_equal(&self, a: STerm, b: STerm) -> bool {
+        match (a, b) {
+            (STerm::Unknown, STerm::Unknown) => true,
+            (STerm::Unknown, _) | (_, STerm::Unknown) => false,
+            (STerm::Obj(x), STerm::Obj(y)) => x == y,
+            (STerm::Var(v), STerm::Obj(o)) | (STerm::Obj(o), STerm::Var(v)) => {
+                self.domain(v).binary_search(&o).is_ok()
+            }
+            (STerm::Var(x), STerm::Var(y)) => {
+                let (rx, ry) = (self.root(x.0), self.root(y.0));
+                if rx == ry {
+                    return true;
+                }
+                let (dx, dy) = (&self.domain[rx as usize], &self.domain[ry as usize]);
+                intersects(dx, dy) && !self.has_ne(rx, ry)
+            }
+        }
+    }
+
+    /// Whether `a = b` in every instantiation.
+    pub fn necessarily_equal(&self, a: STerm, b: STerm) -> bool {
+        if let (STerm::Var(x), STerm::Var(y)) = (a, b) {
+            if self.root(x.0) == self.root(y.0) {
+                return true;
+            }
+        }
+        matches!((self.value(a), self.value(b)), (Some(x), Some(y)) if x == y)
+    }
+
+    /// Whether `a ≠ b` in every instantiation.
+    pub fn necessarily_different(&self, a: STerm, b: STerm) -> bool {
+        !self.possibly_equal(a, b)
+    }
+
+    /// Posts `a = b`.
+    pub fn unify(&mut self, a: STerm, b: STerm) -> Result<(), BindingConflict> {
+        match (a, b) {
+            (STerm::Unknown, STerm::Unknown) => Ok(()),
+            (STerm::Unknown, _) | (_, STerm::Unknown) => Err(BindingConflict),
+            (STerm::Obj(x), STerm::Obj(y)) => {
+                if x == y {
+                    Ok(())
+                } else {
+                    Err(BindingConflict)
+                }
+            }
+            (STerm::Var(v), STerm::Obj(o)) | (STerm::Obj(o), STerm::Var(v)) => {
+                let r = self.root(v.0);
+                self.restrict(r, &[o])?;
+                self.propagate()
+            }
+            (STerm::Var(x), STerm::Var(y)) => {
+                let (rx, ry) = (self.root(x.0), self.root(y.0));
+                if rx == ry {
+                    return Ok(());
+                }
+                if self.has_ne(rx, ry) {
+                    return Err(BindingConflict);
+                }
+                let (big, small) = if self.size[rx as usize] >= self.size[ry as usize] {
+                    (rx, ry)
+                } else {
+                    (ry, rx)
+                };
+                let other = self.domain[small as usize].clone();
+                self.restrict(big, &other)?;
+                self.parent[small as usize] = big;
+                self.size[big as usize] += self.size[small as usize];
+                self.trail.push(Entry::Union(small));
+                self.changed.push(small);
+                self.propagate()
+            }
+        }
+    }
+
+    /// Posts `a ≠ b`.
+    pub fn separate(&mut self, a: STerm, b: STerm) -> Result<(), BindingConflict> {
+        match (a, b) {
+            (STerm::Var(x), STerm::Var(y)) => {
+                if self.root(x.0) == self.root(y.0) {
+                    return Err(BindingConflict);
+                }
+                self.ne.push((x.0, y.0));
+                self.trail.push(Entry::NewNe);
+                self.propagate()
+            }
+            (STerm::Var(v), STerm::Obj(o)) | (STerm::Obj(o), STerm::Var(v)) => {
+                let r = self.root(v.0);
+                let keep: Vec<ObjectId> = self.domain[r as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&x| x != o)
+                    .collect();
+                self.restrict(r, &keep)?;
+                self.propagate()
+            }
+            _ => {
+                if self.possibly_equal(a, b) {
+                    Err(BindingConflict)
+                } else {
+                    Ok(())
+                }
+            }
+        }
+    }
+
+    /// Restricts `v`'s domain to `allowed`.
+    pub fn restrict_var(&mut self, v: VarId, allowed: &[ObjectId]) -> Result<(), BindingConflict> {
+        let mut allowed = allowed.to_vec();
+        allowed.sort();
+        let r = self.root(v.0);
+        self.restrict(r, &allowed)?;
+        self.propagate()
+    }
+
+    /// Intersects the domain of root `r` with the sorted `allowed`.
+    fn restrict(&mut self, r: u32, allowed: &[ObjectId]) -> Result<(), BindingConflict> {
+        let cur = &self.domain[r as usize];
+        let new: Vec<ObjectId> = cur
+            .iter()
+            .copied()
+            .filter(|o| allowed.binary_search(o).is_ok())
+            .collect();
+        if new.is_empty() {
+            return Err(BindingConflict);
+        }
+        if new.len() != cur.len() {
+            let old = std::mem::replace(&mut self.domain[r as usize], new);
+            self.trail.push(Entry::Domain(r, old));
+            self.changed.push(r);
+        }
+        Ok(())
+    }
+
+    /// Forward checking of the inequalities to a fixed point.
+    fn propagate(&mut self) -> Result<(), BindingConflict> {
+        loop {
+            let mut progress = false;
+            for i in 0..self.ne.len() {
+                let (a, b) = self.ne[i];
+                let (ra, rb) = (self.root(a), self.root(b));
+                if ra == rb {
+                    return Err(BindingConflict);
+                }
+                for (x, y) in [(ra, rb), (rb, ra)] {
+                    if let [o] = self.domain[x as usize][..] {
+                        if self.domain[y as usize].binary_search(&o).is_ok() {
+                            let keep: Vec<ObjectId> = self.domain[y as usize]
+                                .iter()
+                                .copied()
+                                .filter(|&z| z != o)
+                                .collect();
+                            self.restrict(y, &keep)?;
+                            progress = true;
+                        }
+                    }
+                }
+            }
+            if !progress {
+                return Ok(());
+            }
+        }
+    }
+
+    /// Whether `v` was (possibly) affected by a domain change since the last call, then forgets the changes.
+    /// Returns the roots whose domain changed.
+    pub fn take_changed(&mut self) -> Vec<u32> {
+        std::mem::take(&mut self.changed)
+    }
+
+    /// The class representative of `v` (changes reported by [`Bindings::take_changed`] are representatives
+    /// or merged-away roots).
+    pub fn class_of(&self, v: VarId) -> u32 {
+        self.root(v.0)
+    }
+
+    pub fn save(&self) -> BLevel {
+        BLevel(self.trail.len())
+    }
+
+    pub fn restore(&mut self, level: BLevel) {
+        while self.trail.len() > level.0 {
+            match self.trail.pop() {
+                Some(Entry::NewVar) => {
+                    self.parent.pop();
+                    self.domain.pop();
+                    self.size.pop();
+                }
+                Some(Entry::Domain(r, old)) => self.domain[r as usize] = old,
+                Some(Entry::Union(child)) => {
+                    let root = self.parent[child as usize];
+                    self.size[root as usize] -= self.size[child as usize];
+                    self.parent[child as usize] = child;
+                }
+                Some(Entry::NewNe) => {
+                    self.ne.pop();
+                }
+                None => break,
+            }
+        }
+        self.changed.clear();
+    }
+}
+
+fn intersects(a: &[ObjectId], b: &[ObjectId]) -> bool {
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Equal => return true,
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn o(i: u32) -> ObjectId {
+        ObjectId(i)
+    }
+
+    #[test]
+    fn unify_intersects_and_restore_undoes() {
+        let mut b = Bindings::default();
+        let x = b.new_var(vec![o(1), o(2), o(3)]);
+        let y = b.new_var(vec![o(2), o(3), o(4)]);
+        let l = b.save();
+        b.unify(STerm::Var(x), STerm::Var(y)).unwrap();
+        assert_eq!(b.domain(x), &[o(2), o(3)]);
+        assert!(b.necessarily_equal(STerm::Var(x), STerm::Var(y)));
+        b.restore(l);
+        assert_eq!(b.domain(x), &[o(1), o(2), o(3)]);
+        assert!(!b.necessarily_equal(STerm::Var(x), STerm::Var(y)));
+    }
+
+    #[test]
+    fn inequality_forward_checks_and_conflicts() {
+        let mut b = Bindings::default();
+        let x = b.new_var(vec![o(1), o(2)]);
+        let y = b.new_var(vec![o(1), o(2)]);
+        b.separate(STerm::Var(x), STerm::Var(y)).unwrap();
+        assert!(b.possibly_equal(STerm::Var(x), STerm::Obj(o(1))));
+        assert!(!b.possibly_equal(STerm::Var(x), STerm::Var(y)));
+        b.unify(STerm::Var(x), STerm::Obj(o(1))).unwrap();
+        assert_eq!(b.domain(y), &[o(2)]);
+        assert!(b.unify(STerm::Var(x), STerm::Var(y)).is_err());
+        assert!(b.unify(STerm::Var(y), STerm::Obj(o(1))).is_err());
+    }
+}

@@ -1,0 +1,298 @@
+//! The flaw set F (seed 1 §2.2): open conditions, threats, resource conflicts.
+//!
+//! Detection is incremental: a threat candidate (event, link) or a unary-resource candidate (use, use) is
+//! recorded when the later of the two enters the plan, and a reservoir is marked for re-checking when a usage
+//! of it is added. Adding constraints can only resolve a candidate, never revive it, so a candidate found
+//! resolved is marked done (on the trail) and never examined again on this branch. After the executive
+//! *relaxes* constraints, [`PartialPlan::recompute_candidates`] starts over.
+
+
+use super::envelope::{reservoir_conflict, ReservoirConflict};
+use super::order::necessarily_after;
+use super::{
+    ActionId, Candidate, CondId, EventId, LinkId, Owner, PartialPlan, STerm, UsageId, UsageKind,
+};
+use crate::model::{ResourceId, ResourceKind, Value};
+
+/// A flaw of the partial plan.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Flaw {
+    /// A condition (hold, event `from`, goal) without a causal link.
+    OpenCondition(CondId),
+    /// `event` may change the value protected by `link` inside its interval.
+    Threat { event: EventId, link: LinkId },
+    /// Two borrowings of a unary resource may overlap.
+    UnaryConflict { a: UsageId, b: UsageId },
+    /// A reservoir's level may leave `[0, capacity]`.
+    Reservoir(ReservoirConflict),
+}
+
+/// Whether a threat candidate is (still) a threat.
+#[derive(Copy, Clone, Eq, PartialEq, Debug)]
+pub enum ThreatCheck {
+    Threat,
+    /// Resolved for good on this branch (separated in time or in value / attribute instance).
+    Resolved,
+    /// Not applicable now (owner removed, link inactive); may be re-examined after a recompute.
+    Inactive,
+}
+
+impl PartialPlan {
+    /// Whether `e` threatens `l`: same attribute instance possibly, a value possibly different from the
+    /// protected one, and possibly inside `[establisher, end of the condition]`.
+    pub fn check_threat(&self, e: EventId, l: LinkId) -> ThreatCheck {
+        let link = self.link(l);
+        if !link.active || !self.cond_live(link.cond) || e == link.event {
+            return ThreatCheck::Inactive;
+        }
+        let cond = self.cond(link.cond);
+        if cond.kind == super::CondKind::Before(e) {
+            return ThreatCheck::Inactive;
+        }
+        let ev = self.event(e);
+        let b = &self.bindings;
+        if ev.args.iter().zip(&cond.args).any(|(&x, &y)| !b.possibly_equal(x, y))
+            || b.necessarily_equal(ev.to, cond.value)
+        {
+            return ThreatCheck::Resolved;
+        }
+        let est = self.event(link.event).at;
+        if necessarily_after(&self.stn, ev.at, est, 1)
+            || necessarily_after(&self.stn, cond.to, ev.at, cond.end_delay())
+        {
+            return ThreatCheck::Resolved;
+        }
+        ThreatCheck::Threat
+    }
+
+    /// Whether two borrowings of a unary resource may overlap (`Some(true)`), are ordered for good
+    /// (`Some(false)`), or are not comparable now (`None`).
+    pub fn check_unary(&self, a: UsageId, b: UsageId) -> Option<bool> {
+        let (ua, ub) = (self.usage(a), self.usage(b));
+        if self.action(ua.action).removed || self.action(ub.action).removed {
+            return None;
+        }
+        let (UsageKind::Use { from: fa, to: ta }, UsageKind::Use { from: fb, to: tb }) =
+            (ua.kind, ub.kind)
+        else {
+            return Some(false);
+        };
+        Some(
+            !(necessarily_after(&self.stn, ta, fb, 0) || necessarily_after(&self.stn, tb, fa, 0)),
+        )
+    }
+
+    /// The live threats (marks resolved candidates done).
+    pub fn live_threats(&mut self) -> Vec<(EventId, LinkId)> {
+        let mut out = Vec::new();
+        for i in 0..self.threats.len() {
+            let Candidate { a, b, done } = self.threats[i];
+            if done {
+                continue;
+            }
+            match self.check_threat(a, b) {
+                ThreatCheck::Threat => out.push((a, b)),
+                ThreatCheck::Resolved => self.mark_threat_done(i),
+                ThreatCheck::Inactive => {}
+            }
+        }
+        out
+    }
+
+    /// The live unary-resource conflicts (marks resolved candidates done).
+    pub fn live_unary_conflicts(&mut self) -> Vec<(UsageId, UsageId)> {
+        let mut out = Vec::new();
+        for i in 0..self.unary.len() {
+            let Candidate { a, b, done } = self.unary[i];
+            if done {
+                continue;
+            }
+            match self.check_unary(a, b) {
+                Some(true) => out.push((a, b)),
+                Some(false) => self.mark_unary_done(i),
+                None => {}
+            }
+        }
+        out
+    }
+
+    /// The reservoir conflicts (re-checks the reservoirs marked dirty, marks clean ones).
+    pub fn reservoir_conflicts(&mut self) -> Vec<ReservoirConflict> {
+        let mut out = Vec::new();
+        for r in 0..self.reservoir_dirty.len() {
+            if !self.reservoir_dirty[r] {
+                continue;
+            }
+            match reservoir_conflict(self, ResourceId::from_index(r)) {
+                Some(c) => out.push(c),
+                None => self.set_reservoir_dirty(r, false),
+            }
+        }
+        out
+    }
+
+    /// The whole flaw set F.
+    pub fn flaws(&mut self) -> Vec<Flaw> {
+        let mut out: Vec<Flaw> = self
+            .live_threats()
+            .into_iter()
+            .map(|(event, link)| Flaw::Threat { event, link })
+            .collect();
+        out.extend(
+            self.live_unary_conflicts()
+                .into_iter()
+                .map(|(a, b)| Flaw::UnaryConflict { a, b }),
+        );
+        out.extend(self.reservoir_conflicts().into_iter().map(Flaw::Reservoir));
+        out.extend(self.open_conditions().map(Flaw::OpenCondition));
+        out
+    }
+
+    /// A_t^f for one flaw (seed 1 footnote 6): the action of an open condition; for a threat, the
+    /// threatening action and the action whose condition is threatened; the actions of a resource conflict.
+    pub fn involved_actions(&self, flaw: &Flaw) -> Vec<ActionId> {
+        let mut out = Vec::new();
+        match flaw {
+            Flaw::OpenCondition(c) => out.extend(self.cond(*c).owner.action()),
+            Flaw::Threat { event, link } => {
+                out.extend(self.event(*event).owner.action());
+                out.extend(self.cond(self.link(*link).cond).owner.action());
+            }
+            Flaw::UnaryConflict { a, b } => {
+                out.push(self.usage(*a).action);
+                out.push(self.usage(*b).action);
+            }
+            Flaw::Reservoir(c) => {
+                out.push(self.usage(c.at).action);
+                for (u, _) in c.open_decreases.iter().chain(&c.open_increases) {
+                    out.push(self.usage(*u).action);
+                }
+            }
+        }
+        out.sort();
+        out.dedup();
+        out
+    }
+
+    /// Definition 5 (executable plan): the constraint networks are consistent (the plan never holds an
+    /// inconsistent network: inconsistent changes are refused) and no running action is involved in a flaw.
+    pub fn executable(&mut self, running: &[ActionId]) -> bool {
+        if running.is_empty() {
+            return true;
+        }
+        self.flaws().iter().all(|f| {
+            self.involved_actions(f)
+                .iter()
+                .all(|a| !running.contains(a))
+        })
+    }
+
+    /// Forgets the incremental detection state and rebuilds every candidate (after relaxations by the
+    /// executive). Trail levels saved before this call must not be restored afterwards.
+    pub fn recompute_candidates(&mut self) {
+        self.threats.clear();
+        self.unary.clear();
+        for attr in 0..self.events_by_attr.len() {
+            for &e in &self.events_by_attr[attr] {
+                for &l in &self.links_by_attr[attr] {
+                    self.threats.push(Candidate {
+                        a: e,
+                        b: l,
+                        done: false,
+                    });
+                }
+            }
+        }
+        for r in 0..self.usages_by_res.len() {
+            let unary = self.domain.resources[r].kind == ResourceKind::Unary;
+            if unary {
+                let us = &self.usages_by_res[r];
+                for i in 0..us.len() {
+                    for j in i + 1..us.len() {
+                        self.unary.push(Candidate {
+                            a: us[i],
+                            b: us[j],
+                            done: false,
+                        });
+                    }
+                }
+            }
+            self.reservoir_dirty[r] = true;
+        }
+    }
+
+    /// A readable description of a term.
+    pub fn term_name(&self, t: STerm) -> String {
+        match self.bindings.value(t) {
+            Some(Value::Obj(o)) => self.problem.object_name(o).to_string(),
+            Some(Value::Unknown) => "+oo".into(),
+            None => match t {
+                STerm::Var(v) => {
+                    let names: Vec<&str> = self
+                        .bindings
+                        .domain(v)
+                        .iter()
+                        .map(|&o| self.problem.object_name(o))
+                        .collect();
+                    format!("?v{}{{{}}}", v.0, names.join(","))
+                }
+                _ => "?".into(),
+            },
+        }
+    }
+
+    /// `ATTR(args) = value` of a condition.
+    pub fn cond_text(&self, c: CondId) -> String {
+        let cond = self.cond(c);
+        let args: Vec<String> = cond.args.iter().map(|&a| self.term_name(a)).collect();
+        format!(
+            "{}({}) = {}",
+            self.domain.attr(cond.attr).name,
+            args.join(", "),
+            self.term_name(cond.value)
+        )
+    }
+
+    /// Who owns a condition or event, for messages.
+    pub fn owner_text(&self, o: Owner) -> String {
+        match o {
+            Owner::Initial => "the initial state".into(),
+            Owner::Exogenous(i) => format!("timed fact #{i}"),
+            Owner::Goal(g) => format!(
+                "goal {}",
+                self.problem.goals.get(g.index()).map_or("?", |g| g.name.as_str())
+            ),
+            Owner::Action(a) => format!("{}#{}", self.domain.task(self.action(a).task).name, a.0),
+        }
+    }
+
+    /// A one-line description of a flaw (for failure reasons and traces).
+    pub fn flaw_text(&self, f: &Flaw) -> String {
+        match f {
+            Flaw::OpenCondition(c) => format!(
+                "open condition {} of {}",
+                self.cond_text(*c),
+                self.owner_text(self.cond(*c).owner)
+            ),
+            Flaw::Threat { event, link } => format!(
+                "threat: event of {} on {}",
+                self.owner_text(self.event(*event).owner),
+                self.cond_text(self.link(*link).cond)
+            ),
+            Flaw::UnaryConflict { a, b } => format!(
+                "unary resource {} used by {} and {} at once",
+                self.domain.resource(self.usage(*a).resource).name,
+                self.owner_text(Owner::Action(self.usage(*a).action)),
+                self.owner_text(Owner::Action(self.usage(*b).action))
+            ),
+            Flaw::Reservoir(c) => format!(
+                "reservoir {} may {} (level bound {:.2}, capacity {:.2}) at {}",
+                self.domain.resource(c.resource).name,
+                if c.overflow { "overflow" } else { "run out" },
+                c.level,
+                c.capacity,
+                self.owner_text(Owner::Action(self.usage(c.at).action))
+            ),
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! `mavtempo bench plan`: planning time and steps on the shipped and generated problems.

@@ -1,0 +1,328 @@
+//! Resolvers of each flaw kind (seed 1 §2.2) and their application to the partial plan.
+//!
+//! Ordering heuristics (least commitment first, existing structure before new actions):
+//! - open condition: existing establishers first (no new action), the *latest* possible one first (it is
+//!   the closest in time, so the protected interval is short and fewer threats arise), then new tasks;
+//! - threat: the two precedences first, the one agreeing with the current earliest times first (it
+//!   disturbs the schedule least), then binding `≠` on the attribute instance, then `=` on the value;
+//! - unary conflict: the order agreeing with the current earliest starts first;
+//! - reservoir under-flow: existing productions moved before, consumptions pushed after, then a new
+//!   producer task (download_images, recharge_battery) before the checkpoint;
+//! - reservoir over-flow: consumptions moved before, productions pushed after, then bounding the
+//!   production's quantity variable (a numeric constraint, still least commitment on the timeline).
+
+use crate::model::{ResourceId, TaskId, Term, Value};
+use crate::plan::{
+    ActionId, CondId, CondKind, Flaw, NTerm, NVar, PartialPlan, PlanError, ReservoirConflict,
+    STerm, UsageKind,
+};
+use crate::stn::{Time, Timepoint, INF};
+
+/// A way to remove a flaw.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Resolver {
+    /// Support `cond` by the existing event (causal link).
+    Link {
+        cond: CondId,
+        event: crate::plan::EventId,
+    },
+    /// Insert an instance of `task` and support `cond` by its `event`-th event.
+    Insert {
+        cond: CondId,
+        task: TaskId,
+        event: usize,
+    },
+    /// `to − from ≥ delay`.
+    Order {
+        from: Timepoint,
+        to: Timepoint,
+        delay: Time,
+    },
+    /// Binding `≠`.
+    Separate(STerm, STerm),
+    /// Binding `=`.
+    Unify(STerm, STerm),
+    /// Insert an instance of `task` whose `usage`-th usage (a production) happens no later than `before`.
+    InsertProducer {
+        task: TaskId,
+        usage: usize,
+        before: Timepoint,
+        resource: ResourceId,
+    },
+    /// Bound a production quantity from above.
+    CapQuantity {
+        action: ActionId,
+        var: NVar,
+        hi: f64,
+    },
+}
+
+/// The resolvers of `flaw`, in the order the search tries them (filtered by a cheap feasibility test).
+pub fn resolvers(plan: &PartialPlan, flaw: &Flaw) -> Vec<Resolver> {
+    match flaw {
+        Flaw::OpenCondition(c) => open_condition(plan, *c),
+        Flaw::Threat { event, link } => threat(plan, *event, *link),
+        Flaw::UnaryConflict { a, b } => unary(plan, *a, *b),
+        Flaw::Reservoir(c) => reservoir(plan, c),
+    }
+}
+
+fn possibly(plan: &PartialPlan, from: Timepoint, to: Timepoint, delay: Time) -> bool {
+    if from == to {
+        return delay <= 0;
+    }
+    plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay && plan.stn.distance(from, to) >= delay
+}
+
+/// Whether a task's event value can match the condition's value.
+fn value_compatible(plan: &PartialPlan, to: &Term, value: STerm) -> bool {
+    match (to, plan.bindings.value(value)) {
+        (Term::Unknown, Some(v)) => v == Value::Unknown,
+        (Term::Unknown, None) => false,
+        (Term::Obj(o), _) => plan.bindings.possibly_equal(STerm::Obj(*o), value),
+        (Term::Var(_), Some(Value::Unknown)) => false,
+        (Term::Var(_), _) => true,
+    }
+}
+
+fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
+    let cond = plan.cond(c);
+    let b = &plan.bindings;
+    let delay = cond.support_delay();
+    let own = match cond.kind {
+        CondKind::Before(e) => Some(e),
+        CondKind::Hold { .. } => None,
+    };
+    let mut existing: Vec<(Time, u32)> = Vec::new();
+    for &e in plan.events_on(cond.attr) {
+        if Some(e) == own {
+            continue;
+        }
+        let ev = plan.event(e);
+        if !b.possibly_equal(ev.to, cond.value)
+            || ev.args.iter().zip(&cond.args).any(|(&x, &y)| !b.possibly_equal(x, y))
+            || !possibly(plan, ev.at, cond.from, delay)
+        {
+            continue;
+        }
+        existing.push((plan.stn.lb(ev.at), e.0));
+    }
+    existing.sort_by(|x, y| y.cmp(x));
+    let mut out: Vec<Resolver> = existing
+        .into_iter()
+        .map(|(_, e)| Resolver::Link {
+            cond: c,
+            event: crate::plan::EventId(e),
+        })
+        .collect();
+    for task in plan.domain.tasks_establishing(cond.attr) {
+        for (k, ev) in plan.domain.task(task).events.iter().enumerate() {
+            if ev.primary && ev.attr == cond.attr && value_compatible(plan, &ev.to, cond.value) {
+                out.push(Resolver::Insert {
+                    cond: c,
+                    task,
+                    event: k,
+                });
+            }
+        }
+    }
+    out
+}
+
+fn threat(plan: &PartialPlan, e: crate::plan::EventId, l: crate::plan::LinkId) -> Vec<Resolver> {
+    let link = plan.link(l);
+    let cond = plan.cond(link.cond);
+    let ev = plan.event(e);
+    let est = plan.event(link.event).at;
+    let after = Resolver::Order {
+        from: cond.to,
+        to: ev.at,
+        delay: cond.end_delay(),
+    };
+    let before = Resolver::Order {
+        from: ev.at,
+        to: est,
+        delay: 1,
+    };
+    let mut out = Vec::new();
+    let after_ok = possibly(plan, cond.to, ev.at, cond.end_delay());
+    let before_ok = possibly(plan, ev.at, est, 1);
+    let later_first = plan.stn.lb(ev.at) >= plan.stn.lb(est);
+    match (after_ok, before_ok, later_first) {
+        (true, true, true) => out.extend([after, before]),
+        (true, true, false) => out.extend([before, after]),
+        (true, false, _) => out.push(after),
+        (false, true, _) => out.push(before),
+        (false, false, _) => {}
+    }
+    let b = &plan.bindings;
+    for (&x, &y) in ev.args.iter().zip(&cond.args) {
+        if !b.necessarily_equal(x, y) {
+            out.push(Resolver::Separate(x, y));
+        }
+    }
+    if b.possibly_equal(ev.to, cond.value) {
+        out.push(Resolver::Unify(ev.to, cond.value));
+    }
+    out
+}
+
+fn unary(plan: &PartialPlan, a: crate::plan::UsageId, b: crate::plan::UsageId) -> Vec<Resolver> {
+    let span = |u| match plan.usage(u).kind {
+        UsageKind::Use { from, to } => Some((from, to)),
+        _ => None,
+    };
+    let (Some((fa, ta)), Some((fb, tb))) = (span(a), span(b)) else {
+        return Vec::new();
+    };
+    let a_first = Resolver::Order {
+        from: ta,
+        to: fb,
+        delay: 0,
+    };
+    let b_first = Resolver::Order {
+        from: tb,
+        to: fa,
+        delay: 0,
+    };
+    let mut out = Vec::new();
+    let (ok_a, ok_b) = (possibly(plan, ta, fb, 0), possibly(plan, tb, fa, 0));
+    if plan.stn.lb(fa) <= plan.stn.lb(fb) {
+        if ok_a {
+            out.push(a_first);
+        }
+        if ok_b {
+            out.push(b_first);
+        }
+    } else {
+        if ok_b {
+            out.push(b_first);
+        }
+        if ok_a {
+            out.push(a_first);
+        }
+    }
+    out
+}
+
+fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
+    let mut out = Vec::new();
+    if c.overflow {
+        for &(_, t) in &c.open_decreases {
+            if possibly(plan, t, c.point, 0) {
+                out.push(Resolver::Order {
+                    from: t,
+                    to: c.point,
+                    delay: 0,
+                });
+            }
+        }
+        for &(_, t) in &c.open_increases {
+            if possibly(plan, c.point, t, 1) {
+                out.push(Resolver::Order {
+                    from: c.point,
+                    to: t,
+                    delay: 1,
+                });
+            }
+        }
+        let u = plan.usage(c.at);
+        if let NTerm::Var(v) = u.quantity {
+            let (lo, hi) = plan.numeric.bounds(v);
+            let new_hi = hi - (c.level - c.capacity);
+            if new_hi >= lo && new_hi < hi {
+                out.push(Resolver::CapQuantity {
+                    action: u.action,
+                    var: v,
+                    hi: new_hi,
+                });
+            }
+        }
+    } else {
+        for &(_, t) in &c.open_increases {
+            if possibly(plan, t, c.point, 0) {
+                out.push(Resolver::Order {
+                    from: t,
+                    to: c.point,
+                    delay: 0,
+                });
+            }
+        }
+        for &(_, t) in &c.open_decreases {
+            if possibly(plan, c.point, t, 1) {
+                out.push(Resolver::Order {
+                    from: c.point,
+                    to: t,
+                    delay: 1,
+                });
+            }
+        }
+        for task in plan.domain.tasks_producing(c.resource) {
+            for (k, u) in plan.domain.task(task).usages.iter().enumerate() {
+                if u.resource == c.resource
+                    && u.primary
+                    && matches!(u.kind, crate::model::UsageKind::Produce { .. })
+                {
+                    out.push(Resolver::InsertProducer {
+                        task,
+                        usage: k,
+                        before: c.point,
+                        resource: c.resource,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Applies `r` to the plan. On `Err` the plan may be half-changed: the caller restores its saved level.
+pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
+    match *r {
+        Resolver::Link { cond, event } => plan.add_link(event, cond).map(|_| ()),
+        Resolver::Insert { cond, task, event } => {
+            let a = plan.insert_action(task)?;
+            let e = *plan
+                .action(a)
+                .events
+                .get(event)
+                .ok_or_else(|| PlanError::Invalid("no such event".into()))?;
+            plan.add_link(e, cond).map(|_| ())
+        }
+        Resolver::Order { from, to, delay } => {
+            plan.stn.add_constraint(from, to, delay, INF)?;
+            Ok(())
+        }
+        Resolver::Separate(x, y) => {
+            plan.bindings.separate(x, y)?;
+            plan.propagate_changed_bindings()
+        }
+        Resolver::Unify(x, y) => {
+            plan.bindings.unify(x, y)?;
+            plan.propagate_changed_bindings()
+        }
+        Resolver::InsertProducer {
+            task,
+            usage,
+            before,
+            resource: _,
+        } => {
+            let a = plan.insert_action(task)?;
+            let u = *plan
+                .action(a)
+                .usages
+                .get(usage)
+                .ok_or_else(|| PlanError::Invalid("no such usage".into()))?;
+            let at = match plan.usage(u).kind {
+                UsageKind::Produce { at } | UsageKind::Consume { at } => at,
+                UsageKind::Use { to, .. } => to,
+            };
+            plan.stn.add_constraint(at, before, 0, INF)?;
+            Ok(())
+        }
+        Resolver::CapQuantity { action, var, hi } => {
+            plan.numeric.narrow(var, f64::NEG_INFINITY, hi)?;
+            plan.repropagate_action(action)
+        }
+    }
+}
