@@ -1,6 +1,7 @@
 //! Command line: clap subcommands, wiring only. Each subcommand lives in its own file.
 
 mod bench;
+mod goal;
 
 use std::process::ExitCode;
 
@@ -21,6 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// Measure performance; prints one JSON object per line with --json.
     Bench(bench::BenchArgs),
+    /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
+    Goal(goal::GoalArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
@@ -29,6 +32,7 @@ pub fn main() -> ExitCode {
     init_tracing();
     match cli.command {
         Command::Bench(args) => bench::run(args),
+        Command::Goal(args) => goal::run(args),
     }
 }
 
