@@ -1,6 +1,7 @@
 //! Command line: clap subcommands, wiring only. Each subcommand lives in its own file.
 
 mod bench;
+mod sim;
 
 use std::process::ExitCode;
 
@@ -21,6 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// Measure performance; prints one JSON object per line with --json.
     Bench(bench::BenchArgs),
+    /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
+    Sim(sim::SimArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
@@ -29,6 +32,7 @@ pub fn main() -> ExitCode {
     init_tracing();
     match cli.command {
         Command::Bench(args) => bench::run(args),
+        Command::Sim(args) => sim::run(args),
     }
 }
 
