@@ -2,6 +2,7 @@
 
 mod bench;
 mod goal;
+mod sim;
 
 use std::process::ExitCode;
 
@@ -24,6 +25,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
+    /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
+    Sim(sim::SimArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
@@ -33,6 +36,7 @@ pub fn main() -> ExitCode {
     match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Goal(args) => goal::run(args),
+        Command::Sim(args) => sim::run(args),
     }
 }
 
