@@ -44,8 +44,14 @@ fn bench_link(json: bool) -> ExitCode {
                     }
                 }
             } else {
-                println!("upload 100 items (median of {}): {:.2} ms (target <= 100 ms)", b.upload_runs, b.upload_100_items_ms);
-                println!("telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)", b.telemetry_msgs_per_s, b.telemetry_msgs);
+                println!(
+                    "upload 100 items (median of {}): {:.2} ms (target <= 100 ms)",
+                    b.upload_runs, b.upload_100_items_ms
+                );
+                println!(
+                    "telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
+                    b.telemetry_msgs_per_s, b.telemetry_msgs
+                );
             }
             ExitCode::SUCCESS
         }
@@ -56,6 +62,7 @@ fn bench_link(json: bool) -> ExitCode {
     }
 }
 
-fn mavtempo_vehicle_bench() -> Result<crate::vehicle::bench::LinkBench, crate::vehicle::bench::BenchError> {
+fn mavtempo_vehicle_bench(
+) -> Result<crate::vehicle::bench::LinkBench, crate::vehicle::bench::BenchError> {
     crate::vehicle::bench::run_link_bench(21, 200_000)
 }
