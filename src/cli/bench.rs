@@ -19,11 +19,14 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Incremental STN vs Floyd-Warshall.
     Stn,
+    /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
+    Link,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
+        BenchWhat::Link => bench_link(args.json),
     }
 }
 
@@ -70,4 +73,39 @@ fn bench_stn(json: bool) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+fn bench_link(json: bool) -> ExitCode {
+    match mavtempo_vehicle_bench() {
+        Ok(b) => {
+            if json {
+                match serde_json::to_string(&b) {
+                    Ok(s) => println!("{s}"),
+                    Err(e) => {
+                        eprintln!("bench link: {e}");
+                        return ExitCode::FAILURE;
+                    }
+                }
+            } else {
+                println!(
+                    "upload 100 items (median of {}): {:.2} ms (target <= 100 ms)",
+                    b.upload_runs, b.upload_100_items_ms
+                );
+                println!(
+                    "telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
+                    b.telemetry_msgs_per_s, b.telemetry_msgs
+                );
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench link: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn mavtempo_vehicle_bench(
+) -> Result<crate::vehicle::bench::LinkBench, crate::vehicle::bench::BenchError> {
+    crate::vehicle::bench::run_link_bench(21, 200_000)
 }
