@@ -131,13 +131,14 @@ impl SimConfig {
         Self {
             listen: "tcpin:127.0.0.1:0".to_string(),
             clock: ClockMode::Manual,
-            mission_rerequest: Duration::from_millis(100),
-            mission_timeout: Duration::from_millis(800),
+            mission_rerequest: Duration::from_millis(300),
+            mission_timeout: Duration::from_millis(1500),
             ..Self::default()
         }
     }
 
-    pub(crate) fn validate(&self) -> Result<(), SimError> {
+    /// Checks the speed-up and the address (also done by `spawn`).
+    pub fn validate(&self) -> Result<(), SimError> {
         if !(self.speedup.is_finite() && self.speedup > 0.0) {
             return Err(SimError::BadSpeedup(self.speedup));
         }

@@ -21,12 +21,15 @@ pub enum BenchWhat {
     Stn,
     /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
     Link,
+    /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
+    Sim,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
         BenchWhat::Link => bench_link(args.json),
+        BenchWhat::Sim => bench_sim(args.json),
     }
 }
 
@@ -100,6 +103,40 @@ fn bench_link(json: bool) -> ExitCode {
         }
         Err(e) => {
             eprintln!("bench link: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn bench_sim(json: bool) -> ExitCode {
+    let report = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| e.to_string())
+        .and_then(|rt| {
+            rt.block_on(sitl::bench::measure_speedup(500.0, 10, 100.0))
+                .map_err(|e| e.to_string())
+        });
+    match report {
+        Ok(r) if json => match serde_json::to_string(&r) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench sim: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Ok(r) => {
+            println!(
+                "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
+                r.speedup_requested, r.speedup_achieved, r.waypoints, r.sim_s, r.wall_s, r.speedup_ceiling
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench sim: {e}");
             ExitCode::FAILURE
         }
     }
