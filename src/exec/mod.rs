@@ -1,1 +1,31 @@
-//! exec (see DESIGN in README).
+//! The temporal executive of IxTeT-eXeC (seed 1 §3): the partially executed plan P_t and the rules that
+//! keep it executable while it runs. Each rule of the paper lives in one file named after it:
+//!
+//! | seed 1 | file |
+//! |---|---|
+//! | Definition 1, P_t (running / future / past actions, S_t) | [`p_t`] |
+//! | eq. (1), (2), cases (1), (2): resource level bounds at t | [`resource_bounds`] |
+//! | Definitions 2–5: executable timepoint / goal / action / plan | [`executable`] |
+//! | §3.3 report timing: in bounds / too late / too early | [`report_timing`] |
+//! | §3.3 resource level: over-consumption / over-production | [`resource_report`] |
+//! | §3.3 goal request acceptance test | [`goal_request`] |
+//! | §3.3 capacity alteration | [`capacity`] |
+//! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
+//! | §3.5 t_exec per timepoint kind | [`t_exec`] |
+//! | §3.5 the dispatch decision (policy trait, default: earliest) | [`dispatch_policy`] |
+//! | §3.2 time injected: manual clock (tests) / vehicle clock (live) | [`clock`] |
+//! | §3.2 ts and μ | [`config`] |
+
+pub mod abstraction;
+pub mod capacity;
+pub mod clock;
+pub mod config;
+pub mod dispatch_policy;
+pub mod executable;
+pub mod goal_request;
+pub mod p_t;
+pub mod report_timing;
+pub mod resource_bounds;
+pub mod resource_report;
+pub mod t_exec;
+
