@@ -19,7 +19,9 @@ pub struct ManualClock {
 
 impl ManualClock {
     pub fn new(now: Time) -> Self {
-        ManualClock { now: Cell::new(now) }
+        ManualClock {
+            now: Cell::new(now),
+        }
     }
 
     pub fn set(&self, t: Time) {

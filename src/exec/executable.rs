@@ -5,11 +5,12 @@ use crate::plan::{ActionId, PartialPlan};
 use crate::stn::{Stn, Timepoint};
 
 /// The timepoints that must directly precede `tp` (a constraint stated between them forces `p ≤ tp`),
-/// the origin excluded.
+/// the origin excluded. A synchronisation (`[0, 0]`) orders neither: both are executed together.
 pub fn direct_predecessors(stn: &Stn, tp: Timepoint) -> Vec<Timepoint> {
     let origin = stn.origin();
     let mut out: Vec<Timepoint> = stn
         .constraints_of(tp)
+        .filter(|(_, k)| !(k.lb == 0 && k.ub == 0))
         .filter_map(|(_, k)| {
             if k.to == tp && k.from != tp && k.lb >= 0 {
                 Some(k.from)
@@ -40,7 +41,10 @@ pub fn timepoint_executable(stn: &Stn, tp: Timepoint, t: Time) -> bool {
 /// A_t^f: the actions involved in the flaws F_t (footnote 6).
 pub fn flawed_actions(plan: &mut PartialPlan) -> Vec<ActionId> {
     let flaws = plan.flaws();
-    let mut out: Vec<ActionId> = flaws.iter().flat_map(|f| plan.involved_actions(f)).collect();
+    let mut out: Vec<ActionId> = flaws
+        .iter()
+        .flat_map(|f| plan.involved_actions(f))
+        .collect();
     out.sort();
     out.dedup();
     out

@@ -14,7 +14,9 @@ use crate::stn::INF;
 pub enum Rejection {
     #[error("duration or start window inconsistent with the plan: {0}")]
     Window(String),
-    #[error("cannot start at least d_achiev = {achiev_ms} ms after now ({now_ms} ms) within its window")]
+    #[error(
+        "cannot start at least d_achiev = {achiev_ms} ms after now ({now_ms} ms) within its window"
+    )]
     TooLate { now_ms: Time, achiev_ms: Time },
     #[error("conflicts with a running action: {0}")]
     Running(String),
@@ -46,7 +48,8 @@ pub fn request(
                 now_ms: t,
                 achiev_ms: achiev,
             })?;
-        order_after_threatened(plan, cond, running).map_err(|e| Rejection::Running(e.to_string()))?;
+        order_after_threatened(plan, cond, running)
+            .map_err(|e| Rejection::Running(e.to_string()))?;
         Ok(g)
     })();
     if result.is_err() {

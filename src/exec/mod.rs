@@ -28,4 +28,3 @@ pub mod report_timing;
 pub mod resource_bounds;
 pub mod resource_report;
 pub mod t_exec;
-

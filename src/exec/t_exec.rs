@@ -30,10 +30,22 @@ mod tests {
         let (lb, ub, ts) = (10_000, 50_000, 2_000);
         assert_eq!(t_exec(TpKind::Start, lb, ub, ts), lb);
         assert_eq!(t_exec(TpKind::Goal, lb, ub, ts), lb);
-        assert_eq!(t_exec(TpKind::End(Preemption::EarlyPreemptive), lb, ub, ts), lb);
-        assert_eq!(t_exec(TpKind::End(Preemption::LatePreemptive), lb, ub, ts), ub - ts);
-        assert_eq!(t_exec(TpKind::End(Preemption::NonPreemptive), lb, ub, ts), ub);
+        assert_eq!(
+            t_exec(TpKind::End(Preemption::EarlyPreemptive), lb, ub, ts),
+            lb
+        );
+        assert_eq!(
+            t_exec(TpKind::End(Preemption::LatePreemptive), lb, ub, ts),
+            ub - ts
+        );
+        assert_eq!(
+            t_exec(TpKind::End(Preemption::NonPreemptive), lb, ub, ts),
+            ub
+        );
         // Less than one timestep of flexibility: not before the lower bound.
-        assert_eq!(t_exec(TpKind::End(Preemption::LatePreemptive), lb, lb + 500, ts), lb);
+        assert_eq!(
+            t_exec(TpKind::End(Preemption::LatePreemptive), lb, lb + 500, ts),
+            lb
+        );
     }
 }
