@@ -17,6 +17,10 @@ pub struct ExecConfig {
     /// d: slack saved at the end of complete replanning for the cycle's initialisation, ms.
     #[serde(default = "default_slack")]
     pub replan_slack_ms: Time,
+    /// Deterministic runs (tests, demo): plan repair and replanning budgets in planning steps instead of
+    /// wall-clock time (μ·ts of steps per cycle).
+    #[serde(default)]
+    pub repair_max_steps: Option<u64>,
 }
 
 fn default_ts() -> Time {
@@ -35,6 +39,7 @@ impl Default for ExecConfig {
             timestep_ms: default_ts(),
             repair_share: default_mu(),
             replan_slack_ms: default_slack(),
+            repair_max_steps: None,
         }
     }
 }

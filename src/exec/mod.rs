@@ -15,16 +15,31 @@
 //! | §3.5 the dispatch decision (policy trait, default: earliest) | [`dispatch_policy`] |
 //! | §3.2 time injected: manual clock (tests) / vehicle clock (live) | [`clock`] |
 //! | §3.2 ts and μ | [`config`] |
+//! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
+//! | §3.3 message routing | [`sense`] |
+//! | §3.3 state values from non-nominal reports, new locations | [`state_update`] |
+//! | §3.2, §3.4 plan repair across cycles | [`repair`] |
+//! | §3.5 act: ExecTPs, launch / stop, postponement, timeouts | [`act`] |
+//! | §3.6 complete replanning: P_ti, T_end, slack d, goal rejection | [`replan`] |
+//! | the per-cycle trace (Fig. 6) | [`trace`] |
 
 pub mod abstraction;
+pub mod act;
 pub mod capacity;
 pub mod clock;
 pub mod config;
+pub mod cycle;
 pub mod dispatch_policy;
 pub mod executable;
+pub mod executive;
 pub mod goal_request;
 pub mod p_t;
+pub mod replan;
+pub mod repair;
 pub mod report_timing;
 pub mod resource_bounds;
 pub mod resource_report;
+pub mod sense;
+pub mod state_update;
 pub mod t_exec;
+pub mod trace;

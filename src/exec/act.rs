@@ -1,0 +1,194 @@
+//! Acting (seed 1 §3.5, Figure 1): the timepoints to execute in this cycle (*ExecTPs*: executable, with an
+//! execution time before the end of the cycle), recomputed after each execution; starts of executable
+//! actions launch them (`START`), ends of preemptive actions stop them (`END`, their time is set by the
+//! report), goal timepoints are executed when the goal is achievable; non-executable actions and
+//! non-achievable goals are postponed while flexibility remains; timeouts when a timepoint's upper bound
+//! passes unexecuted.
+
+use super::dispatch_policy::Candidate;
+use super::executable::{action_executable, flawed_actions, goal_achievable, timepoint_executable};
+use super::executive::{Executive, Fate};
+use super::p_t::classify;
+use super::t_exec::TpKind;
+use super::trace::TraceEvent;
+use crate::model::{Preemption, Time};
+use crate::plan::ActionId;
+use crate::vehicle::Vehicle;
+
+impl Executive {
+    /// The act part at time `now`; returns the next time something is due (to sleep until).
+    pub fn act(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> Option<Time> {
+        let ts = self.cfg.timestep_ms;
+        let mut next: Option<Time> = None;
+        let wake = |t: Time, next: &mut Option<Time>| {
+            if t > now {
+                *next = Some(next.map_or(t, |n: Time| n.min(t)));
+            }
+        };
+        for a in std::mem::take(&mut self.interrupt) {
+            self.stop(vehicle, a);
+        }
+        let mut postponed: Vec<ActionId> = Vec::new();
+        loop {
+            let mut executed = false;
+            let pt = classify(&self.plan, now);
+            let flawed = flawed_actions(&mut self.plan);
+            for &a in &pt.future {
+                let st = self.plan.action(a).start;
+                if self.plan.stn.is_executed(st) {
+                    continue;
+                }
+                let c = self.candidate(st, TpKind::Start);
+                let te = self.policy.exec_time(&self.plan, &c, ts);
+                if te > now {
+                    wake(te, &mut next);
+                } else if action_executable(&self.plan, a, now, &flawed) {
+                    executed |= self.launch(vehicle, a, now);
+                } else if !postponed.contains(&a) {
+                    postponed.push(a);
+                }
+            }
+            let started: Vec<ActionId> = self.started.keys().copied().collect();
+            for a in started {
+                let act = self.plan.action(a);
+                if act.removed || self.plan.stn.is_executed(act.end) || self.stop_sent.contains(&a) {
+                    continue;
+                }
+                let pre = self.plan.domain.task(act.task).preemption;
+                let c = self.candidate(act.end, TpKind::End(pre));
+                if pre == Preemption::NonPreemptive {
+                    wake(c.ub, &mut next);
+                    continue;
+                }
+                let te = self.policy.exec_time(&self.plan, &c, ts);
+                if te <= now {
+                    self.stop(vehicle, a);
+                } else {
+                    wake(te, &mut next);
+                }
+            }
+            for i in 0..self.plan.goals.len() {
+                let pg = self.plan.goals[i].clone();
+                if !pg.active || self.plan.stn.is_executed(pg.et) {
+                    continue;
+                }
+                if !self.plan.stn.is_executed(pg.st) {
+                    let c = self.candidate(pg.st, TpKind::Goal);
+                    let te = self.policy.exec_time(&self.plan, &c, ts);
+                    if te > now {
+                        wake(te, &mut next);
+                        continue;
+                    }
+                    if !goal_achievable(&self.plan, pg.goal, now) {
+                        continue;
+                    }
+                    if self.plan.stn.execute(pg.st, now).is_err() {
+                        continue;
+                    }
+                    executed = true;
+                }
+                let c = self.candidate(pg.et, TpKind::Goal);
+                if c.lb > now {
+                    wake(c.lb, &mut next);
+                } else if timepoint_executable(&self.plan.stn, pg.et, now)
+                    && self.plan.stn.execute(pg.et, now).is_ok()
+                {
+                    executed = true;
+                    let name = self.plan.problem.goals[pg.goal.index()].name.clone();
+                    self.set_fate(pg.goal, Fate::Achieved, "");
+                    self.trace(TraceEvent::GoalAchieved { goal: name });
+                }
+            }
+            if !executed {
+                break;
+            }
+            self.changed = true;
+        }
+        for a in postponed {
+            if !self.plan.stn.is_executed(self.plan.action(a).start) {
+                let action = self.action_text(a);
+                self.trace(TraceEvent::Postponed { action });
+            }
+        }
+        self.detect_timeouts(now);
+        next
+    }
+
+    fn candidate(&self, tp: crate::stn::Timepoint, kind: TpKind) -> Candidate {
+        Candidate {
+            tp,
+            kind,
+            lb: self.plan.stn.lb(tp),
+            ub: self.plan.stn.ub(tp),
+        }
+    }
+
+    /// `START a p_a i_a`, and the start timepoint executed at `now`.
+    fn launch(&mut self, vehicle: &mut dyn Vehicle, a: ActionId, now: Time) -> bool {
+        let st = self.plan.action(a).start;
+        if !timepoint_executable(&self.plan.stn, st, now) {
+            return false;
+        }
+        let vid = self.next_vid;
+        self.next_vid += 1;
+        let cmd = self.start_command(a, vid);
+        let action = self.action_text(a);
+        if let Err(e) = vehicle.start(cmd) {
+            self.abort = Some(format!("cannot start {action}: {e}"));
+            return false;
+        }
+        if let Err(e) = self.plan.stn.execute(st, now) {
+            self.abort = Some(format!("start of {action}: {e}"));
+            return false;
+        }
+        self.started.insert(a, vid);
+        self.by_vid.insert(vid, a);
+        self.counters.launches += 1;
+        self.trace(TraceEvent::Launch { action, vid });
+        true
+    }
+
+    /// `END i_a` for a preemptive action (its end's time comes with the report).
+    pub fn stop(&mut self, vehicle: &mut dyn Vehicle, a: ActionId) {
+        let Some(&vid) = self.started.get(&a) else {
+            return;
+        };
+        if self.stop_sent.contains(&a) {
+            return;
+        }
+        let action = self.action_text(a);
+        match vehicle.stop(vid) {
+            Ok(()) => {
+                self.stop_sent.push(a);
+                self.trace(TraceEvent::Stop { action, vid });
+            }
+            Err(e) => tracing::warn!(%action, "stop refused: {e}"),
+        }
+    }
+
+    /// A timepoint whose upper bound passed unexecuted (a report that did not come, an action or goal that
+    /// could not start in time): the plan is not executable any more.
+    fn detect_timeouts(&mut self, now: Time) {
+        let stn = &self.plan.stn;
+        let mut late: Option<String> = None;
+        for a in self.plan.live_actions() {
+            let act = self.plan.action(a);
+            for (tp, what) in [(act.start, "start"), (act.end, "end")] {
+                if !stn.is_executed(tp) && stn.ub(tp) < now {
+                    late = Some(format!("{what} of {}", self.action_text(a)));
+                }
+            }
+        }
+        for pg in self.plan.goals.iter().filter(|g| g.active) {
+            if !stn.is_executed(pg.st) && stn.ub(pg.st) < now {
+                late = Some(format!("start of goal {}", self.plan.problem.goals[pg.goal.index()].name));
+            }
+        }
+        if let Some(timepoint) = late {
+            self.trace(TraceEvent::Timeout {
+                timepoint: timepoint.clone(),
+            });
+            self.abort = Some(format!("timeout on {timepoint}"));
+        }
+    }
+}

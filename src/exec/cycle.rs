@@ -1,0 +1,75 @@
+//! The execution cycle (seed 1 §3.2): the executive wakes up when a message arrived, a timepoint is due or a
+//! plan repair is in progress; it senses (integrates the messages), repairs for at most μ·ts, and acts. After
+//! every step an executable plan is in hand; otherwise execution is aborted and a complete replanning starts.
+
+use std::time::Instant;
+
+use super::executive::{Executive, Fate};
+use super::repair::RepairOutcome;
+use super::trace::{CycleRecord, TraceEvent};
+use crate::model::Time;
+use crate::vehicle::Vehicle;
+
+/// What the cycle leaves for the caller.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CycleOutcome {
+    /// Next wake-up: this time (a due timepoint), or as soon as a message arrives; `repairing` when a
+    /// repair is in progress (wake up at the next cycle).
+    Continue { next: Option<Time>, repairing: bool },
+    /// The plan is not executable any more: call [`Executive::replan`].
+    Aborted(String),
+    /// No action left and every goal settled.
+    Finished,
+}
+
+impl Executive {
+    pub fn cycle(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> CycleOutcome {
+        self.changed = false;
+        let t0 = Instant::now();
+        while let Some(ev) = vehicle.try_event() {
+            self.integrate(ev, now);
+        }
+        let t1 = Instant::now();
+        let mut repairing = false;
+        if self.abort.is_none() {
+            repairing = self.repair_phase(now) == RepairOutcome::InProgress;
+        }
+        let t2 = Instant::now();
+        let next = if self.abort.is_none() {
+            self.act(vehicle, now)
+        } else {
+            None
+        };
+        let t3 = Instant::now();
+        let index = self.cycles.len() as u64 + 1;
+        let events = std::mem::take(&mut self.pending_trace);
+        self.cycles.push(CycleRecord {
+            index,
+            time_ms: now,
+            sense_us: (t1 - t0).as_micros() as u64,
+            repair_us: (t2 - t1).as_micros() as u64,
+            act_us: (t3 - t2).as_micros() as u64,
+            events,
+        });
+        if let Some(reason) = self.abort.clone() {
+            // P_ts: running preemptive actions are stopped, none is kept.
+            let running: Vec<_> = self.started.keys().copied().collect();
+            for a in running {
+                let act = self.plan.action(a);
+                if !act.removed && !self.plan.stn.is_executed(act.end) {
+                    self.stop(vehicle, a);
+                }
+            }
+            self.pending_trace.push(TraceEvent::Abort {
+                reason: reason.clone(),
+            });
+            return CycleOutcome::Aborted(reason);
+        }
+        let busy = self.plan.live_actions().next().is_some();
+        let pending = self.fates.values().any(|f| f.fate == Fate::Pending);
+        if !busy && !pending {
+            return CycleOutcome::Finished;
+        }
+        CycleOutcome::Continue { next, repairing }
+    }
+}

@@ -1,0 +1,195 @@
+//! The executive: the executing plan P_t and what it remembers between cycles. The cycle itself is in
+//! [`super::cycle`], message integration in [`super::sense`], the act part in [`super::act`], plan repair in
+//! [`super::repair`] and complete replanning in [`super::replan`].
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::abstraction::Hierarchy;
+use super::config::ExecConfig;
+use super::dispatch_policy::{DispatchPolicy, Earliest};
+use super::p_t::State;
+use super::repair::Repair;
+use super::trace::{CycleRecord, TraceEvent};
+use crate::model::{GoalId, ResourceId, Time};
+use crate::plan::{ActionId, PartialPlan};
+use crate::vehicle::{ActionStart, Arg, Enu};
+
+/// The fate of a goal at the end of a run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fate {
+    Achieved,
+    Rejected,
+    Pending,
+}
+
+/// A goal's fate and why.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GoalFate {
+    pub name: String,
+    pub fate: Fate,
+    pub reason: String,
+}
+
+/// Counters for the summary.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Counters {
+    pub repairs: u64,
+    pub repair_steps: u64,
+    pub replans: u64,
+    pub launches: u64,
+}
+
+pub struct Executive {
+    /// *ExecutingPlan*.
+    pub plan: PartialPlan,
+    pub cfg: ExecConfig,
+    pub policy: Box<dyn DispatchPolicy>,
+    pub hierarchy: Hierarchy,
+    /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
+    pub past: Vec<(f64, f64)>,
+    /// LgcS_t.
+    pub state: State,
+    /// Started actions and their `i_a`.
+    pub started: BTreeMap<ActionId, u64>,
+    pub by_vid: BTreeMap<u64, ActionId>,
+    /// Preemptive actions an `END i_a` was sent to.
+    pub stop_sent: Vec<ActionId>,
+    /// Interruptions requested by message integration (sent in the act part).
+    pub interrupt: Vec<ActionId>,
+    pub next_vid: u64,
+    pub repair: Option<Repair>,
+    /// Plan repair requested by message integration.
+    pub repair_requested: bool,
+    /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
+    pub abort: Option<String>,
+    pub fates: BTreeMap<GoalId, GoalFate>,
+    pub cycles: Vec<CycleRecord>,
+    pub counters: Counters,
+    /// Events of the current cycle.
+    pub pending_trace: Vec<TraceEvent>,
+    /// Something changed this cycle (message or timepoint executed): the repair search restarts (§3.2).
+    pub changed: bool,
+}
+
+impl Executive {
+    /// An executive over a solution plan (the planner's output, or a hand-built plan in tests).
+    pub fn new(plan: PartialPlan, cfg: ExecConfig) -> Self {
+        let past = plan
+            .problem
+            .resources
+            .iter()
+            .map(|s| (s.level, s.level))
+            .collect();
+        let mut fates = BTreeMap::new();
+        for pg in &plan.goals {
+            if let Some(g) = plan.problem.goals.get(pg.goal.index()) {
+                fates.insert(
+                    pg.goal,
+                    GoalFate {
+                        name: g.name.clone(),
+                        fate: Fate::Pending,
+                        reason: String::new(),
+                    },
+                );
+            }
+        }
+        let hierarchy = Hierarchy::new(&plan.domain);
+        Executive {
+            plan,
+            cfg,
+            policy: Box::new(Earliest),
+            hierarchy,
+            past,
+            state: State::default(),
+            started: BTreeMap::new(),
+            by_vid: BTreeMap::new(),
+            stop_sent: Vec::new(),
+            interrupt: Vec::new(),
+            next_vid: 1,
+            repair: None,
+            repair_requested: false,
+            abort: None,
+            fates,
+            cycles: Vec::new(),
+            counters: Counters::default(),
+            pending_trace: Vec::new(),
+            changed: false,
+        }
+    }
+
+    pub fn with_policy(mut self, policy: Box<dyn DispatchPolicy>) -> Self {
+        self.policy = policy;
+        self
+    }
+
+    pub fn trace(&mut self, e: TraceEvent) {
+        tracing::debug!("{}", e.line());
+        self.pending_trace.push(e);
+    }
+
+    /// The action's name with its grounded parameters, e.g. `move(base, p1)`.
+    pub fn action_text(&self, a: ActionId) -> String {
+        let act = self.plan.action(a);
+        let task = self.plan.domain.task(act.task);
+        let args: Vec<String> = act.vars[..task.n_params]
+            .iter()
+            .map(|&v| self.plan.term_name(crate::plan::STerm::Var(v)))
+            .collect();
+        format!("{}({})", task.name, args.join(", "))
+    }
+
+    /// `START a p_a i_a`: the task name and its grounded parameters in vehicle terms.
+    pub fn start_command(&self, a: ActionId, vid: u64) -> ActionStart {
+        let act = self.plan.action(a);
+        let task = self.plan.domain.task(act.task);
+        let home = self.plan.problem.home;
+        let mut args = Vec::new();
+        for (i, p) in task.params().iter().enumerate() {
+            let v = act.vars[i];
+            let arg = match self.plan.bindings.value(crate::plan::STerm::Var(v)) {
+                Some(crate::model::Value::Obj(o)) => {
+                    let (name, obj) = (
+                        self.plan.problem.object_name(o).to_string(),
+                        self.plan.problem.object(o),
+                    );
+                    match obj.and_then(|ob| ob.local(home.as_ref())) {
+                        Some((e, n, u)) => Arg::location(&name, Enu::new(e, n, u)),
+                        None => Arg::Symbol(name),
+                    }
+                }
+                _ => Arg::Symbol(self.plan.term_name(crate::plan::STerm::Var(v))),
+            };
+            args.push((p.name.trim_start_matches('?').to_string(), arg));
+        }
+        ActionStart {
+            id: vid,
+            task: task.name.clone(),
+            args,
+        }
+    }
+
+    /// The resource named `name` in the domain.
+    pub fn resource(&self, name: &str) -> Option<ResourceId> {
+        self.plan.domain.resource_id(name)
+    }
+
+    /// Goal fates in the order of the problem.
+    pub fn goal_fates(&self) -> Vec<GoalFate> {
+        self.fates.values().cloned().collect()
+    }
+
+    pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: &str) {
+        if let Some(f) = self.fates.get_mut(&g) {
+            f.fate = fate;
+            f.reason = reason.to_string();
+        }
+    }
+
+    /// The current time floor for new timepoints (§3.4: after the end of the current cycle).
+    pub fn cycle_end(&self, now: Time) -> Time {
+        now + self.cfg.timestep_ms
+    }
+}

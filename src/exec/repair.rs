@@ -1,0 +1,116 @@
+//! Plan repair across cycles (seed 1 §3.2 problems 1 and 2, §3.4).
+//!
+//! The root of the search tree is *ExecutingPlan*, partially invalidated; the tree is developed by the
+//! planner's ordered depth-first search, one step at a time, for at most μ·ts per cycle, each new timepoint
+//! constrained after the end of the current cycle. Each node is labelled when its plan is executable
+//! (Definition 5); at the deadline, the last labelled node becomes *ExecutingPlan*. If nothing changed
+//! meanwhile (no message, no timepoint executed), the tree is kept and developed in the next cycle;
+//! otherwise a new tree is rooted at the new *ExecutingPlan*.
+
+use std::time::{Duration, Instant};
+
+use super::executive::Executive;
+use super::p_t::classify;
+use super::trace::TraceEvent;
+use crate::model::Time;
+use crate::plan::{PartialPlan, TimeFloor};
+use crate::planner::{FailReason, Search, StepOutcome};
+
+/// A repair search in progress.
+pub struct Repair {
+    pub search: Search,
+    /// The last labelled (executable) node's plan.
+    pub labelled: Option<PartialPlan>,
+}
+
+/// The result of one cycle's repair part.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RepairOutcome {
+    /// Nothing to repair.
+    Idle,
+    /// A flawless plan was found and became *ExecutingPlan*.
+    Solved,
+    /// The budget ran out; the last labelled node is *ExecutingPlan*.
+    InProgress,
+    /// Dead end: execution is aborted.
+    Failed(String),
+}
+
+impl Executive {
+    /// The plan repair part of a cycle at `now`.
+    pub fn repair_phase(&mut self, now: Time) -> RepairOutcome {
+        let running = classify(&self.plan, now).running;
+        if self.repair.is_none() && !self.repair_requested && self.plan.flaws().is_empty() {
+            return RepairOutcome::Idle;
+        }
+        self.repair_requested = false;
+        if self.repair.is_none() || self.changed {
+            // A new tree rooted at ExecutingPlan; new timepoints after the end of this cycle.
+            let mut root = self.plan.clone();
+            root.set_time_floor(TimeFloor::At(self.cycle_end(now)));
+            self.repair = Some(Repair {
+                search: Search::new(root),
+                labelled: None,
+            });
+        }
+        let budget_steps = self
+            .cfg
+            .repair_max_steps
+            .map(|n| ((n as f64) * self.cfg.repair_share).ceil() as u64);
+        let deadline =
+            Instant::now() + Duration::from_millis(self.cfg.repair_budget_ms().max(0) as u64);
+        let Some(rep) = self.repair.as_mut() else {
+            return RepairOutcome::Idle;
+        };
+        let first = rep.search.steps();
+        let outcome = loop {
+            let done = rep.search.steps() - first;
+            let out_of_budget = match budget_steps {
+                Some(n) => done >= n,
+                None => Instant::now() >= deadline,
+            };
+            if out_of_budget {
+                break None;
+            }
+            match rep.search.step() {
+                StepOutcome::Progress => {
+                    if rep.search.executable(&running) {
+                        rep.labelled = Some(rep.search.plan().clone());
+                    }
+                }
+                other => break Some(other),
+            }
+        };
+        let steps = rep.search.steps() - first;
+        self.counters.repair_steps += steps;
+        match outcome {
+            Some(StepOutcome::Solved) => {
+                let Some(rep) = self.repair.take() else {
+                    return RepairOutcome::Idle;
+                };
+                let total = rep.search.steps();
+                self.plan = rep.search.into_plan();
+                self.plan.set_time_floor(TimeFloor::None);
+                self.counters.repairs += 1;
+                self.trace(TraceEvent::RepairDone { steps: total });
+                RepairOutcome::Solved
+            }
+            Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
+                self.repair = None;
+                let reason = format!("plan repair failed: {r}");
+                self.abort = Some(reason.clone());
+                RepairOutcome::Failed(reason)
+            }
+            _ => {
+                if let Some(p) = self.repair.as_mut().and_then(|r| r.labelled.take()) {
+                    self.plan = p;
+                }
+                self.trace(TraceEvent::RepairStep {
+                    steps,
+                    outcome: "in progress".into(),
+                });
+                RepairOutcome::InProgress
+            }
+        }
+    }
+}

@@ -1,0 +1,205 @@
+//! Complete replanning (seed 1 §3.6).
+//!
+//! Execution is aborted; the planning problem P_ti is extracted from P_ts: the state S_ti = S_ts (the last
+//! values and the resource levels), the goals G_ti whose temporal constraints are still coherent with the
+//! current time, the constraints on them (origin, horizon), their open conditions. A flexible timepoint
+//! T_end, the end of the planning process, is constrained after t_i and before the horizon, and every goal and
+//! new timepoint after it ("planning to plan"). Planning goes one step at a time until a solution, a dead end,
+//! or the time limit `l = T_end_ub − d` (d: the slack); it goes on past l only while the search is
+//! backtracking and l increases. Without a solution a goal is rejected — the lowest priority, then the least
+//! flexibility `st_ub − d_achiev` — S_t is refreshed (the paper's suggested improvement), and a new attempt
+//! starts.
+
+use std::sync::Arc;
+
+use super::executive::{Executive, Fate};
+use super::trace::TraceEvent;
+use crate::model::{Fact, GoalId, ObjectId, Problem, Time, Value};
+use crate::plan::{PartialPlan, PlanError, TimeFloor};
+use crate::planner::{Search, StepOutcome};
+use crate::stn::{Timepoint, INF};
+
+/// P_ti and its T_end.
+pub struct Extracted {
+    pub plan: PartialPlan,
+    pub t_end: Timepoint,
+    /// Goals dropped because their constraints are not coherent with the current time.
+    pub incoherent: Vec<GoalId>,
+}
+
+/// The problem of P_ti: S_t as the initial state, the resource levels at t, the timed facts still to come.
+pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
+    let mut p: Problem = (*ex.plan.problem).clone();
+    for f in p.initial.iter_mut() {
+        if let Some(v) = ex.state.get(&(f.attr, f.args.clone())) {
+            f.value = v;
+        }
+    }
+    for ((attr, args), (_, value)) in &ex.state.values {
+        if !p.initial.iter().any(|f| f.attr == *attr && &f.args == args) {
+            p.initial.push(Fact {
+                attr: *attr,
+                args: args.clone(),
+                value: *value,
+            });
+        }
+    }
+    p.exogenous.retain(|tf| tf.at > now);
+    for (s, past) in p.resources.iter_mut().zip(&ex.past) {
+        s.level = past.0.max(0.0);
+    }
+    p
+}
+
+/// P_ti: the extracted problem's root plan, without the goals in `dropped` or already achieved, with T_end.
+pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracted, PlanError> {
+    let problem = Arc::new(extract_problem(ex, now));
+    let mut plan = PartialPlan::new(ex.plan.domain.clone(), problem.clone())?;
+    let origin = plan.stn.origin();
+    let t_end = plan.stn.add_timepoint();
+    plan.stn.add_constraint(origin, t_end, now, plan.horizon)?;
+    let mut incoherent = Vec::new();
+    for pg in plan.goals.clone() {
+        let g = &problem.goals[pg.goal.index()];
+        let settled = ex
+            .fates
+            .get(&pg.goal)
+            .is_some_and(|f| f.fate != Fate::Pending);
+        if settled || dropped.contains(&pg.goal) {
+            plan.remove_goal(pg.goal);
+            continue;
+        }
+        // Coherent with the current time: st^g can still be at or after now + d_achiev.
+        let level = plan.save();
+        let ok = plan
+            .stn
+            .add_constraint(origin, pg.st, now.saturating_add(g.achieve), INF)
+            .and_then(|_| plan.stn.add_precedence(t_end, pg.st).map(|_| ()));
+        if ok.is_err() {
+            plan.restore(level);
+            plan.remove_goal(pg.goal);
+            incoherent.push(pg.goal);
+        }
+    }
+    plan.set_time_floor(TimeFloor::After(t_end));
+    Ok(Extracted {
+        plan,
+        t_end,
+        incoherent,
+    })
+}
+
+/// The goal to abandon: the lowest priority, then the least flexibility `st_ub − d_achiev`.
+pub fn goal_to_reject(plan: &PartialPlan) -> Option<GoalId> {
+    plan.goals
+        .iter()
+        .filter(|g| g.active)
+        .min_by_key(|g| {
+            let goal = &plan.problem.goals[g.goal.index()];
+            (goal.priority, plan.stn.ub(g.st) - goal.achieve, g.goal)
+        })
+        .map(|g| g.goal)
+}
+
+/// How a replanning ended.
+#[derive(Debug)]
+pub enum ReplanResult {
+    Plan(PartialPlan),
+    /// Every goal was rejected (or none was left).
+    NoGoals(PartialPlan),
+    Error(String),
+}
+
+impl Executive {
+    /// Complete replanning at `now()`; `refresh` updates S_t between attempts (vehicle levels).
+    pub fn replan(
+        &mut self,
+        now: &dyn Fn() -> Time,
+        refresh: &mut dyn FnMut(&mut Executive),
+    ) -> ReplanResult {
+        self.counters.replans += 1;
+        let mut dropped: Vec<GoalId> = Vec::new();
+        let max_steps = self.cfg.repair_max_steps.map(|n| n * 200);
+        for attempt in 1.. {
+            let t = now();
+            self.state.refresh(&self.plan, t);
+            let ext = match extract(self, t, &dropped) {
+                Ok(e) => e,
+                Err(e) => return ReplanResult::Error(e.to_string()),
+            };
+            for g in &ext.incoherent {
+                self.reject(*g, "its window is no longer reachable at the current time");
+            }
+            dropped.extend(ext.incoherent.iter().copied());
+            let t_end = ext.t_end;
+            if !ext.plan.goals.iter().any(|g| g.active) {
+                return ReplanResult::NoGoals(ext.plan);
+            }
+            let mut search = Search::new(ext.plan);
+            let mut limit = search.plan().stn.ub(t_end) - self.cfg.replan_slack_ms;
+            let solved = loop {
+                let depth = search.depth();
+                let l = search.plan().stn.ub(t_end) - self.cfg.replan_slack_ms;
+                // Past the limit, go on only while backtracking raises it.
+                let backtracked = search.depth() < depth || l > limit;
+                if now() >= l && !backtracked {
+                    break false;
+                }
+                if max_steps.is_some_and(|m| search.steps() >= m) {
+                    break false;
+                }
+                limit = l;
+                match search.step() {
+                    StepOutcome::Solved => break true,
+                    StepOutcome::Failed(_) => break false,
+                    StepOutcome::Progress => {}
+                }
+            };
+            self.trace(TraceEvent::Replan {
+                attempt: attempt as u32,
+                outcome: if solved {
+                    format!("plan found in {} steps", search.steps())
+                } else {
+                    format!("no plan after {} steps", search.steps())
+                },
+            });
+            if solved {
+                let mut plan = search.into_plan();
+                plan.set_time_floor(TimeFloor::None);
+                return ReplanResult::Plan(plan);
+            }
+            let Some(g) = goal_to_reject(search.plan()) else {
+                return ReplanResult::NoGoals(search.into_plan());
+            };
+            self.reject(g, "abandoned by complete replanning (lowest priority, least flexibility)");
+            dropped.push(g);
+            refresh(self);
+        }
+        ReplanResult::Error("unreachable".into())
+    }
+
+    fn reject(&mut self, g: GoalId, reason: &str) {
+        let name = self.plan.problem.goals[g.index()].name.clone();
+        self.set_fate(g, Fate::Rejected, reason);
+        self.trace(TraceEvent::GoalRejected {
+            goal: name,
+            reason: reason.into(),
+        });
+    }
+
+    /// Adopts a plan from complete replanning: running actions are forgotten (P_ts has none).
+    pub fn adopt(&mut self, plan: PartialPlan) {
+        self.plan = plan;
+        self.started.clear();
+        self.stop_sent.clear();
+        self.repair = None;
+        self.repair_requested = false;
+        self.abort = None;
+        self.hierarchy = super::abstraction::Hierarchy::new(&self.plan.domain);
+    }
+}
+
+/// `Value` of an object (helper for tests).
+pub fn obj(o: ObjectId) -> Value {
+    Value::Obj(o)
+}

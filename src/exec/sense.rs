@@ -1,0 +1,226 @@
+//! Sensing (seed 1 §3.2, §3.3): integrating the vehicle's messages into *ExecutingPlan*. Each message kind
+//! is delegated to the file holding its rule; this file only routes and records.
+
+use super::capacity::{alter, CapacityOutcome};
+use super::executable::{flawed_actions, plan_executable};
+use super::executive::{Executive, Fate};
+use super::goal_request::request;
+use super::p_t::{classify, remove_past};
+use super::report_timing::{integrate, timing};
+use super::resource_bounds::{fold_removed, level_bounds};
+use super::resource_report::{integrate_level, LevelVerdict};
+use super::state_update::integrate_state;
+use super::trace::TraceEvent;
+use crate::model::{Goal, GoalKind, Time, TimeInterval, Value};
+use crate::vehicle::{ActionReport, GoalRequest, GoalVerdict, ReportStatus, ResourceLevel, VehicleEvent};
+
+impl Executive {
+    /// Integrates one message received at time `now`.
+    pub fn integrate(&mut self, event: VehicleEvent, now: Time) {
+        self.changed = true;
+        match event {
+            VehicleEvent::Report(r) => self.integrate_report(r, now),
+            VehicleEvent::Resource(l) => self.integrate_level(&l, now),
+            VehicleEvent::Capacity(c) => {
+                let Some(r) = self.resource(&c.resource) else {
+                    tracing::warn!(resource = %c.resource, "capacity of an unknown resource ignored");
+                    return;
+                };
+                let running = classify(&self.plan, now).running;
+                let outcome = alter(&mut self.plan, r, c.capacity, now, &running);
+                let p = &mut self.past[r.index()];
+                p.0 = p.0.min(c.capacity);
+                p.1 = p.1.min(c.capacity);
+                self.trace(TraceEvent::Capacity {
+                    resource: c.resource.clone(),
+                    capacity: c.capacity,
+                    outcome: format!("{outcome:?}").to_lowercase(),
+                });
+                match outcome {
+                    CapacityOutcome::Abort => {
+                        self.abort = Some(format!("capacity of {} altered", c.resource))
+                    }
+                    CapacityOutcome::Repair => self.repair_requested = true,
+                    CapacityOutcome::Nothing => {}
+                }
+            }
+            VehicleEvent::Goals(batch) => {
+                let verdicts: Vec<GoalVerdict> =
+                    batch.goals.iter().map(|g| self.integrate_goal(g, now)).collect();
+                batch.answer(verdicts);
+            }
+            VehicleEvent::Link(status) => tracing::info!(?status, "vehicle link"),
+        }
+    }
+
+    /// Report upon an action's completion: its time, then the levels, then (not nominal) the state.
+    fn integrate_report(&mut self, r: ActionReport, now: Time) {
+        let Some(&a) = self.by_vid.get(&r.id) else {
+            tracing::warn!(id = r.id, "report for an unknown action ignored");
+            return;
+        };
+        let t = now;
+        let when = timing(&self.plan, a, t);
+        let name = self.action_text(a);
+        self.trace(TraceEvent::Report {
+            action: name.clone(),
+            status: r.status.to_string(),
+            timing: format!("{when:?}"),
+        });
+        match integrate(&mut self.plan, a, t) {
+            Ok(true) => {}
+            Ok(false) => {
+                self.abort = Some(format!("report of {name} too late"));
+                return;
+            }
+            Err(e) => {
+                self.abort = Some(format!("report of {name}: {e}"));
+                return;
+            }
+        }
+        if r.status != ReportStatus::Nominal {
+            integrate_state(self, a, &r, t);
+        }
+        for l in &r.resources {
+            self.integrate_level(l, t);
+        }
+        self.stop_sent.retain(|&x| x != a);
+        for p in remove_past(&mut self.plan, t) {
+            fold_removed(&self.plan, p, &mut self.past);
+        }
+        self.state.refresh(&self.plan, t);
+    }
+
+    /// A resource level: compared with `[RscL_lb, RscL_ub]` and adjusted (resource_report).
+    fn integrate_level(&mut self, l: &ResourceLevel, t: Time) {
+        let Some(r) = self.resource(&l.resource) else {
+            return;
+        };
+        for p in remove_past(&mut self.plan, t) {
+            fold_removed(&self.plan, p, &mut self.past);
+        }
+        let running = classify(&self.plan, t).running;
+        let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
+        let kind = self.plan.domain.resource(r).kind;
+        let u = integrate_level(&b, l.level, kind);
+        // The constraint on the level is posted on the past part: every still-counted usage is subtracted
+        // back out so that eq. (1) gives the new level.
+        let counted = (b.past_lb - self.past[r.index()].0, b.past_ub - self.past[r.index()].1);
+        self.past[r.index()] = (u.past.0 - counted.0, u.past.1 - counted.1);
+        // The reservoir envelope starts from the (pessimistic) aggregated level.
+        let mut problem = (*self.plan.problem).clone();
+        if let Some(s) = problem.resources.get_mut(r.index()) {
+            s.level = self.past[r.index()].0;
+        }
+        self.plan.set_problem(std::sync::Arc::new(problem));
+        if u.verdict != LevelVerdict::Consistent {
+            self.trace(TraceEvent::Level {
+                resource: l.resource.clone(),
+                level: l.level,
+                lb: b.lb,
+                ub: b.ub,
+                verdict: format!("{:?}", u.verdict),
+            });
+            self.plan.recompute_candidates();
+        }
+        if u.check_executable {
+            let flawed = flawed_actions(&mut self.plan);
+            if !plan_executable(&running, &flawed) {
+                self.abort = Some(format!("{} level {} outside the plan's bounds", l.resource, l.level));
+                return;
+            }
+        }
+        if u.repair {
+            self.repair_requested = true;
+        }
+    }
+
+    /// A goal request: mapped to the domain, then the acceptance test of §3.3 (goal_request).
+    fn integrate_goal(&mut self, g: &GoalRequest, now: Time) -> GoalVerdict {
+        let goal = match self.goal_from_request(g) {
+            Ok(goal) => goal,
+            Err(reason) => {
+                self.trace(TraceEvent::GoalRejected {
+                    goal: g.name.clone(),
+                    reason: reason.clone(),
+                });
+                return GoalVerdict::Rejected(reason);
+            }
+        };
+        let running = classify(&self.plan, now).running;
+        match request(&mut self.plan, goal, now, &running) {
+            Ok(id) => {
+                self.fates.insert(
+                    id,
+                    super::executive::GoalFate {
+                        name: g.name.clone(),
+                        fate: Fate::Pending,
+                        reason: String::new(),
+                    },
+                );
+                self.trace(TraceEvent::GoalAccepted {
+                    goal: g.name.clone(),
+                });
+                self.repair_requested = true;
+                GoalVerdict::Accepted
+            }
+            Err(e) => {
+                self.trace(TraceEvent::GoalRejected {
+                    goal: g.name.clone(),
+                    reason: e.to_string(),
+                });
+                GoalVerdict::Rejected(e.to_string())
+            }
+        }
+    }
+
+    /// The domain goal for a request: `picture_of(L)` → `PICTURE(L) = true`, `at(L)` → `AT_ROBOT() = L`
+    /// (the rover and AUV domains' attributes), a new location object when the request names one.
+    fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, String> {
+        let d = self.plan.domain.clone();
+        let loc = match &g.location {
+            Some(l) => Some(super::state_update::location_object(self, &l.name, l.at)),
+            None => self.plan.problem.object_id("home").or_else(|| self.plan.problem.object_id("base")),
+        };
+        let find = |names: &[&str]| names.iter().find_map(|n| d.attr_id(n));
+        let (attr, args, value) = match g.kind {
+            crate::vehicle::GoalKind::PictureOf => {
+                let attr = find(&["PICTURE", "picture_of"]).ok_or("no picture attribute in the domain")?;
+                let l = loc.ok_or("picture goal without a location")?;
+                (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
+            }
+            crate::vehicle::GoalKind::SampleAt => {
+                let attr = find(&["SAMPLED", "sampled"]).ok_or("no sample attribute in the domain")?;
+                let l = loc.ok_or("sample goal without a location")?;
+                (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
+            }
+            crate::vehicle::GoalKind::BeAt | crate::vehicle::GoalKind::ReturnHome => {
+                let attr = find(&["AT_ROBOT", "at"]).ok_or("no position attribute in the domain")?;
+                let l = loc.ok_or("position goal without a location")?;
+                (attr, vec![], Value::Obj(l))
+            }
+        };
+        let ms = |s: f64| (s * 1000.0).round() as Time;
+        let window_hi = if g.start_window_s.1.is_finite() {
+            ms(g.start_window_s.1)
+        } else {
+            self.plan.horizon
+        };
+        let dur_hi = if g.duration_s.1.is_finite() {
+            ms(g.duration_s.1)
+        } else {
+            self.plan.horizon
+        };
+        Ok(Goal {
+            name: g.name.clone(),
+            kind: GoalKind::External,
+            priority: i64::from(g.priority),
+            attr,
+            args,
+            value,
+            start_window: TimeInterval::closed(ms(g.start_window_s.0), window_hi.min(self.plan.horizon)),
+            duration: TimeInterval::closed(ms(g.duration_s.0), dur_hi),
+            achieve: ms(g.d_achiev_s),
+        })
+    }
+}

@@ -1,0 +1,178 @@
+//! State values from a non-nominal report (seed 1 §3.3 "State variables"), then causal-link removal.
+//!
+//! A reported value is not inserted if it threatens a proposition of a running action a_r (the plan would not
+//! be executable); then a_r's interruption is requested if it is preemptive. Otherwise the value enters
+//! LgcS_t and the causal links that contradict it are broken, as are the links established by the failed
+//! action's end effects (they did not happen); the links of the abstraction hierarchy's Att^i follow
+//! ([`super::abstraction`]). A reported position that is no known location becomes a new location object
+//! (seed 1 §3.4: `move(L_i, L_2)` after an interrupted `move(L_1, L_2)`).
+
+use std::sync::Arc;
+
+use super::abstraction::{flawed_attributes, links_to_break};
+use super::executive::Executive;
+use super::p_t::classify;
+use super::trace::TraceEvent;
+use crate::model::{AttrId, ObjectId, Object, Preemption, Position, Time, Value};
+use crate::plan::{ActionId, CondKind, LinkId, STerm};
+use crate::vehicle::{ActionReport, Enu, StateValue};
+
+/// Distance under which a reported position names a known location, m.
+pub const SAME_PLACE_M: f64 = 2.0;
+
+/// The location object at `at` (within [`SAME_PLACE_M`]), or a new one named `name`.
+pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> ObjectId {
+    let home = ex.plan.problem.home;
+    let mut best: Option<(f64, ObjectId)> = None;
+    for (i, o) in ex.plan.problem.objects.iter().enumerate() {
+        if let Some((e, n, _)) = o.local(home.as_ref()) {
+            let d = (e - at.east).hypot(n - at.north);
+            if d <= SAME_PLACE_M && best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, ObjectId::from_index(i)));
+            }
+        }
+    }
+    if let Some((_, o)) = best {
+        return o;
+    }
+    let Some(ty) = ex.plan.domain.type_id("location") else {
+        return ObjectId::from_index(0);
+    };
+    let mut problem = (*ex.plan.problem).clone();
+    let mut unique = name.to_string();
+    let mut k = 1;
+    while problem.object_id(&unique).is_some() {
+        k += 1;
+        unique = format!("{name}_{k}");
+    }
+    let id = problem.add_object_with_defaults(
+        &ex.plan.domain,
+        Object {
+            name: unique,
+            ty,
+            position: Some(Position::Local {
+                east: at.east,
+                north: at.north,
+                up: at.up,
+            }),
+        },
+    );
+    ex.plan.set_problem(Arc::new(problem));
+    id
+}
+
+/// The attribute instance and value a report's state variable stands for.
+fn reported_value(ex: &mut Executive, var: &str, v: &StateValue, a: ActionId) -> Option<(AttrId, Vec<ObjectId>, Value)> {
+    let d = ex.plan.domain.clone();
+    match v {
+        StateValue::Position(p) => {
+            let attr = ["AT_ROBOT", "at"].iter().find_map(|n| d.attr_id(n))?;
+            let name = format!("L{}", ex.plan.problem.objects.len());
+            let o = location_object(ex, &name, *p);
+            let _ = a;
+            Some((attr, vec![], Value::Obj(o)))
+        }
+        StateValue::Symbol(s) => {
+            let attr = d.attr_id(var)?;
+            let o = ex.plan.problem.object_id(s).or_else(|| d.object_id(s))?;
+            Some((attr, vec![], Value::Obj(o)))
+        }
+        StateValue::Number(_) => None,
+    }
+}
+
+/// Running actions (other than `except`) holding a value on `attr(args)` that `value` contradicts.
+fn threatened(ex: &Executive, attr: AttrId, args: &[ObjectId], value: Value, t: Time, except: ActionId) -> Vec<ActionId> {
+    let plan = &ex.plan;
+    classify(plan, t)
+        .running
+        .into_iter()
+        .filter(|&r| r != except)
+        .filter(|&r| {
+            plan.action(r).conds.iter().any(|&c| {
+                let k = plan.cond(c);
+                matches!(k.kind, CondKind::Hold { .. })
+                    && k.attr == attr
+                    && k.args.iter().zip(args).all(|(&x, &o)| plan.bindings.possibly_equal(x, STerm::Obj(o)))
+                    && !plan.bindings.possibly_equal(k.value, value.into())
+            })
+        })
+        .collect()
+}
+
+pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Time) {
+    let mut broken: Vec<LinkId> = Vec::new();
+    // The failed action's end effects did not happen: the links they established are broken.
+    let et = ex.plan.action(a).end;
+    for &e in &ex.plan.action(a).events.clone() {
+        if ex.plan.event(e).at != et {
+            continue;
+        }
+        let attr = ex.plan.event(e).attr;
+        for &l in ex.plan.links_on(attr) {
+            if ex.plan.link(l).event == e && ex.plan.link(l).active {
+                broken.push(l);
+            }
+        }
+    }
+    for (var, v) in &r.state {
+        let Some((attr, args, value)) = reported_value(ex, var, v, a) else {
+            tracing::warn!(%var, "reported state variable not in the domain, ignored");
+            continue;
+        };
+        let threats = threatened(ex, attr, &args, value, t, a);
+        if !threats.is_empty() {
+            for ra in threats {
+                let pre = ex.plan.domain.task(ex.plan.action(ra).task).preemption;
+                let name = ex.action_text(ra);
+                if pre != Preemption::NonPreemptive && !ex.stop_sent.contains(&ra) {
+                    ex.trace(TraceEvent::Interrupt {
+                        action: name,
+                        reason: format!("reported {var} threatens it"),
+                    });
+                    ex.interrupt.push(ra);
+                }
+            }
+            continue;
+        }
+        ex.state.set((attr, args.clone()), t, value);
+        // Links that protect another value of this attribute instance across t.
+        for &l in ex.plan.links_on(attr) {
+            let link = ex.plan.link(l);
+            if !link.active || !ex.plan.cond_live(link.cond) {
+                continue;
+            }
+            let c = ex.plan.cond(link.cond);
+            let same = c.args.iter().zip(&args).all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)));
+            let est_done = ex.plan.stn.ub(ex.plan.event(link.event).at) <= t;
+            let open_after = ex.plan.stn.ub(c.to) >= t;
+            if same && est_done && open_after && !ex.plan.bindings.possibly_equal(c.value, value.into()) {
+                broken.push(l);
+            }
+        }
+    }
+    let running = classify(&ex.plan, t).running;
+    broken.retain(|&l| match ex.plan.cond(ex.plan.link(l).cond).owner.action() {
+        Some(owner) => !running.contains(&owner),
+        None => true,
+    });
+    broken.sort();
+    broken.dedup();
+    for &l in &broken {
+        ex.plan.remove_link(l);
+    }
+    // Causal-link removal via the abstraction hierarchy.
+    ex.plan.recompute_candidates();
+    let att_f = flawed_attributes(&mut ex.plan);
+    let att_i = ex.hierarchy.closure(&att_f);
+    let more = links_to_break(&ex.plan, &att_i, &running);
+    let n = broken.len() + more.len();
+    for l in more {
+        ex.plan.remove_link(l);
+    }
+    ex.plan.recompute_candidates();
+    if n > 0 {
+        ex.trace(TraceEvent::LinksBroken { count: n });
+    }
+    ex.repair_requested = true;
+}
