@@ -51,7 +51,8 @@ impl Executive {
             let started: Vec<ActionId> = self.started.keys().copied().collect();
             for a in started {
                 let act = self.plan.action(a);
-                if act.removed || self.plan.stn.is_executed(act.end) || self.stop_sent.contains(&a) {
+                if act.removed || self.plan.stn.is_executed(act.end) || self.stop_sent.contains(&a)
+                {
                     continue;
                 }
                 let pre = self.plan.domain.task(act.task).preemption;
@@ -181,7 +182,10 @@ impl Executive {
         }
         for pg in self.plan.goals.iter().filter(|g| g.active) {
             if !stn.is_executed(pg.st) && stn.ub(pg.st) < now {
-                late = Some(format!("start of goal {}", self.plan.problem.goals[pg.goal.index()].name));
+                late = Some(format!(
+                    "start of goal {}",
+                    self.plan.problem.goals[pg.goal.index()].name
+                ));
             }
         }
         if let Some(timepoint) = late {

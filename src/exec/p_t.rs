@@ -75,7 +75,8 @@ pub fn remove_past(plan: &mut PartialPlan, t: Time) -> Vec<ActionId> {
 pub type AttrInstance = (AttrId, Vec<ObjectId>);
 
 /// LgcS_t: the value set by the last executed event of each ground attribute instance (footnote 4), or
-/// overridden by a value reported by the controlled system ([`State::set`]).
+/// overridden by a value reported by the controlled system ([`State::set`]), which wins over an event
+/// executed at the same time (the report says what really happened).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct State {
     pub values: BTreeMap<AttrInstance, (Time, Value)>,
@@ -105,7 +106,7 @@ impl State {
             };
             let key = (e.attr, args);
             match self.values.get(&key) {
-                Some(&(old, _)) if old > at => {}
+                Some(&(old, _)) if old >= at => {}
                 _ => {
                     self.values.insert(key, (at, value));
                 }

@@ -171,7 +171,10 @@ impl Executive {
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
             };
-            self.reject(g, "abandoned by complete replanning (lowest priority, least flexibility)");
+            self.reject(
+                g,
+                "abandoned by complete replanning (lowest priority, least flexibility)",
+            );
             dropped.push(g);
             refresh(self);
         }

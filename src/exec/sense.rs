@@ -12,7 +12,9 @@ use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::integrate_state;
 use super::trace::TraceEvent;
 use crate::model::{Goal, GoalKind, Time, TimeInterval, Value};
-use crate::vehicle::{ActionReport, GoalRequest, GoalVerdict, ReportStatus, ResourceLevel, VehicleEvent};
+use crate::vehicle::{
+    ActionReport, GoalRequest, GoalVerdict, ReportStatus, ResourceLevel, VehicleEvent,
+};
 
 impl Executive {
     /// Integrates one message received at time `now`.
@@ -45,8 +47,11 @@ impl Executive {
                 }
             }
             VehicleEvent::Goals(batch) => {
-                let verdicts: Vec<GoalVerdict> =
-                    batch.goals.iter().map(|g| self.integrate_goal(g, now)).collect();
+                let verdicts: Vec<GoalVerdict> = batch
+                    .goals
+                    .iter()
+                    .map(|g| self.integrate_goal(g, now))
+                    .collect();
                 batch.answer(verdicts);
             }
             VehicleEvent::Link(status) => tracing::info!(?status, "vehicle link"),
@@ -105,7 +110,10 @@ impl Executive {
         let u = integrate_level(&b, l.level, kind);
         // The constraint on the level is posted on the past part: every still-counted usage is subtracted
         // back out so that eq. (1) gives the new level.
-        let counted = (b.past_lb - self.past[r.index()].0, b.past_ub - self.past[r.index()].1);
+        let counted = (
+            b.past_lb - self.past[r.index()].0,
+            b.past_ub - self.past[r.index()].1,
+        );
         self.past[r.index()] = (u.past.0 - counted.0, u.past.1 - counted.1);
         // The reservoir envelope starts from the (pessimistic) aggregated level.
         let mut problem = (*self.plan.problem).clone();
@@ -126,7 +134,10 @@ impl Executive {
         if u.check_executable {
             let flawed = flawed_actions(&mut self.plan);
             if !plan_executable(&running, &flawed) {
-                self.abort = Some(format!("{} level {} outside the plan's bounds", l.resource, l.level));
+                self.abort = Some(format!(
+                    "{} level {} outside the plan's bounds",
+                    l.resource, l.level
+                ));
                 return;
             }
         }
@@ -180,22 +191,29 @@ impl Executive {
         let d = self.plan.domain.clone();
         let loc = match &g.location {
             Some(l) => Some(super::state_update::location_object(self, &l.name, l.at)),
-            None => self.plan.problem.object_id("home").or_else(|| self.plan.problem.object_id("base")),
+            None => self
+                .plan
+                .problem
+                .object_id("home")
+                .or_else(|| self.plan.problem.object_id("base")),
         };
         let find = |names: &[&str]| names.iter().find_map(|n| d.attr_id(n));
         let (attr, args, value) = match g.kind {
             crate::vehicle::GoalKind::PictureOf => {
-                let attr = find(&["PICTURE", "picture_of"]).ok_or("no picture attribute in the domain")?;
+                let attr =
+                    find(&["PICTURE", "picture_of"]).ok_or("no picture attribute in the domain")?;
                 let l = loc.ok_or("picture goal without a location")?;
                 (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
             }
             crate::vehicle::GoalKind::SampleAt => {
-                let attr = find(&["SAMPLED", "sampled"]).ok_or("no sample attribute in the domain")?;
+                let attr =
+                    find(&["SAMPLED", "sampled"]).ok_or("no sample attribute in the domain")?;
                 let l = loc.ok_or("sample goal without a location")?;
                 (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
             }
             crate::vehicle::GoalKind::BeAt | crate::vehicle::GoalKind::ReturnHome => {
-                let attr = find(&["AT_ROBOT", "at"]).ok_or("no position attribute in the domain")?;
+                let attr =
+                    find(&["AT_ROBOT", "at"]).ok_or("no position attribute in the domain")?;
                 let l = loc.ok_or("position goal without a location")?;
                 (attr, vec![], Value::Obj(l))
             }
@@ -218,7 +236,10 @@ impl Executive {
             attr,
             args,
             value,
-            start_window: TimeInterval::closed(ms(g.start_window_s.0), window_hi.min(self.plan.horizon)),
+            start_window: TimeInterval::closed(
+                ms(g.start_window_s.0),
+                window_hi.min(self.plan.horizon),
+            ),
             duration: TimeInterval::closed(ms(g.duration_s.0), dur_hi),
             achieve: ms(g.d_achiev_s),
         })

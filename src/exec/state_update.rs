@@ -13,7 +13,7 @@ use super::abstraction::{flawed_attributes, links_to_break};
 use super::executive::Executive;
 use super::p_t::classify;
 use super::trace::TraceEvent;
-use crate::model::{AttrId, ObjectId, Object, Preemption, Position, Time, Value};
+use crate::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
 use crate::plan::{ActionId, CondKind, LinkId, STerm};
 use crate::vehicle::{ActionReport, Enu, StateValue};
 
@@ -62,7 +62,12 @@ pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> ObjectId {
 }
 
 /// The attribute instance and value a report's state variable stands for.
-fn reported_value(ex: &mut Executive, var: &str, v: &StateValue, a: ActionId) -> Option<(AttrId, Vec<ObjectId>, Value)> {
+fn reported_value(
+    ex: &mut Executive,
+    var: &str,
+    v: &StateValue,
+    a: ActionId,
+) -> Option<(AttrId, Vec<ObjectId>, Value)> {
     let d = ex.plan.domain.clone();
     match v {
         StateValue::Position(p) => {
@@ -82,7 +87,14 @@ fn reported_value(ex: &mut Executive, var: &str, v: &StateValue, a: ActionId) ->
 }
 
 /// Running actions (other than `except`) holding a value on `attr(args)` that `value` contradicts.
-fn threatened(ex: &Executive, attr: AttrId, args: &[ObjectId], value: Value, t: Time, except: ActionId) -> Vec<ActionId> {
+fn threatened(
+    ex: &Executive,
+    attr: AttrId,
+    args: &[ObjectId],
+    value: Value,
+    t: Time,
+    except: ActionId,
+) -> Vec<ActionId> {
     let plan = &ex.plan;
     classify(plan, t)
         .running
@@ -93,7 +105,10 @@ fn threatened(ex: &Executive, attr: AttrId, args: &[ObjectId], value: Value, t: 
                 let k = plan.cond(c);
                 matches!(k.kind, CondKind::Hold { .. })
                     && k.attr == attr
-                    && k.args.iter().zip(args).all(|(&x, &o)| plan.bindings.possibly_equal(x, STerm::Obj(o)))
+                    && k.args
+                        .iter()
+                        .zip(args)
+                        .all(|(&x, &o)| plan.bindings.possibly_equal(x, STerm::Obj(o)))
                     && !plan.bindings.possibly_equal(k.value, value.into())
             })
         })
@@ -102,13 +117,37 @@ fn threatened(ex: &Executive, attr: AttrId, args: &[ObjectId], value: Value, t: 
 
 pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Time) {
     let mut broken: Vec<LinkId> = Vec::new();
-    // The failed action's end effects did not happen: the links they established are broken.
+    let reported: Vec<(AttrId, Vec<ObjectId>, Value)> = r
+        .state
+        .iter()
+        .filter_map(|(var, v)| reported_value(ex, var, v, a))
+        .collect();
+    // The action's end effects: a reported value replaces the expected one (links established by an
+    // effect the report contradicts are broken); a failed action's unreported end effects did not happen;
+    // an interrupted action did end, its unreported end effects hold.
     let et = ex.plan.action(a).end;
     for &e in &ex.plan.action(a).events.clone() {
-        if ex.plan.event(e).at != et {
+        let ev = ex.plan.event(e);
+        if ev.at != et {
             continue;
         }
-        let attr = ex.plan.event(e).attr;
+        let attr = ev.attr;
+        let same_instance = |args: &[ObjectId]| {
+            ev.args
+                .iter()
+                .zip(args)
+                .all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)))
+        };
+        let report = reported
+            .iter()
+            .find(|(at, args, _)| *at == attr && same_instance(args));
+        let happened = match report {
+            Some((_, _, v)) => ex.plan.bindings.necessarily_equal(ev.to, (*v).into()),
+            None => r.status == crate::vehicle::ReportStatus::Interrupted,
+        };
+        if happened {
+            continue;
+        }
         for &l in ex.plan.links_on(attr) {
             if ex.plan.link(l).event == e && ex.plan.link(l).active {
                 broken.push(l);
@@ -143,19 +182,29 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
                 continue;
             }
             let c = ex.plan.cond(link.cond);
-            let same = c.args.iter().zip(&args).all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)));
+            let same = c
+                .args
+                .iter()
+                .zip(&args)
+                .all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)));
             let est_done = ex.plan.stn.ub(ex.plan.event(link.event).at) <= t;
             let open_after = ex.plan.stn.ub(c.to) >= t;
-            if same && est_done && open_after && !ex.plan.bindings.possibly_equal(c.value, value.into()) {
+            if same
+                && est_done
+                && open_after
+                && !ex.plan.bindings.possibly_equal(c.value, value.into())
+            {
                 broken.push(l);
             }
         }
     }
     let running = classify(&ex.plan, t).running;
-    broken.retain(|&l| match ex.plan.cond(ex.plan.link(l).cond).owner.action() {
-        Some(owner) => !running.contains(&owner),
-        None => true,
-    });
+    broken.retain(
+        |&l| match ex.plan.cond(ex.plan.link(l).cond).owner.action() {
+            Some(owner) => !running.contains(&owner),
+            None => true,
+        },
+    );
     broken.sort();
     broken.dedup();
     for &l in &broken {

@@ -8,22 +8,68 @@ use crate::model::Time;
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum TraceEvent {
-    Launch { action: String, vid: u64 },
-    Stop { action: String, vid: u64 },
-    Report { action: String, status: String, timing: String },
-    Level { resource: String, level: f64, lb: f64, ub: f64, verdict: String },
-    GoalAccepted { goal: String },
-    GoalRejected { goal: String, reason: String },
-    GoalAchieved { goal: String },
-    Capacity { resource: String, capacity: f64, outcome: String },
-    Postponed { action: String },
-    Timeout { timepoint: String },
-    RepairStep { steps: u64, outcome: String },
-    RepairDone { steps: u64 },
-    Abort { reason: String },
-    Replan { attempt: u32, outcome: String },
-    LinksBroken { count: usize },
-    Interrupt { action: String, reason: String },
+    Launch {
+        action: String,
+        vid: u64,
+    },
+    Stop {
+        action: String,
+        vid: u64,
+    },
+    Report {
+        action: String,
+        status: String,
+        timing: String,
+    },
+    Level {
+        resource: String,
+        level: f64,
+        lb: f64,
+        ub: f64,
+        verdict: String,
+    },
+    GoalAccepted {
+        goal: String,
+    },
+    GoalRejected {
+        goal: String,
+        reason: String,
+    },
+    GoalAchieved {
+        goal: String,
+    },
+    Capacity {
+        resource: String,
+        capacity: f64,
+        outcome: String,
+    },
+    Postponed {
+        action: String,
+    },
+    Timeout {
+        timepoint: String,
+    },
+    RepairStep {
+        steps: u64,
+        outcome: String,
+    },
+    RepairDone {
+        steps: u64,
+    },
+    Abort {
+        reason: String,
+    },
+    Replan {
+        attempt: u32,
+        outcome: String,
+    },
+    LinksBroken {
+        count: usize,
+    },
+    Interrupt {
+        action: String,
+        reason: String,
+    },
 }
 
 /// One cycle: when it started, how long its phases took (µs of the executive's CPU), what happened.
