@@ -279,6 +279,7 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
             let ha: Vec<Value> = h.args.iter().map(|&t| cx.term(a, t)).collect();
             same(h.attr, &ha, cx.term(a, h.value), "supported hold")?;
             at(l.to, a.tp(h.to), "supported hold's end")?;
+            precedes(cx, l, cx.at(a, h.from), "the hold it supports")?;
         }
         Consumer::EventFrom { action, event } => {
             let a = cx.s.action(action).ok_or("unknown consumer")?;
@@ -286,6 +287,7 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
             let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
             same(e.attr, &ea, cx.term(a, e.from), "supported event")?;
             at(l.to, a.tp(e.at), "supported event")?;
+            precedes(cx, l, cx.at(a, e.at), "the event it supports")?;
         }
         Consumer::Goal { goal } => {
             let g = &cx.p.goals[goal.index()];
@@ -298,6 +300,17 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
                     .and_then(|pg| pg.end);
             at(l.to, end, "goal's end")?;
         }
+    }
+    Ok(())
+}
+
+/// Footnote 3 of seed 1: the establisher precedes what it supports (it may not start after it).
+fn precedes(cx: &Ctx, l: &CausalLink, start: Time, what: &str) -> Result<(), String> {
+    let from = cx.time(l.from);
+    if from > start {
+        return Err(format!(
+            "its establisher at {from} ms comes after the start of {what} at {start} ms"
+        ));
     }
     Ok(())
 }
