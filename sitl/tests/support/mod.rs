@@ -1,0 +1,227 @@
+//! A minimal MAVLink ground station for the socket tests: its own TCP/UDP socket, frames via the
+//! `mavlink` crate only (no sitl types), bounded waits with deadlines.
+#![allow(dead_code, deprecated)]
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use mavlink::dialects::ardupilotmega::*;
+use mavlink::{MavHeader, MavlinkVersion};
+use tokio::io::AsyncWriteExt;
+use tokio::net::tcp::OwnedWriteHalf;
+use tokio::net::TcpStream;
+use tokio::sync::mpsc;
+
+pub const WAIT: Duration = Duration::from_secs(5);
+
+pub struct Gcs {
+    wr: OwnedWriteHalf,
+    rx: mpsc::UnboundedReceiver<MavMessage>,
+    seq: u8,
+    pub version: MavlinkVersion,
+    pub sysid: u8,
+    pub compid: u8,
+}
+
+impl Gcs {
+    pub async fn connect(addr: SocketAddr) -> Self {
+        let stream = TcpStream::connect(addr).await.expect("connect to sim");
+        let (rd, wr) = stream.into_split();
+        let (tx, rx) = mpsc::unbounded_channel();
+        tokio::spawn(async move {
+            let mut reader = mavlink::AsyncMavlinkReader::new(rd);
+            loop {
+                match reader.read_any_message::<MavMessage>().await {
+                    Ok((_, m)) => {
+                        if tx.send(m).is_err() {
+                            break;
+                        }
+                    }
+                    Err(mavlink::error::MessageReadError::Parse(_)) => continue,
+                    Err(_) => break,
+                }
+            }
+        });
+        Self {
+            wr,
+            rx,
+            seq: 0,
+            version: MavlinkVersion::V2,
+            sysid: 255,
+            compid: 190,
+        }
+    }
+
+    pub async fn send(&mut self, m: MavMessage) {
+        let header = MavHeader {
+            system_id: u32::from(self.sysid),
+            component_id: self.compid,
+            sequence: self.seq,
+        };
+        self.seq = self.seq.wrapping_add(1);
+        let mut buf = Vec::new();
+        mavlink::write_versioned_msg(&mut buf, self.version, header, &m).expect("encode");
+        self.wr.write_all(&buf).await.expect("write");
+    }
+
+    /// Waits (wall time) for the first message satisfying `f`.
+    pub async fn expect<T>(
+        &mut self,
+        what: &str,
+        mut f: impl FnMut(&MavMessage) -> Option<T>,
+    ) -> T {
+        let deadline = tokio::time::Instant::now() + WAIT;
+        loop {
+            match tokio::time::timeout_at(deadline, self.rx.recv()).await {
+                Ok(Some(m)) => {
+                    if let Some(t) = f(&m) {
+                        return t;
+                    }
+                }
+                Ok(None) => panic!("link closed while waiting for {what}"),
+                Err(_) => panic!("timed out waiting for {what}"),
+            }
+        }
+    }
+
+    /// Drops everything received so far.
+    pub fn drain(&mut self) -> Vec<MavMessage> {
+        let mut v = Vec::new();
+        while let Ok(m) = self.rx.try_recv() {
+            v.push(m);
+        }
+        v
+    }
+
+    pub async fn command_long(&mut self, command: MavCmd, p: [f32; 7]) -> (MavResult, u8) {
+        self.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1: p[0],
+            param2: p[1],
+            param3: p[2],
+            param4: p[3],
+            param5: p[4],
+            param6: p[5],
+            param7: p[6],
+            command,
+            target_system: 1,
+            target_component: 1,
+            confirmation: 0,
+        }))
+        .await;
+        self.ack_of(command).await
+    }
+
+    pub async fn command_int(
+        &mut self,
+        command: MavCmd,
+        p: [f32; 4],
+        x: i32,
+        y: i32,
+        z: f32,
+    ) -> (MavResult, u8) {
+        self.send(MavMessage::COMMAND_INT(COMMAND_INT_DATA {
+            param1: p[0],
+            param2: p[1],
+            param3: p[2],
+            param4: p[3],
+            x,
+            y,
+            z,
+            command,
+            target_system: 1,
+            target_component: 1,
+            frame: MavFrame::MAV_FRAME_GLOBAL,
+            current: 0,
+            autocontinue: 0,
+        }))
+        .await;
+        self.ack_of(command).await
+    }
+
+    pub async fn ack_of(&mut self, command: MavCmd) -> (MavResult, u8) {
+        self.expect("COMMAND_ACK", |m| match m {
+            MavMessage::COMMAND_ACK(a) if a.command == command => Some((a.result, a.progress)),
+            _ => None,
+        })
+        .await
+    }
+
+    pub async fn set_mode(&mut self, mode: u32) -> MavResult {
+        self.command_long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            [1.0, mode as f32, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+        .0
+    }
+
+    pub async fn arm(&mut self) -> MavResult {
+        self.command_long(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+        .0
+    }
+
+    /// Uploads `items` (seq 0 is a placeholder for home) with MISSION_ITEM_INT; returns the ACK.
+    pub async fn upload(&mut self, items: &[MISSION_ITEM_INT_DATA]) -> MavMissionResult {
+        self.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: items.len() as u16,
+            target_system: 1,
+            target_component: 1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            opaque_id: 0,
+        }))
+        .await;
+        loop {
+            let next = self
+                .expect("MISSION_REQUEST or ACK", |m| match m {
+                    MavMessage::MISSION_REQUEST_INT(r) => Some(Ok(r.seq)),
+                    MavMessage::MISSION_REQUEST(r) => Some(Ok(r.seq)),
+                    MavMessage::MISSION_ACK(a) => Some(Err(a.mavtype)),
+                    _ => None,
+                })
+                .await;
+            match next {
+                Ok(seq) => {
+                    let mut it = items[usize::from(seq)].clone();
+                    it.seq = seq;
+                    it.target_system = 1;
+                    it.target_component = 1;
+                    self.send(MavMessage::MISSION_ITEM_INT(it)).await;
+                }
+                Err(result) => return result,
+            }
+        }
+    }
+}
+
+/// A NAV_WAYPOINT at metres north/east of `home`.
+pub fn waypoint(home: (f64, f64), north: f64, east: f64) -> MISSION_ITEM_INT_DATA {
+    let lat = home.0 + north / 111_319.490_793_273_57;
+    let lon = home.1 + east / (111_319.490_793_273_57 * home.0.to_radians().cos());
+    MISSION_ITEM_INT_DATA {
+        x: (lat * 1e7).round() as i32,
+        y: (lon * 1e7).round() as i32,
+        command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+        frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+        autocontinue: 1,
+        ..Default::default()
+    }
+}
+
+pub fn item(command: MavCmd, p: [f32; 4]) -> MISSION_ITEM_INT_DATA {
+    MISSION_ITEM_INT_DATA {
+        command,
+        param1: p[0],
+        param2: p[1],
+        param3: p[2],
+        param4: p[3],
+        frame: MavFrame::MAV_FRAME_MISSION,
+        autocontinue: 1,
+        ..Default::default()
+    }
+}
+
+pub const HOME: (f64, f64) = (43.5615, 1.4778);
