@@ -3,30 +3,9 @@
 
 mod support;
 
-use std::time::Duration;
-
 use mavlink::dialects::ardupilotmega::*;
 use sitl::SimConfig;
 use support::*;
-
-/// Steps the manual clock until `pred` holds on the snapshot (bounded in sim time).
-async fn run_until(
-    sim: &sitl::SimHandle,
-    max_s: u64,
-    pred: impl Fn(&sitl::Snapshot) -> bool,
-) -> sitl::Snapshot {
-    for _ in 0..max_s * 10 {
-        sim.step(Duration::from_millis(100)).await.expect("step");
-        let s = sim.snapshot();
-        if pred(&s) {
-            return s;
-        }
-    }
-    panic!(
-        "condition not reached within {max_s} sim seconds: {:?}",
-        sim.snapshot()
-    );
-}
 
 #[tokio::test]
 async fn three_waypoint_mission_runs_in_auto() {

@@ -6,7 +6,7 @@ use std::net::SocketAddr;
 use std::time::Duration;
 
 use mavlink::dialects::ardupilotmega::*;
-use mavlink::{MavHeader, MavlinkVersion};
+use mavlink::{MavHeader, MavlinkVersion, Message};
 use tokio::io::AsyncWriteExt;
 use tokio::net::tcp::OwnedWriteHalf;
 use tokio::net::TcpStream;
@@ -16,7 +16,12 @@ pub const WAIT: Duration = Duration::from_secs(5);
 
 pub struct Gcs {
     wr: OwnedWriteHalf,
-    rx: mpsc::UnboundedReceiver<MavMessage>,
+    rx: mpsc::UnboundedReceiver<(MavlinkVersion, MavHeader, MavMessage)>,
+    /// Version and header of the last frame `expect` looked at.
+    pub last_version: Option<MavlinkVersion>,
+    pub last_header: Option<MavHeader>,
+    /// Messages `expect` passed over, oldest first (taken by `sync` and `seen`).
+    backlog: Vec<MavMessage>,
     seq: u8,
     pub version: MavlinkVersion,
     pub sysid: u8,
@@ -31,9 +36,19 @@ impl Gcs {
         tokio::spawn(async move {
             let mut reader = mavlink::AsyncMavlinkReader::new(rd);
             loop {
-                match reader.read_any_message::<MavMessage>().await {
-                    Ok((_, m)) => {
-                        if tx.send(m).is_err() {
+                match reader.read_any_raw_message::<MavMessage>().await {
+                    Ok(raw) => {
+                        let Ok(m) =
+                            MavMessage::parse(raw.version(), raw.message_id(), raw.payload())
+                        else {
+                            continue;
+                        };
+                        let h = MavHeader {
+                            system_id: raw.system_id(),
+                            component_id: raw.component_id(),
+                            sequence: raw.sequence(),
+                        };
+                        if tx.send((raw.version(), h, m)).is_err() {
                             break;
                         }
                     }
@@ -45,6 +60,9 @@ impl Gcs {
         Self {
             wr,
             rx,
+            last_version: None,
+            last_header: None,
+            backlog: Vec::new(),
             seq: 0,
             version: MavlinkVersion::V2,
             sysid: 255,
@@ -64,19 +82,28 @@ impl Gcs {
         self.wr.write_all(&buf).await.expect("write");
     }
 
-    /// Waits (wall time) for the first message satisfying `f`.
+    /// The first message satisfying `f`: from the backlog, else waiting (wall time, bounded).
     pub async fn expect<T>(
         &mut self,
         what: &str,
         mut f: impl FnMut(&MavMessage) -> Option<T>,
     ) -> T {
+        for i in 0..self.backlog.len() {
+            if let Some(t) = f(&self.backlog[i]) {
+                self.backlog.remove(i);
+                return t;
+            }
+        }
         let deadline = tokio::time::Instant::now() + WAIT;
         loop {
             match tokio::time::timeout_at(deadline, self.rx.recv()).await {
-                Ok(Some(m)) => {
+                Ok(Some((v, h, m))) => {
+                    self.last_version = Some(v);
+                    self.last_header = Some(h);
                     if let Some(t) = f(&m) {
                         return t;
                     }
+                    self.backlog.push(m);
                 }
                 Ok(None) => panic!("link closed while waiting for {what}"),
                 Err(_) => panic!("timed out waiting for {what}"),
@@ -84,10 +111,54 @@ impl Gcs {
         }
     }
 
-    /// Drops everything received so far.
-    pub fn drain(&mut self) -> Vec<MavMessage> {
+    /// Round trip: returns every message the sim sent before answering a REQUEST_MESSAGE, so
+    /// that nothing it produced earlier is still in flight.
+    pub async fn sync(&mut self) -> Vec<MavMessage> {
+        self.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        }))
+        .await;
+        self.expect("sync ACK", |m| match m {
+            MavMessage::COMMAND_ACK(a) if a.command == MavCmd::MAV_CMD_REQUEST_MESSAGE => Some(()),
+            _ => None,
+        })
+        .await;
+        std::mem::take(&mut self.backlog)
+    }
+
+    /// The STATUSTEXTs among `msgs`.
+    pub fn texts(msgs: &[MavMessage]) -> Vec<String> {
+        msgs.iter()
+            .filter_map(|m| match m {
+                MavMessage::STATUSTEXT(t) => Some(
+                    t.text
+                        .to_str()
+                        .unwrap_or("")
+                        .trim_end_matches('\0')
+                        .to_string(),
+                ),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Everything received so far with its header.
+    pub fn drain_frames(&mut self) -> Vec<(MavlinkVersion, MavHeader, MavMessage)> {
+        self.backlog.clear();
         let mut v = Vec::new();
-        while let Ok(m) = self.rx.try_recv() {
+        while let Ok(f) = self.rx.try_recv() {
+            v.push(f);
+        }
+        v
+    }
+
+    /// Everything received so far (including what `expect` passed over).
+    pub fn drain(&mut self) -> Vec<MavMessage> {
+        let mut v = std::mem::take(&mut self.backlog);
+        while let Ok((_, _, m)) = self.rx.try_recv() {
             v.push(m);
         }
         v
@@ -225,3 +296,39 @@ pub fn item(command: MavCmd, p: [f32; 4]) -> MISSION_ITEM_INT_DATA {
 }
 
 pub const HOME: (f64, f64) = (43.5615, 1.4778);
+
+/// Steps the manual clock in 100 ms slices until `pred` holds on the snapshot (bounded in sim time).
+pub async fn run_until(
+    sim: &sitl::SimHandle,
+    max_s: u64,
+    pred: impl Fn(&sitl::Snapshot) -> bool,
+) -> sitl::Snapshot {
+    for _ in 0..max_s * 10 {
+        sim.step(Duration::from_millis(100)).await.expect("step");
+        let s = sim.snapshot();
+        if pred(&s) {
+            return s;
+        }
+    }
+    panic!(
+        "condition not reached within {max_s} sim seconds: {:?}",
+        sim.snapshot()
+    );
+}
+
+/// A sim on port 0 with the manual clock and `scenario` (TOML text), plus a connected client.
+pub async fn start(scenario: &str) -> (sitl::SimHandle, Gcs) {
+    let mut cfg = sitl::SimConfig::for_tests();
+    cfg.scenario = sitl::Scenario::parse(scenario, "test").expect("scenario");
+    let sim = sitl::spawn(cfg).await.expect("spawn");
+    let gcs = Gcs::connect(sim.local_addr()).await;
+    (sim, gcs)
+}
+
+/// Uploads a mission through `gcs` and checks it is accepted.
+pub async fn upload_ok(gcs: &mut Gcs, items: &[MISSION_ITEM_INT_DATA]) {
+    assert_eq!(
+        gcs.upload(items).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+}
