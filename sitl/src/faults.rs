@@ -184,8 +184,8 @@ impl LinkFaults {
         }
     }
 
-    pub fn hold(&mut self, peer: PeerId, bytes: Vec<u8>) -> Option<Vec<u8>> {
-        self.held.insert(peer, bytes)
+    pub fn hold(&mut self, peer: PeerId, bytes: Vec<u8>) {
+        self.held.insert(peer, bytes);
     }
 
     pub fn take_held(&mut self, peer: PeerId) -> Option<Vec<u8>> {

@@ -286,8 +286,13 @@ impl Runner {
                         peers.send_bytes(peer, bytes);
                     }
                     Delivery::Reorder => {
-                        if let Some(prev) = lf.hold(peer, bytes) {
+                        // Hold this frame back until the next one; if one is already held,
+                        // this frame overtakes it instead.
+                        if let Some(prev) = lf.take_held(peer) {
+                            peers.send_bytes(peer, bytes);
                             peers.send_bytes(peer, prev);
+                        } else {
+                            lf.hold(peer, bytes);
                         }
                         continue;
                     }

@@ -161,13 +161,11 @@ impl Autopilot {
             self.item_reached(seq);
             self.exec.nav_loaded = false;
             self.exec.do_queue.clear();
+            // The DO commands of this NAV ran while it ran; those left are skipped, as
+            // AP_Mission does.
             match self.next_nav_after(seq) {
-                Some(_) => self.exec.current = seq + 1,
-                None => {
-                    // Trailing DO commands run, then the mission ends.
-                    self.exec.current = seq + 1;
-                    self.load_nav();
-                }
+                Some(next) => self.exec.current = next,
+                None => self.complete_mission(),
             }
         }
     }

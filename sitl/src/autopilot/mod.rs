@@ -203,6 +203,8 @@ impl Autopilot {
         let sysid = f.header.system_id.min(255) as u8;
         let compid = f.header.component_id;
         let peer = f.peer;
+        // Faults due now (e.g. at t = 0) apply before the message is handled.
+        self.process_events();
         // Only what is addressed to us (or broadcast).
         let to_us = |ts: u8| ts == 0 || ts == self.system_id;
         match &f.msg {

@@ -21,7 +21,7 @@ pub struct Gcs {
     pub last_version: Option<MavlinkVersion>,
     pub last_header: Option<MavHeader>,
     /// Messages `expect` passed over, oldest first (taken by `sync` and `seen`).
-    backlog: Vec<MavMessage>,
+    backlog: Vec<(MavlinkVersion, MavHeader, MavMessage)>,
     seq: u8,
     pub version: MavlinkVersion,
     pub sysid: u8,
@@ -89,7 +89,7 @@ impl Gcs {
         mut f: impl FnMut(&MavMessage) -> Option<T>,
     ) -> T {
         for i in 0..self.backlog.len() {
-            if let Some(t) = f(&self.backlog[i]) {
+            if let Some(t) = f(&self.backlog[i].2) {
                 self.backlog.remove(i);
                 return t;
             }
@@ -103,7 +103,7 @@ impl Gcs {
                     if let Some(t) = f(&m) {
                         return t;
                     }
-                    self.backlog.push(m);
+                    self.backlog.push((v, h, m));
                 }
                 Ok(None) => panic!("link closed while waiting for {what}"),
                 Err(_) => panic!("timed out waiting for {what}"),
@@ -114,6 +114,11 @@ impl Gcs {
     /// Round trip: returns every message the sim sent before answering a REQUEST_MESSAGE, so
     /// that nothing it produced earlier is still in flight.
     pub async fn sync(&mut self) -> Vec<MavMessage> {
+        self.sync_inner().await;
+        std::mem::take(&mut self.backlog).into_iter().map(|f| f.2).collect()
+    }
+
+    async fn sync_inner(&mut self) {
         self.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
             command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
             target_system: 1,
@@ -126,6 +131,11 @@ impl Gcs {
             _ => None,
         })
         .await;
+    }
+
+    /// As `sync`, with each frame's version and header.
+    pub async fn sync_frames(&mut self) -> Vec<(MavlinkVersion, MavHeader, MavMessage)> {
+        self.sync_inner().await;
         std::mem::take(&mut self.backlog)
     }
 
@@ -157,7 +167,7 @@ impl Gcs {
 
     /// Everything received so far (including what `expect` passed over).
     pub fn drain(&mut self) -> Vec<MavMessage> {
-        let mut v = std::mem::take(&mut self.backlog);
+        let mut v: Vec<MavMessage> = std::mem::take(&mut self.backlog).into_iter().map(|f| f.2).collect();
         while let Ok((_, _, m)) = self.rx.try_recv() {
             v.push(m);
         }
