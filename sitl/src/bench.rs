@@ -50,7 +50,10 @@ impl Client {
         self.writer.write_all(&buf).await.map_err(io)
     }
 
-    async fn until<T>(&mut self, mut f: impl FnMut(&MavMessage) -> Option<T>) -> Result<T, SimError> {
+    async fn until<T>(
+        &mut self,
+        mut f: impl FnMut(&MavMessage) -> Option<T>,
+    ) -> Result<T, SimError> {
         loop {
             match self.reader.read_any_message::<MavMessage>().await {
                 Ok((_, m)) => {
@@ -84,7 +87,11 @@ impl Client {
 
 /// Runs a `waypoints`-leg square-ish mission (legs of `leg_m`) at `speedup` and measures sim time
 /// over wall time from the AUTO acknowledgement to the last MISSION_ITEM_REACHED.
-pub async fn measure_speedup(speedup: f64, waypoints: usize, leg_m: f64) -> Result<SpeedupReport, SimError> {
+pub async fn measure_speedup(
+    speedup: f64,
+    waypoints: usize,
+    leg_m: f64,
+) -> Result<SpeedupReport, SimError> {
     let cfg = SimConfig {
         listen: "tcpin:127.0.0.1:0".into(),
         speedup,
@@ -131,7 +138,9 @@ pub async fn measure_speedup(speedup: f64, waypoints: usize, leg_m: f64) -> Resu
             Ok(seq) => seq,
             Err(MavMissionResult::MAV_MISSION_ACCEPTED) => break,
             Err(other) => {
-                return Err(io(std::io::Error::other(format!("upload refused: {other:?}"))))
+                return Err(io(std::io::Error::other(format!(
+                    "upload refused: {other:?}"
+                ))))
             }
         };
         let p = frame.to_geo(items[usize::from(seq).min(items.len() - 1)]);
@@ -148,13 +157,13 @@ pub async fn measure_speedup(speedup: f64, waypoints: usize, leg_m: f64) -> Resu
         }))
         .await?;
     }
-    c.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0).await?;
+    c.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0)
+        .await?;
     c.command(MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 10.0).await?;
     let (sim0, wall0) = (sim.now_ms(), Instant::now());
     let last = waypoints as u16;
-    let wait = Duration::from_secs_f64(
-        (waypoints as f64 * leg_m / 2.0 / speedup).max(1.0) * 20.0 + 10.0,
-    );
+    let wait =
+        Duration::from_secs_f64((waypoints as f64 * leg_m / 2.0 / speedup).max(1.0) * 20.0 + 10.0);
     tokio::time::timeout(
         wait,
         c.until(|m| match m {

@@ -29,14 +29,14 @@ impl LocalFrame {
     }
 
     /// [north, east] metres.
-    pub fn to_local(&self, p: GeoPoint) -> Vector2<f64> {
+    pub fn to_local(self, p: GeoPoint) -> Vector2<f64> {
         Vector2::new(
             (p.lat - self.origin.lat) * self.metres_per_deg_lat,
             (p.lon - self.origin.lon) * self.metres_per_deg_lon,
         )
     }
 
-    pub fn to_geo(&self, ne: Vector2<f64>) -> GeoPoint {
+    pub fn to_geo(self, ne: Vector2<f64>) -> GeoPoint {
         GeoPoint {
             lat: self.origin.lat + ne.x / self.metres_per_deg_lat,
             lon: self.origin.lon + ne.y / self.metres_per_deg_lon,
@@ -44,7 +44,7 @@ impl LocalFrame {
     }
 
     /// From MAVLink integer degrees ×1e7.
-    pub fn to_local_e7(&self, lat_e7: i32, lon_e7: i32) -> Vector2<f64> {
+    pub fn to_local_e7(self, lat_e7: i32, lon_e7: i32) -> Vector2<f64> {
         self.to_local(GeoPoint {
             lat: f64::from(lat_e7) * 1e-7,
             lon: f64::from(lon_e7) * 1e-7,

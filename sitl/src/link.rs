@@ -152,14 +152,24 @@ impl Drop for Link {
     }
 }
 
-fn decode(raw: &mavlink::MAVLinkMessageRaw) -> Option<(MavHeader, MavMessage)> {
-    let msg = MavMessage::parse(raw.version(), raw.message_id(), raw.payload()).ok()?;
+/// Decodes a frame of either version, notes the peer's version and hands the message to the core.
+/// Returns false once the core has stopped. Frames of unknown messages are skipped.
+async fn forward(
+    raw: &mavlink::MAVLinkMessageRaw,
+    peer: PeerId,
+    peers: &Peers,
+    inbound: &mpsc::Sender<Inbound>,
+) -> bool {
+    let Ok(msg) = MavMessage::parse(raw.version(), raw.message_id(), raw.payload()) else {
+        return true;
+    };
+    peers.note_version(peer, raw.version());
     let header = MavHeader {
         system_id: raw.system_id(),
         component_id: raw.component_id(),
         sequence: raw.sequence(),
     };
-    Some((header, msg))
+    inbound.send(Inbound { peer, header, msg }).await.is_ok()
 }
 
 impl Link {
@@ -255,16 +265,7 @@ fn serve_tcp(stream: TcpStream, id: PeerId, peers: Peers, inbound: mpsc::Sender<
         loop {
             match reader.read_any_raw_message::<MavMessage>().await {
                 Ok(raw) => {
-                    let Some((header, msg)) = decode(&raw) else {
-                        continue;
-                    };
-                    peers.note_version(id, raw.version());
-                    let frame = Inbound {
-                        peer: id,
-                        header,
-                        msg,
-                    };
-                    if inbound.send(frame).await.is_err() {
+                    if !forward(&raw, id, &peers, &inbound).await {
                         break;
                     }
                 }
@@ -304,16 +305,7 @@ async fn serve_udp(
         loop {
             match reader.read_any_raw_message::<MavMessage>() {
                 Ok(raw) => {
-                    let Some((header, msg)) = decode(&raw) else {
-                        continue;
-                    };
-                    peers.note_version(id, raw.version());
-                    let frame = Inbound {
-                        peer: id,
-                        header,
-                        msg,
-                    };
-                    if inbound.send(frame).await.is_err() {
+                    if !forward(&raw, id, &peers, &inbound).await {
                         return;
                     }
                 }

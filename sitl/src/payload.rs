@@ -104,8 +104,8 @@ pub struct DownlinkRun {
     pub to_send_mib: f64,
     pub sent_mib: f64,
     pub last_progress_ms: u64,
-    /// Who asked: (peer, system id, component id), for the COMMAND_ACKs that follow.
-    pub requester: (u64, u8, u8),
+    /// Who asked, for the COMMAND_ACKs that follow.
+    pub requester: crate::autopilot::Sender,
 }
 
 impl DownlinkRun {

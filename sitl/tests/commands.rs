@@ -323,3 +323,32 @@ async fn udp_peers_are_answered() {
         }
     }
 }
+
+#[tokio::test]
+async fn messages_for_other_components_are_not_answered() {
+    let (sim, mut gcs) = start("").await;
+    // A goal upload for the companion (component 191) is not the autopilot's business.
+    gcs.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+        count: 2,
+        target_system: 1,
+        target_component: 191,
+        ..Default::default()
+    }))
+    .await;
+    gcs.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1: 1.0,
+        command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        target_system: 2,
+        target_component: 1,
+        ..Default::default()
+    }))
+    .await;
+    let seen = gcs.sync().await;
+    assert!(!seen.iter().any(|m| matches!(
+        m,
+        MavMessage::MISSION_REQUEST_INT(_)
+            | MavMessage::MISSION_REQUEST(_)
+            | MavMessage::COMMAND_ACK(_)
+    )));
+    assert!(!sim.snapshot().armed);
+}

@@ -50,9 +50,15 @@ async fn a_silent_uploader_is_re_requested_then_cancelled() {
     // Re-requested (after 100 ms here, ~1 s on ArduPilot) ...
     assert_eq!(next_request(&mut gcs).await, 0);
     // ... then cancelled (800 ms here, 8 s on ArduPilot).
-    assert_eq!(mission_ack(&mut gcs).await, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED);
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_OPERATION_CANCELLED
+    );
     let texts = Gcs::texts(&gcs.sync().await);
-    assert!(texts.iter().any(|t| t == "Mission upload timeout"), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t == "Mission upload timeout"),
+        "{texts:?}"
+    );
     assert_eq!(sim.snapshot().mission_total, 0);
 }
 
@@ -64,13 +70,19 @@ async fn one_uploader_at_a_time_and_wrong_seq_keeps_the_upload_open() {
     a.send(count(2)).await;
     assert_eq!(next_request(&mut a).await, 0);
     b.send(count(2)).await;
-    assert_eq!(mission_ack(&mut b).await, MavMissionResult::MAV_MISSION_DENIED);
+    assert_eq!(
+        mission_ack(&mut b).await,
+        MavMissionResult::MAV_MISSION_DENIED
+    );
     let items = square();
     let mut wrong = items[1].clone();
     wrong.seq = 1;
     wrong.target_system = 1;
     a.send(MavMessage::MISSION_ITEM_INT(wrong)).await;
-    assert_eq!(mission_ack(&mut a).await, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
+    assert_eq!(
+        mission_ack(&mut a).await,
+        MavMissionResult::MAV_MISSION_INVALID_SEQUENCE
+    );
     for seq in 0..2u16 {
         let mut it = items[usize::from(seq)].clone();
         it.seq = seq;
@@ -80,7 +92,10 @@ async fn one_uploader_at_a_time_and_wrong_seq_keeps_the_upload_open() {
             assert_eq!(next_request(&mut a).await, 1);
         }
     }
-    assert_eq!(mission_ack(&mut a).await, MavMissionResult::MAV_MISSION_ACCEPTED);
+    assert_eq!(
+        mission_ack(&mut a).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
     assert_eq!(sim.snapshot().mission_total, 1);
 }
 
@@ -107,12 +122,17 @@ async fn legacy_items_and_requests_round_trip_with_home_as_item_zero() {
         }))
         .await;
     }
-    assert_eq!(mission_ack(&mut gcs).await, MavMissionResult::MAV_MISSION_ACCEPTED);
-    gcs.send(MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    }))
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+    gcs.send(MavMessage::MISSION_REQUEST_LIST(
+        MISSION_REQUEST_LIST_DATA {
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        },
+    ))
     .await;
     let n = gcs
         .expect("MISSION_COUNT", |m| match m {
@@ -186,7 +206,9 @@ async fn clear_is_refused_in_auto_and_mission_current_reports_state() {
     let (_, total, st, _) = gcs.expect("MISSION_CURRENT", state).await;
     assert_eq!((total, st), (3, MissionState::MISSION_STATE_NOT_STARTED));
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    let (r, _) = gcs.command_long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7]).await;
+    let (r, _) = gcs
+        .command_long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7])
+        .await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(sim.snapshot().mode, "AUTO");
     gcs.drain();
@@ -199,15 +221,24 @@ async fn clear_is_refused_in_auto_and_mission_current_reports_state() {
         ..Default::default()
     }))
     .await;
-    assert_eq!(mission_ack(&mut gcs).await, MavMissionResult::MAV_MISSION_ERROR);
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_ERROR
+    );
     assert_eq!(sim.snapshot().mission_total, 3);
     // Jump to item 3, then finish.
     let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT, [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+        .command_long(
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
+            [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
         .await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT, [9.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+        .command_long(
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
+            [9.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
         .await;
     assert_eq!(r, MavResult::MAV_RESULT_DENIED);
     run_until(&sim, 60, |s| s.mission_complete).await;
@@ -230,7 +261,10 @@ async fn clear_is_refused_in_auto_and_mission_current_reports_state() {
         ..Default::default()
     }))
     .await;
-    assert_eq!(mission_ack(&mut gcs).await, MavMissionResult::MAV_MISSION_ACCEPTED);
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
     assert_eq!(sim.snapshot().mission_total, 0);
 }
 
@@ -256,8 +290,14 @@ async fn auto_runs_loiter_speed_camera_servo_and_rtl_items() {
     let s = run_until(&sim, 30, |s| s.north_m > 8.0).await;
     assert!(s.speed_mps <= 2.0 + 1e-6, "{}", s.speed_mps);
     // LOITER_TIME: 10 s at the first point, where the picture and the sample are taken.
-    let arrived = run_until(&sim, 30, |s| s.statustexts.iter().any(|t| t.contains("Loiter for 10"))).await;
-    let left = run_until(&sim, 60, |s| s.statustexts.iter().any(|t| t == "Finished active loiter")).await;
+    let arrived = run_until(&sim, 30, |s| {
+        s.statustexts.iter().any(|t| t.contains("Loiter for 10"))
+    })
+    .await;
+    let left = run_until(&sim, 60, |s| {
+        s.statustexts.iter().any(|t| t == "Finished active loiter")
+    })
+    .await;
     assert!(left.time_ms - arrived.time_ms >= 10_000);
     assert_eq!(left.pictures_ok, 1);
     let s = run_until(&sim, 120, |s| s.mission_complete).await;

@@ -3,8 +3,7 @@
 use mavlink::dialects::ardupilotmega::*;
 
 use super::telemetry::{self, data_stream_ids};
-use super::{Autopilot, Mode};
-use crate::link::PeerId;
+use super::{Autopilot, Mode, Sender};
 use crate::physics::Target;
 use crate::scenario::EventKind;
 
@@ -14,9 +13,7 @@ const FORCE_ARM: f32 = 21196.0;
 /// A command from either message, positions kept as integers when they came as COMMAND_INT.
 #[derive(Debug, Clone)]
 pub struct Cmd {
-    pub peer: PeerId,
-    pub sysid: u8,
-    pub compid: u8,
+    pub from: Sender,
     pub command: MavCmd,
     pub p: [f32; 7],
     /// COMMAND_INT x / y (degrees ×1e7) and frame; None for COMMAND_LONG.
@@ -24,11 +21,9 @@ pub struct Cmd {
 }
 
 impl Cmd {
-    pub fn from_long(peer: PeerId, sysid: u8, compid: u8, m: &COMMAND_LONG_DATA) -> Self {
+    pub fn from_long(from: Sender, m: &COMMAND_LONG_DATA) -> Self {
         Self {
-            peer,
-            sysid,
-            compid,
+            from,
             command: m.command,
             p: [
                 m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7,
@@ -37,11 +32,9 @@ impl Cmd {
         }
     }
 
-    pub fn from_int(peer: PeerId, sysid: u8, compid: u8, m: &COMMAND_INT_DATA) -> Self {
+    pub fn from_int(from: Sender, m: &COMMAND_INT_DATA) -> Self {
         Self {
-            peer,
-            sysid,
-            compid,
+            from,
             command: m.command,
             p: [
                 m.param1, m.param2, m.param3, m.param4, m.x as f32, m.y as f32, m.z,
@@ -53,27 +46,19 @@ impl Cmd {
 
 impl Autopilot {
     pub(super) fn ack(&mut self, c: &Cmd, result: MavResult, progress: u8) {
-        self.ack_to(c.peer, c.sysid, c.compid, c.command, result, progress);
+        self.ack_to(c.from, c.command, result, progress);
     }
 
-    pub(super) fn ack_to(
-        &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
-        command: MavCmd,
-        result: MavResult,
-        progress: u8,
-    ) {
+    pub(super) fn ack_to(&mut self, to: Sender, command: MavCmd, result: MavResult, progress: u8) {
         self.send_to(
-            peer,
+            to.peer,
             MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
                 command,
                 result,
                 progress,
                 result_param2: 0,
-                target_system: sysid,
-                target_component: compid,
+                target_system: to.sysid,
+                target_component: to.compid,
             }),
         );
     }
@@ -185,7 +170,7 @@ impl Autopilot {
         match self.build(id) {
             Some(m) => {
                 self.ack(c, MavResult::MAV_RESULT_ACCEPTED, 0);
-                self.send_to(c.peer, m);
+                self.send_to(c.from.peer, m);
             }
             None => self.ack(c, MavResult::MAV_RESULT_UNSUPPORTED, 0),
         }
@@ -259,12 +244,12 @@ impl Autopilot {
         }
     }
 
-    pub(super) fn on_set_mode(&mut self, peer: PeerId, sysid: u8, compid: u8, m: &SET_MODE_DATA) {
+    pub(super) fn on_set_mode(&mut self, from: Sender, m: &SET_MODE_DATA) {
         let result = match Mode::from_number(m.custom_mode, self.vehicle) {
             Some(mode) => self.set_mode_result(mode),
             None => MavResult::MAV_RESULT_FAILED,
         };
-        self.ack_to(peer, sysid, compid, MavCmd::MAV_CMD_DO_SET_MODE, result, 0);
+        self.ack_to(from, MavCmd::MAV_CMD_DO_SET_MODE, result, 0);
     }
 
     pub(super) fn on_request_data_stream(&mut self, m: &REQUEST_DATA_STREAM_DATA) {

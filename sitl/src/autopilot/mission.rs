@@ -6,10 +6,9 @@ use std::time::Instant;
 
 use mavlink::dialects::ardupilotmega::*;
 
-use super::{Autopilot, Dest, Mode};
+use super::{Autopilot, Dest, Mode, Sender};
 use crate::config::MissionRequestKind;
 use crate::geo::e7;
-use crate::link::PeerId;
 
 /// Largest mission accepted (ArduPilot's storage holds a few hundred on small boards).
 const MAX_ITEMS: u16 = 700;
@@ -64,6 +63,28 @@ impl Item {
     }
 }
 
+/// MISSION_ITEM_INT -> legacy MISSION_ITEM: degrees in global frames, metres (x 1e-4) otherwise.
+fn to_float(m: &MISSION_ITEM_INT_DATA) -> MISSION_ITEM_DATA {
+    let scale = if is_global(m.frame) { 1e-7 } else { 1e-4 };
+    MISSION_ITEM_DATA {
+        param1: m.param1,
+        param2: m.param2,
+        param3: m.param3,
+        param4: m.param4,
+        x: (f64::from(m.x) * scale) as f32,
+        y: (f64::from(m.y) * scale) as f32,
+        z: m.z,
+        seq: m.seq,
+        command: m.command,
+        target_system: m.target_system,
+        target_component: m.target_component,
+        frame: m.frame,
+        current: m.current,
+        autocontinue: m.autocontinue,
+        mission_type: m.mission_type,
+    }
+}
+
 pub fn is_global(f: MavFrame) -> bool {
     matches!(
         f,
@@ -80,9 +101,7 @@ pub fn is_global(f: MavFrame) -> bool {
 /// An upload in progress.
 #[derive(Debug)]
 pub struct Upload {
-    pub peer: PeerId,
-    pub sysid: u8,
-    pub compid: u8,
+    pub from: Sender,
     pub count: u16,
     pub next: u16,
     pub items: Vec<Item>,
@@ -104,12 +123,12 @@ impl Autopilot {
         }
     }
 
-    fn mission_ack(&mut self, peer: PeerId, sysid: u8, compid: u8, result: MavMissionResult) {
+    fn mission_ack(&mut self, from: Sender, result: MavMissionResult) {
         self.send_to(
-            peer,
+            from.peer,
             MavMessage::MISSION_ACK(MISSION_ACK_DATA {
-                target_system: sysid,
-                target_component: compid,
+                target_system: from.sysid,
+                target_component: from.compid,
                 mavtype: result,
                 mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
                 opaque_id: 0,
@@ -117,75 +136,60 @@ impl Autopilot {
         );
     }
 
-    fn send_request(&mut self, peer: PeerId, sysid: u8, compid: u8, seq: u16) {
+    fn send_request(&mut self, from: Sender, seq: u16) {
         let msg = match self.mission_request {
             MissionRequestKind::Int => MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
                 seq,
-                target_system: sysid,
-                target_component: compid,
+                target_system: from.sysid,
+                target_component: from.compid,
                 mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
             }),
             MissionRequestKind::Legacy => MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
                 seq,
-                target_system: sysid,
-                target_component: compid,
+                target_system: from.sysid,
+                target_component: from.compid,
                 mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
             }),
         };
-        self.send_to(peer, msg);
+        self.send_to(from.peer, msg);
     }
 
-    pub(super) fn on_mission_count(
-        &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
-        m: &MISSION_COUNT_DATA,
-    ) {
+    pub(super) fn on_mission_count(&mut self, from: Sender, m: &MISSION_COUNT_DATA) {
         if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
-            self.mission_ack(
-                peer,
-                sysid,
-                compid,
-                MavMissionResult::MAV_MISSION_UNSUPPORTED,
-            );
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
             return;
         }
         if let Some(u) = &self.upload {
-            if (u.peer, u.sysid, u.compid) != (peer, sysid, compid) {
+            if u.from != from {
                 // One uploader at a time.
-                self.mission_ack(peer, sysid, compid, MavMissionResult::MAV_MISSION_DENIED);
+                self.mission_ack(from, MavMissionResult::MAV_MISSION_DENIED);
                 return;
             }
         }
         if m.count > MAX_ITEMS {
-            self.mission_ack(peer, sysid, compid, MavMissionResult::MAV_MISSION_NO_SPACE);
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_NO_SPACE);
             return;
         }
         if m.count == 0 {
             self.upload = None;
-            self.clear_mission(peer, sysid, compid);
+            self.clear_mission(from);
             return;
         }
         let now = Instant::now();
         self.upload = Some(Upload {
-            peer,
-            sysid,
-            compid,
+            from,
             count: m.count,
             next: 0,
             items: Vec::with_capacity(usize::from(m.count)),
             last_request: now,
             last_activity: now,
         });
-        self.send_request(peer, sysid, compid, 0);
+        self.send_request(from, 0);
     }
 
     pub(super) fn on_mission_item(
         &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
+        from: Sender,
         seq: u16,
         item: Item,
         mission_type: MavMissionType,
@@ -194,18 +198,11 @@ impl Autopilot {
             // ArduPilot ignores items outside an upload (with a warning).
             return;
         };
-        if (u.peer, u.sysid, u.compid) != (peer, sysid, compid)
-            || mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION
-        {
+        if u.from != from || mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
             return;
         }
         if seq != u.next {
-            self.mission_ack(
-                peer,
-                sysid,
-                compid,
-                MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
-            );
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
             return;
         }
         let now = Instant::now();
@@ -215,7 +212,7 @@ impl Autopilot {
         if u.next < u.count {
             u.last_request = now;
             let next = u.next;
-            self.send_request(peer, sysid, compid, next);
+            self.send_request(from, next);
             return;
         }
         let Some(mut done) = self.upload.take() else {
@@ -224,42 +221,16 @@ impl Autopilot {
         // Item 0 is always home on ArduPilot.
         done.items[0] = self.home_item();
         self.install_mission(done.items);
-        self.mission_ack(peer, sysid, compid, MavMissionResult::MAV_MISSION_ACCEPTED);
+        self.mission_ack(from, MavMissionResult::MAV_MISSION_ACCEPTED);
         self.text(MavSeverity::MAV_SEVERITY_INFO, "Flight plan received");
     }
 
-    pub(super) fn on_item_int(
-        &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
-        m: &MISSION_ITEM_INT_DATA,
-    ) {
-        self.on_mission_item(
-            peer,
-            sysid,
-            compid,
-            m.seq,
-            Item::from_int(m),
-            m.mission_type,
-        );
+    pub(super) fn on_item_int(&mut self, from: Sender, m: &MISSION_ITEM_INT_DATA) {
+        self.on_mission_item(from, m.seq, Item::from_int(m), m.mission_type);
     }
 
-    pub(super) fn on_item_float(
-        &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
-        m: &MISSION_ITEM_DATA,
-    ) {
-        self.on_mission_item(
-            peer,
-            sysid,
-            compid,
-            m.seq,
-            Item::from_float(m),
-            m.mission_type,
-        );
+    pub(super) fn on_item_float(&mut self, from: Sender, m: &MISSION_ITEM_DATA) {
+        self.on_mission_item(from, m.seq, Item::from_float(m), m.mission_type);
     }
 
     /// Re-requests and cancels on the wall clock; called by the run loop.
@@ -268,19 +239,14 @@ impl Autopilot {
             return;
         };
         if now.duration_since(u.last_activity) >= self.mission_timeout {
-            let (peer, sysid, compid) = (u.peer, u.sysid, u.compid);
+            let from = u.from;
             self.upload = None;
-            self.mission_ack(
-                peer,
-                sysid,
-                compid,
-                MavMissionResult::MAV_MISSION_OPERATION_CANCELLED,
-            );
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED);
             self.text(MavSeverity::MAV_SEVERITY_WARNING, "Mission upload timeout");
         } else if now.duration_since(u.last_request) >= self.mission_rerequest {
             u.last_request = now;
-            let (peer, sysid, compid, next) = (u.peer, u.sysid, u.compid, u.next);
-            self.send_request(peer, sysid, compid, next);
+            let (from, next) = (u.from, u.next);
+            self.send_request(from, next);
         }
     }
 
@@ -305,9 +271,9 @@ impl Autopilot {
         }
     }
 
-    pub(super) fn clear_mission(&mut self, peer: PeerId, sysid: u8, compid: u8) {
+    pub(super) fn clear_mission(&mut self, from: Sender) {
         if self.mode == Mode::Auto {
-            self.mission_ack(peer, sysid, compid, MavMissionResult::MAV_MISSION_ERROR);
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_ERROR);
             self.text(
                 MavSeverity::MAV_SEVERITY_WARNING,
                 "Mission clear refused in AUTO",
@@ -316,53 +282,36 @@ impl Autopilot {
         }
         self.mission = vec![self.home_item()];
         self.exec = Default::default();
-        self.mission_ack(peer, sysid, compid, MavMissionResult::MAV_MISSION_ACCEPTED);
+        self.mission_ack(from, MavMissionResult::MAV_MISSION_ACCEPTED);
     }
 
-    pub(super) fn on_clear_all(
-        &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
-        m: &MISSION_CLEAR_ALL_DATA,
-    ) {
+    pub(super) fn on_clear_all(&mut self, from: Sender, m: &MISSION_CLEAR_ALL_DATA) {
         if !matches!(
             m.mission_type,
             MavMissionType::MAV_MISSION_TYPE_MISSION | MavMissionType::MAV_MISSION_TYPE_ALL
         ) {
-            self.mission_ack(
-                peer,
-                sysid,
-                compid,
-                MavMissionResult::MAV_MISSION_UNSUPPORTED,
-            );
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
             return;
         }
         if let Some(u) = &self.upload {
-            if (u.peer, u.sysid, u.compid) != (peer, sysid, compid) {
-                self.mission_ack(peer, sysid, compid, MavMissionResult::MAV_MISSION_ERROR);
+            if u.from != from {
+                self.mission_ack(from, MavMissionResult::MAV_MISSION_ERROR);
                 return;
             }
             self.upload = None;
         }
-        self.clear_mission(peer, sysid, compid);
+        self.clear_mission(from);
     }
 
-    pub(super) fn on_request_list(
-        &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
-        m: &MISSION_REQUEST_LIST_DATA,
-    ) {
+    pub(super) fn on_request_list(&mut self, from: Sender, m: &MISSION_REQUEST_LIST_DATA) {
         if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
             // No fence or rally points: an empty list.
             self.send_to(
-                peer,
+                from.peer,
                 MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
                     count: 0,
-                    target_system: sysid,
-                    target_component: compid,
+                    target_system: from.sysid,
+                    target_component: from.compid,
                     mission_type: m.mission_type,
                     opaque_id: 0,
                 }),
@@ -371,11 +320,11 @@ impl Autopilot {
         }
         let count = self.mission.len() as u16;
         self.send_to(
-            peer,
+            from.peer,
             MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
                 count,
-                target_system: sysid,
-                target_component: compid,
+                target_system: from.sysid,
+                target_component: from.compid,
                 mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
                 opaque_id: 0,
             }),
@@ -385,78 +334,42 @@ impl Autopilot {
     /// Download: answer MISSION_REQUEST_INT with MISSION_ITEM_INT, legacy MISSION_REQUEST with MISSION_ITEM.
     pub(super) fn on_request_item(
         &mut self,
-        peer: PeerId,
-        sysid: u8,
-        compid: u8,
+        from: Sender,
         seq: u16,
         legacy: bool,
         mt: MavMissionType,
     ) {
         if mt != MavMissionType::MAV_MISSION_TYPE_MISSION {
-            self.mission_ack(
-                peer,
-                sysid,
-                compid,
-                MavMissionResult::MAV_MISSION_UNSUPPORTED,
-            );
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
             return;
         }
         let Some(it) = self.mission.get(usize::from(seq)).cloned() else {
-            self.mission_ack(
-                peer,
-                sysid,
-                compid,
-                MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
-            );
+            self.mission_ack(from, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
             return;
         };
-        let current = u8::from(seq == self.exec.current);
-        let msg = if legacy {
-            let global = is_global(it.frame);
-            let conv = |v: i32| {
-                if global {
-                    (f64::from(v) * 1e-7) as f32
-                } else {
-                    (f64::from(v) * 1e-4) as f32
-                }
-            };
-            MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
-                param1: it.p[0],
-                param2: it.p[1],
-                param3: it.p[2],
-                param4: it.p[3],
-                x: conv(it.x),
-                y: conv(it.y),
-                z: it.z,
-                seq,
-                command: it.command,
-                target_system: sysid,
-                target_component: compid,
-                frame: it.frame,
-                current,
-                autocontinue: it.autocontinue,
-                mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-            })
-        } else {
-            MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
-                param1: it.p[0],
-                param2: it.p[1],
-                param3: it.p[2],
-                param4: it.p[3],
-                x: it.x,
-                y: it.y,
-                z: it.z,
-                seq,
-                command: it.command,
-                target_system: sysid,
-                target_component: compid,
-                frame: it.frame,
-                current,
-                autocontinue: it.autocontinue,
-                mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-            })
+        let int = MISSION_ITEM_INT_DATA {
+            param1: it.p[0],
+            param2: it.p[1],
+            param3: it.p[2],
+            param4: it.p[3],
+            x: it.x,
+            y: it.y,
+            z: it.z,
+            seq,
+            command: it.command,
+            target_system: from.sysid,
+            target_component: from.compid,
+            frame: it.frame,
+            current: u8::from(seq == self.exec.current),
+            autocontinue: it.autocontinue,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
         };
-        self.send_to(peer, msg);
+        let msg = if legacy {
+            MavMessage::MISSION_ITEM(to_float(&int))
+        } else {
+            MavMessage::MISSION_ITEM_INT(int)
+        };
+        self.send_to(from.peer, msg);
     }
 
     pub(super) fn mission_current_msg(&self) -> MavMessage {

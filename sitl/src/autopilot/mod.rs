@@ -12,6 +12,7 @@ mod telemetry;
 use std::time::Duration;
 
 use mavlink::dialects::ardupilotmega::*;
+use mavlink::Message;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -32,6 +33,14 @@ use auto::Exec;
 use commands::Cmd;
 use mission::{Item, Upload};
 use telemetry::Streams;
+
+/// Who sent a request: where its answers (COMMAND_ACK, MISSION_*) go and whom they address.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sender {
+    pub peer: PeerId,
+    pub sysid: u8,
+    pub compid: u8,
+}
 
 /// Where an outgoing frame goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,6 +83,7 @@ pub struct Autopilot {
     command_failures: Vec<(u16, MavResult, u32)>,
     nav_blocked_until_ms: u64,
     was_moving: bool,
+    exhausted_reported: bool,
     distance_m: f64,
     pictures_ok: u32,
     pictures_failed: u32,
@@ -130,6 +140,7 @@ impl Autopilot {
             command_failures: Vec::new(),
             nav_blocked_until_ms: 0,
             was_moving: false,
+            exhausted_reported: false,
             distance_m: 0.0,
             pictures_ok: 0,
             pictures_failed: 0,
@@ -200,56 +211,44 @@ impl Autopilot {
 
     /// One decoded frame from a peer.
     pub fn handle(&mut self, f: Inbound) {
-        let sysid = f.header.system_id.min(255) as u8;
-        let compid = f.header.component_id;
-        let peer = f.peer;
+        let from = Sender {
+            peer: f.peer,
+            sysid: f.header.system_id.min(255) as u8,
+            compid: f.header.component_id,
+        };
         // Faults due now (e.g. at t = 0) apply before the message is handled.
         self.process_events();
-        // Only what is addressed to us (or broadcast).
-        let to_us = |ts: u8| ts == 0 || ts == self.system_id;
+        // Only what is addressed to this autopilot (system id, component 1) or broadcast: a
+        // companion's component 191 must not see its goal uploads answered by the autopilot.
+        let ts = f.msg.target_system_id();
+        let tc = f.msg.target_component_id();
+        if ts.is_some_and(|t| t != 0 && t != self.system_id) || tc.is_some_and(|c| c != 0 && c != 1)
+        {
+            return;
+        }
         match &f.msg {
-            MavMessage::COMMAND_LONG(m) if to_us(m.target_system) => {
-                self.on_command(Cmd::from_long(peer, sysid, compid, m))
+            MavMessage::COMMAND_LONG(m) => self.on_command(Cmd::from_long(from, m)),
+            MavMessage::COMMAND_INT(m) => self.on_command(Cmd::from_int(from, m)),
+            MavMessage::SET_MODE(m) => self.on_set_mode(from, m),
+            MavMessage::MISSION_COUNT(m) => self.on_mission_count(from, m),
+            MavMessage::MISSION_ITEM_INT(m) => self.on_item_int(from, m),
+            MavMessage::MISSION_ITEM(m) => self.on_item_float(from, m),
+            MavMessage::MISSION_REQUEST_LIST(m) => self.on_request_list(from, m),
+            MavMessage::MISSION_REQUEST_INT(m) => {
+                self.on_request_item(from, m.seq, false, m.mission_type)
             }
-            MavMessage::COMMAND_INT(m) if to_us(m.target_system) => {
-                self.on_command(Cmd::from_int(peer, sysid, compid, m))
+            MavMessage::MISSION_REQUEST(m) => {
+                self.on_request_item(from, m.seq, true, m.mission_type)
             }
-            MavMessage::SET_MODE(m) if to_us(m.target_system) => {
-                self.on_set_mode(peer, sysid, compid, m)
-            }
-            MavMessage::MISSION_COUNT(m) if to_us(m.target_system) => {
-                self.on_mission_count(peer, sysid, compid, m)
-            }
-            MavMessage::MISSION_ITEM_INT(m) if to_us(m.target_system) => {
-                self.on_item_int(peer, sysid, compid, m)
-            }
-            MavMessage::MISSION_ITEM(m) if to_us(m.target_system) => {
-                self.on_item_float(peer, sysid, compid, m)
-            }
-            MavMessage::MISSION_REQUEST_LIST(m) if to_us(m.target_system) => {
-                self.on_request_list(peer, sysid, compid, m)
-            }
-            MavMessage::MISSION_REQUEST_INT(m) if to_us(m.target_system) => {
-                self.on_request_item(peer, sysid, compid, m.seq, false, m.mission_type)
-            }
-            MavMessage::MISSION_REQUEST(m) if to_us(m.target_system) => {
-                self.on_request_item(peer, sysid, compid, m.seq, true, m.mission_type)
-            }
-            MavMessage::MISSION_CLEAR_ALL(m) if to_us(m.target_system) => {
-                self.on_clear_all(peer, sysid, compid, m)
-            }
-            MavMessage::MISSION_SET_CURRENT(m) if to_us(m.target_system) => {
+            MavMessage::MISSION_CLEAR_ALL(m) => self.on_clear_all(from, m),
+            MavMessage::MISSION_SET_CURRENT(m) => {
                 if usize::from(m.seq) < self.mission.len() {
                     self.exec.restart_at(m.seq.max(1));
                 }
                 self.broadcast_mission_current();
             }
-            MavMessage::SET_POSITION_TARGET_GLOBAL_INT(m) if to_us(m.target_system) => {
-                self.on_set_position_target(m)
-            }
-            MavMessage::REQUEST_DATA_STREAM(m) if to_us(m.target_system) => {
-                self.on_request_data_stream(m)
-            }
+            MavMessage::SET_POSITION_TARGET_GLOBAL_INT(m) => self.on_set_position_target(m),
+            MavMessage::REQUEST_DATA_STREAM(m) => self.on_request_data_stream(m),
             _ => {}
         }
         self.process_events();
@@ -274,12 +273,11 @@ impl Autopilot {
         self.was_moving = !still;
         let recharge = still && self.world.sunlit(&self.kin.pos);
         self.battery.step(dt, dist, recharge);
-        if self.battery.pct <= 0.0 && self.armed && !still {
-            // Only once, when the wheels stop for lack of energy.
-            if self.kin.speed < 0.2 {
-                self.text(MavSeverity::MAV_SEVERITY_CRITICAL, "Battery exhausted");
-            }
+        let exhausted = self.battery.pct <= 0.0;
+        if exhausted && !self.exhausted_reported {
+            self.text(MavSeverity::MAV_SEVERITY_CRITICAL, "Battery exhausted");
         }
+        self.exhausted_reported = exhausted;
         self.step_rtl();
         self.step_payload();
         self.step_telemetry();

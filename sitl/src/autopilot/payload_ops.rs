@@ -36,11 +36,9 @@ impl Autopilot {
     pub(super) fn downlink_command(&mut self, c: &Cmd) {
         if c.p[0] < 0.5 {
             if let Some(run) = self.downlink.take() {
-                let (peer, s, co) = run.requester;
+                let to = run.requester;
                 self.ack_to(
-                    peer,
-                    s,
-                    co,
+                    to,
                     MavCmd::MAV_CMD_USER_1,
                     MavResult::MAV_RESULT_CANCELLED,
                     run.progress_pct(),
@@ -77,7 +75,7 @@ impl Autopilot {
             to_send_mib: to_send,
             sent_mib: 0.0,
             last_progress_ms: self.now_ms,
-            requester: (c.peer, c.sysid, c.compid),
+            requester: c.from,
         });
         self.emit_event(EventKind::DownlinkStarted, 0);
         self.text(MavSeverity::MAV_SEVERITY_INFO, "Downlink started");
@@ -137,12 +135,10 @@ impl Autopilot {
         let Some(mut run) = self.downlink.take() else {
             return;
         };
-        let (peer, s, co) = run.requester;
+        let to = run.requester;
         let Some(window_rate) = self.world.visibility(self.now_ms as f64 / 1000.0) else {
             self.ack_to(
-                peer,
-                s,
-                co,
+                to,
                 MavCmd::MAV_CMD_USER_1,
                 MavResult::MAV_RESULT_FAILED,
                 run.progress_pct(),
@@ -166,9 +162,7 @@ impl Autopilot {
         self.storage.used_mib -= chunk;
         if run.sent_mib >= run.to_send_mib - 1e-9 || self.storage.used_mib <= 1e-9 {
             self.ack_to(
-                peer,
-                s,
-                co,
+                to,
                 MavCmd::MAV_CMD_USER_1,
                 MavResult::MAV_RESULT_ACCEPTED,
                 100,
@@ -182,9 +176,7 @@ impl Autopilot {
         if self.now_ms >= run.last_progress_ms + 1000 {
             run.last_progress_ms = self.now_ms;
             self.ack_to(
-                peer,
-                s,
-                co,
+                to,
                 MavCmd::MAV_CMD_USER_1,
                 MavResult::MAV_RESULT_IN_PROGRESS,
                 run.progress_pct(),

@@ -115,7 +115,10 @@ impl Gcs {
     /// that nothing it produced earlier is still in flight.
     pub async fn sync(&mut self) -> Vec<MavMessage> {
         self.sync_inner().await;
-        std::mem::take(&mut self.backlog).into_iter().map(|f| f.2).collect()
+        std::mem::take(&mut self.backlog)
+            .into_iter()
+            .map(|f| f.2)
+            .collect()
     }
 
     async fn sync_inner(&mut self) {
@@ -167,7 +170,10 @@ impl Gcs {
 
     /// Everything received so far (including what `expect` passed over).
     pub fn drain(&mut self) -> Vec<MavMessage> {
-        let mut v: Vec<MavMessage> = std::mem::take(&mut self.backlog).into_iter().map(|f| f.2).collect();
+        let mut v: Vec<MavMessage> = std::mem::take(&mut self.backlog)
+            .into_iter()
+            .map(|f| f.2)
+            .collect();
         while let Ok((_, _, m)) = self.rx.try_recv() {
             v.push(m);
         }
