@@ -137,7 +137,8 @@ impl SimConfig {
         }
     }
 
-    pub(crate) fn validate(&self) -> Result<(), SimError> {
+    /// Checks the speed-up and the address (also done by `spawn`).
+    pub fn validate(&self) -> Result<(), SimError> {
         if !(self.speedup.is_finite() && self.speedup > 0.0) {
             return Err(SimError::BadSpeedup(self.speedup));
         }

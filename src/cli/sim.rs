@@ -52,6 +52,7 @@ fn configure(args: &SimArgs) -> Result<sitl::SimConfig, String> {
     if let Some(path) = &args.scenario {
         config.scenario = sitl::Scenario::load(path).map_err(|e| e.to_string())?;
     }
+    config.validate().map_err(|e| e.to_string())?;
     Ok(config)
 }
 
