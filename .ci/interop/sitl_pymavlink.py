@@ -59,6 +59,8 @@ def main():
         if msg is None:
             fail("upload stalled")
         if msg.get_type() == "MISSION_ACK":
+            if msg.type == mavutil.mavlink.MAV_MISSION_INVALID_SEQUENCE:
+                continue  # a late item crossed a re-request; the upload stays open
             if msg.type != mavutil.mavlink.MAV_MISSION_ACCEPTED:
                 fail(f"upload refused: MISSION_ACK {msg.type}")
             break

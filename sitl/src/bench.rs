@@ -137,6 +137,8 @@ pub async fn measure_speedup(
         let seq = match next {
             Ok(seq) => seq,
             Err(MavMissionResult::MAV_MISSION_ACCEPTED) => break,
+            // A late item crossing a re-request; the upload stays open.
+            Err(MavMissionResult::MAV_MISSION_INVALID_SEQUENCE) => continue,
             Err(other) => {
                 return Err(io(std::io::Error::other(format!(
                     "upload refused: {other:?}"

@@ -131,8 +131,8 @@ impl SimConfig {
         Self {
             listen: "tcpin:127.0.0.1:0".to_string(),
             clock: ClockMode::Manual,
-            mission_rerequest: Duration::from_millis(100),
-            mission_timeout: Duration::from_millis(800),
+            mission_rerequest: Duration::from_millis(300),
+            mission_timeout: Duration::from_millis(1500),
             ..Self::default()
         }
     }

@@ -47,9 +47,9 @@ async fn a_silent_uploader_is_re_requested_then_cancelled() {
     let (sim, mut gcs) = start("").await;
     gcs.send(count(3)).await;
     assert_eq!(next_request(&mut gcs).await, 0);
-    // Re-requested (after 100 ms here, ~1 s on ArduPilot) ...
+    // Re-requested (after 300 ms here, ~1 s on ArduPilot) ...
     assert_eq!(next_request(&mut gcs).await, 0);
-    // ... then cancelled (800 ms here, 8 s on ArduPilot).
+    // ... then cancelled (1.5 s here, 8 s on ArduPilot).
     assert_eq!(
         mission_ack(&mut gcs).await,
         MavMissionResult::MAV_MISSION_OPERATION_CANCELLED
@@ -89,7 +89,8 @@ async fn one_uploader_at_a_time_and_wrong_seq_keeps_the_upload_open() {
         it.target_system = 1;
         a.send(MavMessage::MISSION_ITEM_INT(it)).await;
         if seq == 0 {
-            assert_eq!(next_request(&mut a).await, 1);
+            // Skip re-requests of item 0 that crossed it on a slow machine.
+            while next_request(&mut a).await == 0 {}
         }
     }
     assert_eq!(
@@ -103,29 +104,25 @@ async fn one_uploader_at_a_time_and_wrong_seq_keeps_the_upload_open() {
 async fn legacy_items_and_requests_round_trip_with_home_as_item_zero() {
     let (_sim, mut gcs) = start("").await;
     let items = square();
-    gcs.send(count(items.len() as u16)).await;
-    for _ in 0..items.len() {
-        let seq = next_request(&mut gcs).await;
-        let it = &items[usize::from(seq)];
-        gcs.send(MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
-            x: (f64::from(it.x) * 1e-7) as f32,
-            y: (f64::from(it.y) * 1e-7) as f32,
-            seq,
-            command: MavCmd::MAV_CMD_NAV_WAYPOINT,
-            frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
-            target_system: 1,
-            target_component: 1,
-            autocontinue: 1,
-            // A bogus item 0: ArduPilot replaces it with home.
-            z: if seq == 0 { 123.0 } else { 0.0 },
-            ..Default::default()
-        }))
+    let result = gcs
+        .upload_with(items.len() as u16, |seq| {
+            let it = &items[usize::from(seq)];
+            MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
+                x: (f64::from(it.x) * 1e-7) as f32,
+                y: (f64::from(it.y) * 1e-7) as f32,
+                seq,
+                command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+                frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+                target_system: 1,
+                target_component: 1,
+                autocontinue: 1,
+                // A bogus item 0: ArduPilot replaces it with home.
+                z: if seq == 0 { 123.0 } else { 0.0 },
+                ..Default::default()
+            })
+        })
         .await;
-    }
-    assert_eq!(
-        mission_ack(&mut gcs).await,
-        MavMissionResult::MAV_MISSION_ACCEPTED
-    );
+    assert_eq!(result, MavMissionResult::MAV_MISSION_ACCEPTED);
     gcs.send(MavMessage::MISSION_REQUEST_LIST(
         MISSION_REQUEST_LIST_DATA {
             target_system: 1,

@@ -253,8 +253,24 @@ impl Gcs {
 
     /// Uploads `items` (seq 0 is a placeholder for home) with MISSION_ITEM_INT; returns the ACK.
     pub async fn upload(&mut self, items: &[MISSION_ITEM_INT_DATA]) -> MavMissionResult {
+        self.upload_with(items.len() as u16, |seq| {
+            let mut it = items[usize::from(seq)].clone();
+            it.seq = seq;
+            it.target_system = 1;
+            it.target_component = 1;
+            MavMessage::MISSION_ITEM_INT(it)
+        })
+        .await
+    }
+
+    /// Uploads `count` items, answering each request with `item(seq)`; returns the final ACK.
+    pub async fn upload_with(
+        &mut self,
+        count: u16,
+        item: impl Fn(u16) -> MavMessage,
+    ) -> MavMissionResult {
         self.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-            count: items.len() as u16,
+            count,
             target_system: 1,
             target_component: 1,
             mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
@@ -271,13 +287,10 @@ impl Gcs {
                 })
                 .await;
             match next {
-                Ok(seq) => {
-                    let mut it = items[usize::from(seq)].clone();
-                    it.seq = seq;
-                    it.target_system = 1;
-                    it.target_component = 1;
-                    self.send(MavMessage::MISSION_ITEM_INT(it)).await;
-                }
+                Ok(seq) => self.send(item(seq)).await,
+                // A late item crossing a re-request is answered INVALID_SEQUENCE while the
+                // upload stays open (as on ArduPilot): keep going.
+                Err(MavMissionResult::MAV_MISSION_INVALID_SEQUENCE) => continue,
                 Err(result) => return result,
             }
         }
