@@ -352,3 +352,36 @@ async fn messages_for_other_components_are_not_answered() {
     )));
     assert!(!sim.snapshot().armed);
 }
+
+#[tokio::test]
+async fn the_auv_dives_to_a_guided_depth() {
+    let mut cfg = sitl::SimConfig::for_tests();
+    cfg.vehicle = sitl::VehicleKind::Auv;
+    let sim = sitl::spawn(cfg).await.expect("spawn");
+    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    let wp = waypoint(HOME, 10.0, 0.0);
+    let (r, _) = gcs
+        .command_int(
+            MavCmd::MAV_CMD_DO_REPOSITION,
+            [-1.0, 1.0, 0.0, 0.0],
+            wp.x,
+            wp.y,
+            -5.0,
+        )
+        .await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    run_until(&sim, 60, |s| {
+        (s.depth_m - 5.0).abs() < 0.01 && s.north_m > 9.0
+    })
+    .await;
+    gcs.drain();
+    sim.step(Duration::from_secs(1)).await.expect("step");
+    let alt = gcs
+        .expect("GLOBAL_POSITION_INT", |m| match m {
+            MavMessage::GLOBAL_POSITION_INT(p) => Some(p.alt),
+            _ => None,
+        })
+        .await;
+    assert_eq!(alt, -5000);
+}

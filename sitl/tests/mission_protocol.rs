@@ -297,6 +297,7 @@ async fn auto_runs_loiter_speed_camera_servo_and_rtl_items() {
     .await;
     assert!(left.time_ms - arrived.time_ms >= 10_000);
     assert_eq!(left.pictures_ok, 1);
+    assert!(left.samples >= 1, "the sampler collects while loitering");
     let s = run_until(&sim, 120, |s| s.mission_complete).await;
     assert!(s.north_m.hypot(s.east_m) <= 3.5, "RTL ends at home: {s:?}");
     let seen = gcs.sync().await;
