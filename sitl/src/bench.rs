@@ -1,5 +1,6 @@
 //! `mavtempo bench sim`: the speed-up the simulator achieves on a real socket while a client runs
-//! a mission on it (the 10-waypoint mission of the issue, at the requested speed-up).
+//! a mission on it (the 10-waypoint mission of the issue, at the requested speed-up), and the
+//! ceiling of the machine.
 
 use std::time::{Duration, Instant};
 
@@ -12,11 +13,14 @@ use tokio::net::TcpStream;
 use crate::config::{ClockMode, SimConfig};
 use crate::error::SimError;
 use crate::geo::{e7, LocalFrame};
+use crate::sim::SimHandle;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct SpeedupReport {
     pub speedup_requested: f64,
     pub speedup_achieved: f64,
+    /// Manual clock stepped flat out: how far this machine could go.
+    pub speedup_ceiling: f64,
     pub waypoints: usize,
     pub leg_m: f64,
     pub sim_s: f64,
@@ -85,21 +89,13 @@ impl Client {
     }
 }
 
-/// Runs a `waypoints`-leg square-ish mission (legs of `leg_m`) at `speedup` and measures sim time
-/// over wall time from the AUTO acknowledgement to the last MISSION_ITEM_REACHED.
-pub async fn measure_speedup(
-    speedup: f64,
+/// Connects to `sim`, uploads a `waypoints`-leg zig-zag (legs of `leg_m`), arms and sets AUTO.
+async fn start_mission(
+    sim: &SimHandle,
+    frame: &LocalFrame,
     waypoints: usize,
     leg_m: f64,
-) -> Result<SpeedupReport, SimError> {
-    let cfg = SimConfig {
-        listen: "tcpin:127.0.0.1:0".into(),
-        speedup,
-        clock: ClockMode::Paced,
-        ..SimConfig::default()
-    };
-    let frame = LocalFrame::new(cfg.home);
-    let sim = crate::spawn(cfg).await?;
+) -> Result<Client, SimError> {
     let stream = TcpStream::connect(sim.local_addr()).await.map_err(io)?;
     stream.set_nodelay(true).map_err(io)?;
     let (rd, wr) = stream.into_split();
@@ -159,9 +155,41 @@ pub async fn measure_speedup(
         }))
         .await?;
     }
-    c.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0)
-        .await?;
-    c.command(MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 10.0).await?;
+    for (cmd, p1, p2) in [
+        (MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0),
+        (MavCmd::MAV_CMD_DO_SET_MODE, 1.0, 10.0),
+    ] {
+        let result = c.command(cmd, p1, p2).await?;
+        if result != MavResult::MAV_RESULT_ACCEPTED {
+            return Err(io(std::io::Error::other(format!(
+                "{cmd:?} refused: {result:?}"
+            ))));
+        }
+    }
+    Ok(c)
+}
+
+fn bench_config(speedup: f64, clock: ClockMode) -> SimConfig {
+    SimConfig {
+        listen: "tcpin:127.0.0.1:0".into(),
+        speedup,
+        clock,
+        ..SimConfig::default()
+    }
+}
+
+/// Runs the mission at `speedup` and measures sim time over wall time from the AUTO acknowledgement
+/// to the last MISSION_ITEM_REACHED; then the same mission on the manual clock stepped as fast as
+/// possible (telemetry still encoded and sent), which is the ceiling of this machine.
+pub async fn measure_speedup(
+    speedup: f64,
+    waypoints: usize,
+    leg_m: f64,
+) -> Result<SpeedupReport, SimError> {
+    let cfg = bench_config(speedup, ClockMode::Paced);
+    let frame = LocalFrame::new(cfg.home);
+    let sim = crate::spawn(cfg).await?;
+    let mut c = start_mission(&sim, &frame, waypoints, leg_m).await?;
     let (sim0, wall0) = (sim.now_ms(), Instant::now());
     let last = waypoints as u16;
     let wait =
@@ -178,9 +206,21 @@ pub async fn measure_speedup(
     let wall_s = wall0.elapsed().as_secs_f64();
     let sim_s = (sim.now_ms() - sim0) as f64 / 1000.0;
     sim.stop().await;
+
+    let cfg = bench_config(1.0, ClockMode::Manual);
+    let sim = crate::spawn(cfg).await?;
+    let c = start_mission(&sim, &frame, waypoints, leg_m).await?;
+    let wall0 = Instant::now();
+    while !sim.snapshot().mission_complete && sim.now_ms() < 3_600_000 {
+        sim.step(Duration::from_secs(10)).await?;
+    }
+    let ceiling = sim.now_ms() as f64 / 1000.0 / wall0.elapsed().as_secs_f64().max(1e-9);
+    drop(c);
+    sim.stop().await;
     Ok(SpeedupReport {
         speedup_requested: speedup,
         speedup_achieved: sim_s / wall_s.max(1e-9),
+        speedup_ceiling: ceiling,
         waypoints,
         leg_m,
         sim_s,

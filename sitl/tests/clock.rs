@@ -96,3 +96,13 @@ async fn same_seed_and_scenario_give_the_same_run() {
         "the seed does not move the vehicle"
     );
 }
+
+#[tokio::test]
+async fn the_speedup_bench_completes_its_mission() {
+    let r = sitl::bench::measure_speedup(200.0, 2, 20.0)
+        .await
+        .expect("bench runs");
+    assert_eq!(r.speedup_requested, 200.0);
+    assert!(r.sim_s > 5.0, "two 20 m legs take seconds of sim time: {r:?}");
+    assert!(r.speedup_achieved > 0.0 && r.speedup_ceiling > 0.0, "{r:?}");
+}
