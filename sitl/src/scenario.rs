@@ -67,7 +67,7 @@ pub struct BatteryParams {
     pub drain_pct_per_min: f64,
     /// Recharge per minute while still in a sunlit zone.
     pub recharge_pct_per_min: f64,
-    /// Arming is refused below this level ("PreArm: Battery below minimum arming capacity").
+    /// Arming is refused below this level ("PreArm: Battery 1 below minimum arming capacity").
     pub arm_min_pct: f64,
 }
 

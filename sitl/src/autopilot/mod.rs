@@ -331,7 +331,7 @@ impl Autopilot {
             return Ok(());
         }
         if !force && !self.battery.can_arm() {
-            return Err("PreArm: Battery below minimum arming capacity");
+            return Err("PreArm: Battery 1 below minimum arming capacity");
         }
         self.armed = true;
         self.emit_event(EventKind::Armed, 0);
