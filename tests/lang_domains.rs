@@ -385,3 +385,89 @@ fn readme_examples_parse() {
     assert_eq!(p.initial_value(pic, &[base]), Value::Obj(Domain::TRUE));
     assert_eq!(p.initial.iter().filter(|f| f.attr == pic).count(), 4);
 }
+
+/// A location discovered at run time gets the initial values the problem's `*` statements give every
+/// location: a picture of it can then be planned like the others.
+#[test]
+fn objects_added_at_run_time_get_wildcard_defaults() {
+    use mavtempo::model::{Object, Position};
+    let (d, mut p) = load("rover", "fig2");
+    let loc = d
+        .type_id("location")
+        .unwrap_or_else(|| panic!("no location"));
+    let before = p.initial.len();
+    let id = p.add_object_with_defaults(
+        &d,
+        Object {
+            name: "reported_1".into(),
+            ty: loc,
+            position: Some(Position::Local {
+                east: 3.0,
+                north: 4.0,
+                up: 0.0,
+            }),
+        },
+    );
+    let pic = d.attr_id("PICTURE").unwrap_or_else(|| panic!("no PICTURE"));
+    assert_eq!(p.initial_value(pic, &[id]), Value::Obj(Domain::FALSE));
+    assert_eq!(p.initial.len(), before + 1);
+    assert_eq!(p.distance(id, p.object_id("base").unwrap_or(id)), Some(5.0));
+    // Two-argument patterns: a new place in the shopping domain is connected to nothing, sells nothing.
+    let (d, mut p) = load("shopping", "day");
+    let place = d.type_id("place").unwrap_or_else(|| panic!("no place"));
+    let n_places = p.objects_of(place).len();
+    let n_items = p.objects_of(d.type_id("item").unwrap_or(place)).len();
+    let before = p.initial.len();
+    let mall = p.add_object_with_defaults(
+        &d,
+        Object {
+            name: "mall".into(),
+            ty: place,
+            position: None,
+        },
+    );
+    // CONNECTED(mall, x), CONNECTED(x, mall) for every place x (mall included once), SELLS(mall, i).
+    assert_eq!(p.initial.len() - before, 2 * (n_places + 1) - 1 + n_items);
+    let conn = d
+        .attr_id("CONNECTED")
+        .unwrap_or_else(|| panic!("no CONNECTED"));
+    let home = p.object_id("home").unwrap_or(mall);
+    assert_eq!(
+        p.initial_value(conn, &[home, mall]),
+        Value::Obj(Domain::FALSE)
+    );
+    // The explicit CONNECTED(home, clothing) = true is untouched.
+    let clothing = p.object_id("clothing").unwrap_or(mall);
+    assert_eq!(
+        p.initial_value(conn, &[home, clothing]),
+        Value::Obj(Domain::TRUE)
+    );
+}
+
+/// A goal's start window is cut to [origin, horizon]; open bounds inside it are kept.
+#[test]
+fn goal_windows_are_cut_to_the_horizon() {
+    let (d, p) = load("rover", "fig2");
+    let g = lang::parse_goal(
+        "<t>",
+        "goal w { hold(PICTURE(p1): true, (st, et)); st in [-5min, 2h]; }",
+        &d,
+        &p,
+    );
+    let g = g.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        (g.start_window.lb, g.start_window.ub),
+        (Bound::Closed(0), Bound::Closed(30 * 60_000))
+    );
+    let g = lang::parse_goal(
+        "<t>",
+        "goal w { hold(PICTURE(p1): true, (st, et)); st in ]1min, 2min[; }",
+        &d,
+        &p,
+    );
+    let g = g.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        (g.start_window.lb, g.start_window.ub),
+        (Bound::Open(60_000), Bound::Open(120_000))
+    );
+}

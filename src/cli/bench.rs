@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 
+use crate::stn::bench as stn_bench;
+
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// What to measure.
@@ -17,14 +19,92 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Incremental STN vs Floyd-Warshall.
     Stn,
+    /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
+    Sim,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
-        BenchWhat::Stn => {
-            tracing::error!("bench stn: not yet implemented");
-            let _ = args.json;
+        BenchWhat::Stn => bench_stn(args.json),
+        BenchWhat::Sim => bench_sim(args.json),
+    }
+}
+
+fn bench_sim(json: bool) -> ExitCode {
+    let report = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| e.to_string())
+        .and_then(|rt| {
+            rt.block_on(sitl::bench::measure_speedup(500.0, 10, 100.0))
+                .map_err(|e| e.to_string())
+        });
+    match report {
+        Ok(r) if json => match serde_json::to_string(&r) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench sim: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Ok(r) => {
+            println!(
+                "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
+                r.speedup_requested, r.speedup_achieved, r.waypoints, r.sim_s, r.wall_s, r.speedup_ceiling
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench sim: {e}");
             ExitCode::FAILURE
         }
     }
+}
+
+fn bench_stn(json: bool) -> ExitCode {
+    let figures = match stn_bench::run(&[100, 1_000, 10_000], 1_000) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench stn: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if json {
+        for f in &figures {
+            match serde_json::to_string(f) {
+                Ok(line) => println!("{line}"),
+                Err(e) => {
+                    eprintln!("bench stn: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        }
+    } else {
+        println!(
+            "{:>7} {:>8} {:>10} {:>11} {:>13} {:>8} {:>10}",
+            "n", "constr", "insert µs", "execute µs", "exec med µs", "FW ms", "speed-up"
+        );
+        for f in &figures {
+            let fw = f
+                .floyd_warshall_ms
+                .map_or("-".into(), |v| format!("{v:.1}"));
+            let sp = f
+                .speedup_vs_floyd_warshall
+                .map_or("-".into(), |v| format!("{v:.0}×"));
+            println!(
+                "{:>7} {:>8} {:>10.3} {:>11.3} {:>13.3} {:>8} {:>10}",
+                f.n,
+                f.constraints,
+                f.insert_mean_us,
+                f.execute_mean_us,
+                f.execute_median_us,
+                fw,
+                sp
+            );
+        }
+    }
+    ExitCode::SUCCESS
 }

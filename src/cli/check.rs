@@ -109,10 +109,5 @@ fn header(path: &Path) -> Result<FileKind, Diagnostics> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path)
         .map_err(|e| Diagnostics::file_error(&name, format!("cannot read: {e}")))?;
-    let text = std::str::from_utf8(&bytes).map_err(|_| ());
-    match text {
-        Ok(t) => lang::peek_header(&name, t),
-        // Let the full loader report the invalid byte with its position.
-        Err(()) => lang::load_domain(path).map(|d| FileKind::Domain(d.name)),
-    }
+    lang::peek_header(&name, lang::decode(&name, &bytes)?)
 }

@@ -149,7 +149,8 @@ impl<'a> Source<'a> {
 /// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte.
 pub fn decode<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, Diagnostics> {
     match std::str::from_utf8(bytes) {
-        Ok(s) => Ok(s),
+        // An editor's byte-order mark is not part of the text.
+        Ok(s) => Ok(s.strip_prefix('\u{feff}').unwrap_or(s)),
         Err(e) => {
             let valid = e.valid_up_to();
             // The prefix is valid UTF-8 by construction.
@@ -186,5 +187,9 @@ mod tests {
         let d = decode("f", bytes).err().map(|d| d.0[0].clone());
         let d = d.map(|d| (d.line, d.col));
         assert_eq!(d, Some((2, 3)));
+        assert_eq!(
+            decode("f", "\u{feff}domain x;".as_bytes()).ok(),
+            Some("domain x;")
+        );
     }
 }

@@ -13,7 +13,7 @@ mod resolve_domain;
 mod resolve_problem;
 mod resolve_task;
 
-pub use diag::{Diagnostic, Diagnostics, Span};
+pub use diag::{decode, Diagnostic, Diagnostics, Span};
 pub use load::{
     domain_path_for, load_domain, load_problem, load_problem_and_domain, parse_domain, parse_goal,
     parse_problem, peek_header, FileKind, EXTENSION,

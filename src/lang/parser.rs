@@ -7,6 +7,8 @@ use super::lexer::{lex, Tok, Token};
 
 /// Deepest expression nesting accepted (far beyond any real model).
 const MAX_DEPTH: usize = 64;
+/// Most operator / call nodes in one expression: bounds the tree depth that evaluation recurses over.
+const MAX_NODES: usize = 256;
 
 const DOMAIN_KEYWORDS: &[&str] = &["type", "constant", "attribute", "resource", "task"];
 const PREEMPTIONS: &[&str] = &["nonPreemptive", "earlyPreemptive", "latePreemptive"];
@@ -16,6 +18,7 @@ pub struct Parser<'a> {
     toks: Vec<Token>,
     pos: usize,
     depth: usize,
+    nodes: usize,
 }
 
 type PResult<T> = Result<T, Diagnostic>;
@@ -28,6 +31,7 @@ impl<'a> Parser<'a> {
             toks,
             pos: 0,
             depth: 0,
+            nodes: 0,
         })
     }
 
@@ -548,6 +552,9 @@ impl<'a> Parser<'a> {
     // ---------------------------------------------------------------- expressions
 
     pub fn expr(&mut self) -> PResult<Expr> {
+        if self.depth == 0 {
+            self.nodes = 0;
+        }
         self.depth += 1;
         if self.depth > MAX_DEPTH {
             let e = self.err("a shallower expression (nesting limit reached)");
@@ -581,6 +588,15 @@ impl<'a> Parser<'a> {
         )
     }
 
+    /// Counts one operator or call node of the current expression.
+    fn node(&mut self) -> PResult<()> {
+        self.nodes += 1;
+        if self.nodes > MAX_NODES {
+            return self.err("a shorter expression (size limit reached)");
+        }
+        Ok(())
+    }
+
     /// `operand (op operand)*`, grouping to the left.
     fn left_assoc(
         &mut self,
@@ -589,6 +605,7 @@ impl<'a> Parser<'a> {
     ) -> PResult<Expr> {
         let mut lhs = operand(self)?;
         while let Some(op) = op_of(self.peek()) {
+            self.node()?;
             self.bump();
             let rhs = operand(self)?;
             let span = lhs.span.to(rhs.span);
@@ -874,5 +891,15 @@ mod tests {
             "-".repeat(10_000)
         );
         assert!(parse_domain(&text).is_err());
+        // Long operator chains build deep trees too: bounded by the node budget.
+        let chain = |n: usize| {
+            format!(
+                "domain d; task t() (st) {{ variable ?x; ?x = {}1; }}",
+                "1 + ".repeat(n)
+            )
+        };
+        let e = parse_domain(&chain(100_000)).err().map(|d| d.message);
+        assert!(e.is_some_and(|m| m.contains("size limit")));
+        assert!(parse_domain(&chain(200)).is_ok());
     }
 }

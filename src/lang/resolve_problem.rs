@@ -3,8 +3,8 @@
 use std::collections::HashMap;
 
 use crate::model::{
-    AttrId, Bound, Domain, Fact, Goal, GoalKind, NumConstraint, Object, ObjectId, Problem,
-    ResourceKind, Term, Time, TimeInterval, TimedFact, TypeId, TypeKind, Value,
+    AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalKind, NumConstraint, Object, ObjectId,
+    Problem, ResourceKind, Term, Time, TimeInterval, TypeId, TypeKind, Value,
 };
 
 use super::ast::{
@@ -395,6 +395,23 @@ fn initial(ctx: &mut Ctx<'_>, domain: &Domain, p: &mut Problem, ast: &ProblemAst
             let Some(v) = value(ctx, domain, p, &init.value, domain.attr(attr).value_type) else {
                 continue;
             };
+            if wild {
+                let pattern = init
+                    .attr
+                    .args
+                    .iter()
+                    .map(|e| match &e.kind {
+                        ExprKind::Name(n) => p.object_id(n),
+                        _ => None,
+                    })
+                    .collect();
+                p.defaults.push(DefaultFact {
+                    at,
+                    attr,
+                    args: pattern,
+                    value: v,
+                });
+            }
             for args in instances {
                 let key = (attr, args.clone(), at);
                 match given.get(&key) {
@@ -424,14 +441,7 @@ fn initial(ctx: &mut Ctx<'_>, domain: &Domain, p: &mut Problem, ast: &ProblemAst
             }
         }
     }
-    for (at, fact) in facts {
-        if at == 0 {
-            p.initial.push(fact);
-        } else {
-            p.exogenous.push(TimedFact { at, fact });
-        }
-    }
-    p.exogenous.sort_by_key(|f| f.at);
+    p.add_facts(facts);
 }
 
 /// Resolves a goal declaration against a problem (also used for goals sent at run time).
@@ -569,14 +579,15 @@ pub fn goal(ctx: &mut Ctx<'_>, domain: &Domain, p: &Problem, g: &GoalAst) -> Opt
             "this goal can never start: its start window (after d_achiev) lies outside [origin, horizon]",
         );
     }
+    // I^g within [origin, horizon]: a goal cannot start before the origin nor after the horizon.
     let start_window = TimeInterval {
         lb: match start_window.lb {
-            Bound::Inf => Bound::Closed(0),
-            b => b,
+            Bound::Closed(v) | Bound::Open(v) if v >= 0 => start_window.lb,
+            _ => Bound::Closed(0),
         },
         ub: match start_window.ub {
-            Bound::Inf => Bound::Closed(p.horizon),
-            b => b,
+            Bound::Closed(v) | Bound::Open(v) if v <= p.horizon => start_window.ub,
+            _ => Bound::Closed(p.horizon),
         },
     };
     (ctx.diags.len() == errors_before).then(|| Goal {

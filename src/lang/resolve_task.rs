@@ -284,9 +284,14 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &TaskAst) -> Option<Task
             stn.add(t, end, TimeInterval::at_least(0));
         }
     }
+    let mut numeric_spans: Vec<Span> = Vec::new();
     for st in &ast.body {
         statement(ctx, &mut s, &mut task, &mut stn, st);
+        if let Stmt::Rel { span, .. } = st {
+            numeric_spans.resize(task.numeric.len(), *span);
+        }
     }
+    numeric_contradictions(ctx, &s, &task.numeric, &numeric_spans);
     task.preemption = match ast.preemption.as_ref().map(|p| p.name.as_str()) {
         None | Some("nonPreemptive") => Preemption::NonPreemptive,
         Some("earlyPreemptive") => Preemption::EarlyPreemptive,
@@ -320,10 +325,10 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
             let t = s.sym_term(ctx, to, vt, true);
             let at = s.tp_ref(ctx, at);
             if let (Some((attr_id, args)), Some(from), Some(to), Some(at)) = (a, f, t, at) {
-                if matches!((from, to), (Term::Obj(x), Term::Obj(y)) if x == y) {
+                if from == to && !matches!(from, Term::Var(_)) {
                     ctx.err(
                         attr.span,
-                        "an event must change the value: `from` and `to` are the same constant",
+                        "an event must change the value: `from` and `to` are the same",
                     );
                 }
                 task.events.push(Event {
@@ -703,6 +708,28 @@ fn numeric_definition(
             if let Some(t) = s.num_term(ctx, rhs) {
                 task.numeric.push(NumConstraint::Equal(NumTerm::Var(var), t));
             }
+        }
+    }
+}
+
+/// Constant numeric constraints that can never hold, once every domain is known (declarations may follow
+/// their uses): `?x = c` with `c` outside the domain of `?x`, `a <= b` between constants with `a > b`.
+fn numeric_contradictions(ctx: &mut Ctx<'_>, s: &Scope<'_>, cs: &[NumConstraint], spans: &[Span]) {
+    for (c, span) in cs.iter().zip(spans) {
+        let bad = match *c {
+            NumConstraint::Equal(NumTerm::Var(v), NumTerm::Const(k))
+            | NumConstraint::Equal(NumTerm::Const(k), NumTerm::Var(v)) => {
+                s.num.get(v.index()).is_some_and(|v| !v.domain.contains(k))
+            }
+            NumConstraint::Equal(NumTerm::Const(a), NumTerm::Const(b)) => a != b,
+            NumConstraint::Le(NumTerm::Const(a), NumTerm::Const(b)) => a > b,
+            _ => false,
+        };
+        if bad {
+            ctx.err(
+                *span,
+                "contradictory numeric constraint: it can never hold with the declared domains",
+            );
         }
     }
 }

@@ -13,6 +13,7 @@
 //! and [`Domain`] / [`Problem`] offer name → index lookups.
 
 mod attr;
+mod display;
 mod domain;
 mod geo;
 mod goal;
@@ -23,12 +24,13 @@ mod task;
 mod types;
 
 pub use attr::{LogicalAttr, ResourceAttr, ResourceKind, Value};
+pub use display::interval_string;
 pub use domain::Domain;
 pub use geo::{GeoPoint, Position};
 pub use goal::{Goal, GoalKind};
 pub use ids::{AttrId, GoalId, NumVarId, ObjectId, ResourceId, SymVarId, TaskId, TpId, TypeId};
 pub use interval::{Bound, NumInterval, TimeInterval};
-pub use problem::{Fact, Problem, ResourceSetup, TimedFact};
+pub use problem::{DefaultFact, Fact, Problem, ResourceSetup, TimedFact};
 pub use task::{
     Binding, Event, Hold, NumConstraint, NumTerm, NumVar, Preemption, ResourceUsage, SymVar, Task,
     TemporalConstraint, Term, UsageKind,

@@ -25,6 +25,17 @@ pub struct TimedFact {
     pub fact: Fact,
 }
 
+/// An `initial` statement with `*` arguments (`PICTURE(*) = false;`): `None` marks a wildcard. Kept so that
+/// objects added at run time (a location reported by the vehicle or named by a ground station) get the
+/// same initial values as the problem's own objects.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize)]
+pub struct DefaultFact {
+    pub at: Time,
+    pub attr: AttrId,
+    pub args: Vec<Option<ObjectId>>,
+    pub value: Value,
+}
+
 /// Initial level and expected availability profile of one resource.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ResourceSetup {
@@ -68,6 +79,8 @@ pub struct Problem {
     pub resources: Vec<ResourceSetup>,
     /// Φ_g = Φ_ge ∪ Φ_gi, indexed by [`GoalId`].
     pub goals: Vec<Goal>,
+    /// The wildcard statements of `initial`, already expanded into `initial` / `exogenous`.
+    pub defaults: Vec<DefaultFact>,
     #[serde(skip)]
     object_index: HashMap<String, ObjectId>,
 }
@@ -95,6 +108,7 @@ impl Problem {
             exogenous: Vec::new(),
             resources,
             goals: Vec::new(),
+            defaults: Vec::new(),
             object_index: HashMap::new(),
         };
         for o in &domain.objects {
@@ -109,6 +123,63 @@ impl Problem {
         self.object_index.insert(object.name.clone(), id);
         self.objects.push(object);
         id
+    }
+
+    /// Appends an object and the facts the problem's wildcard `initial` statements give it (e.g. a new
+    /// location gets `PICTURE(new) = false`); returns its id.
+    pub fn add_object_with_defaults(&mut self, d: &Domain, object: Object) -> ObjectId {
+        let id = self.add_object(object);
+        let mut new_facts: Vec<(Time, Fact)> = Vec::new();
+        for def in &self.defaults {
+            let Some(attr) = d.attrs.get(def.attr.index()) else {
+                continue;
+            };
+            // Every instance of the pattern that involves the new object at a wildcard position.
+            let mut combos: Vec<(Vec<ObjectId>, bool)> = vec![(Vec::new(), false)];
+            for (arg, (_, pty)) in def.args.iter().zip(&attr.params) {
+                let choices = match arg {
+                    Some(o) => vec![*o],
+                    None => self.objects_of(*pty),
+                };
+                combos = combos
+                    .into_iter()
+                    .flat_map(|(c, hit)| {
+                        choices.iter().map(move |o| {
+                            let mut c = c.clone();
+                            c.push(*o);
+                            (c, hit || (*o == id && arg.is_none()))
+                        })
+                    })
+                    .collect();
+            }
+            for (args, hit) in combos {
+                if hit {
+                    new_facts.push((
+                        def.at,
+                        Fact {
+                            attr: def.attr,
+                            args,
+                            value: def.value,
+                        },
+                    ));
+                }
+            }
+        }
+        self.add_facts(new_facts);
+        id
+    }
+
+    /// Adds facts to the initial scenario: at the origin into `initial`, later ones into `exogenous`
+    /// (kept sorted by time).
+    pub fn add_facts(&mut self, facts: impl IntoIterator<Item = (Time, Fact)>) {
+        for (at, fact) in facts {
+            if at == 0 {
+                self.initial.push(fact);
+            } else {
+                self.exogenous.push(TimedFact { at, fact });
+            }
+        }
+        self.exogenous.sort_by_key(|f| f.at);
     }
 
     /// The object named `name` (domain constants included).

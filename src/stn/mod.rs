@@ -36,9 +36,13 @@ pub use network::Stn;
 /// A time or a duration, in integer units (milliseconds in the product).
 pub type Time = i64;
 
-/// +infinity. Any bound `>= INF` is infinite, any bound `<= -INF` is minus infinity; arithmetic saturates.
-/// Finite values must stay well inside `(-INF, INF)` (about ±7·10^7 years in milliseconds).
+/// +infinity. An upper bound `>= INF` is infinite, a lower bound `<= -INF` is minus infinity; arithmetic
+/// saturates at ±INF.
 pub const INF: Time = i64::MAX / 4;
+
+/// Largest finite bound magnitude (2^50 ms, about 35,000 years): other bounds of a constraint are clamped into
+/// `[-MAX_FINITE, MAX_FINITE]`, so that an upper bound of `-INF` is a (hugely negative) finite bound.
+pub const MAX_FINITE: Time = 1 << 50;
 
 /// A timepoint of the network. The origin is [`Stn::origin`].
 #[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug)]
@@ -104,7 +108,23 @@ pub(crate) fn sat_add(a: Time, b: Time) -> Time {
     }
 }
 
-/// Clamps a user bound into `[-INF, INF]`.
-pub(crate) fn clamp(x: Time) -> Time {
-    x.clamp(-INF, INF)
+/// Normalises a constraint's lower bound: `-INF` or finite in `[-MAX_FINITE, MAX_FINITE]`.
+pub(crate) fn norm_lb(x: Time) -> Time {
+    if x <= -INF {
+        -INF
+    } else {
+        x.clamp(-MAX_FINITE, MAX_FINITE)
+    }
 }
+
+/// Normalises a constraint's upper bound: `INF` or finite in `[-MAX_FINITE, MAX_FINITE]`.
+pub(crate) fn norm_ub(x: Time) -> Time {
+    if x >= INF {
+        INF
+    } else {
+        x.clamp(-MAX_FINITE, MAX_FINITE)
+    }
+}
+
+#[cfg(test)]
+mod tests;

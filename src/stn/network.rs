@@ -2,7 +2,7 @@
 
 use super::error::Inconsistent;
 use super::trail::Entry;
-use super::{clamp, Constraint, ConstraintId, Level, Time, Timepoint, INF};
+use super::{norm_lb, norm_ub, Constraint, ConstraintId, Level, Time, Timepoint, INF};
 
 /// One direction of a constraint: `Forward` is `to − from ≤ ub` (edge from→to, weight ub), `Backward` is
 /// `from − to ≤ −lb` (edge to→from, weight −lb).
@@ -97,7 +97,8 @@ impl Stn {
         (0..self.lb.len() as u32).map(Timepoint)
     }
 
-    /// Adds `to − from ∈ [lb, ub]` (`lb` may be `-INF`, `ub` may be `INF`) and propagates the bounds.
+    /// Adds `to − from ∈ [lb, ub]` (`lb` may be `-INF`, `ub` may be `INF`; finite bounds are clamped to
+    /// ±[`MAX_FINITE`](super::MAX_FINITE)) and propagates the bounds.
     /// On `Err` the network is left exactly as before.
     pub fn add_constraint(
         &mut self,
@@ -111,8 +112,8 @@ impl Stn {
         self.cons.push(CData {
             from: from.0,
             to: to.0,
-            lb: clamp(lb),
-            ub: clamp(ub),
+            lb: -INF,
+            ub: INF,
             active: true,
         });
         self.out[from.0 as usize].push(Half { c, forward: true });
@@ -120,7 +121,7 @@ impl Stn {
         self.out[to.0 as usize].push(Half { c, forward: false });
         self.inc[from.0 as usize].push(Half { c, forward: false });
         self.trail.push(Entry::AddConstraint);
-        match self.propagate_constraint(c) {
+        match self.impose(c, norm_lb(lb), norm_ub(ub)) {
             Ok(()) => Ok(ConstraintId(c)),
             Err(e) => {
                 self.restore(level);
@@ -143,17 +144,17 @@ impl Stn {
         let level = self.save();
         let d = &self.cons[c.index()];
         let (old_lb, old_ub) = (d.lb, d.ub);
-        let (new_lb, new_ub) = (old_lb.max(clamp(lb)), old_ub.min(clamp(ub)));
+        let (new_lb, new_ub) = (old_lb.max(norm_lb(lb)), old_ub.min(norm_ub(ub)));
         if (new_lb, new_ub) == (old_lb, old_ub) {
             return Ok(());
         }
         self.trail.push(Entry::Weights(c.0, old_lb, old_ub));
-        let d = &mut self.cons[c.index()];
-        d.lb = new_lb;
-        d.ub = new_ub;
-        let result = if d.active {
-            self.propagate_constraint(c.0)
+        let result = if self.cons[c.index()].active {
+            self.impose(c.0, new_lb, new_ub)
         } else {
+            let d = &mut self.cons[c.index()];
+            d.lb = new_lb;
+            d.ub = new_ub;
             Ok(())
         };
         if result.is_err() {

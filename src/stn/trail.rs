@@ -20,8 +20,48 @@ pub(crate) enum Entry {
 
 impl Stn {
     /// Undoes everything done after `level` (bounds, constraints, timepoints, executions, removals).
+    /// Timepoints and constraints created after `level` no longer exist; their identifiers will be reused.
+    /// Restoring a level above the current one does nothing.
     pub fn restore(&mut self, level: Level) {
-        let _ = level;
-        todo!()
+        while self.trail.len() > level.0 {
+            let Some(entry) = self.trail.pop() else { break };
+            match entry {
+                Entry::Lb(t, old) => self.lb[t as usize] = old,
+                Entry::Ub(t, old) => self.ub[t as usize] = old,
+                Entry::AddTimepoint => {
+                    self.lb.pop();
+                    self.ub.pop();
+                    self.out.pop();
+                    self.inc.pop();
+                    self.executed.pop();
+                }
+                Entry::AddConstraint => {
+                    if let Some(d) = self.cons.pop() {
+                        // Pushed as out[from], inc[to], out[to], inc[from]: pop in reverse.
+                        self.inc[d.from as usize].pop();
+                        self.out[d.to as usize].pop();
+                        self.inc[d.to as usize].pop();
+                        self.out[d.from as usize].pop();
+                    }
+                }
+                Entry::Remove(c) => self.cons[c as usize].active = true,
+                Entry::Weights(c, lb, ub) => {
+                    let d = &mut self.cons[c as usize];
+                    d.lb = lb;
+                    d.ub = ub;
+                }
+                Entry::Executed(t, old) => self.executed[t as usize] = old,
+            }
+        }
+    }
+
+    pub(crate) fn set_lb(&mut self, t: u32, v: Time) {
+        self.trail.push(Entry::Lb(t, self.lb[t as usize]));
+        self.lb[t as usize] = v;
+    }
+
+    pub(crate) fn set_ub(&mut self, t: u32, v: Time) {
+        self.trail.push(Entry::Ub(t, self.ub[t as usize]));
+        self.ub[t as usize] = v;
     }
 }
