@@ -32,15 +32,16 @@ impl Timeline {
             .map_or(Value::Unknown, |&(_, v)| v)
     }
 
-    /// The first time in `[a, b[` (`{a}` when `b <= a`) where the value is not `v`, with the value then.
-    fn broken(&self, v: Value, a: Time, b: Time) -> Option<(Time, Value)> {
+    /// The first time in `[a, b[` (`[a, b]` when `closed`, `{a}` when `b <= a`) where the value is not
+    /// `v`, with the value then.
+    fn broken(&self, v: Value, a: Time, b: Time, closed: bool) -> Option<(Time, Value)> {
         let now = self.at(a);
         if now != v {
             return Some((a, now));
         }
         self.0
             .iter()
-            .find(|&&(t, x)| t > a && t < b && x != v)
+            .find(|&&(t, x)| t > a && (t < b || (closed && t == b)) && x != v)
             .map(|&(t, x)| (t, x))
     }
 }
@@ -123,7 +124,7 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
             );
             let v = cx.term(a, h.value);
             let (from, to) = (cx.at(a, h.from), cx.at(a, h.to));
-            if let Some((time, actual)) = line(&key).broken(v, from, to) {
+            if let Some((time, actual)) = line(&key).broken(v, from, to, false) {
                 out.push(Violation::HoldBroken {
                     action: cx.label(a),
                     instance: cx.instance_name(key.0, &key.1),
@@ -150,7 +151,8 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
         );
         let v = cx.value(l.value);
         let (from, to) = (cx.time(l.from), cx.time(l.to));
-        if let Some((time, actual)) = line(&key).broken(v, from, to) {
+        let closed = matches!(l.consumer, Consumer::Goal { .. });
+        if let Some((time, actual)) = line(&key).broken(v, from, to, closed) {
             out.push(Violation::LinkBroken {
                 link: label,
                 instance: cx.instance_name(key.0, &key.1),
@@ -182,7 +184,7 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
             goal.args.iter().map(|&o| Value::Obj(o)).collect::<Vec<_>>(),
         );
         let (from, to) = (cx.time(st), cx.time(et));
-        if let Some((time, actual)) = line(&key).broken(goal.value, from, to) {
+        if let Some((time, actual)) = line(&key).broken(goal.value, from, to, true) {
             out.push(Violation::GoalBroken {
                 goal: goal.name.clone(),
                 instance: cx.instance_name(key.0, &key.1),
