@@ -286,7 +286,9 @@ mod tests {
         let mut with = pics;
         with.push(u("dl", Kind::Produce(25), (1.0, 2.4)));
         assert!(run(&s, &with, false).is_empty());
-        with.last_mut().map(|dl| dl.q = (1.0, 3.0));
+        if let Some(dl) = with.last_mut() {
+            dl.q = (1.0, 3.0);
+        }
         let v = run(&s, &with, false);
         assert!(
             matches!(v.as_slice(), [Violation::ResourceOverCapacity { time: 25, culprit, .. }] if culprit == "dl"),
