@@ -78,8 +78,8 @@ fn a_broken_hold_is_rejected() {
     let v = violations(&d, &p, &s);
     assert!(
         v.iter().any(
-            |v| matches!(v, Violation::HoldBroken { action, instance, value, actual, .. }
-            if action == "a2 (snap)" && instance == "AT()" && value == "c" && actual == "b")
+            |v| matches!(v, Violation::HoldBroken { action, lapse }
+            if action == "a2 (snap)" && lapse.instance == "AT()" && lapse.value == "c" && lapse.actual == "b")
         ),
         "{v:#?}"
     );
@@ -351,8 +351,8 @@ fn a_rover_picture_before_the_ptu_is_down_is_rejected() {
     let v = violations(&d, &p, &s);
     assert!(
         v.iter().any(
-            |v| matches!(v, Violation::HoldBroken { action, instance, value, .. }
-            if action == "a3 (take_picture)" && instance == "PTU_POS()" && value == "DOWN")
+            |v| matches!(v, Violation::HoldBroken { action, lapse }
+            if action == "a3 (take_picture)" && lapse.instance == "PTU_POS()" && lapse.value == "DOWN")
         ),
         "{v:#?}"
     );

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use crate::model::{AttrId, Time, Value};
 use crate::plan::solution::{CausalLink, Consumer, Establisher, PlanTp};
 
+use super::violation::Lapse;
 use super::{Ctx, Violation};
 
 type Instance = (AttrId, Vec<Value>);
@@ -124,15 +125,10 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
             );
             let v = cx.term(a, h.value);
             let (from, to) = (cx.at(a, h.from), cx.at(a, h.to));
-            if let Some((time, actual)) = line(&key).broken(v, from, to, false) {
+            if let Some(lapse) = lapse(cx, &line(&key), &key, v, (from, to), false) {
                 out.push(Violation::HoldBroken {
                     action: cx.label(a),
-                    instance: cx.instance_name(key.0, &key.1),
-                    value: cx.value_name(v),
-                    from,
-                    to,
-                    time,
-                    actual: cx.value_name(actual),
+                    lapse,
                 });
             }
         }
@@ -152,16 +148,8 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
         let v = cx.value(l.value);
         let (from, to) = (cx.time(l.from), cx.time(l.to));
         let closed = matches!(l.consumer, Consumer::Goal { .. });
-        if let Some((time, actual)) = line(&key).broken(v, from, to, closed) {
-            out.push(Violation::LinkBroken {
-                link: label,
-                instance: cx.instance_name(key.0, &key.1),
-                value: cx.value_name(v),
-                from,
-                to,
-                time,
-                actual: cx.value_name(actual),
-            });
+        if let Some(lapse) = lapse(cx, &line(&key), &key, v, (from, to), closed) {
+            out.push(Violation::LinkBroken { link: label, lapse });
         }
     }
     for g in cx.s.goals.iter().filter(|g| g.achieved) {
@@ -184,18 +172,33 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
             goal.args.iter().map(|&o| Value::Obj(o)).collect::<Vec<_>>(),
         );
         let (from, to) = (cx.time(st), cx.time(et));
-        if let Some((time, actual)) = line(&key).broken(goal.value, from, to, true) {
+        if let Some(lapse) = lapse(cx, &line(&key), &key, goal.value, (from, to), true) {
             out.push(Violation::GoalBroken {
                 goal: goal.name.clone(),
-                instance: cx.instance_name(key.0, &key.1),
-                value: cx.value_name(goal.value),
-                from,
-                to,
-                time,
-                actual: cx.value_name(actual),
+                lapse,
             });
         }
     }
+}
+
+/// The first failure of `key = v` over `[from, to[` (closed: `[from, to]`), for a violation.
+fn lapse(
+    cx: &Ctx,
+    line: &Timeline,
+    key: &Instance,
+    v: Value,
+    (from, to): (Time, Time),
+    closed: bool,
+) -> Option<Lapse> {
+    let (time, actual) = line.broken(v, from, to, closed)?;
+    Some(Lapse {
+        instance: cx.instance_name(key.0, &key.1),
+        value: cx.value_name(v),
+        from,
+        to,
+        time,
+        actual: cx.value_name(actual),
+    })
 }
 
 /// Ground arguments (attribute arguments are never `+oo` in a well-formed domain).
@@ -280,16 +283,14 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
             let h = &cx.d.task(a.task).holds[hold];
             let ha: Vec<Value> = h.args.iter().map(|&t| cx.term(a, t)).collect();
             same(h.attr, &ha, cx.term(a, h.value), "supported hold")?;
-            at(l.to, a.tp(h.to), "supported hold's end")?;
-            precedes(cx, l, cx.at(a, h.from), "the hold it supports")?;
+            supported(cx, l, a, (h.from, h.to), "hold")?;
         }
         Consumer::EventFrom { action, event } => {
             let a = cx.s.action(action).ok_or("unknown consumer")?;
             let e = &cx.d.task(a.task).events[event];
             let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
             same(e.attr, &ea, cx.term(a, e.from), "supported event")?;
-            at(l.to, a.tp(e.at), "supported event")?;
-            precedes(cx, l, cx.at(a, e.at), "the event it supports")?;
+            supported(cx, l, a, (e.at, e.at), "event")?;
         }
         Consumer::Goal { goal } => {
             let g = &cx.p.goals[goal.index()];
@@ -304,6 +305,23 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The link ends at the supported hold's / event's end and its establisher precedes its start.
+fn supported(
+    cx: &Ctx,
+    l: &CausalLink,
+    a: &crate::plan::solution::PlanAction,
+    (start, end): (crate::model::TpId, crate::model::TpId),
+    what: &str,
+) -> Result<(), String> {
+    if a.tp(end) != Some(l.to) {
+        return Err(format!(
+            "its interval bound {} is not the end of the {what} it supports",
+            cx.s.tp_name(l.to)
+        ));
+    }
+    precedes(cx, l, cx.at(a, start), &format!("the {what} it supports"))
 }
 
 /// Footnote 3 of seed 1: the establisher precedes what it supports (it may not start after it).
