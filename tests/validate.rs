@@ -415,3 +415,42 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn simultaneous_changes_of_one_attribute_are_rejected() {
+    let d = tiny::domain();
+    let p = tiny::problem(&d, 60_000);
+    let mut b = Builder::new(&d, &p);
+    let go1 = b.action("go", &["a", "b"]);
+    tiny::move_window(&mut b, go1, "a", "b", 0.5, 2.0);
+    let go2 = b.action("go", &["b", "c"]);
+    tiny::move_window(&mut b, go2, "b", "c", 0.5, 2.0);
+    let (st1, et1, st2) = (b.st(go1), b.et(go1), b.st(go2));
+    b.before(PlanTp::ORIGIN, st1);
+    // [0, +oo[ instead of ]0, +oo[: at the earliest schedule go2 leaves b when go1 arrives there.
+    b.constrain(et1, st2, Some(0), None);
+    let v = violations(&d, &p, &b.finish());
+    assert!(
+        v.iter().any(
+            |v| matches!(v, Violation::SimultaneousEvents { instance, time, first, second }
+            if instance == "AT()" && *time == 5_001 && first == "a1 (go)" && second == "a2 (go)")
+        ),
+        "{v:#?}"
+    );
+}
+
+#[test]
+fn timepoints_after_the_horizon_are_rejected() {
+    let (d, _, s) = correct();
+    let mut short = tiny::problem(&d, 60_000);
+    short.horizon = 6_000;
+    let v = violations(&d, &short, &s);
+    assert_eq!(
+        v,
+        vec![Violation::AfterHorizon {
+            tp: "a2.et".into(),
+            time: 6_002,
+            horizon: 6_000
+        }]
+    );
+}
