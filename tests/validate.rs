@@ -440,6 +440,22 @@ fn simultaneous_changes_of_one_attribute_are_rejected() {
 }
 
 #[test]
+fn a_plan_for_another_problem_is_malformed() {
+    let (d, p, mut s) = correct();
+    s.problem = "other".into();
+    assert!(
+        matches!(violations(&d, &p, &s).as_slice(), [Violation::Malformed(m)] if m.contains("tiny/other"))
+    );
+    // A dangling action index is reported, not a panic.
+    let (_, _, mut s) = correct();
+    s.actions[0].timepoints[1] = PlanTp(999);
+    assert!(matches!(
+        violations(&d, &p, &s).as_slice(),
+        [Violation::Malformed(_)]
+    ));
+}
+
+#[test]
 fn timepoints_after_the_horizon_are_rejected() {
     let (d, _, s) = correct();
     let mut short = tiny::problem(&d, 60_000);

@@ -13,6 +13,12 @@ use super::Violation;
 pub(super) fn check(d: &Domain, p: &Problem, s: &Solution) -> Vec<Violation> {
     let mut out = Vec::new();
     let mut bad = |msg: String| out.push(Violation::Malformed(msg));
+    if s.domain != d.name || s.problem != p.name {
+        bad(format!(
+            "a plan for {}/{} checked against {}/{}",
+            s.domain, s.problem, d.name, p.name
+        ));
+    }
     let n = s.timepoints.len();
     if n == 0 {
         bad("no timepoints (the origin is timepoint 0)".into());
