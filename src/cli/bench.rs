@@ -21,12 +21,15 @@ pub enum BenchWhat {
     Stn,
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
     Sim,
+    /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
+    Link,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
         BenchWhat::Sim => bench_sim(args.json),
+        BenchWhat::Link => bench_link(args.json),
     }
 }
 
@@ -107,4 +110,30 @@ fn bench_stn(json: bool) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+fn bench_link(json: bool) -> ExitCode {
+    match crate::vehicle::bench::run_link_bench(21, 200_000) {
+        Ok(b) if json => match serde_json::to_string(&b) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench link: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Ok(b) => {
+            println!(
+                "upload 100 items (median of {}): {:.2} ms (target <= 100 ms); telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
+                b.upload_runs, b.upload_100_items_ms, b.telemetry_msgs_per_s, b.telemetry_msgs
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench link: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
