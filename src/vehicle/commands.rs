@@ -59,6 +59,8 @@ struct Pending {
     cmd: Command,
     sent_ms: u64,
     tries: u32,
+    /// IN_PROGRESS received: wait for the final ACK without re-sending (the action's own timeout governs).
+    in_progress: bool,
 }
 
 #[derive(Debug)]
@@ -84,6 +86,7 @@ impl CommandClient {
             cmd,
             sent_ms: now,
             tries: 1,
+            in_progress: false,
         });
     }
 
@@ -97,8 +100,9 @@ impl CommandClient {
         let i = self.pending.iter().position(|p| p.cmd.id() == ack.command)?;
         match ack.result {
             MavResult::MAV_RESULT_IN_PROGRESS => {
-                // Still working: wait a full timeout again rather than re-sending.
+                // Still working: re-sending would start it again.
                 self.pending[i].sent_ms = now;
+                self.pending[i].in_progress = true;
                 None
             }
             MavResult::MAV_RESULT_ACCEPTED => {
@@ -117,7 +121,7 @@ impl CommandClient {
         let mut gave_up = Vec::new();
         let (timeout, retries) = (self.ack_timeout_ms, self.retries);
         self.pending.retain_mut(|p| {
-            if now.saturating_sub(p.sent_ms) < timeout {
+            if p.in_progress || now.saturating_sub(p.sent_ms) < timeout {
                 return true;
             }
             if p.tries > retries {
@@ -175,7 +179,8 @@ mod tests {
         let mut out = Vec::new();
         c.send(1, Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [0.0; 7]), 0, &mut out);
         assert_eq!(c.on_ack(&ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_IN_PROGRESS), 90), None);
-        assert!(c.tick(150, &mut out).is_empty(), "in progress refreshed the timeout");
+        assert!(c.tick(10_000, &mut out).is_empty(), "in progress: no re-send, no give-up");
+        assert_eq!(out.len(), 1);
         let got = c.on_ack(&ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_DENIED), 160);
         assert_eq!(got, Some((1, MavCmd::MAV_CMD_USER_1, CommandOutcome::Rejected(MavResult::MAV_RESULT_DENIED))));
         assert_eq!(c.on_ack(&ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_ACCEPTED), 170), None);
