@@ -117,24 +117,6 @@ pub fn items_to_goals(
         let name = format!("g{}", first_number as usize + goals.len());
         let mut attrs = pending.take().unwrap_or_default();
         let cmd = item.command;
-        let needs_position = cmd != MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16;
-        let location = if needs_position {
-            if !item.has_position() {
-                return Err(err(
-                    format!("command {cmd} needs a position in a global frame (x = lat, y = lon)"),
-                    MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
-                ));
-            }
-            if !(-90.0..=90.0).contains(&item.x) || !(-180.0..=180.0).contains(&item.y) {
-                return Err(err(
-                    format!("position ({}, {}) is not a latitude/longitude", item.x, item.y),
-                    MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
-                ));
-            }
-            Some(known.resolve(&name, item.x, item.y, f64::from(item.z)))
-        } else {
-            None
-        };
         let kind = match cmd {
             c if c == MavCmd::MAV_CMD_NAV_WAYPOINT as u16 => GoalKind::BeAt,
             c if c == MavCmd::MAV_CMD_NAV_LOITER_TIME as u16 => {
@@ -153,6 +135,24 @@ pub fn items_to_goals(
                     MavMissionResult::MAV_MISSION_UNSUPPORTED,
                 ))
             }
+        };
+        let needs_position = cmd != MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16;
+        let location = if needs_position {
+            if !item.has_position() {
+                return Err(err(
+                    format!("command {cmd} needs a position in a global frame (x = lat, y = lon)"),
+                    MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
+                ));
+            }
+            if !(-90.0..=90.0).contains(&item.x) || !(-180.0..=180.0).contains(&item.y) {
+                return Err(err(
+                    format!("position ({}, {}) is not a latitude/longitude", item.x, item.y),
+                    MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
+                ));
+            }
+            Some(known.resolve(&name, item.x, item.y, f64::from(item.z)))
+        } else {
+            None
         };
         let object = location.as_ref().map_or("home".to_string(), |l| l.name.clone());
         goals.push(GoalRequest {

@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{mpsc as std_mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use mavlink::dialects::ardupilotmega::MavMessage;
 use mavlink::MavlinkVersion;
 use tokio::sync::{oneshot, Notify};
 
@@ -166,6 +167,12 @@ impl Pump {
                                 peer_v1 = frame.version == MavlinkVersion::V1;
                                 let Some(msg) = frame.parse() else { continue };
                                 let header = frame.header();
+                                if self.shared.is_none() && matches!(msg, MavMessage::HEARTBEAT(_)) {
+                                    // Answer a ground station's heartbeat at once: over UDP it is how we learn
+                                    // where it is, and it is waiting for ours to find component 191.
+                                    out.push(companion_heartbeat());
+                                    last_own_heartbeat = Some(now);
+                                }
                                 if let Some(s) = &self.shared {
                                     if let Ok(mut d) = s.driver.lock() {
                                         d.handle(header, &msg, now);
@@ -261,7 +268,7 @@ impl Pump {
         decider: &Arc<Mutex<Decider>>,
         intake: &Arc<Mutex<GoalIntake>>,
         awaiting: &mut Vec<Awaiting>,
-        out: &mut Vec<mavlink::dialects::ardupilotmega::MavMessage>,
+        out: &mut Vec<MavMessage>,
     ) {
         let Ok(mut d) = decider.lock() else { return };
         match &mut *d {
