@@ -13,7 +13,11 @@ use super::types::{ActionId, ActionStart, Enu, ReportStatus, StateValue};
 
 /// What an action run needs from the driver.
 pub struct Ctx<'a> {
+    /// Wall-clock ms: protocol timeouts (ACKs, mission transfer) are about the link.
     pub now: u64,
+    /// Vehicle ms (time_boot_ms): the action's own durations (holds, capture timeout, polling) follow the
+    /// vehicle's clock, so a simulator at 200x speed-up keeps them right.
+    pub vnow: u64,
     pub cfg: &'a VehicleConfig,
     pub tel: &'a Telemetry,
     pub cmds: &'a mut CommandClient,
@@ -125,13 +129,13 @@ impl Run {
             task: start.task.clone(),
             binding: binding.clone(),
             phase: Phase::Starting,
-            started_ms: ctx.now,
+            started_ms: ctx.vnow,
             goal: None,
             last_seq: 0,
             target_level: 0.0,
             expect_mode: None,
             mode_seen: false,
-            last_poll: ctx.now,
+            last_poll: ctx.vnow,
         };
         let id = start.id;
         match binding {
@@ -292,13 +296,13 @@ impl Run {
                 self.phase = Phase::Running;
                 if let Binding::Download { .. } = self.binding {
                     ctx.request_storage();
-                    self.last_poll = ctx.now;
+                    self.last_poll = ctx.vnow;
                 }
                 None
             }
             Phase::Servo(i) => {
                 if let Binding::Sample { steps } = &self.binding {
-                    self.phase = Phase::Holding(i, ctx.now + steps[i].hold_ms);
+                    self.phase = Phase::Holding(i, ctx.vnow + steps[i].hold_ms);
                 }
                 None
             }
@@ -342,7 +346,9 @@ impl Run {
                 }
                 None
             }
-            MavMessage::STATUSTEXT(s) if (s.severity as u8) <= 3 => {
+            // An autopilot error (e.g. "no map available") ends motion; payload failures have their own
+            // signals (capture_result, COMMAND_ACK) and must not fail a concurrent move.
+            MavMessage::STATUSTEXT(s) if (s.severity as u8) <= 3 && self.is_motion() => {
                 let text = s.text.to_str().unwrap_or("").trim_end_matches('\0').to_string();
                 Some(self.failed(ctx, format!("autopilot error: {text}")))
             }
@@ -369,10 +375,10 @@ impl Run {
                 let (p, g) = (ctx.tel.position?, self.goal?);
                 (p.horizontal_distance(&g) <= *acceptance_radius_m).then(End::nominal)
             }
-            (Binding::TakePicture { timeout_ms, .. }, _) if ctx.now.saturating_sub(self.started_ms) > *timeout_ms => {
+            (Binding::TakePicture { timeout_ms, .. }, _) if ctx.vnow.saturating_sub(self.started_ms) > *timeout_ms => {
                 Some(self.failed(ctx, format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms")))
             }
-            (Binding::Sample { steps }, Phase::Holding(i, until)) if ctx.now >= until => {
+            (Binding::Sample { steps }, Phase::Holding(i, until)) if ctx.vnow >= until => {
                 if i + 1 == steps.len() {
                     Some(End::nominal())
                 } else {
@@ -388,8 +394,8 @@ impl Run {
                 if ctx.tel.storage_used.is_some_and(|u| u <= *until_used) {
                     return Some(End::nominal());
                 }
-                if ctx.now.saturating_sub(self.last_poll) >= *poll_ms {
-                    self.last_poll = ctx.now;
+                if ctx.vnow.saturating_sub(self.last_poll) >= *poll_ms {
+                    self.last_poll = ctx.vnow;
                     ctx.request_storage();
                 }
                 None
@@ -398,9 +404,22 @@ impl Run {
         }
     }
 
-    /// `END i_a`: stops the action; motion is stopped by HOLD. The report is `Interrupted` with the state.
+    fn is_motion(&self) -> bool {
+        matches!(
+            self.binding,
+            Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. } | Binding::Recharge { .. }
+        )
+    }
+
+    /// `END i_a`: stops the action; motion is stopped by HOLD, a downlink by its command with p1 = 0.
+    /// The report is `Interrupted` with the state.
     pub fn stop(&mut self, ctx: &mut Ctx) -> End {
         ctx.cmds.cancel(self.id);
+        if let Binding::Download { command, .. } = self.binding {
+            if let Some(cmd) = num_traits::FromPrimitive::from_u16(command) {
+                ctx.cmds.send(u64::MAX, Command::long(cmd, ctx.target, [0.0; 7]), ctx.now, ctx.out);
+            }
+        }
         if matches!(
             self.binding,
             Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. }

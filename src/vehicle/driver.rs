@@ -120,6 +120,7 @@ impl Driver {
         };
         let mut ctx = Ctx {
             now,
+            vnow: self.tel.time_boot_ms.unwrap_or(now),
             cfg: &self.cfg,
             tel: &self.tel,
             cmds: &mut self.cmds,
@@ -145,6 +146,7 @@ impl Driver {
             .clone();
         let mut ctx = Ctx {
             now,
+            vnow: self.tel.time_boot_ms.unwrap_or(now),
             cfg: &self.cfg,
             tel: &self.tel,
             cmds: &mut self.cmds,
