@@ -8,7 +8,9 @@ use mavlink::dialects::ardupilotmega::*;
 use mavlink::MavHeader;
 use mavtempo::vehicle::config::VehicleConfig;
 use mavtempo::vehicle::driver::Driver;
-use mavtempo::vehicle::{ActionStart, Arg, Enu, LinkStatus, ReportStatus, StateValue, VehicleEvent};
+use mavtempo::vehicle::{
+    ActionStart, Arg, Enu, LinkStatus, ReportStatus, StateValue, VehicleEvent,
+};
 
 fn config() -> VehicleConfig {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/sitl-rover.toml");
@@ -49,7 +51,11 @@ impl Autopilot {
             custom_mode: self.mode,
             mavtype: MavType::MAV_TYPE_GROUND_ROVER,
             autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-            base_mode: if self.armed { MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED } else { MavModeFlag::empty() },
+            base_mode: if self.armed {
+                MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+            } else {
+                MavModeFlag::empty()
+            },
             system_status: MavState::MAV_STATE_ACTIVE,
             mavlink_version: 3,
         })
@@ -81,18 +87,31 @@ impl Autopilot {
                         }
                     }
                     replies.push(ack(c.command, result));
-                    if let (MavCmd::MAV_CMD_IMAGE_START_CAPTURE, MavResult::MAV_RESULT_ACCEPTED, Some(ok)) = (c.command, result, self.capture) {
-                        replies.push(MavMessage::CAMERA_IMAGE_CAPTURED(CAMERA_IMAGE_CAPTURED_DATA {
-                            image_index: 1,
-                            capture_result: if ok { MavBool::MAV_BOOL_TRUE } else { MavBool::MAV_BOOL_FALSE },
-                            ..Default::default()
-                        }));
+                    if let (
+                        MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+                        MavResult::MAV_RESULT_ACCEPTED,
+                        Some(ok),
+                    ) = (c.command, result, self.capture)
+                    {
+                        replies.push(MavMessage::CAMERA_IMAGE_CAPTURED(
+                            CAMERA_IMAGE_CAPTURED_DATA {
+                                image_index: 1,
+                                capture_result: if ok {
+                                    MavBool::MAV_BOOL_TRUE
+                                } else {
+                                    MavBool::MAV_BOOL_FALSE
+                                },
+                                ..Default::default()
+                            },
+                        ));
                     }
                 }
                 MavMessage::COMMAND_INT(c) => {
                     self.seen.push(m.clone());
                     let result = self.result_for(c.command);
-                    if result == MavResult::MAV_RESULT_ACCEPTED && c.command == MavCmd::MAV_CMD_DO_REPOSITION {
+                    if result == MavResult::MAV_RESULT_ACCEPTED
+                        && c.command == MavCmd::MAV_CMD_DO_REPOSITION
+                    {
                         self.mode = 15;
                     }
                     replies.push(ack(c.command, result));
@@ -101,7 +120,12 @@ impl Autopilot {
                     self.upload_count = Some(c.count);
                     self.mission.clear();
                     // ArduPilot asks with the legacy MISSION_REQUEST.
-                    replies.push(MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA { seq: 0, target_system: 1, target_component: 191, mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION }));
+                    replies.push(MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
+                        seq: 0,
+                        target_system: 1,
+                        target_component: 191,
+                        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+                    }));
                 }
                 MavMessage::MISSION_ITEM_INT(it) => {
                     self.mission.push(it.clone());
@@ -114,7 +138,10 @@ impl Autopilot {
                             mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
                         }));
                     } else {
-                        replies.push(MavMessage::MISSION_ACK(MISSION_ACK_DATA { mavtype: MavMissionResult::MAV_MISSION_ACCEPTED, ..Default::default() }));
+                        replies.push(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
+                            mavtype: MavMissionResult::MAV_MISSION_ACCEPTED,
+                            ..Default::default()
+                        }));
                     }
                 }
                 _ => {}
@@ -125,7 +152,11 @@ impl Autopilot {
 }
 
 fn ack(command: MavCmd, result: MavResult) -> MavMessage {
-    MavMessage::COMMAND_ACK(COMMAND_ACK_DATA { command, result, ..Default::default() })
+    MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+        command,
+        result,
+        ..Default::default()
+    })
 }
 
 fn position(cfg: &VehicleConfig, at: Enu) -> MavMessage {
@@ -146,11 +177,20 @@ struct Bench {
     events: Vec<VehicleEvent>,
 }
 
-const AP: MavHeader = MavHeader { system_id: 1, component_id: 1, sequence: 0 };
+const AP: MavHeader = MavHeader {
+    system_id: 1,
+    component_id: 1,
+    sequence: 0,
+};
 
 impl Bench {
     fn new() -> Self {
-        let mut b = Self { d: Driver::new(config()), ap: Autopilot::new(), now: 0, events: Vec::new() };
+        let mut b = Self {
+            d: Driver::new(config()),
+            ap: Autopilot::new(),
+            now: 0,
+            events: Vec::new(),
+        };
         b.feed(b.ap.heartbeat());
         b
     }
@@ -163,7 +203,12 @@ impl Bench {
 
     fn settle(&mut self) {
         for _ in 0..1000 {
-            let out: Vec<MavMessage> = self.d.take_outgoing().into_iter().filter(|m| !matches!(m, MavMessage::HEARTBEAT(_))).collect();
+            let out: Vec<MavMessage> = self
+                .d
+                .take_outgoing()
+                .into_iter()
+                .filter(|m| !matches!(m, MavMessage::HEARTBEAT(_)))
+                .collect();
             if out.is_empty() {
                 break;
             }
@@ -182,12 +227,24 @@ impl Bench {
 
     fn start(&mut self, id: u64, task: &str, args: Vec<(&str, Arg)>) {
         let args = args.into_iter().map(|(n, a)| (n.to_string(), a)).collect();
-        self.d.start(ActionStart { id, task: task.into(), args }, self.now).expect("start accepted");
+        self.d
+            .start(
+                ActionStart {
+                    id,
+                    task: task.into(),
+                    args,
+                },
+                self.now,
+            )
+            .expect("start accepted");
         self.settle();
     }
 
     fn report(&mut self, id: u64) -> Option<mavtempo::vehicle::ActionReport> {
-        let i = self.events.iter().position(|e| matches!(e, VehicleEvent::Report(r) if r.id == id))?;
+        let i = self
+            .events
+            .iter()
+            .position(|e| matches!(e, VehicleEvent::Report(r) if r.id == id))?;
         match self.events.remove(i) {
             VehicleEvent::Report(r) => Some(r),
             _ => None,
@@ -202,10 +259,17 @@ fn to(at: Enu) -> Vec<(&'static str, Arg)> {
 #[test]
 fn link_comes_up_on_the_autopilot_heartbeat_and_adopts_its_system_id() {
     let mut d = Driver::new(config());
-    let h = MavHeader { system_id: 42, component_id: 1, sequence: 0 };
+    let h = MavHeader {
+        system_id: 42,
+        component_id: 1,
+        sequence: 0,
+    };
     d.handle(h, &Autopilot::new().heartbeat(), 0);
     assert_eq!(d.system_id, 42);
-    assert!(matches!(d.take_events()[..], [VehicleEvent::Link(LinkStatus::Up { system_id: 42 })]));
+    assert!(matches!(
+        d.take_events()[..],
+        [VehicleEvent::Link(LinkStatus::Up { system_id: 42 })]
+    ));
     d.tick(100);
     let out = d.take_outgoing();
     assert!(out.iter().any(|m| matches!(m, MavMessage::HEARTBEAT(h) if h.mavtype == MavType::MAV_TYPE_ONBOARD_CONTROLLER)));
@@ -217,12 +281,19 @@ fn move_is_nominal_within_the_acceptance_radius() {
     let dest = Enu::new(30.0, 40.0, 0.0);
     b.start(1, "move", to(dest));
     // Disarmed rover: ARM first, then DO_REPOSITION with the change-mode flag over COMMAND_INT.
-    assert!(matches!(&b.ap.seen[0], MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM));
-    let MavMessage::COMMAND_INT(rep) = &b.ap.seen[1] else { panic!("expected COMMAND_INT, got {:?}", b.ap.seen[1]) };
+    assert!(
+        matches!(&b.ap.seen[0], MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM)
+    );
+    let MavMessage::COMMAND_INT(rep) = &b.ap.seen[1] else {
+        panic!("expected COMMAND_INT, got {:?}", b.ap.seen[1])
+    };
     assert_eq!(rep.command, MavCmd::MAV_CMD_DO_REPOSITION);
     assert_eq!(rep.param2, 1.0);
     let (lat, lon, _) = b.d.config().home.to_global(dest);
-    assert_eq!((rep.x, rep.y), ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32));
+    assert_eq!(
+        (rep.x, rep.y),
+        ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32)
+    );
     let cfg = config();
     b.feed(position(&cfg, Enu::new(10.0, 10.0, 0.0)));
     assert!(b.report(1).is_none(), "not there yet");
@@ -242,9 +313,14 @@ fn stopped_move_is_interrupted_with_the_reached_position_and_holds() {
     b.settle();
     let r = b.report(1).expect("report");
     assert_eq!(r.status, ReportStatus::Interrupted);
-    let StateValue::Position(p) = &r.state[0].1 else { panic!("{:?}", r.state) };
+    let StateValue::Position(p) = &r.state[0].1 else {
+        panic!("{:?}", r.state)
+    };
     assert_eq!(r.state[0].0, "position");
-    assert!((p.east - 42.0).abs() < 0.1 && (p.north - 1.0).abs() < 0.1, "{p:?}");
+    assert!(
+        (p.east - 42.0).abs() < 0.1 && (p.north - 1.0).abs() < 0.1,
+        "{p:?}"
+    );
     assert_eq!(b.ap.mode, 4, "HOLD after END");
 }
 
@@ -253,11 +329,16 @@ fn move_fails_on_denied_reposition() {
     let mut b = Bench::new();
     b.ap.armed = true;
     b.feed(b.ap.heartbeat());
-    b.ap.results.push((MavCmd::MAV_CMD_DO_REPOSITION, MavResult::MAV_RESULT_DENIED));
+    b.ap.results
+        .push((MavCmd::MAV_CMD_DO_REPOSITION, MavResult::MAV_RESULT_DENIED));
     b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
     let r = b.report(1).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r.reason.as_deref().unwrap_or("").contains("DENIED"), "{:?}", r.reason);
+    assert!(
+        r.reason.as_deref().unwrap_or("").contains("DENIED"),
+        "{:?}",
+        r.reason
+    );
 }
 
 #[test]
@@ -270,7 +351,14 @@ fn move_fails_on_a_foreign_mode_change() {
     b.feed(b.ap.heartbeat());
     let r = b.report(1).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r.reason.as_deref().unwrap_or("").contains("foreign mode change"), "{:?}", r.reason);
+    assert!(
+        r.reason
+            .as_deref()
+            .unwrap_or("")
+            .contains("foreign mode change"),
+        "{:?}",
+        r.reason
+    );
 }
 
 #[test]
@@ -279,10 +367,19 @@ fn an_error_statustext_fails_the_running_action() {
     b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
     let mut text = [0u8; 50];
     text[..19].copy_from_slice(b"no map available!!!");
-    b.feed(MavMessage::STATUSTEXT(STATUSTEXT_DATA { severity: MavSeverity::MAV_SEVERITY_ERROR, text: text.into(), id: 0, chunk_seq: 0 }));
+    b.feed(MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+        severity: MavSeverity::MAV_SEVERITY_ERROR,
+        text: text.into(),
+        id: 0,
+        chunk_seq: 0,
+    }));
     let r = b.report(1).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r.reason.as_deref().unwrap_or("").contains("no map available"));
+    assert!(r
+        .reason
+        .as_deref()
+        .unwrap_or("")
+        .contains("no map available"));
 }
 
 #[test]
@@ -293,30 +390,49 @@ fn command_without_ack_is_retried_with_confirmation_then_fails() {
     for _ in 0..5 {
         b.tick(1000);
     }
-    let confirmations: Vec<u8> = b.ap.seen.iter().filter_map(|m| match m {
-        MavMessage::COMMAND_LONG(c) => Some(c.confirmation),
-        _ => None,
-    }).collect();
+    let confirmations: Vec<u8> =
+        b.ap.seen
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::COMMAND_LONG(c) => Some(c.confirmation),
+                _ => None,
+            })
+            .collect();
     assert_eq!(confirmations, vec![0, 1, 2, 3]);
     let r = b.report(1).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r.reason.as_deref().unwrap_or("").contains("no COMMAND_ACK"), "{:?}", r.reason);
+    assert!(
+        r.reason.as_deref().unwrap_or("").contains("no COMMAND_ACK"),
+        "{:?}",
+        r.reason
+    );
 }
 
 #[test]
 fn survey_uploads_a_lawnmower_runs_auto_and_ends_on_the_last_item_reached() {
     let mut b = Bench::new();
-    b.start(3, "survey", vec![("area", Arg::location("Z1", Enu::new(50.0, 50.0, 0.0)))]);
+    b.start(
+        3,
+        "survey",
+        vec![("area", Arg::location("Z1", Enu::new(50.0, 50.0, 0.0)))],
+    );
     // 40 x 30 m at 10 m spacing: 4 rows of 2 points, plus item 0 for home.
     assert_eq!(b.ap.mission.len(), 9);
     let first = &b.ap.mission[1];
     let (lat, lon, _) = b.d.config().home.to_global(Enu::new(30.0, 35.0, 0.0));
-    assert_eq!((first.x, first.y), ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32));
+    assert_eq!(
+        (first.x, first.y),
+        ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32)
+    );
     assert!(b.ap.seen.iter().any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT && c.param1 == 1.0)));
     assert_eq!(b.ap.mode, 10, "AUTO");
-    b.feed(MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: 7 }));
+    b.feed(MavMessage::MISSION_ITEM_REACHED(
+        MISSION_ITEM_REACHED_DATA { seq: 7 },
+    ));
     assert!(b.report(3).is_none());
-    b.feed(MavMessage::MISSION_ITEM_REACHED(MISSION_ITEM_REACHED_DATA { seq: 8 }));
+    b.feed(MavMessage::MISSION_ITEM_REACHED(
+        MISSION_ITEM_REACHED_DATA { seq: 8 },
+    ));
     assert_eq!(b.report(3).expect("report").status, ReportStatus::Nominal);
 }
 
@@ -332,7 +448,11 @@ fn take_picture_nominal_failed_on_capture_result_and_on_timeout() {
     b.start(5, "take_picture", vec![]);
     let r = b.report(5).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r.reason.as_deref().unwrap_or("").contains("capture_result 0"));
+    assert!(r
+        .reason
+        .as_deref()
+        .unwrap_or("")
+        .contains("capture_result 0"));
 
     let mut b = Bench::new();
     b.ap.capture = None;
@@ -342,17 +462,27 @@ fn take_picture_nominal_failed_on_capture_result_and_on_timeout() {
     b.tick(5001);
     let r = b.report(6).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r.reason.as_deref().unwrap_or("").contains("within"), "{:?}", r.reason);
+    assert!(
+        r.reason.as_deref().unwrap_or("").contains("within"),
+        "{:?}",
+        r.reason
+    );
 }
 
 #[test]
 fn sample_runs_its_servo_sequence() {
     let mut b = Bench::new();
     b.start(7, "sample", vec![]);
-    let servo: Vec<(f32, f32)> = b.ap.seen.iter().filter_map(|m| match m {
-        MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_DO_SET_SERVO => Some((c.param1, c.param2)),
-        _ => None,
-    }).collect();
+    let servo: Vec<(f32, f32)> =
+        b.ap.seen
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_DO_SET_SERVO => {
+                    Some((c.param1, c.param2))
+                }
+                _ => None,
+            })
+            .collect();
     assert_eq!(servo, vec![(9.0, 1900.0)]);
     b.tick(1999);
     assert!(b.report(7).is_none());
@@ -385,7 +515,12 @@ fn recharge_holds_until_the_battery_level_and_reports_it() {
     let mut b = Bench::new();
     b.start(9, "recharge", vec![("level", Arg::Number(80.0))]);
     assert_eq!(b.ap.mode, 4, "HOLD");
-    let battery = |pct| MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA { battery_remaining: pct, ..Default::default() });
+    let battery = |pct| {
+        MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
+            battery_remaining: pct,
+            ..Default::default()
+        })
+    };
     b.feed(battery(70));
     assert!(b.report(9).is_none());
     b.feed(battery(81));
@@ -398,43 +533,81 @@ fn recharge_holds_until_the_battery_level_and_reports_it() {
 #[test]
 fn download_polls_storage_until_emptied_and_capacity_changes_are_reported() {
     let mut b = Bench::new();
-    let storage = |used: f32, total: f32| MavMessage::STORAGE_INFORMATION(STORAGE_INFORMATION_DATA {
-        total_capacity: total,
-        used_capacity: used,
-        available_capacity: total - used,
-        ..Default::default()
-    });
+    let storage = |used: f32, total: f32| {
+        MavMessage::STORAGE_INFORMATION(STORAGE_INFORMATION_DATA {
+            total_capacity: total,
+            used_capacity: used,
+            available_capacity: total - used,
+            ..Default::default()
+        })
+    };
     b.feed(storage(300.0, 1000.0));
     b.start(10, "download", vec![]);
-    assert!(b.ap.seen.iter().any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_USER_1)));
+    assert!(b
+        .ap
+        .seen
+        .iter()
+        .any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_USER_1)));
     b.tick(1000);
     let polls = b.ap.seen.iter().filter(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_REQUEST_MESSAGE)).count();
     assert!(polls >= 2, "polled {polls} times");
     b.feed(storage(100.0, 800.0));
     assert!(b.report(10).is_none());
-    assert!(b.events.iter().any(|e| matches!(e, VehicleEvent::Capacity(c) if c.resource == "storage" && c.delta == -200.0)));
+    assert!(b.events.iter().any(
+        |e| matches!(e, VehicleEvent::Capacity(c) if c.resource == "storage" && c.delta == -200.0)
+    ));
     b.feed(storage(0.0, 800.0));
     let r = b.report(10).expect("report");
     assert_eq!(r.status, ReportStatus::Nominal);
-    assert!(r.resources.iter().any(|l| l.resource == "storage" && l.level == 800.0));
+    assert!(r
+        .resources
+        .iter()
+        .any(|l| l.resource == "storage" && l.level == 800.0));
 }
 
 #[test]
 fn link_loss_by_heartbeat_timeout_then_recovery() {
     let mut b = Bench::new();
     b.tick(3000);
-    assert!(!b.events.iter().any(|e| matches!(e, VehicleEvent::Link(LinkStatus::Lost))));
+    assert!(!b
+        .events
+        .iter()
+        .any(|e| matches!(e, VehicleEvent::Link(LinkStatus::Lost))));
     b.tick(1);
-    assert!(b.events.iter().any(|e| matches!(e, VehicleEvent::Link(LinkStatus::Lost))));
+    assert!(b
+        .events
+        .iter()
+        .any(|e| matches!(e, VehicleEvent::Link(LinkStatus::Lost))));
     b.feed(b.ap.heartbeat());
-    assert!(matches!(b.events.last(), Some(VehicleEvent::Link(LinkStatus::Recovered))));
+    assert!(matches!(
+        b.events.last(),
+        Some(VehicleEvent::Link(LinkStatus::Recovered))
+    ));
 }
 
 #[test]
 fn unknown_task_and_bad_arguments_are_refused_at_start() {
     let mut d = Driver::new(config());
-    let e = d.start(ActionStart { id: 1, task: "fly".into(), args: vec![] }, 0).unwrap_err();
+    let e = d
+        .start(
+            ActionStart {
+                id: 1,
+                task: "fly".into(),
+                args: vec![],
+            },
+            0,
+        )
+        .unwrap_err();
     assert!(e.to_string().contains("no binding for task `fly`"));
-    let e = d.start(ActionStart { id: 1, task: "move".into(), args: vec![] }, 0).unwrap_err();
+    let e = d
+        .start(
+            ActionStart {
+                id: 1,
+                task: "move".into(),
+                args: vec![],
+            },
+            0,
+        )
+        .unwrap_err();
     assert!(e.to_string().contains("location argument `to`"), "{e}");
 }

@@ -22,37 +22,75 @@ const PLAN: &str = r#"{
 fn plan_maps_to_goals_with_attributes_and_locations() {
     let f = parse_plan(PLAN, "g.plan").expect("valid plan");
     let home = f.home.expect("planned home");
-    assert_eq!(home, Home { lat: 43.5616, lon: 1.4847, alt: 150.0 });
+    assert_eq!(
+        home,
+        Home {
+            lat: 43.5616,
+            lon: 1.4847,
+            alt: 150.0
+        }
+    );
     assert_eq!(f.items.len(), 3);
     let mut known = KnownLocations::new(home);
     let l7 = home.to_local(43.5617, 1.4848, 150.0);
-    known.objects.push(("L7".into(), Enu::new(l7.east + 0.5, l7.north, 0.0)));
+    known
+        .objects
+        .push(("L7".into(), Enu::new(l7.east + 0.5, l7.north, 0.0)));
     let goals = items_to_goals(&f.items, &known, 6).expect("goals");
     assert_eq!(goals.len(), 2);
     assert_eq!(goals[0].name, "g6");
     assert_eq!(goals[0].kind, GoalKind::PictureOf);
     assert_eq!(goals[0].proposition, "picture_of(L7)");
-    assert_eq!((goals[0].priority, goals[0].start_window_s, goals[0].d_achiev_s), (3, (0.0, 600.0), 120.0));
+    assert_eq!(
+        (
+            goals[0].priority,
+            goals[0].start_window_s,
+            goals[0].d_achiev_s
+        ),
+        (3, (0.0, 600.0), 120.0)
+    );
     let loc = goals[1].location.as_ref().expect("position");
     assert!(loc.new, "no known object there: a new location");
     assert_eq!(loc.name, "g7_loc");
     assert_eq!(goals[1].proposition, "at(g7_loc)");
-    assert_eq!(goals[1].priority, 1, "attributes apply to the next item only");
+    assert_eq!(
+        goals[1].priority, 1,
+        "attributes apply to the next item only"
+    );
 }
 
 #[test]
 fn malformed_plans_name_the_json_place() {
-    let err = parse_plan("{\"fileType\": \"Plan\",\n \"mission\": [1, 2,}", "bad.plan").unwrap_err();
+    let err = parse_plan(
+        "{\"fileType\": \"Plan\",\n \"mission\": [1, 2,}",
+        "bad.plan",
+    )
+    .unwrap_err();
     assert!(err.place.starts_with("bad.plan:2:"), "{err}");
     let bad_param = PLAN.replace("[0, 0, 1, 0, 43.5617", "[0, \"x\", 1, 0, 43.5617");
     let err = parse_plan(&bad_param, "p.plan").unwrap_err();
-    assert_eq!(err.to_string(), "p.plan: mission.items[1].params[1]: expected a number or null");
-    let six = PLAN.replace("[0, 0, 0, null, 43.5620, 1.4850, 0]", "[0, 0, 0, 43.5620, 1.4850, 0]");
+    assert_eq!(
+        err.to_string(),
+        "p.plan: mission.items[1].params[1]: expected a number or null"
+    );
+    let six = PLAN.replace(
+        "[0, 0, 0, null, 43.5620, 1.4850, 0]",
+        "[0, 0, 0, 43.5620, 1.4850, 0]",
+    );
     let err = parse_plan(&six, "p.plan").unwrap_err();
-    assert_eq!(err.to_string(), "p.plan: mission.items[2].params: expected an array of 7 numbers");
+    assert_eq!(
+        err.to_string(),
+        "p.plan: mission.items[2].params: expected an array of 7 numbers"
+    );
     let err = parse_plan(&PLAN.replace("\"Plan\"", "\"Fence\""), "p.plan").unwrap_err();
-    assert!(err.to_string().contains("fileType: expected \"Plan\""), "{err}");
-    let complex = PLAN.replace("\"type\": \"SimpleItem\", \"command\": 16", "\"type\": \"ComplexItem\", \"command\": 16");
+    assert!(
+        err.to_string().contains("fileType: expected \"Plan\""),
+        "{err}"
+    );
+    let complex = PLAN.replace(
+        "\"type\": \"SimpleItem\", \"command\": 16",
+        "\"type\": \"ComplexItem\", \"command\": 16",
+    );
     let err = parse_plan(&complex, "p.plan").unwrap_err();
     assert!(err.to_string().contains("mission.items[2].type"), "{err}");
 }
@@ -62,50 +100,98 @@ const WAYPOINTS: &str = "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t43.5616\t1.4847\t
 #[test]
 fn waypoints_row_zero_is_home_and_others_are_goals() {
     let f = parse_waypoints(WAYPOINTS, "w.waypoints").expect("valid");
-    assert_eq!(f.home, Some(Home { lat: 43.5616, lon: 1.4847, alt: 150.0 }));
-    let goals = items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).expect("goals");
-    assert_eq!(goals.iter().map(|g| g.kind).collect::<Vec<_>>(), vec![GoalKind::BeAt, GoalKind::ReturnHome]);
+    assert_eq!(
+        f.home,
+        Some(Home {
+            lat: 43.5616,
+            lon: 1.4847,
+            alt: 150.0
+        })
+    );
+    let goals =
+        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).expect("goals");
+    assert_eq!(
+        goals.iter().map(|g| g.kind).collect::<Vec<_>>(),
+        vec![GoalKind::BeAt, GoalKind::ReturnHome]
+    );
     assert_eq!(goals[1].proposition, "at(home)");
 }
 
 #[test]
 fn malformed_waypoints_give_line_and_column() {
     let err = parse_waypoints("QGC WPX\n", "w.waypoints").unwrap_err();
-    assert!(err.to_string().starts_with("w.waypoints:1:1: expected the header"), "{err}");
+    assert!(
+        err.to_string()
+            .starts_with("w.waypoints:1:1: expected the header"),
+        "{err}"
+    );
     let bad = WAYPOINTS.replace("43.5620", "43.56x0");
     let err = parse_waypoints(&bad, "w.waypoints").unwrap_err();
-    assert_eq!(err.to_string(), "w.waypoints:3:18: LAT: `43.56x0` is not a number");
+    assert_eq!(
+        err.to_string(),
+        "w.waypoints:3:18: LAT: `43.56x0` is not a number"
+    );
     let short = "QGC WPL 110\n1\t0\t3\t16\t0\t0\n";
     let err = parse_waypoints(short, "w.waypoints").unwrap_err();
-    assert_eq!(err.to_string(), "w.waypoints:2:1: expected 12 tab-separated fields, found 6");
+    assert_eq!(
+        err.to_string(),
+        "w.waypoints:2:1: expected 12 tab-separated fields, found 6"
+    );
     let frame = WAYPOINTS.replace("1\t0\t3\t16", "1\t0\t300\t16");
     let err = parse_waypoints(&frame, "w.waypoints").unwrap_err();
-    assert!(err.to_string().starts_with("w.waypoints:3:5: FRAME"), "{err}");
+    assert!(
+        err.to_string().starts_with("w.waypoints:3:5: FRAME"),
+        "{err}"
+    );
 }
 
 #[test]
 fn items_that_cannot_be_goals_are_refused_with_the_item() {
-    let f = parse_waypoints(&WAYPOINTS.replace("1\t0\t3\t16", "1\t0\t3\t183"), "w").expect("parses");
-    let err = items_to_goals(&f.items, &KnownLocations::new(Home { lat: 0.0, lon: 0.0, alt: 0.0 }), 1).unwrap_err();
+    let f =
+        parse_waypoints(&WAYPOINTS.replace("1\t0\t3\t16", "1\t0\t3\t183"), "w").expect("parses");
+    let err = items_to_goals(
+        &f.items,
+        &KnownLocations::new(Home {
+            lat: 0.0,
+            lon: 0.0,
+            alt: 0.0,
+        }),
+        1,
+    )
+    .unwrap_err();
     assert_eq!(err.seq, 0);
     assert!(err.reason.contains("183 is not a goal"), "{err}");
 }
 
 #[test]
 fn syntactic_decider_rejects_a_window_ending_before_reachable() {
-    let f = parse_plan(&PLAN.replace("[3, 0, 600, 0, 120", "[3, 0, 60, 0, 120"), "p").expect("valid");
-    let goals = items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).expect("goals");
-    assert_eq!(SyntacticDecider::verdict(&goals[0]), GoalVerdict::Rejected("window ends before reachable".into()));
+    let f = parse_plan(
+        &PLAN.replace("[3, 0, 600, 0, 120", "[3, 0, 60, 0, 120"),
+        "p",
+    )
+    .expect("valid");
+    let goals =
+        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).expect("goals");
+    assert_eq!(
+        SyntacticDecider::verdict(&goals[0]),
+        GoalVerdict::Rejected("window ends before reachable".into())
+    );
     assert_eq!(SyntacticDecider::verdict(&goals[1]), GoalVerdict::Accepted);
 }
 
 fn shipped(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/config/{name}", env!("CARGO_MANIFEST_DIR"))).expect("shipped config")
+    std::fs::read_to_string(format!("{}/config/{name}", env!("CARGO_MANIFEST_DIR")))
+        .expect("shipped config")
 }
 
 #[test]
 fn shipped_configs_parse_and_px4_modes_follow_px4_numbering() {
-    for name in ["sitl-rover.toml", "ardupilot-rover.toml", "px4-rover.toml", "sitl-auv.toml"] {
+    for name in [
+        "sitl-rover.toml",
+        "ardupilot-rover.toml",
+        "px4-rover.toml",
+        "sitl-auv.toml",
+    ] {
         VehicleConfig::parse(&shipped(name), name).unwrap_or_else(|e| panic!("{e}"));
     }
     let px4 = VehicleConfig::parse(&shipped("px4-rover.toml"), "px4").expect("parses");
@@ -119,15 +205,41 @@ fn shipped_configs_parse_and_px4_modes_follow_px4_numbering() {
 #[test]
 fn malformed_configs_name_the_key() {
     let base = shipped("sitl-rover.toml");
-    let err = VehicleConfig::parse(&base.replace("acceptance_radius_m = 3.0\n\n[actions.survey]", "acceptance_radius_m = 3.0\nradius = 2\n\n[actions.survey]"), "c.toml").unwrap_err();
+    let err = VehicleConfig::parse(
+        &base.replace(
+            "acceptance_radius_m = 3.0\n\n[actions.survey]",
+            "acceptance_radius_m = 3.0\nradius = 2\n\n[actions.survey]",
+        ),
+        "c.toml",
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("unknown field `radius`"), "{err}");
     assert!(err.to_string().starts_with("c.toml: "), "{err}");
-    let err = VehicleConfig::parse(&base.replace("kind = \"sample\"", "kind = \"dance\""), "c.toml").unwrap_err();
+    let err = VehicleConfig::parse(
+        &base.replace("kind = \"sample\"", "kind = \"dance\""),
+        "c.toml",
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("dance"), "{err}");
-    let err = VehicleConfig::parse(&base.replace("spacing_m = 10.0", "spacing_m = 0.0"), "c.toml").unwrap_err();
-    assert_eq!(err.to_string(), "c.toml: actions.survey.spacing_m: must be > 0");
-    let err = VehicleConfig::parse(&base.replace("[link]\n", "[link]\nsigning_key = \"abc\"\n"), "c.toml").unwrap_err();
-    assert!(err.to_string().starts_with("c.toml: link.signing_key: expected 64 hex digits"), "{err}");
+    let err = VehicleConfig::parse(
+        &base.replace("spacing_m = 10.0", "spacing_m = 0.0"),
+        "c.toml",
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "c.toml: actions.survey.spacing_m: must be > 0"
+    );
+    let err = VehicleConfig::parse(
+        &base.replace("[link]\n", "[link]\nsigning_key = \"abc\"\n"),
+        "c.toml",
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("c.toml: link.signing_key: expected 64 hex digits"),
+        "{err}"
+    );
     let err = VehicleConfig::parse(&base.replace("hold = 4\n", ""), "c.toml").unwrap_err();
     assert!(err.to_string().contains("missing field `hold`"), "{err}");
 }

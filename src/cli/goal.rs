@@ -50,7 +50,11 @@ pub enum GoalCommand {
 }
 
 pub fn run(args: GoalArgs) -> ExitCode {
-    let rt = match tokio::runtime::Builder::new_multi_thread().worker_threads(1).enable_all().build() {
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+    {
         Ok(rt) => rt,
         Err(e) => {
             eprintln!("error: tokio runtime: {e}");
@@ -60,7 +64,12 @@ pub fn run(args: GoalArgs) -> ExitCode {
     match args.command {
         GoalCommand::Send { file, to, timeout } => rt.block_on(send(file, to, timeout)),
         GoalCommand::Check { file } => check(file),
-        GoalCommand::Serve { listen, home, system_id, tlog } => rt.block_on(serve(listen, home, system_id, tlog)),
+        GoalCommand::Serve {
+            listen,
+            home,
+            system_id,
+            tlog,
+        } => rt.block_on(serve(listen, home, system_id, tlog)),
     }
 }
 
@@ -72,13 +81,24 @@ fn check(file: PathBuf) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let home = parsed.home.unwrap_or(Home { lat: 0.0, lon: 0.0, alt: 0.0 });
+    let home = parsed.home.unwrap_or(Home {
+        lat: 0.0,
+        lon: 0.0,
+        alt: 0.0,
+    });
     match crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1) {
         Ok(goals) => {
             for g in goals {
                 println!(
                     "{}: {} priority {} window [{}, {}] s duration [{}, {}] s d_achiev {} s",
-                    g.name, g.proposition, g.priority, g.start_window_s.0, g.start_window_s.1, g.duration_s.0, g.duration_s.1, g.d_achiev_s
+                    g.name,
+                    g.proposition,
+                    g.priority,
+                    g.start_window_s.0,
+                    g.start_window_s.1,
+                    g.duration_s.0,
+                    g.duration_s.1,
+                    g.d_achiev_s
                 );
             }
             ExitCode::SUCCESS
@@ -130,7 +150,15 @@ async fn serve(listen: String, home: String, system_id: u8, tlog: Option<PathBuf
         return ExitCode::FAILURE;
     };
     let known = KnownLocations::new(Home { lat, lon, alt: 0.0 });
-    let server = match GoalServer::start(&listen, system_id, known, Decider::Local(Box::new(SyntacticDecider)), tlog).await {
+    let server = match GoalServer::start(
+        &listen,
+        system_id,
+        known,
+        Decider::Local(Box::new(SyntacticDecider)),
+        tlog,
+    )
+    .await
+    {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");

@@ -34,18 +34,30 @@ impl Ctx<'_> {
     fn set_mode(&mut self, id: ActionId, mode: Mode) {
         let (p2, p3) = mode.set_mode_params();
         // p1 = MAV_MODE_FLAG_CUSTOM_MODE_ENABLED.
-        let cmd = Command::long(MavCmd::MAV_CMD_DO_SET_MODE, self.target, [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0]);
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            self.target,
+            [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+        );
         self.command(id, cmd);
     }
 
     fn arm(&mut self, id: ActionId) {
-        let cmd = Command::long(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, self.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            self.target,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
         self.command(id, cmd);
     }
 
     fn request_storage(&mut self) {
         // MAV_CMD_REQUEST_MESSAGE(STORAGE_INFORMATION = 261); fire and forget (no owner waits on it).
-        let cmd = Command::long(MavCmd::MAV_CMD_REQUEST_MESSAGE, self.target, [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            self.target,
+            [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
         self.cmds.send(u64::MAX, cmd, self.now, self.out);
     }
 }
@@ -144,7 +156,13 @@ impl Run {
                 run.expect_mode = Some(ctx.cfg.modes.guided.custom_mode());
                 run.arm_or(ctx, Self::start_motion);
             }
-            Binding::Survey { area, width_m, height_m, spacing_m, .. } => {
+            Binding::Survey {
+                area,
+                width_m,
+                height_m,
+                spacing_m,
+                ..
+            } => {
                 let center = location_arg(start, area)?;
                 let pts = lawnmower(center, *width_m, *height_m, *spacing_m);
                 let home = ctx.cfg.home;
@@ -182,8 +200,14 @@ impl Run {
                     c.set_mode(r.id, rtl);
                 });
             }
-            Binding::Recharge { until_percent, level_arg } => {
-                run.target_level = start.arg(level_arg).and_then(|a| a.as_number()).unwrap_or(*until_percent);
+            Binding::Recharge {
+                until_percent,
+                level_arg,
+            } => {
+                run.target_level = start
+                    .arg(level_arg)
+                    .and_then(|a| a.as_number())
+                    .unwrap_or(*until_percent);
                 run.expect_mode = Some(ctx.cfg.modes.hold.custom_mode());
                 let hold = ctx.cfg.modes.hold;
                 ctx.set_mode(id, hold);
@@ -192,7 +216,10 @@ impl Run {
                 let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) else {
                     return Err(format!("command {command} unknown to the dialect"));
                 };
-                ctx.command(id, Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]));
+                ctx.command(
+                    id,
+                    Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+                );
             }
         }
         Ok(run)
@@ -233,7 +260,11 @@ impl Run {
     }
 
     fn servo(&mut self, ctx: &mut Ctx, step: usize, servo: u8, pwm: u16) {
-        let cmd = Command::long(MavCmd::MAV_CMD_DO_SET_SERVO, ctx.target, [f32::from(servo), f32::from(pwm), 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_SERVO,
+            ctx.target,
+            [f32::from(servo), f32::from(pwm), 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
         ctx.command(self.id, cmd);
         self.phase = Phase::Servo(step);
     }
@@ -249,9 +280,15 @@ impl Run {
     /// The action's state variables for a non-nominal report.
     fn state_values(&self, ctx: &Ctx) -> Vec<(String, StateValue)> {
         let pos_var = match &self.binding {
-            Binding::Move { position_variable, .. }
-            | Binding::Survey { position_variable, .. }
-            | Binding::ReturnHome { position_variable, .. } => Some(position_variable),
+            Binding::Move {
+                position_variable, ..
+            }
+            | Binding::Survey {
+                position_variable, ..
+            }
+            | Binding::ReturnHome {
+                position_variable, ..
+            } => Some(position_variable),
             _ => None,
         };
         let mut v = Vec::new();
@@ -261,14 +298,22 @@ impl Run {
         v
     }
 
-    pub fn on_command(&mut self, ctx: &mut Ctx, cmd: MavCmd, outcome: CommandOutcome) -> Option<End> {
+    pub fn on_command(
+        &mut self,
+        ctx: &mut Ctx,
+        cmd: MavCmd,
+        outcome: CommandOutcome,
+    ) -> Option<End> {
         let what = format!("{cmd:?}");
         match outcome {
             CommandOutcome::Rejected(r) => {
                 return Some(self.failed(ctx, format!("{what} refused: {}", result_name(r))))
             }
             CommandOutcome::TimedOut { tries } => {
-                return Some(self.failed(ctx, format!("no COMMAND_ACK for {what} after {tries} tries")))
+                return Some(self.failed(
+                    ctx,
+                    format!("no COMMAND_ACK for {what} after {tries} tries"),
+                ))
             }
             CommandOutcome::Accepted => {}
         }
@@ -312,7 +357,11 @@ impl Run {
 
     fn start_auto(&mut self, ctx: &mut Ctx) {
         // Start from the first real item (0 is home), then AUTO.
-        let cmd = Command::long(MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
+            ctx.target,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
         ctx.command(self.id, cmd);
         self.phase = Phase::SettingCurrent;
     }
@@ -341,7 +390,9 @@ impl Run {
                     if h.custom_mode == m {
                         self.mode_seen = true;
                     } else if self.mode_seen {
-                        return Some(self.failed(ctx, format!("foreign mode change to {}", h.custom_mode)));
+                        return Some(
+                            self.failed(ctx, format!("foreign mode change to {}", h.custom_mode)),
+                        );
                     }
                 }
                 None
@@ -349,18 +400,30 @@ impl Run {
             // An autopilot error (e.g. "no map available") ends motion; payload failures have their own
             // signals (capture_result, COMMAND_ACK) and must not fail a concurrent move.
             MavMessage::STATUSTEXT(s) if (s.severity as u8) <= 3 && self.is_motion() => {
-                let text = s.text.to_str().unwrap_or("").trim_end_matches('\0').to_string();
+                let text = s
+                    .text
+                    .to_str()
+                    .unwrap_or("")
+                    .trim_end_matches('\0')
+                    .to_string();
                 Some(self.failed(ctx, format!("autopilot error: {text}")))
             }
-            MavMessage::CAMERA_IMAGE_CAPTURED(c) if matches!(self.binding, Binding::TakePicture { .. }) => {
+            MavMessage::CAMERA_IMAGE_CAPTURED(c)
+                if matches!(self.binding, Binding::TakePicture { .. }) =>
+            {
                 ctx.request_storage();
                 if c.capture_result.bits() == 1 {
                     Some(End::nominal())
                 } else {
-                    Some(self.failed(ctx, format!("image {} not captured (capture_result 0)", c.image_index)))
+                    Some(self.failed(
+                        ctx,
+                        format!("image {} not captured (capture_result 0)", c.image_index),
+                    ))
                 }
             }
-            MavMessage::MISSION_ITEM_REACHED(r) if matches!(self.binding, Binding::Survey { .. }) => {
+            MavMessage::MISSION_ITEM_REACHED(r)
+                if matches!(self.binding, Binding::Survey { .. }) =>
+            {
                 (self.phase == Phase::Running && r.seq >= self.last_seq).then(End::nominal)
             }
             _ => None,
@@ -370,13 +433,30 @@ impl Run {
     /// Time passed / telemetry changed: recognise ends that are states (position, battery, storage).
     pub fn on_tick(&mut self, ctx: &mut Ctx) -> Option<End> {
         match (&self.binding, self.phase) {
-            (Binding::Move { acceptance_radius_m, .. }, Phase::Running)
-            | (Binding::ReturnHome { acceptance_radius_m, .. }, Phase::Running) => {
+            (
+                Binding::Move {
+                    acceptance_radius_m,
+                    ..
+                },
+                Phase::Running,
+            )
+            | (
+                Binding::ReturnHome {
+                    acceptance_radius_m,
+                    ..
+                },
+                Phase::Running,
+            ) => {
                 let (p, g) = (ctx.tel.position?, self.goal?);
                 (p.horizontal_distance(&g) <= *acceptance_radius_m).then(End::nominal)
             }
-            (Binding::TakePicture { timeout_ms, .. }, _) if ctx.vnow.saturating_sub(self.started_ms) > *timeout_ms => {
-                Some(self.failed(ctx, format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms")))
+            (Binding::TakePicture { timeout_ms, .. }, _)
+                if ctx.vnow.saturating_sub(self.started_ms) > *timeout_ms =>
+            {
+                Some(self.failed(
+                    ctx,
+                    format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms"),
+                ))
             }
             (Binding::Sample { steps }, Phase::Holding(i, until)) if ctx.vnow >= until => {
                 if i + 1 == steps.len() {
@@ -390,7 +470,14 @@ impl Run {
             (Binding::Recharge { .. }, Phase::Running) => {
                 (ctx.tel.battery_percent? >= self.target_level).then(End::nominal)
             }
-            (Binding::Download { until_used, poll_ms, .. }, Phase::Running) => {
+            (
+                Binding::Download {
+                    until_used,
+                    poll_ms,
+                    ..
+                },
+                Phase::Running,
+            ) => {
                 if ctx.tel.storage_used.is_some_and(|u| u <= *until_used) {
                     return Some(End::nominal());
                 }
@@ -407,7 +494,10 @@ impl Run {
     fn is_motion(&self) -> bool {
         matches!(
             self.binding,
-            Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. } | Binding::Recharge { .. }
+            Binding::Move { .. }
+                | Binding::Survey { .. }
+                | Binding::ReturnHome { .. }
+                | Binding::Recharge { .. }
         )
     }
 
@@ -417,7 +507,12 @@ impl Run {
         ctx.cmds.cancel(self.id);
         if let Binding::Download { command, .. } = self.binding {
             if let Some(cmd) = num_traits::FromPrimitive::from_u16(command) {
-                ctx.cmds.send(u64::MAX, Command::long(cmd, ctx.target, [0.0; 7]), ctx.now, ctx.out);
+                ctx.cmds.send(
+                    u64::MAX,
+                    Command::long(cmd, ctx.target, [0.0; 7]),
+                    ctx.now,
+                    ctx.out,
+                );
             }
         }
         if matches!(
@@ -427,7 +522,11 @@ impl Run {
             let hold = ctx.cfg.modes.hold;
             // The HOLD's ACK is nobody's business once the action ended: owner u64::MAX.
             let (p2, p3) = hold.set_mode_params();
-            let cmd = Command::long(MavCmd::MAV_CMD_DO_SET_MODE, ctx.target, [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0]);
+            let cmd = Command::long(
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                ctx.target,
+                [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+            );
             ctx.cmds.send(u64::MAX, cmd, ctx.now, ctx.out);
         }
         End {

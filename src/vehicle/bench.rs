@@ -4,8 +4,8 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::ardupilotmega::{
-    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, BATTERY_STATUS_DATA, GLOBAL_POSITION_INT_DATA,
-    HEARTBEAT_DATA, SYSTEM_TIME_DATA, SYS_STATUS_DATA,
+    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, BATTERY_STATUS_DATA,
+    GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, SYSTEM_TIME_DATA, SYS_STATUS_DATA,
 };
 use tokio::io::AsyncWriteExt;
 
@@ -13,9 +13,8 @@ use super::config::VehicleConfig;
 use super::driver::COMPANION_COMPONENT;
 use super::endpoint::{Address, Transport};
 use super::frame::{Encoder, FrameDecoder};
-use super::goals::{KnownLocations, SyntacticDecider};
 use super::items::MissionItem;
-use super::link::{Decider, GoalServer, LinkOptions, MavlinkVehicle};
+use super::link::{GoalServer, LinkOptions, MavlinkVehicle};
 use super::mission_client::{MissionClient, MissionOutcome};
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -60,9 +59,15 @@ pub fn run_link_bench(upload_runs: usize, telemetry_msgs: u64) -> Result<LinkBen
 }
 
 async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
-    let home = super::geo::Home { lat: 43.56, lon: 1.48, alt: 0.0 };
-    let server = GoalServer::start("tcpin:127.0.0.1:0", 1, KnownLocations::new(home), Decider::Local(Box::new(SyntacticDecider)), None).await?;
-    let addr = server.local_addr.ok_or_else(|| BenchError::Protocol("no local address".into()))?;
+    let home = super::geo::Home {
+        lat: 43.56,
+        lon: 1.48,
+        alt: 0.0,
+    };
+    let server = GoalServer::syntactic("tcpin:127.0.0.1:0", home).await?;
+    let addr = server
+        .local_addr
+        .ok_or_else(|| BenchError::Protocol("no local address".into()))?;
     let mut transport = Transport::bind(Address::TcpOut(addr.to_string())).await?;
     let mut ep = transport.open().await?;
     let items: Vec<MissionItem> = (0..100)
@@ -77,7 +82,12 @@ async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
         let mut client = MissionClient::new((1, COMPANION_COMPONENT), 1500, 5);
         let mut out = Vec::new();
         let t0 = Instant::now();
-        client.upload(0, items.clone(), epoch.elapsed().as_millis() as u64, &mut out);
+        client.upload(
+            0,
+            items.clone(),
+            epoch.elapsed().as_millis() as u64,
+            &mut out,
+        );
         'run: loop {
             for m in out.drain(..) {
                 ep.send(&enc.encode(&m, false)).await?;
@@ -91,10 +101,14 @@ async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
             dec.push(&buf[..n]);
             while let Some(f) = dec.next_frame() {
                 let Some(msg) = f.parse() else { continue };
-                if let Some((_, outcome)) = client.handle(&msg, epoch.elapsed().as_millis() as u64, &mut out) {
+                if let Some((_, outcome)) =
+                    client.handle(&msg, epoch.elapsed().as_millis() as u64, &mut out)
+                {
                     match outcome {
                         MissionOutcome::Uploaded => break 'run,
-                        other => return Err(BenchError::Protocol(format!("upload failed: {other:?}"))),
+                        other => {
+                            return Err(BenchError::Protocol(format!("upload failed: {other:?}")))
+                        }
                     }
                 }
             }
@@ -150,7 +164,9 @@ async fn bench_telemetry(n: u64) -> Result<f64, BenchError> {
     let mut cfg = VehicleConfig::parse(BENCH_CONFIG, "config/sitl-rover.toml")?;
     cfg.link.address = "tcpin:127.0.0.1:0".into();
     let vehicle = MavlinkVehicle::connect(cfg, LinkOptions::default()).await?;
-    let addr = vehicle.local_addr().ok_or_else(|| BenchError::Protocol("no local address".into()))?;
+    let addr = vehicle
+        .local_addr()
+        .ok_or_else(|| BenchError::Protocol("no local address".into()))?;
     let stream = telemetry_stream(n);
     let mut sock = tokio::net::TcpStream::connect(addr).await?;
     let t0 = Instant::now();
@@ -161,12 +177,16 @@ async fn bench_telemetry(n: u64) -> Result<f64, BenchError> {
     let deadline = t0 + Duration::from_secs(60);
     while vehicle.stats().frames_in.load(Ordering::Relaxed) < n {
         if Instant::now() > deadline {
-            return Err(BenchError::Protocol("telemetry not all processed within 60 s".into()));
+            return Err(BenchError::Protocol(
+                "telemetry not all processed within 60 s".into(),
+            ));
         }
         tokio::time::sleep(Duration::from_micros(200)).await;
     }
     let elapsed = t0.elapsed().as_secs_f64();
-    let (_sock, r) = writer.await.map_err(|e| BenchError::Protocol(e.to_string()))?;
+    let (_sock, r) = writer
+        .await
+        .map_err(|e| BenchError::Protocol(e.to_string()))?;
     r?;
     Ok(n as f64 / elapsed)
 }

@@ -1,7 +1,9 @@
 //! Command protocol client: COMMAND_LONG / COMMAND_INT → COMMAND_ACK, re-sent on ACK timeout (COMMAND_LONG with
 //! `confirmation` incremented), IN_PROGRESS extending the wait, a give-up after the configured retries.
 
-use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA};
+use mavlink::dialects::ardupilotmega::{
+    MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA,
+};
 
 /// Who asked for a command (an action id, or an internal request).
 pub type Token = u64;
@@ -50,7 +52,9 @@ pub enum CommandOutcome {
     /// DENIED, FAILED, UNSUPPORTED, ... with the result.
     Rejected(MavResult),
     /// No ACK after all retries.
-    TimedOut { tries: u32 },
+    TimedOut {
+        tries: u32,
+    },
 }
 
 #[derive(Debug)]
@@ -96,8 +100,15 @@ impl CommandClient {
     }
 
     /// Matches an ACK to the oldest pending command with the same id.
-    pub fn on_ack(&mut self, ack: &COMMAND_ACK_DATA, now: u64) -> Option<(Token, MavCmd, CommandOutcome)> {
-        let i = self.pending.iter().position(|p| p.cmd.id() == ack.command)?;
+    pub fn on_ack(
+        &mut self,
+        ack: &COMMAND_ACK_DATA,
+        now: u64,
+    ) -> Option<(Token, MavCmd, CommandOutcome)> {
+        let i = self
+            .pending
+            .iter()
+            .position(|p| p.cmd.id() == ack.command)?;
         match ack.result {
             MavResult::MAV_RESULT_IN_PROGRESS => {
                 // Still working: re-sending would start it again.
@@ -117,7 +128,11 @@ impl CommandClient {
     }
 
     /// Re-sends what timed out; returns the commands given up on.
-    pub fn tick(&mut self, now: u64, out: &mut Vec<MavMessage>) -> Vec<(Token, MavCmd, CommandOutcome)> {
+    pub fn tick(
+        &mut self,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Vec<(Token, MavCmd, CommandOutcome)> {
         let mut gave_up = Vec::new();
         let (timeout, retries) = (self.ack_timeout_ms, self.retries);
         self.pending.retain_mut(|p| {
@@ -125,7 +140,11 @@ impl CommandClient {
                 return true;
             }
             if p.tries > retries {
-                gave_up.push((p.token, p.cmd.id(), CommandOutcome::TimedOut { tries: p.tries }));
+                gave_up.push((
+                    p.token,
+                    p.cmd.id(),
+                    CommandOutcome::TimedOut { tries: p.tries },
+                ));
                 return false;
             }
             if let Command::Long(c) = &mut p.cmd {
@@ -156,7 +175,16 @@ mod tests {
     fn retries_with_confirmation_incremented_then_gives_up() {
         let mut c = CommandClient::new(100, 2);
         let mut out = Vec::new();
-        c.send(7, Command::long(MavCmd::MAV_CMD_DO_SET_MODE, (1, 1), [1.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0]), 0, &mut out);
+        c.send(
+            7,
+            Command::long(
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                (1, 1),
+                [1.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            0,
+            &mut out,
+        );
         assert!(c.tick(99, &mut out).is_empty());
         assert_eq!(out.len(), 1);
         assert!(c.tick(100, &mut out).is_empty());
@@ -170,19 +198,56 @@ mod tests {
             .collect();
         assert_eq!(confirmations, vec![0, 1, 2]);
         let gave_up = c.tick(300, &mut out);
-        assert_eq!(gave_up, vec![(7, MavCmd::MAV_CMD_DO_SET_MODE, CommandOutcome::TimedOut { tries: 3 })]);
+        assert_eq!(
+            gave_up,
+            vec![(
+                7,
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                CommandOutcome::TimedOut { tries: 3 }
+            )]
+        );
     }
 
     #[test]
     fn in_progress_extends_and_result_is_delivered() {
         let mut c = CommandClient::new(100, 0);
         let mut out = Vec::new();
-        c.send(1, Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [0.0; 7]), 0, &mut out);
-        assert_eq!(c.on_ack(&ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_IN_PROGRESS), 90), None);
-        assert!(c.tick(10_000, &mut out).is_empty(), "in progress: no re-send, no give-up");
+        c.send(
+            1,
+            Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [0.0; 7]),
+            0,
+            &mut out,
+        );
+        assert_eq!(
+            c.on_ack(
+                &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_IN_PROGRESS),
+                90
+            ),
+            None
+        );
+        assert!(
+            c.tick(10_000, &mut out).is_empty(),
+            "in progress: no re-send, no give-up"
+        );
         assert_eq!(out.len(), 1);
-        let got = c.on_ack(&ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_DENIED), 160);
-        assert_eq!(got, Some((1, MavCmd::MAV_CMD_USER_1, CommandOutcome::Rejected(MavResult::MAV_RESULT_DENIED))));
-        assert_eq!(c.on_ack(&ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_ACCEPTED), 170), None);
+        let got = c.on_ack(
+            &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_DENIED),
+            160,
+        );
+        assert_eq!(
+            got,
+            Some((
+                1,
+                MavCmd::MAV_CMD_USER_1,
+                CommandOutcome::Rejected(MavResult::MAV_RESULT_DENIED)
+            ))
+        );
+        assert_eq!(
+            c.on_ack(
+                &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_ACCEPTED),
+                170
+            ),
+            None
+        );
     }
 }

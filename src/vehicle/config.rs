@@ -97,7 +97,11 @@ fn d_reconnect() -> u64 {
 #[serde(untagged)]
 pub enum Mode {
     Number(u32),
-    Px4 { main: u8, #[serde(default)] sub: u8 },
+    Px4 {
+        main: u8,
+        #[serde(default)]
+        sub: u8,
+    },
 }
 
 impl Mode {
@@ -278,31 +282,50 @@ impl VehicleConfig {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
         if !(-90.0..=90.0).contains(&self.home.lat) || !(-180.0..=180.0).contains(&self.home.lon) {
-            return Err(invalid("home".into(), "lat must be in [-90, 90] and lon in [-180, 180]"));
+            return Err(invalid(
+                "home".into(),
+                "lat must be in [-90, 90] and lon in [-180, 180]",
+            ));
         }
         for (task, b) in &self.actions {
             let key = |k: &str| format!("actions.{task}.{k}");
             match b {
-                Binding::Move { acceptance_radius_m, .. } | Binding::ReturnHome { acceptance_radius_m, .. }
-                    if !(*acceptance_radius_m > 0.0) =>
-                {
+                Binding::Move {
+                    acceptance_radius_m,
+                    ..
+                }
+                | Binding::ReturnHome {
+                    acceptance_radius_m,
+                    ..
+                } if acceptance_radius_m.is_nan() || *acceptance_radius_m <= 0.0 => {
                     return Err(invalid(key("acceptance_radius_m"), "must be > 0"));
                 }
-                Binding::Survey { spacing_m, width_m, height_m, .. } => {
-                    if !(*spacing_m > 0.0) {
+                Binding::Survey {
+                    spacing_m,
+                    width_m,
+                    height_m,
+                    ..
+                } => {
+                    if spacing_m.is_nan() || *spacing_m <= 0.0 {
                         return Err(invalid(key("spacing_m"), "must be > 0"));
                     }
-                    if !(*width_m > 0.0 && *height_m > 0.0) {
+                    if width_m.is_nan() || height_m.is_nan() || *width_m <= 0.0 || *height_m <= 0.0
+                    {
                         return Err(invalid(key("width_m"), "width_m and height_m must be > 0"));
                     }
                     if width_m / spacing_m > 500.0 {
-                        return Err(invalid(key("spacing_m"), "more than 500 legs: spacing too small"));
+                        return Err(invalid(
+                            key("spacing_m"),
+                            "more than 500 legs: spacing too small",
+                        ));
                     }
                 }
                 Binding::Sample { steps } if steps.is_empty() => {
                     return Err(invalid(key("steps"), "needs at least one servo step"));
                 }
-                Binding::Recharge { until_percent, .. } if !(0.0..=100.0).contains(until_percent) => {
+                Binding::Recharge { until_percent, .. }
+                    if !(0.0..=100.0).contains(until_percent) =>
+                {
                     return Err(invalid(key("until_percent"), "must be in [0, 100]"));
                 }
                 _ => {}

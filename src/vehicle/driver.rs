@@ -17,6 +17,23 @@ use super::mission_client::MissionClient;
 use super::telemetry::Telemetry;
 use super::types::{ActionId, ActionReport, ActionStart, LinkStatus, VehicleEvent};
 
+/// The context of an action run: borrows the driver's parts beside `runs` (a macro, as a method would
+/// borrow all of `self`).
+macro_rules! ctx {
+    ($d:ident, $now:expr) => {
+        Ctx {
+            now: $now,
+            vnow: $d.tel.time_boot_ms.unwrap_or($now),
+            cfg: &$d.cfg,
+            tel: &$d.tel,
+            cmds: &mut $d.cmds,
+            mission: &mut $d.mission,
+            out: &mut $d.out,
+            target: $d.target.unwrap_or(($d.system_id, 1)),
+        }
+    };
+}
+
 /// `MAV_COMP_ID_ONBOARD_COMPUTER`.
 pub const COMPANION_COMPONENT: u8 = 191;
 
@@ -58,7 +75,11 @@ pub fn companion_heartbeat() -> MavMessage {
 impl Driver {
     pub fn new(cfg: VehicleConfig) -> Self {
         let cmds = CommandClient::new(cfg.link.command_ack_timeout_ms, cfg.link.command_retries);
-        let mission = MissionClient::new((1, 1), cfg.link.mission_timeout_ms, cfg.link.mission_retries);
+        let mission = MissionClient::new(
+            (1, 1),
+            cfg.link.mission_timeout_ms,
+            cfg.link.mission_retries,
+        );
         Self {
             cfg,
             system_id: 1,
@@ -114,20 +135,16 @@ impl Driver {
     }
 
     /// Runs `f` on one run with a context; a returned end becomes its report.
-    fn with_run(&mut self, id: ActionId, now: u64, f: impl FnOnce(&mut Run, &mut Ctx) -> Option<End>) {
+    fn with_run(
+        &mut self,
+        id: ActionId,
+        now: u64,
+        f: impl FnOnce(&mut Run, &mut Ctx) -> Option<End>,
+    ) {
         let Some(run) = self.runs.get_mut(&id) else {
             return;
         };
-        let mut ctx = Ctx {
-            now,
-            vnow: self.tel.time_boot_ms.unwrap_or(now),
-            cfg: &self.cfg,
-            tel: &self.tel,
-            cmds: &mut self.cmds,
-            mission: &mut self.mission,
-            out: &mut self.out,
-            target: self.target.unwrap_or((self.system_id, 1)),
-        };
+        let mut ctx = ctx!(self, now);
         if let Some(end) = f(run, &mut ctx) {
             self.report(id, end);
         }
@@ -144,19 +161,12 @@ impl Driver {
             .get(&action.task)
             .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?
             .clone();
-        let mut ctx = Ctx {
-            now,
-            vnow: self.tel.time_boot_ms.unwrap_or(now),
-            cfg: &self.cfg,
-            tel: &self.tel,
-            cmds: &mut self.cmds,
-            mission: &mut self.mission,
-            out: &mut self.out,
-            target: self.target.unwrap_or((self.system_id, 1)),
-        };
-        let run = Run::begin(&action, &binding, &mut ctx).map_err(|reason| VehicleError::BadArguments {
-            task: action.task.clone(),
-            reason,
+        let mut ctx = ctx!(self, now);
+        let run = Run::begin(&action, &binding, &mut ctx).map_err(|reason| {
+            VehicleError::BadArguments {
+                task: action.task.clone(),
+                reason,
+            }
         })?;
         tracing::info!(id = action.id, task = %action.task, "action started");
         self.runs.insert(action.id, run);
@@ -177,7 +187,10 @@ impl Driver {
         let (sys, comp) = (header.system_id as u8, header.component_id);
         if let MavMessage::HEARTBEAT(h) = msg {
             let is_autopilot = h.autopilot != MavAutopilot::MAV_AUTOPILOT_INVALID
-                && !matches!(h.mavtype, MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_ONBOARD_CONTROLLER);
+                && !matches!(
+                    h.mavtype,
+                    MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_ONBOARD_CONTROLLER
+                );
             if is_autopilot && self.target.is_none() {
                 // Adopt the system id of the first autopilot seen.
                 self.target = Some((sys, comp));
@@ -188,7 +201,9 @@ impl Driver {
             if self.target == Some((sys, comp)) {
                 self.last_heartbeat_rx = now;
                 match self.link {
-                    Link::Waiting => self.events.push(VehicleEvent::Link(LinkStatus::Up { system_id: sys })),
+                    Link::Waiting => self
+                        .events
+                        .push(VehicleEvent::Link(LinkStatus::Up { system_id: sys })),
                     Link::Lost => self.events.push(VehicleEvent::Link(LinkStatus::Recovered)),
                     Link::Up => {}
                 }
@@ -199,7 +214,8 @@ impl Driver {
             return;
         }
         let cfg = &self.cfg;
-        self.tel.update(msg, &cfg.home, &cfg.resources, &mut self.events);
+        self.tel
+            .update(msg, &cfg.home, &cfg.resources, &mut self.events);
         if let MavMessage::COMMAND_ACK(ack) = msg {
             if let Some((token, cmd, outcome)) = self.cmds.on_ack(ack, now) {
                 self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
@@ -225,12 +241,20 @@ impl Driver {
 
     /// Time passed: heartbeats out, link supervision, timeouts, state-based ends.
     pub fn tick(&mut self, now: u64) {
-        if self.last_heartbeat_tx.is_none_or(|t| now.saturating_sub(t) >= 1000) {
+        if self
+            .last_heartbeat_tx
+            .is_none_or(|t| now.saturating_sub(t) >= 1000)
+        {
             self.last_heartbeat_tx = Some(now);
             self.out.push(companion_heartbeat());
         }
-        if self.link == Link::Up && now.saturating_sub(self.last_heartbeat_rx) > self.cfg.link.heartbeat_timeout_ms {
-            tracing::warn!("no autopilot heartbeat for {} ms: link lost", self.cfg.link.heartbeat_timeout_ms);
+        if self.link == Link::Up
+            && now.saturating_sub(self.last_heartbeat_rx) > self.cfg.link.heartbeat_timeout_ms
+        {
+            tracing::warn!(
+                "no autopilot heartbeat for {} ms: link lost",
+                self.cfg.link.heartbeat_timeout_ms
+            );
             self.link = Link::Lost;
             self.events.push(VehicleEvent::Link(LinkStatus::Lost));
         }

@@ -24,8 +24,11 @@ impl Address {
             .split_once(':')
             .ok_or_else(|| format!("`{s}`: expected KIND:ADDRESS with KIND one of udpin, udpout, tcpin, tcpout, serial"))?;
         let host_port = |r: &str| -> Result<String, String> {
-            let (_, port) = r.rsplit_once(':').ok_or_else(|| format!("`{s}`: expected HOST:PORT after `{kind}:`"))?;
-            port.parse::<u16>().map_err(|_| format!("`{s}`: `{port}` is not a port number"))?;
+            let (_, port) = r
+                .rsplit_once(':')
+                .ok_or_else(|| format!("`{s}`: expected HOST:PORT after `{kind}:`"))?;
+            port.parse::<u16>()
+                .map_err(|_| format!("`{s}`: `{port}` is not a port number"))?;
             Ok(r.to_string())
         };
         match kind {
@@ -34,11 +37,20 @@ impl Address {
             "udpin" => Ok(Address::UdpIn(host_port(rest)?)),
             "udpout" => Ok(Address::UdpOut(host_port(rest)?)),
             "serial" => {
-                let (port, baud) = rest.rsplit_once(':').ok_or_else(|| format!("`{s}`: expected serial:PORT:BAUD"))?;
-                let baud = baud.parse().map_err(|_| format!("`{s}`: `{baud}` is not a baud rate"))?;
-                Ok(Address::Serial { port: port.to_string(), baud })
+                let (port, baud) = rest
+                    .rsplit_once(':')
+                    .ok_or_else(|| format!("`{s}`: expected serial:PORT:BAUD"))?;
+                let baud = baud
+                    .parse()
+                    .map_err(|_| format!("`{s}`: `{baud}` is not a baud rate"))?;
+                Ok(Address::Serial {
+                    port: port.to_string(),
+                    baud,
+                })
             }
-            other => Err(format!("`{s}`: unknown link kind `{other}` (udpin, udpout, tcpin, tcpout, serial)")),
+            other => Err(format!(
+                "`{s}`: unknown link kind `{other}` (udpin, udpout, tcpin, tcpout, serial)"
+            )),
         }
     }
 }
@@ -64,11 +76,17 @@ impl Transport {
             Address::TcpIn(a) => t.listener = Some(TcpListener::bind(a).await?),
             Address::UdpIn(a) => t.udp = Some(Arc::new(UdpSocket::bind(a).await?)),
             Address::UdpOut(a) => {
-                let peer = tokio::net::lookup_host(a)
-                    .await?
-                    .next()
-                    .ok_or_else(|| io::Error::new(io::ErrorKind::AddrNotAvailable, format!("cannot resolve {a}")))?;
-                let local = if peer.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" };
+                let peer = tokio::net::lookup_host(a).await?.next().ok_or_else(|| {
+                    io::Error::new(
+                        io::ErrorKind::AddrNotAvailable,
+                        format!("cannot resolve {a}"),
+                    )
+                })?;
+                let local = if peer.is_ipv4() {
+                    "0.0.0.0:0"
+                } else {
+                    "[::]:0"
+                };
                 t.udp = Some(Arc::new(UdpSocket::bind(local).await?));
                 t.udp_peer = Some(peer);
             }
@@ -93,7 +111,10 @@ impl Transport {
     pub async fn open(&mut self) -> io::Result<Endpoint> {
         match &self.address {
             Address::TcpIn(_) => {
-                let l = self.listener.as_ref().ok_or_else(|| io::Error::other("listener gone"))?;
+                let l = self
+                    .listener
+                    .as_ref()
+                    .ok_or_else(|| io::Error::other("listener gone"))?;
                 let (s, from) = l.accept().await?;
                 tracing::info!(%from, "tcp peer connected");
                 s.set_nodelay(true)?;
@@ -105,8 +126,14 @@ impl Transport {
                 Ok(Endpoint::Tcp(s))
             }
             Address::UdpIn(_) | Address::UdpOut(_) => {
-                let socket = self.udp.clone().ok_or_else(|| io::Error::other("socket gone"))?;
-                Ok(Endpoint::Udp { socket, peer: self.udp_peer })
+                let socket = self
+                    .udp
+                    .clone()
+                    .ok_or_else(|| io::Error::other("socket gone"))?;
+                Ok(Endpoint::Udp {
+                    socket,
+                    peer: self.udp_peer,
+                })
             }
             Address::Serial { port, baud } => open_serial(port, *baud),
         }
@@ -118,7 +145,9 @@ fn open_serial(port: &str, baud: u32) -> io::Result<Endpoint> {
         .timeout(std::time::Duration::from_millis(100))
         .open()
         .map_err(|e| io::Error::other(format!("serial {port}: {e}")))?;
-    let mut reader = writer.try_clone().map_err(|e| io::Error::other(format!("serial {port}: {e}")))?;
+    let mut reader = writer
+        .try_clone()
+        .map_err(|e| io::Error::other(format!("serial {port}: {e}")))?;
     let (tx, rx) = mpsc::channel(64);
     // serialport is blocking: a reader thread feeds the async side.
     std::thread::spawn(move || {
@@ -144,8 +173,14 @@ fn open_serial(port: &str, baud: u32) -> io::Result<Endpoint> {
 
 pub enum Endpoint {
     Tcp(TcpStream),
-    Udp { socket: Arc<UdpSocket>, peer: Option<SocketAddr> },
-    Serial { writer: Box<dyn serialport::SerialPort>, rx: mpsc::Receiver<io::Result<Vec<u8>>> },
+    Udp {
+        socket: Arc<UdpSocket>,
+        peer: Option<SocketAddr>,
+    },
+    Serial {
+        writer: Box<dyn serialport::SerialPort>,
+        rx: mpsc::Receiver<io::Result<Vec<u8>>>,
+    },
 }
 
 impl Endpoint {

@@ -3,7 +3,10 @@
 //! MAVLink 1 peer). Raw bytes are kept so the `.tlog` records exactly what crossed the wire.
 
 use mavlink::dialects::ardupilotmega::MavMessage;
-use mavlink::{MAVLinkV1MessageRaw, MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message, SigningConfig, SigningData};
+use mavlink::{
+    MAVLinkV1MessageRaw, MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message, SigningConfig,
+    SigningData,
+};
 
 const STX_V1: u8 = 0xFE;
 const STX_V2: u8 = 0xFD;
@@ -152,12 +155,20 @@ impl Signer {
 pub fn parse_key(hex: &str) -> Result<[u8; 32], String> {
     let hex = hex.trim();
     if hex.len() != 64 {
-        return Err(format!("expected 64 hex digits, found {} characters", hex.len()));
+        return Err(format!(
+            "expected 64 hex digits, found {} characters",
+            hex.len()
+        ));
     }
     let mut key = [0u8; 32];
     for (i, byte) in key.iter_mut().enumerate() {
-        *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16)
-            .map_err(|_| format!("not a hex digit pair at position {}: `{}`", 2 * i, &hex[2 * i..2 * i + 2]))?;
+        *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|_| {
+            format!(
+                "not a hex digit pair at position {}: `{}`",
+                2 * i,
+                &hex[2 * i..2 * i + 2]
+            )
+        })?;
     }
     Ok(key)
 }
@@ -212,7 +223,9 @@ impl Encoder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::ardupilotmega::{MavAutopilot, MavModeFlag, MavState, MavType, HEARTBEAT_DATA};
+    use mavlink::dialects::ardupilotmega::{
+        MavAutopilot, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+    };
 
     fn heartbeat() -> MavMessage {
         MavMessage::HEARTBEAT(HEARTBEAT_DATA {
@@ -284,6 +297,8 @@ mod tests {
     fn key_parse_errors_are_clear() {
         assert!(parse_key(&"ab".repeat(32)).is_ok());
         assert!(parse_key("abc").unwrap_err().contains("64 hex digits"));
-        assert!(parse_key(&format!("zz{}", "00".repeat(31))).unwrap_err().contains("`zz`"));
+        assert!(parse_key(&format!("zz{}", "00".repeat(31)))
+            .unwrap_err()
+            .contains("`zz`"));
     }
 }

@@ -16,13 +16,13 @@ pub struct Home {
 }
 
 impl Home {
-    pub fn to_global(&self, p: Enu) -> (f64, f64, f64) {
+    pub fn to_global(self, p: Enu) -> (f64, f64, f64) {
         let lat = self.lat + (p.north / EARTH_RADIUS_M).to_degrees();
         let lon = self.lon + (p.east / (EARTH_RADIUS_M * self.lat.to_radians().cos())).to_degrees();
         (lat, lon, self.alt + p.up)
     }
 
-    pub fn to_local(&self, lat: f64, lon: f64, alt: f64) -> Enu {
+    pub fn to_local(self, lat: f64, lon: f64, alt: f64) -> Enu {
         let north = (lat - self.lat).to_radians() * EARTH_RADIUS_M;
         let east = (lon - self.lon).to_radians() * EARTH_RADIUS_M * self.lat.to_radians().cos();
         Enu::new(east, north, alt - self.alt)
@@ -53,7 +53,11 @@ mod tests {
 
     #[test]
     fn one_degree_of_latitude_is_about_111_km() {
-        let home = Home { lat: 0.0, lon: 0.0, alt: 0.0 };
+        let home = Home {
+            lat: 0.0,
+            lon: 0.0,
+            alt: 0.0,
+        };
         let p = home.to_local(1.0, 0.0, 0.0);
         assert!((p.north - 111_319.5).abs() < 1.0, "{p:?}");
     }

@@ -3,7 +3,9 @@
 
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::ardupilotmega::{MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA};
+use mavlink::dialects::ardupilotmega::{
+    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+};
 
 use super::driver::COMPANION_COMPONENT;
 use super::endpoint::{Address, Transport};
@@ -70,9 +72,17 @@ fn gcs_heartbeat() -> MavMessage {
 }
 
 /// Uploads `items` to the companion at `address` and waits for the ACK and one STATUSTEXT per goal.
-pub async fn send_goals(address: &str, items: Vec<MissionItem>, timeout: Duration) -> Result<GoalSendReport, GoalSendError> {
-    let expected_texts = items.iter().filter(|i| i.command != GOAL_ATTRIBUTES_CMD).count();
-    let mut transport = Transport::bind(Address::parse(address).map_err(GoalSendError::Address)?).await?;
+pub async fn send_goals(
+    address: &str,
+    items: Vec<MissionItem>,
+    timeout: Duration,
+) -> Result<GoalSendReport, GoalSendError> {
+    let expected_texts = items
+        .iter()
+        .filter(|i| i.command != GOAL_ATTRIBUTES_CMD)
+        .count();
+    let mut transport =
+        Transport::bind(Address::parse(address).map_err(GoalSendError::Address)?).await?;
     let mut ep = transport.open().await?;
     let mut enc = Encoder::new(255, 190, None);
     let mut dec = FrameDecoder::default();
@@ -103,7 +113,8 @@ pub async fn send_goals(address: &str, items: Vec<MissionItem>, timeout: Duratio
         for m in out.drain(..) {
             ep.send(&enc.encode(&m, false)).await?;
         }
-        let done_texts = collected.len() >= expected_texts || quiet_since.elapsed() > Duration::from_millis(1500);
+        let done_texts = collected.len() >= expected_texts
+            || quiet_since.elapsed() > Duration::from_millis(1500);
         match &failure {
             Some(None) if done_texts => break,
             Some(Some(_)) if quiet_since.elapsed() > Duration::from_millis(500) => break,
@@ -121,7 +132,9 @@ pub async fn send_goals(address: &str, items: Vec<MissionItem>, timeout: Duratio
             Err(_) => continue,
         };
         if n == 0 {
-            return Err(GoalSendError::Io(std::io::Error::other("connection closed")));
+            return Err(GoalSendError::Io(std::io::Error::other(
+                "connection closed",
+            )));
         }
         dec.push(&buf[..n]);
         while let Some(f) = dec.next_frame() {

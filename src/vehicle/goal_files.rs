@@ -61,16 +61,33 @@ pub fn parse_plan(text: &str, name: &str) -> Result<GoalFile, FileError> {
     }
     match root.get("fileType").and_then(Value::as_str) {
         Some("Plan") => {}
-        Some(other) => return Err(at_path(name, "fileType", format!("expected \"Plan\", found \"{other}\""))),
-        None => return Err(at_path(name, "fileType", "missing (not a QGroundControl plan)")),
+        Some(other) => {
+            return Err(at_path(
+                name,
+                "fileType",
+                format!("expected \"Plan\", found \"{other}\""),
+            ))
+        }
+        None => {
+            return Err(at_path(
+                name,
+                "fileType",
+                "missing (not a QGroundControl plan)",
+            ))
+        }
     }
     let mission = field(&root, "mission", name, "$")?;
     let home = match mission.get("plannedHomePosition") {
         None | Some(Value::Null) => None,
         Some(Value::Array(a)) if a.len() >= 2 => {
             let num = |i: usize| {
-                a[i].as_f64()
-                    .ok_or_else(|| at_path(name, &format!("mission.plannedHomePosition[{i}]"), "expected a number"))
+                a[i].as_f64().ok_or_else(|| {
+                    at_path(
+                        name,
+                        &format!("mission.plannedHomePosition[{i}]"),
+                        "expected a number",
+                    )
+                })
             };
             Some(Home {
                 lat: num(0)?,
@@ -78,7 +95,13 @@ pub fn parse_plan(text: &str, name: &str) -> Result<GoalFile, FileError> {
                 alt: if a.len() > 2 { num(2)? } else { 0.0 },
             })
         }
-        Some(_) => return Err(at_path(name, "mission.plannedHomePosition", "expected [lat, lon, alt]")),
+        Some(_) => {
+            return Err(at_path(
+                name,
+                "mission.plannedHomePosition",
+                "expected [lat, lon, alt]",
+            ))
+        }
     };
     let items = field(mission, "items", name, "mission")?
         .as_array()
@@ -89,7 +112,11 @@ pub fn parse_plan(text: &str, name: &str) -> Result<GoalFile, FileError> {
         match it.get("type").and_then(Value::as_str) {
             Some("SimpleItem") => {}
             Some(other) => {
-                return Err(at_path(name, &format!("{p}.type"), format!("\"{other}\" items are not supported (only SimpleItem)")))
+                return Err(at_path(
+                    name,
+                    &format!("{p}.type"),
+                    format!("\"{other}\" items are not supported (only SimpleItem)"),
+                ))
             }
             None => return Err(at_path(name, &format!("{p}.type"), "missing")),
         }
@@ -104,21 +131,37 @@ pub fn parse_plan(text: &str, name: &str) -> Result<GoalFile, FileError> {
         let params = field(it, "params", name, &p)?
             .as_array()
             .filter(|a| a.len() == 7)
-            .ok_or_else(|| at_path(name, &format!("{p}.params"), "expected an array of 7 numbers"))?;
+            .ok_or_else(|| {
+                at_path(
+                    name,
+                    &format!("{p}.params"),
+                    "expected an array of 7 numbers",
+                )
+            })?;
         let mut v = [0f64; 7];
         for (k, x) in params.iter().enumerate() {
             // QGroundControl writes NaN as null.
             v[k] = match x {
                 Value::Null => f64::NAN,
-                other => other
-                    .as_f64()
-                    .ok_or_else(|| at_path(name, &format!("{p}.params[{k}]"), "expected a number or null"))?,
+                other => other.as_f64().ok_or_else(|| {
+                    at_path(
+                        name,
+                        &format!("{p}.params[{k}]"),
+                        "expected a number or null",
+                    )
+                })?,
             };
         }
         let autocontinue = match it.get("autoContinue") {
             None => true,
             Some(Value::Bool(b)) => *b,
-            Some(_) => return Err(at_path(name, &format!("{p}.autoContinue"), "expected true or false")),
+            Some(_) => {
+                return Err(at_path(
+                    name,
+                    &format!("{p}.autoContinue"),
+                    "expected true or false",
+                ))
+            }
         };
         out.push(MissionItem {
             command: command as u16,
@@ -143,8 +186,20 @@ pub fn parse_waypoints(text: &str, name: &str) -> Result<GoalFile, FileError> {
     };
     match lines.next() {
         Some((_, l)) if l.trim_start().starts_with("QGC WPL") => {}
-        Some((i, l)) => return Err(at(i, 1, format!("expected the header `QGC WPL 110`, found `{}`", l.trim()))),
-        None => return Err(at(0, 1, "empty file: expected the header `QGC WPL 110`".into())),
+        Some((i, l)) => {
+            return Err(at(
+                i,
+                1,
+                format!("expected the header `QGC WPL 110`, found `{}`", l.trim()),
+            ))
+        }
+        None => {
+            return Err(at(
+                0,
+                1,
+                "empty file: expected the header `QGC WPL 110`".into(),
+            ))
+        }
     }
     let mut home = None;
     let mut items = Vec::new();
@@ -155,7 +210,10 @@ pub fn parse_waypoints(text: &str, name: &str) -> Result<GoalFile, FileError> {
         // Fields with their 1-based column, split on tabs (or spaces, which some tools write).
         let mut fields = Vec::new();
         let mut start = None;
-        for (c, ch) in line.char_indices().chain(std::iter::once((line.len(), ' '))) {
+        for (c, ch) in line
+            .char_indices()
+            .chain(std::iter::once((line.len(), ' ')))
+        {
             match (ch.is_whitespace(), start) {
                 (false, None) => start = Some(c),
                 (true, Some(s)) => {
@@ -166,7 +224,11 @@ pub fn parse_waypoints(text: &str, name: &str) -> Result<GoalFile, FileError> {
             }
         }
         if fields.len() != 12 {
-            return Err(at(i, 1, format!("expected 12 tab-separated fields, found {}", fields.len())));
+            return Err(at(
+                i,
+                1,
+                format!("expected 12 tab-separated fields, found {}", fields.len()),
+            ));
         }
         let num = |k: usize, what: &str| -> Result<f64, FileError> {
             let (s, col) = fields[k];
@@ -179,17 +241,27 @@ pub fn parse_waypoints(text: &str, name: &str) -> Result<GoalFile, FileError> {
             let v = num(k, what)?;
             if v < 0.0 || v > max || v.fract() != 0.0 {
                 let (s, col) = fields[k];
-                return Err(at(i, col, format!("{what}: `{s}` is not an integer in 0..={max}")));
+                return Err(at(
+                    i,
+                    col,
+                    format!("{what}: `{s}` is not an integer in 0..={max}"),
+                ));
             }
             Ok(v)
         };
         let index = int(0, "INDEX", 65535.0)?;
         let frame = int(2, "FRAME", 255.0)?;
         let command = int(3, "COMMAND", 65535.0)?;
-        let p: Vec<f64> = (4..11).map(|k| num(k, ["P1", "P2", "P3", "P4", "LAT", "LON", "ALT"][k - 4])).collect::<Result<_, _>>()?;
+        let p: Vec<f64> = (4..11)
+            .map(|k| num(k, ["P1", "P2", "P3", "P4", "LAT", "LON", "ALT"][k - 4]))
+            .collect::<Result<_, _>>()?;
         let autocontinue = int(11, "AUTOCONTINUE", 1.0)? == 1.0;
         if index == 0.0 {
-            home = Some(Home { lat: p[4], lon: p[5], alt: p[6] });
+            home = Some(Home {
+                lat: p[4],
+                lon: p[5],
+                alt: p[6],
+            });
             continue;
         }
         items.push(MissionItem {

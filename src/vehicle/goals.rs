@@ -109,7 +109,10 @@ pub fn items_to_goals(
             pending = Some(Attributes {
                 priority: p1 as u32,
                 window: (p2.max(0.0), if p3 > 0.0 { p3 } else { f64::INFINITY }),
-                duration: (p4.max(0.0), if item.y > 0.0 { item.y } else { f64::INFINITY }),
+                duration: (
+                    p4.max(0.0),
+                    if item.y > 0.0 { item.y } else { f64::INFINITY },
+                ),
                 d_achiev: item.x.max(0.0),
             });
             continue;
@@ -146,7 +149,10 @@ pub fn items_to_goals(
             }
             if !(-90.0..=90.0).contains(&item.x) || !(-180.0..=180.0).contains(&item.y) {
                 return Err(err(
-                    format!("position ({}, {}) is not a latitude/longitude", item.x, item.y),
+                    format!(
+                        "position ({}, {}) is not a latitude/longitude",
+                        item.x, item.y
+                    ),
                     MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
                 ));
             }
@@ -154,7 +160,9 @@ pub fn items_to_goals(
         } else {
             None
         };
-        let object = location.as_ref().map_or("home".to_string(), |l| l.name.clone());
+        let object = location
+            .as_ref()
+            .map_or("home".to_string(), |l| l.name.clone());
         goals.push(GoalRequest {
             proposition: format!("{}({object})", kind.predicate()),
             name,
@@ -215,7 +223,9 @@ pub struct GoalBatch {
 }
 
 impl GoalBatch {
-    pub fn new(goals: Vec<GoalRequest>) -> (Self, tokio::sync::oneshot::Receiver<Vec<GoalVerdict>>) {
+    pub fn new(
+        goals: Vec<GoalRequest>,
+    ) -> (Self, tokio::sync::oneshot::Receiver<Vec<GoalVerdict>>) {
         let (tx, rx) = tokio::sync::oneshot::channel();
         (
             Self {

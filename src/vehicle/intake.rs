@@ -6,8 +6,8 @@
 #![allow(deprecated)]
 
 use mavlink::dialects::ardupilotmega::{
-    MavMessage, MavMissionResult, MavMissionType, MavSeverity, MISSION_ACK_DATA, MISSION_COUNT_DATA,
-    MISSION_REQUEST_INT_DATA, STATUSTEXT_DATA,
+    MavMessage, MavMissionResult, MavMissionType, MavSeverity, MISSION_ACK_DATA,
+    MISSION_COUNT_DATA, MISSION_REQUEST_INT_DATA, STATUSTEXT_DATA,
 };
 use mavlink::MavHeader;
 
@@ -19,7 +19,11 @@ use super::types::{GoalRequest, GoalVerdict};
 /// STATUSTEXT(s) for `text`: chunks of 50 bytes sharing a non-zero id when longer than one message.
 pub fn statustext(text: &str, severity: MavSeverity, id: u16) -> Vec<MavMessage> {
     let bytes = text.as_bytes();
-    let chunks: Vec<&[u8]> = if bytes.is_empty() { vec![&[][..]] } else { bytes.chunks(50).collect() };
+    let chunks: Vec<&[u8]> = if bytes.is_empty() {
+        vec![&[][..]]
+    } else {
+        bytes.chunks(50).collect()
+    };
     let single = chunks.len() == 1;
     chunks
         .iter()
@@ -102,7 +106,14 @@ impl GoalIntake {
     }
 
     /// Feeds a message; returns a completed upload to decide on.
-    pub fn handle(&mut self, header: MavHeader, msg: &MavMessage, our_system: u8, now: u64, out: &mut Vec<MavMessage>) -> Option<PendingDecision> {
+    pub fn handle(
+        &mut self,
+        header: MavHeader,
+        msg: &MavMessage,
+        our_system: u8,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Option<PendingDecision> {
         let peer = (header.system_id as u8, header.component_id);
         let for_us = |ts: u8, tc: u8| (ts == our_system || ts == 0) && tc == COMPANION_COMPONENT;
         match msg {
@@ -167,13 +178,27 @@ impl GoalIntake {
     }
 
     fn send_stored(&self, peer: (u8, u8), seq: u16, out: &mut Vec<MavMessage>) {
-        match self.accepted.get(usize::from(seq)).and_then(|i| i.to_int(seq, peer, MavMissionType::MAV_MISSION_TYPE_MISSION)) {
+        match self
+            .accepted
+            .get(usize::from(seq))
+            .and_then(|i| i.to_int(seq, peer, MavMissionType::MAV_MISSION_TYPE_MISSION))
+        {
             Some(item) => out.push(MavMessage::MISSION_ITEM_INT(item)),
-            None => out.push(Self::ack(peer, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE)),
+            None => out.push(Self::ack(
+                peer,
+                MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
+            )),
         }
     }
 
-    fn item(&mut self, peer: (u8, u8), seq: u16, item: MissionItem, now: u64, out: &mut Vec<MavMessage>) -> Option<PendingDecision> {
+    fn item(
+        &mut self,
+        peer: (u8, u8),
+        seq: u16,
+        item: MissionItem,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Option<PendingDecision> {
         let u = self.upload.as_mut().filter(|u| u.peer == peer)?;
         if usize::from(seq) != u.items.len() {
             // Out of order: ask again for the one we need.
@@ -197,17 +222,39 @@ impl GoalIntake {
             Err(e) => {
                 tracing::warn!("goal upload refused: {e}");
                 out.push(Self::ack(peer, e.ack));
-                self.texts(&format!("goals refused: {e}"), MavSeverity::MAV_SEVERITY_ERROR, out);
+                self.texts(
+                    &format!("goals refused: {e}"),
+                    MavSeverity::MAV_SEVERITY_ERROR,
+                    out,
+                );
                 None
             }
         }
     }
 
     /// Sends MISSION_ACK and one STATUSTEXT per goal for the decider's verdicts.
-    pub fn decided(&mut self, pending: PendingDecision, verdicts: &[GoalVerdict], out: &mut Vec<MavMessage>) {
+    pub fn decided(
+        &mut self,
+        pending: PendingDecision,
+        verdicts: &[GoalVerdict],
+        out: &mut Vec<MavMessage>,
+    ) {
         self.next_goal_number += pending.goals.len() as u32;
-        out.push(Self::ack(pending.peer, MavMissionResult::MAV_MISSION_ACCEPTED));
-        for (g, v) in pending.goals.iter().zip(verdicts.iter().chain(std::iter::repeat(&GoalVerdict::Rejected("no decision".into())))) {
+        out.push(Self::ack(
+            pending.peer,
+            MavMissionResult::MAV_MISSION_ACCEPTED,
+        ));
+        for (g, v) in pending
+            .goals
+            .iter()
+            .zip(
+                verdicts
+                    .iter()
+                    .chain(std::iter::repeat(&GoalVerdict::Rejected(
+                        "no decision".into(),
+                    ))),
+            )
+        {
             let severity = match v {
                 GoalVerdict::Accepted => MavSeverity::MAV_SEVERITY_INFO,
                 GoalVerdict::Rejected(_) => MavSeverity::MAV_SEVERITY_WARNING,
@@ -219,14 +266,23 @@ impl GoalIntake {
 
     /// Re-requests on timeout; cancels the upload after the retries.
     pub fn tick(&mut self, now: u64, out: &mut Vec<MavMessage>) {
-        let Some(u) = self.upload.as_mut() else { return };
+        let Some(u) = self.upload.as_mut() else {
+            return;
+        };
         if now.saturating_sub(u.last_ms) < self.timeout_ms {
             return;
         }
         if u.retries_left == 0 {
-            out.push(Self::ack(u.peer, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED));
+            out.push(Self::ack(
+                u.peer,
+                MavMissionResult::MAV_MISSION_OPERATION_CANCELLED,
+            ));
             self.upload = None;
-            self.texts("goal upload timeout", MavSeverity::MAV_SEVERITY_WARNING, out);
+            self.texts(
+                "goal upload timeout",
+                MavSeverity::MAV_SEVERITY_WARNING,
+                out,
+            );
             return;
         }
         u.retries_left -= 1;

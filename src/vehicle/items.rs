@@ -56,15 +56,28 @@ impl MissionItem {
     }
 
     /// The wire form; `None` when the command or frame is unknown to the dialect.
-    pub fn to_int(&self, seq: u16, target: (u8, u8), mission_type: MavMissionType) -> Option<MISSION_ITEM_INT_DATA> {
+    pub fn to_int(
+        &self,
+        seq: u16,
+        target: (u8, u8),
+        mission_type: MavMissionType,
+    ) -> Option<MISSION_ITEM_INT_DATA> {
         let global = frame_is_global(self.frame);
         Some(MISSION_ITEM_INT_DATA {
             param1: self.params[0],
             param2: self.params[1],
             param3: self.params[2],
             param4: self.params[3],
-            x: if global { (self.x * 1e7).round() as i32 } else { self.x.round() as i32 },
-            y: if global { (self.y * 1e7).round() as i32 } else { self.y.round() as i32 },
+            x: if global {
+                (self.x * 1e7).round() as i32
+            } else {
+                self.x.round() as i32
+            },
+            y: if global {
+                (self.y * 1e7).round() as i32
+            } else {
+                self.y.round() as i32
+            },
             z: self.z,
             seq,
             command: MavCmd::from_u16(self.command)?,

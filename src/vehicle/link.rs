@@ -27,7 +27,10 @@ pub enum LinkError {
     #[error("bad address: {0}")]
     Address(String),
     #[error("{what}: {source}")]
-    Io { what: String, source: std::io::Error },
+    Io {
+        what: String,
+        source: std::io::Error,
+    },
     #[error("signing key: {0}")]
     Key(String),
 }
@@ -86,11 +89,14 @@ struct Shared {
     epoch: Instant,
 }
 
+/// The goal intake shared by the pumps that serve it, and who decides.
+type IntakeRole = (Arc<Mutex<GoalIntake>>, Arc<Mutex<Decider>>);
+
 /// What one pump task serves.
 struct Pump {
     transport: Transport,
     shared: Option<Arc<Shared>>,
-    intake: Option<(Arc<Mutex<GoalIntake>>, Arc<Mutex<Decider>>)>,
+    intake: Option<IntakeRole>,
     own_system: u8,
     signer_key: Option<([u8; 32], u8)>,
     tlog: Option<Arc<Mutex<TlogWriter>>>,
@@ -122,7 +128,11 @@ impl Pump {
     }
 
     async fn run(mut self) {
-        let mut encoder = Encoder::new(self.own_system, COMPANION_COMPONENT, self.signer_key.map(|(k, l)| Signer::new(k, l)));
+        let mut encoder = Encoder::new(
+            self.own_system,
+            COMPANION_COMPONENT,
+            self.signer_key.map(|(k, l)| Signer::new(k, l)),
+        );
         let verifier = self.signer_key.map(|(k, l)| Signer::new(k, l));
         let mut awaiting: Vec<Awaiting> = Vec::new();
         let mut last_own_heartbeat: Option<u64> = None;
@@ -295,7 +305,11 @@ fn signing_key(cfg: &VehicleConfig) -> Result<Option<([u8; 32], u8)>, LinkError>
     cfg.link
         .signing_key
         .as_deref()
-        .map(|k| parse_key(k).map(|key| (key, cfg.link.signing_link_id)).map_err(LinkError::Key))
+        .map(|k| {
+            parse_key(k)
+                .map(|key| (key, cfg.link.signing_link_id))
+                .map_err(LinkError::Key)
+        })
         .transpose()
 }
 
@@ -332,12 +346,21 @@ pub struct MavlinkVehicle {
 impl MavlinkVehicle {
     /// Binds / connects and spawns the link tasks on the current tokio runtime.
     pub async fn connect(cfg: VehicleConfig, opts: LinkOptions) -> Result<Self, LinkError> {
-        let address = opts.address.clone().unwrap_or_else(|| cfg.link.address.clone());
+        let address = opts
+            .address
+            .clone()
+            .unwrap_or_else(|| cfg.link.address.clone());
         let key = signing_key(&cfg)?;
-        let tlog_path = opts.tlog.clone().or_else(|| cfg.link.tlog.as_ref().map(PathBuf::from));
+        let tlog_path = opts
+            .tlog
+            .clone()
+            .or_else(|| cfg.link.tlog.as_ref().map(PathBuf::from));
         let tlog = tlog_path.as_deref().map(open_tlog).transpose()?;
         let reconnect = Duration::from_millis(cfg.link.reconnect_ms);
-        let known = opts.known.clone().unwrap_or_else(|| KnownLocations::new(cfg.home));
+        let known = opts
+            .known
+            .clone()
+            .unwrap_or_else(|| KnownLocations::new(cfg.home));
         let transport = bind(&address).await?;
         let local_addr = transport.local_addr();
         let gcs_transport = match &opts.gcs {
@@ -455,14 +478,22 @@ impl Drop for MavlinkVehicle {
 impl Vehicle for MavlinkVehicle {
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         let now = self.shared.clock_now();
-        self.shared.driver.lock().map_err(|_| VehicleError::Closed)?.start(action, now)?;
+        self.shared
+            .driver
+            .lock()
+            .map_err(|_| VehicleError::Closed)?
+            .start(action, now)?;
         self.shared.notify.notify_one();
         Ok(())
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
         let now = self.shared.clock_now();
-        self.shared.driver.lock().map_err(|_| VehicleError::Closed)?.stop(id, now)?;
+        self.shared
+            .driver
+            .lock()
+            .map_err(|_| VehicleError::Closed)?
+            .stop(id, now)?;
         self.shared.notify.notify_one();
         Ok(())
     }
@@ -512,7 +543,10 @@ impl GoalServer {
             Pump {
                 transport,
                 shared: None,
-                intake: Some((Arc::new(Mutex::new(GoalIntake::new(known, 1))), Arc::new(Mutex::new(decider)))),
+                intake: Some((
+                    Arc::new(Mutex::new(GoalIntake::new(known, 1))),
+                    Arc::new(Mutex::new(decider)),
+                )),
                 own_system: system_id,
                 signer_key: None,
                 tlog,
@@ -529,6 +563,18 @@ impl GoalServer {
             stats,
             task,
         })
+    }
+
+    /// A goal intake deciding with [`SyntacticDecider`], no `.tlog`: for tools, tests and benchmarks.
+    pub async fn syntactic(addr: &str, home: super::geo::Home) -> Result<Self, LinkError> {
+        Self::start(
+            addr,
+            1,
+            KnownLocations::new(home),
+            Decider::Local(Box::new(SyntacticDecider)),
+            None,
+        )
+        .await
     }
 
     /// Runs until the task ends (it does not on its own).

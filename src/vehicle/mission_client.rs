@@ -23,8 +23,13 @@ pub enum MissionOutcome {
 
 #[derive(Debug)]
 enum Op {
-    Upload { items: Vec<MissionItem> },
-    Download { count: Option<u16>, items: Vec<MissionItem> },
+    Upload {
+        items: Vec<MissionItem>,
+    },
+    Download {
+        count: Option<u16>,
+        items: Vec<MissionItem>,
+    },
     Clear,
 }
 
@@ -59,7 +64,14 @@ impl MissionClient {
         self.running.is_some()
     }
 
-    fn begin(&mut self, token: Token, op: Op, first: MavMessage, now: u64, out: &mut Vec<MavMessage>) -> bool {
+    fn begin(
+        &mut self,
+        token: Token,
+        op: Op,
+        first: MavMessage,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> bool {
         if self.running.is_some() {
             return false;
         }
@@ -75,7 +87,13 @@ impl MissionClient {
     }
 
     /// Starts an upload; false when another transfer is running.
-    pub fn upload(&mut self, token: Token, items: Vec<MissionItem>, now: u64, out: &mut Vec<MavMessage>) -> bool {
+    pub fn upload(
+        &mut self,
+        token: Token,
+        items: Vec<MissionItem>,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> bool {
         let count = MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
             count: items.len() as u16,
             target_system: self.target.0,
@@ -92,7 +110,16 @@ impl MissionClient {
             target_component: self.target.1,
             mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
         });
-        self.begin(token, Op::Download { count: None, items: Vec::new() }, list, now, out)
+        self.begin(
+            token,
+            Op::Download {
+                count: None,
+                items: Vec::new(),
+            },
+            list,
+            now,
+            out,
+        )
     }
 
     pub fn clear(&mut self, token: Token, now: u64, out: &mut Vec<MavMessage>) -> bool {
@@ -127,20 +154,43 @@ impl MissionClient {
     }
 
     /// Feeds a message from the target component.
-    pub fn handle(&mut self, msg: &MavMessage, now: u64, out: &mut Vec<MavMessage>) -> Option<(Token, MissionOutcome)> {
+    pub fn handle(
+        &mut self,
+        msg: &MavMessage,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Option<(Token, MissionOutcome)> {
         let running = self.running.as_mut()?;
         let op = &mut running.op;
         match (op, msg) {
-            (Op::Upload { items }, MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA { seq, mission_type, .. }))
-            | (Op::Upload { items }, MavMessage::MISSION_REQUEST(mavlink::dialects::ardupilotmega::MISSION_REQUEST_DATA { seq, mission_type, .. }))
-                if *mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION =>
-            {
+            (
+                Op::Upload { items },
+                MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+                    seq, mission_type, ..
+                }),
+            )
+            | (
+                Op::Upload { items },
+                MavMessage::MISSION_REQUEST(
+                    mavlink::dialects::ardupilotmega::MISSION_REQUEST_DATA {
+                        seq,
+                        mission_type,
+                        ..
+                    },
+                ),
+            ) if *mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION => {
                 let (seq, n) = (*seq, items.len());
-                let wire = items
-                    .get(usize::from(seq))
-                    .map(|item| (item.to_int(seq, self.target, MavMissionType::MAV_MISSION_TYPE_MISSION), item.command, item.frame));
+                let wire = items.get(usize::from(seq)).map(|item| {
+                    (
+                        item.to_int(seq, self.target, MavMissionType::MAV_MISSION_TYPE_MISSION),
+                        item.command,
+                        item.frame,
+                    )
+                });
                 match wire {
-                    None => self.finish(MissionOutcome::Failed(format!("vehicle requested item {seq} of {n}"))),
+                    None => self.finish(MissionOutcome::Failed(format!(
+                        "vehicle requested item {seq} of {n}"
+                    ))),
                     Some((Some(w), _, _)) => {
                         self.send(MavMessage::MISSION_ITEM_INT(w), now, out);
                         None
@@ -150,14 +200,19 @@ impl MissionClient {
                     ))),
                 }
             }
-            (Op::Upload { .. }, MavMessage::MISSION_ACK(a)) if a.mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION => {
+            (Op::Upload { .. }, MavMessage::MISSION_ACK(a))
+                if a.mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION =>
+            {
                 if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED {
                     self.finish(MissionOutcome::Uploaded)
                 } else if a.mavtype == MavMissionResult::MAV_MISSION_INVALID_SEQUENCE {
                     // ArduPilot keeps the upload open after a wrong sequence: wait for its next request.
                     None
                 } else {
-                    self.finish(MissionOutcome::Failed(format!("upload refused: {:?}", a.mavtype)))
+                    self.finish(MissionOutcome::Failed(format!(
+                        "upload refused: {:?}",
+                        a.mavtype
+                    )))
                 }
             }
             (Op::Download { count, items }, MavMessage::MISSION_COUNT(c)) if count.is_none() => {
@@ -170,22 +225,20 @@ impl MissionClient {
                 self.send(req, now, out);
                 None
             }
-            (Op::Download { count: Some(n), items }, MavMessage::MISSION_ITEM_INT(it)) => {
-                if usize::from(it.seq) == items.len() {
-                    items.push(MissionItem::from_int(it));
-                }
-                let (got, n) = (items.len(), *n);
-                if got == usize::from(n) {
-                    self.finish_download(now, out)
-                } else {
-                    let req = self.request(got as u16);
-                    self.send(req, now, out);
-                    None
-                }
-            }
-            (Op::Download { count: Some(n), items }, MavMessage::MISSION_ITEM(it)) => {
-                if usize::from(it.seq) == items.len() {
-                    items.push(MissionItem::from_float(it));
+            (
+                Op::Download {
+                    count: Some(n),
+                    items,
+                },
+                MavMessage::MISSION_ITEM_INT(_) | MavMessage::MISSION_ITEM(_),
+            ) => {
+                let item = match msg {
+                    MavMessage::MISSION_ITEM_INT(it) => (it.seq, MissionItem::from_int(it)),
+                    MavMessage::MISSION_ITEM(it) => (it.seq, MissionItem::from_float(it)),
+                    _ => return None,
+                };
+                if usize::from(item.0) == items.len() {
+                    items.push(item.1);
                 }
                 let (got, n) = (items.len(), *n);
                 if got == usize::from(n) {
@@ -200,14 +253,21 @@ impl MissionClient {
                 if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED {
                     self.finish(MissionOutcome::Cleared)
                 } else {
-                    self.finish(MissionOutcome::Failed(format!("clear refused: {:?}", a.mavtype)))
+                    self.finish(MissionOutcome::Failed(format!(
+                        "clear refused: {:?}",
+                        a.mavtype
+                    )))
                 }
             }
             _ => None,
         }
     }
 
-    fn finish_download(&mut self, _now: u64, out: &mut Vec<MavMessage>) -> Option<(Token, MissionOutcome)> {
+    fn finish_download(
+        &mut self,
+        _now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Option<(Token, MissionOutcome)> {
         out.push(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
             target_system: self.target.0,
             target_component: self.target.1,
@@ -234,7 +294,10 @@ impl MissionClient {
                 Op::Download { .. } => "download",
                 Op::Clear => "clear",
             };
-            return self.finish(MissionOutcome::Failed(format!("mission {what} timed out after {} retries", self.retries)));
+            return self.finish(MissionOutcome::Failed(format!(
+                "mission {what} timed out after {} retries",
+                self.retries
+            )));
         }
         r.retries_left -= 1;
         r.last_ms = now;

@@ -8,8 +8,8 @@ use std::time::Duration;
 use super::api::{Vehicle, VehicleError};
 use super::goals::GoalBatch;
 use super::types::{
-    ActionId, ActionReport, ActionStart, CapacityChange, GoalRequest, LinkStatus, ReportStatus, ResourceLevel,
-    StateValue, VehicleEvent,
+    ActionId, ActionReport, ActionStart, CapacityChange, GoalRequest, LinkStatus, ReportStatus,
+    ResourceLevel, StateValue, VehicleEvent,
 };
 
 /// How a started action of a task ends.
@@ -96,7 +96,10 @@ impl MockVehicle {
 
     /// Scripts the next outcome of `task` (outcomes queue up; the last one repeats).
     pub fn script(&mut self, task: &str, outcome: Outcome) -> &mut Self {
-        self.outcomes.entry(task.into()).or_default().push_back(outcome);
+        self.outcomes
+            .entry(task.into())
+            .or_default()
+            .push_back(outcome);
         self
     }
 
@@ -128,7 +131,14 @@ impl MockVehicle {
             match due {
                 Due::Report(id) => {
                     if let Some((_, outcome)) = self.running.remove(&id) {
-                        let report = self.make_report(id, t, outcome.status, outcome.state, outcome.reason, &outcome.resources);
+                        let report = self.make_report(
+                            id,
+                            t,
+                            outcome.status,
+                            outcome.state,
+                            outcome.reason,
+                            &outcome.resources,
+                        );
                         self.ready.push_back(VehicleEvent::Report(report));
                     }
                 }
@@ -136,8 +146,12 @@ impl MockVehicle {
                     self.levels.insert(r.resource.clone(), r.level);
                     self.ready.push_back(VehicleEvent::Resource(r));
                 }
-                Due::Event(Scripted::Capacity(c)) => self.ready.push_back(VehicleEvent::Capacity(c)),
-                Due::Event(Scripted::Goals(g)) => self.ready.push_back(VehicleEvent::Goals(GoalBatch::detached(g))),
+                Due::Event(Scripted::Capacity(c)) => {
+                    self.ready.push_back(VehicleEvent::Capacity(c))
+                }
+                Due::Event(Scripted::Goals(g)) => self
+                    .ready
+                    .push_back(VehicleEvent::Goals(GoalBatch::detached(g))),
                 Due::Event(Scripted::Link(l)) => self.ready.push_back(VehicleEvent::Link(l)),
             }
         }
@@ -175,7 +189,11 @@ impl MockVehicle {
                     level: *v,
                 })
                 .collect(),
-            state: if status == ReportStatus::Nominal { Vec::new() } else { state },
+            state: if status == ReportStatus::Nominal {
+                Vec::new()
+            } else {
+                state
+            },
             reason,
         }
     }
@@ -190,20 +208,40 @@ impl Vehicle for MockVehicle {
             .outcomes
             .get_mut(&action.task)
             .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?;
-        let outcome = if queue.len() > 1 { queue.pop_front() } else { queue.front().cloned() }
-            .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?;
-        self.log.push(format!("{} START {} {}", self.now_ms, action.task, action.id));
+        let outcome = if queue.len() > 1 {
+            queue.pop_front()
+        } else {
+            queue.front().cloned()
+        }
+        .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?;
+        self.log.push(format!(
+            "{} START {} {}",
+            self.now_ms, action.task, action.id
+        ));
         self.order += 1;
-        self.due.insert((self.now_ms + outcome.after_ms, self.order), Due::Report(action.id));
+        self.due.insert(
+            (self.now_ms + outcome.after_ms, self.order),
+            Due::Report(action.id),
+        );
         self.running.insert(action.id, (action.task, outcome));
         Ok(())
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
-        let (task, _) = self.running.remove(&id).ok_or(VehicleError::NotRunning(id))?;
+        let (task, _) = self
+            .running
+            .remove(&id)
+            .ok_or(VehicleError::NotRunning(id))?;
         self.log.push(format!("{} END {id}", self.now_ms));
         let state = self.on_stop.get(&task).cloned().unwrap_or_default();
-        let report = self.make_report(id, self.now_ms, ReportStatus::Interrupted, state, Some("stopped (END)".into()), &[]);
+        let report = self.make_report(
+            id,
+            self.now_ms,
+            ReportStatus::Interrupted,
+            state,
+            Some("stopped (END)".into()),
+            &[],
+        );
         self.ready.push_back(VehicleEvent::Report(report));
         Ok(())
     }

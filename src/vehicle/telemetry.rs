@@ -25,11 +25,19 @@ pub struct Telemetry {
 
 impl Telemetry {
     /// Updates the state from an autopilot message; resource changes become events.
-    pub fn update(&mut self, msg: &MavMessage, home: &Home, names: &ResourceNames, events: &mut Vec<VehicleEvent>) {
+    pub fn update(
+        &mut self,
+        msg: &MavMessage,
+        home: &Home,
+        names: &ResourceNames,
+        events: &mut Vec<VehicleEvent>,
+    ) {
         match msg {
             MavMessage::HEARTBEAT(h) => {
                 self.custom_mode = Some(h.custom_mode);
-                self.armed = h.base_mode.contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
+                self.armed = h
+                    .base_mode
+                    .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
             }
             MavMessage::GLOBAL_POSITION_INT(p) => {
                 self.clock(u64::from(p.time_boot_ms));

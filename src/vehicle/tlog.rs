@@ -56,7 +56,12 @@ pub fn read_tlog(bytes: &[u8]) -> Result<Vec<(u64, Vec<u8>)>, String> {
         let len = match f[0] {
             0xFE => 8 + usize::from(f[1]),
             0xFD => 12 + usize::from(f[1]) + if f[2] & 1 != 0 { 13 } else { 0 },
-            other => return Err(format!("byte {}: 0x{other:02x} is no MAVLink start marker", i + 8)),
+            other => {
+                return Err(format!(
+                    "byte {}: 0x{other:02x} is no MAVLink start marker",
+                    i + 8
+                ))
+            }
         };
         if f.len() < len {
             return Err(format!("truncated frame at byte {}", i + 8));
