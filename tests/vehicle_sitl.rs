@@ -220,24 +220,34 @@ async fn move_fails_when_the_reposition_is_denied_and_on_a_navigation_failure() 
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn survey_runs_the_lawnmower_mission_to_its_last_item() {
-    let mut rig = Rig::new(SimConfig::for_tests()).await;
-    rig.start(
-        1,
-        "survey",
-        vec![("area", Arg::location("Z1", Enu::new(25.0, 25.0, 0.0)))],
-    );
-    let r = rig.report(1, 240_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
-    let s = rig.sim.snapshot();
-    assert_eq!(s.mission_total, 8, "4 rows of 2 points");
-    assert!(s.mission_complete);
-    // The last point of the lawnmower: row 4 (north 25 - 15 + 30 = 40) ends on the west side (x = 5).
-    assert!(
-        (s.east_m - 5.0).hypot(s.north_m - 40.0) < 5.0,
-        "({}, {})",
-        s.east_m,
-        s.north_m
-    );
+    // Both request kinds: MISSION_REQUEST_INT, and the legacy MISSION_REQUEST real ArduPilot sends.
+    for kind in [
+        sitl::MissionRequestKind::Int,
+        sitl::MissionRequestKind::Legacy,
+    ] {
+        let mut rig = Rig::new(SimConfig {
+            mission_request: kind,
+            ..SimConfig::for_tests()
+        })
+        .await;
+        rig.start(
+            1,
+            "survey",
+            vec![("area", Arg::location("Z1", Enu::new(25.0, 25.0, 0.0)))],
+        );
+        let r = rig.report(1, 240_000).await;
+        assert_eq!(r.status, ReportStatus::Nominal, "{kind:?}: {r:?}");
+        let s = rig.sim.snapshot();
+        assert_eq!(s.mission_total, 8, "4 rows of 2 points");
+        assert!(s.mission_complete);
+        // The last point of the lawnmower: row 4 (north 25 - 15 + 30 = 40) ends on the west side (x = 5).
+        assert!(
+            (s.east_m - 5.0).hypot(s.north_m - 40.0) < 5.0,
+            "({}, {})",
+            s.east_m,
+            s.north_m
+        );
+    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -6,6 +6,10 @@ use std::time::Duration;
 use crate::error::SimError;
 use crate::scenario::Scenario;
 
+/// Accepted speed-ups: beyond these the tick pacing means nothing.
+pub const MIN_SPEEDUP: f64 = 1e-3;
+pub const MAX_SPEEDUP: f64 = 1e6;
+
 /// Which vehicle is simulated. Mode numbering follows the matching ArduPilot firmware.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum VehicleKind {
@@ -139,11 +143,14 @@ impl SimConfig {
 
     /// Checks the speed-up and the address (also done by `spawn`).
     pub fn validate(&self) -> Result<(), SimError> {
-        if !(self.speedup.is_finite() && self.speedup > 0.0) {
+        if !(MIN_SPEEDUP..=MAX_SPEEDUP).contains(&self.speedup) {
             return Err(SimError::BadSpeedup(self.speedup));
         }
         crate::link::Endpoint::parse(&self.listen)?;
-        Ok(())
+        self.scenario.check().map_err(|reason| SimError::Scenario {
+            path: "(config)".into(),
+            reason,
+        })
     }
 }
 
@@ -158,6 +165,22 @@ mod tests {
         assert!(parse_home("43.5").is_err());
         assert!(parse_home("91,0").is_err());
         assert!(parse_home("a,b").is_err());
+    }
+
+    #[test]
+    fn validate_rejects_bad_speedups_and_scenarios() {
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e300, 1e-300] {
+            let cfg = SimConfig {
+                speedup: bad,
+                ..SimConfig::default()
+            };
+            assert!(cfg.validate().is_err(), "{bad}");
+        }
+        let mut cfg = SimConfig::default();
+        cfg.scenario.camera.size_min_mib = 5.0;
+        cfg.scenario.camera.size_max_mib = 1.0;
+        assert!(cfg.validate().is_err());
+        assert!(SimConfig::default().validate().is_ok());
     }
 
     #[test]

@@ -14,7 +14,7 @@ pub enum SimError {
     },
     #[error("bad home `{0}`: expected LAT,LON in degrees (e.g. 43.5615,1.4778)")]
     BadHome(String),
-    #[error("bad speed-up {0}: must be a finite number > 0")]
+    #[error("bad speed-up {0}: must be within [0.001, 1000000]")]
     BadSpeedup(f64),
     #[error("cannot read scenario {path}: {source}")]
     ScenarioRead {

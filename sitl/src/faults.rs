@@ -8,6 +8,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::link::PeerId;
 use crate::scenario::{EventKind, Fault, FaultSpec};
+use crate::time::{later, secs_to_ms};
 
 /// Something that happened in the sim, which faults can be triggered on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,7 +39,7 @@ impl FaultEngine {
                 .map(|s| Pending {
                     spec: s.clone(),
                     seen: 0,
-                    due_ms: s.when.at_s.map(|t| (t.max(0.0) * 1000.0).round() as u64),
+                    due_ms: s.when.at_s.map(secs_to_ms),
                     fired: false,
                 })
                 .collect(),
@@ -57,7 +58,7 @@ impl FaultEngine {
             }
             p.seen += 1;
             if p.seen == w.occurrence {
-                p.due_ms = Some(now_ms + (w.delay_s * 1000.0).round() as u64);
+                p.due_ms = Some(later(now_ms, w.delay_s));
             }
         }
     }
@@ -114,7 +115,7 @@ impl LinkFaults {
     }
 
     pub fn blackout(&mut self, now_ms: u64, duration_s: f64) {
-        self.blackout_until_ms = now_ms + (duration_s * 1000.0).round() as u64;
+        self.blackout_until_ms = later(now_ms, duration_s);
     }
 
     pub fn set_quality(
@@ -129,7 +130,7 @@ impl LinkFaults {
             loss,
             duplicate,
             reorder,
-            until_ms: d.map(|d| now_ms + (d * 1000.0).round() as u64),
+            until_ms: d.map(|d| later(now_ms, d)),
         });
     }
 

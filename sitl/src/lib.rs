@@ -28,6 +28,7 @@ mod physics;
 mod scenario;
 mod sim;
 mod snapshot;
+mod time;
 mod world;
 
 pub use autopilot::NAV_FAIL_TEXT;

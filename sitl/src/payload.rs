@@ -5,6 +5,10 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::scenario::{CameraParams, SamplerParams};
+use crate::time::secs_to_ms;
+
+/// Most pictures one IMAGE_START_CAPTURE schedules (its count comes from outside).
+pub const MAX_PICTURES_PER_REQUEST: u32 = 1000;
 
 #[derive(Debug, Clone)]
 pub struct Storage {
@@ -48,14 +52,18 @@ impl Camera {
 
     /// Schedules `count` pictures `interval_s` apart; returns their image indices.
     pub fn start(&mut self, now_ms: u64, count: u32, interval_s: f64) -> Vec<i32> {
-        let capture_ms = (self.params.capture_time_s * 1000.0).max(0.0) as u64;
-        let step_ms = (interval_s.max(0.0) * 1000.0) as u64;
-        (0..count.max(1))
+        let capture_ms = secs_to_ms(self.params.capture_time_s);
+        let step_ms = secs_to_ms(interval_s);
+        (0..count.clamp(1, MAX_PICTURES_PER_REQUEST))
             .map(|i| {
                 let index = self.next_index;
                 self.next_index += 1;
-                self.pending
-                    .push((now_ms + capture_ms + u64::from(i) * step_ms, index));
+                self.pending.push((
+                    now_ms
+                        .saturating_add(capture_ms)
+                        .saturating_add(u64::from(i).saturating_mul(step_ms)),
+                    index,
+                ));
                 index
             })
             .collect()
@@ -209,6 +217,13 @@ mod tests {
                 ..
             }
         )));
+    }
+
+    #[test]
+    fn a_hostile_picture_count_is_capped() {
+        let mut cam = Camera::new(&CameraParams::default(), ChaCha8Rng::seed_from_u64(1));
+        let n = cam.start(u64::MAX - 5, u32::MAX, f64::MAX).len();
+        assert_eq!(n, MAX_PICTURES_PER_REQUEST as usize);
     }
 
     #[test]

@@ -277,7 +277,7 @@ impl Scenario {
         Ok(scenario)
     }
 
-    fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), String> {
         let c = &self.camera;
         if !(c.size_min_mib > 0.0 && c.size_min_mib <= c.size_max_mib) {
             return Err("camera: need 0 < size_min_mib <= size_max_mib".into());

@@ -103,6 +103,9 @@ async fn the_speedup_bench_completes_its_mission() {
         .await
         .expect("bench runs");
     assert_eq!(r.speedup_requested, 200.0);
-    assert!(r.sim_s > 5.0, "two 20 m legs take seconds of sim time: {r:?}");
+    assert!(
+        r.sim_s > 5.0,
+        "two 20 m legs take seconds of sim time: {r:?}"
+    );
     assert!(r.speedup_achieved > 0.0 && r.speedup_ceiling > 0.0, "{r:?}");
 }

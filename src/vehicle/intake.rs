@@ -63,6 +63,8 @@ pub struct GoalIntake {
     next_goal_number: u32,
     upload: Option<Upload>,
     accepted: Vec<MissionItem>,
+    /// The ground station downloading the goal list (requests from anyone else are not ours to answer).
+    downloader: Option<(u8, u8)>,
     pub timeout_ms: u64,
     pub retries: u32,
     text_id: u16,
@@ -75,6 +77,7 @@ impl GoalIntake {
             next_goal_number: first_goal_number,
             upload: None,
             accepted: Vec::new(),
+            downloader: None,
             timeout_ms: 1500,
             retries: 5,
             text_id: 0,
@@ -151,6 +154,7 @@ impl GoalIntake {
                 self.item(peer, it.seq, MissionItem::from_float(it), now, out)
             }
             MavMessage::MISSION_REQUEST_LIST(r) if for_us(r.target_system, r.target_component) => {
+                self.downloader = Some(peer);
                 out.push(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
                     count: self.accepted.len() as u16,
                     target_system: peer.0,
@@ -160,12 +164,22 @@ impl GoalIntake {
                 }));
                 None
             }
-            MavMessage::MISSION_REQUEST_INT(r) if for_us(r.target_system, r.target_component) => {
+            MavMessage::MISSION_REQUEST_INT(r)
+                if for_us(r.target_system, r.target_component) && self.downloader == Some(peer) =>
+            {
                 self.send_stored(peer, r.seq, out);
                 None
             }
-            MavMessage::MISSION_REQUEST(r) if for_us(r.target_system, r.target_component) => {
+            MavMessage::MISSION_REQUEST(r)
+                if for_us(r.target_system, r.target_component) && self.downloader == Some(peer) =>
+            {
                 self.send_stored(peer, r.seq, out);
+                None
+            }
+            MavMessage::MISSION_ACK(a)
+                if for_us(a.target_system, a.target_component) && self.downloader == Some(peer) =>
+            {
+                self.downloader = None;
                 None
             }
             MavMessage::MISSION_CLEAR_ALL(r) if for_us(r.target_system, r.target_component) => {
@@ -201,7 +215,8 @@ impl GoalIntake {
     ) -> Option<PendingDecision> {
         let u = self.upload.as_mut().filter(|u| u.peer == peer)?;
         if usize::from(seq) != u.items.len() {
-            // Out of order: ask again for the one we need.
+            // Out of order: ask again for the one we need (a request sent: the timeout starts again).
+            u.last_ms = now;
             out.push(Self::request(peer, u.items.len() as u16));
             return None;
         }

@@ -86,6 +86,8 @@ struct Shared {
     driver: Mutex<Driver>,
     notify: Notify,
     clock_ms: AtomicU64,
+    /// The adopted system id, for the ground-station endpoint to answer as the same system.
+    system_id: std::sync::atomic::AtomicU8,
     epoch: Instant,
 }
 
@@ -96,6 +98,8 @@ type IntakeRole = (Arc<Mutex<GoalIntake>>, Arc<Mutex<Decider>>);
 struct Pump {
     transport: Transport,
     shared: Option<Arc<Shared>>,
+    /// The vehicle whose system id a ground-station endpoint answers with.
+    follow: Option<Arc<Shared>>,
     intake: Option<IntakeRole>,
     own_system: u8,
     signer_key: Option<([u8; 32], u8)>,
@@ -183,16 +187,24 @@ impl Pump {
                                     out.push(companion_heartbeat());
                                     last_own_heartbeat = Some(now);
                                 }
+                                let mut from_autopilot = false;
                                 if let Some(s) = &self.shared {
                                     if let Ok(mut d) = s.driver.lock() {
                                         d.handle(header, &msg, now);
                                         encoder.system_id = d.system_id;
+                                        s.system_id.store(d.system_id, Ordering::Relaxed);
+                                        from_autopilot = d.target() == Some((frame.system_id, frame.component_id));
                                         if let Some(t) = d.telemetry().time_boot_ms {
                                             s.clock_ms.store(t, Ordering::Relaxed);
                                         }
                                     }
                                 }
-                                if let Some((intake, decider)) = &self.intake {
+                                if let Some(f) = &self.follow {
+                                    encoder.system_id = f.system_id.load(Ordering::Relaxed);
+                                }
+                                // The autopilot's mission messages to 191 belong to our mission client, never
+                                // to the goal intake.
+                                if let (Some((intake, decider)), false) = (&self.intake, from_autopilot) {
                                     let done = intake.lock().ok().and_then(|mut i| i.handle(header, &msg, encoder.system_id, now, &mut out));
                                     if let Some(p) = done {
                                         self.decide(p, decider, intake, &mut awaiting, &mut out);
@@ -373,6 +385,7 @@ impl MavlinkVehicle {
             driver: Mutex::new(Driver::new(cfg)),
             notify: Notify::new(),
             clock_ms: AtomicU64::new(0),
+            system_id: std::sync::atomic::AtomicU8::new(1),
             epoch,
         });
         let (tx, rx) = std_mpsc::channel();
@@ -383,6 +396,7 @@ impl MavlinkVehicle {
             Pump {
                 transport,
                 shared: Some(shared.clone()),
+                follow: None,
                 intake: Some((intake.clone(), decider.clone())),
                 own_system: 1,
                 signer_key: key,
@@ -400,6 +414,7 @@ impl MavlinkVehicle {
                 Pump {
                     transport: t,
                     shared: None,
+                    follow: Some(shared.clone()),
                     intake: Some((intake, decider)),
                     own_system: 1,
                     signer_key: key,
@@ -543,6 +558,7 @@ impl GoalServer {
             Pump {
                 transport,
                 shared: None,
+                follow: None,
                 intake: Some((
                     Arc::new(Mutex::new(GoalIntake::new(known, 1))),
                     Arc::new(Mutex::new(decider)),

@@ -13,6 +13,7 @@ use crate::config::VehicleKind;
 use crate::faults::SimEvent;
 use crate::physics::Target;
 use crate::scenario::EventKind;
+use crate::time::later;
 
 /// Mission execution state.
 #[derive(Debug, Default, Clone)]
@@ -148,7 +149,7 @@ impl Autopilot {
             MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH => self.at(&Vector2::zeros(), 0.0),
             MavCmd::MAV_CMD_NAV_DELAY => {
                 if self.exec.hold_until_ms == 0 {
-                    self.exec.hold_until_ms = self.now_ms + (it.p[0].max(0.0) * 1000.0) as u64;
+                    self.exec.hold_until_ms = later(self.now_ms, f64::from(it.p[0]));
                 }
                 self.now_ms >= self.exec.hold_until_ms
             }
@@ -178,7 +179,7 @@ impl Autopilot {
             }
             self.exec.reached = true;
             let wait_s = it.p[0].max(0.0);
-            self.exec.hold_until_ms = self.now_ms + (wait_s * 1000.0) as u64;
+            self.exec.hold_until_ms = later(self.now_ms, f64::from(wait_s));
             let text = if unlimited {
                 format!("Reached waypoint #{seq}. Loiter unlimited")
             } else if wait_s > 0.0 {

@@ -27,6 +27,7 @@ use crate::payload::{Camera, DownlinkRun, Sampler, Storage};
 use crate::physics::{Kinematics, Target};
 use crate::scenario::{EventKind, FailResult, Fault, VehicleParams};
 use crate::snapshot::Snapshot;
+use crate::time::later;
 use crate::world::{Disc, World};
 
 use auto::Exec;
@@ -388,8 +389,8 @@ impl Autopilot {
                 );
             }
             Fault::NavFails { duration_s } => {
-                self.nav_blocked_until_ms =
-                    self.now_ms + (duration_s.max(0.0) * 1000.0).round() as u64 + 1;
+                // + 1 ms: a zero duration still refuses navigation at this instant.
+                self.nav_blocked_until_ms = later(self.now_ms, duration_s).saturating_add(1);
                 self.text(MavSeverity::MAV_SEVERITY_ERROR, NAV_FAIL_TEXT);
                 if self.mode.navigates() {
                     // Stop: HOLD, as a failed navigation module leaves the rover.
