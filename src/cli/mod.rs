@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod plan;
 
 use std::process::ExitCode;
 
@@ -24,6 +25,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Check domain and problem files; exit non-zero with file:line:col diagnostics on errors.
     Check(check::CheckArgs),
+    /// Plan a problem: print the flexible plan (--json, --dot), checked by the independent checker.
+    Plan(plan::PlanArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
@@ -33,6 +36,7 @@ pub fn main() -> ExitCode {
     match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Check(args) => check::run(args),
+        Command::Plan(args) => plan::run(args),
     }
 }
 

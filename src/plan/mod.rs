@@ -25,6 +25,7 @@ mod bindings;
 mod build;
 mod changes;
 mod envelope;
+mod export;
 pub mod flaws;
 mod numeric;
 mod order;

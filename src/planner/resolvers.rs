@@ -1,8 +1,9 @@
 //! Resolvers of each flaw kind (seed 1 §2.2) and their application to the partial plan.
 //!
 //! Ordering heuristics (least commitment first, existing structure before new actions):
-//! - open condition: existing establishers first (no new action), the *latest* possible one first (it is
-//!   the closest in time, so the protected interval is short and fewer threats arise), then new tasks;
+//! - open condition: existing establishers first (no new action), the
+//!   earliest possible one first (it extends the current chain of changes from its start, and a wrong early
+//!   choice fails fast on a forced threat), then new tasks;
 //! - threat: the two precedences first, the one agreeing with the current earliest times first (it
 //!   disturbs the schedule least), then binding `≠` on the attribute instance, then `=` on the value;
 //! - unary conflict: the order agreeing with the current earliest starts first;
@@ -107,7 +108,7 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
         }
         existing.push((plan.stn.lb(ev.at), e.0));
     }
-    existing.sort_by(|x, y| y.cmp(x));
+    existing.sort();
     let mut out: Vec<Resolver> = existing
         .into_iter()
         .map(|(_, e)| Resolver::Link {
