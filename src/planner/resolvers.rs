@@ -210,11 +210,11 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
     let mut out = Vec::new();
     if c.overflow {
         for &(_, t) in &c.open_decreases {
-            if possibly(plan, t, c.point, 0) {
+            if possibly(plan, t, c.point, 1) {
                 out.push(Resolver::Order {
                     from: t,
                     to: c.point,
-                    delay: 0,
+                    delay: 1,
                 });
             }
         }
@@ -241,11 +241,11 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
         }
     } else {
         for &(_, t) in &c.open_increases {
-            if possibly(plan, t, c.point, 0) {
+            if possibly(plan, t, c.point, 1) {
                 out.push(Resolver::Order {
                     from: t,
                     to: c.point,
-                    delay: 0,
+                    delay: 1,
                 });
             }
         }
@@ -318,7 +318,7 @@ pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
                 UsageKind::Produce { at } | UsageKind::Consume { at } => at,
                 UsageKind::Use { to, .. } => to,
             };
-            plan.stn.add_constraint(at, before, 0, INF)?;
+            plan.stn.add_constraint(at, before, 1, INF)?;
             Ok(())
         }
         Resolver::CapQuantity { action, var, hi } => {
