@@ -15,7 +15,10 @@ fn solve_and_check(path: &str) -> usize {
     let planned = solve(d.clone(), p.clone(), Budget::steps(3_000))
         .unwrap_or_else(|e| panic!("{path}: no plan: {e}"));
     let sol = planned.plan.to_solution(&HashMap::new());
-    assert!(sol.unachieved().next().is_none(), "{path}: unachieved goals");
+    assert!(
+        sol.unachieved().next().is_none(),
+        "{path}: unachieved goals"
+    );
     if let Err(r) = validate(&d, &p, &sol) {
         panic!("{path}: checker rejects the plan: {r}");
     }

@@ -12,7 +12,11 @@ use mavtempo::planner::{solve, Budget, FailReason, PlanFailure, Search, StepOutc
 
 /// Pictures of targets; a unary camera (optional) and a storage reservoir freed by downloads.
 fn domain(with_camera: bool) -> Arc<Domain> {
-    let camera = if with_camera { "use(CAMERA: 1, (st, et));" } else { "" };
+    let camera = if with_camera {
+        "use(CAMERA: 1, (st, et));"
+    } else {
+        ""
+    };
     let text = format!(
         "domain snap;
          type target;
@@ -49,7 +53,8 @@ fn problem(d: &Domain, targets: usize, deadline_s: Option<u32>) -> Arc<Problem> 
 }
 
 fn checked(d: &Arc<Domain>, p: &Arc<Problem>) -> PartialPlan {
-    let planned = solve(d.clone(), p.clone(), Budget::steps(5_000)).unwrap_or_else(|e| panic!("{e}"));
+    let planned =
+        solve(d.clone(), p.clone(), Budget::steps(5_000)).unwrap_or_else(|e| panic!("{e}"));
     let sol = planned.plan.to_solution(&HashMap::new());
     assert_eq!(sol.unachieved().count(), 0);
     if let Err(r) = validate(d, p, &sol) {
@@ -87,7 +92,10 @@ fn unary_resource_conflict_is_solved_by_ordering() {
     let ordered = |x: &mavtempo::plan::Action, y: &mavtempo::plan::Action| {
         !plan.stn.possibly_before(y.start, x.end)
     };
-    assert!(ordered(a, b) || ordered(b, a), "the camera uses must not overlap");
+    assert!(
+        ordered(a, b) || ordered(b, a),
+        "the camera uses must not overlap"
+    );
 }
 
 #[test]
@@ -98,7 +106,11 @@ fn fourth_picture_with_capacity_three_needs_a_download_before_it() {
         .live_actions()
         .filter(|&a| plan.domain.task(plan.action(a).task).name == "download")
         .collect();
-    assert_eq!(downloads.len(), 1, "one download frees room for the fourth picture");
+    assert_eq!(
+        downloads.len(),
+        1,
+        "one download frees room for the fourth picture"
+    );
     let dl = plan.action(downloads[0]);
     let produced_at = plan
         .action(downloads[0])
@@ -112,9 +124,13 @@ fn fourth_picture_with_capacity_three_needs_a_download_before_it() {
     // At least one picture is necessarily after the download's production.
     let after = takes(&plan)
         .into_iter()
-        .filter(|&a| plan.stn.necessarily_before(produced_at, plan.action(a).start) || {
-            let s = plan.action(a).start;
-            plan.stn.distance(s, produced_at) <= 0
+        .filter(|&a| {
+            plan.stn
+                .necessarily_before(produced_at, plan.action(a).start)
+                || {
+                    let s = plan.action(a).start;
+                    plan.stn.distance(s, produced_at) <= 0
+                }
         })
         .count();
     assert!(after >= 1);
@@ -168,6 +184,9 @@ fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
     }
     let live: std::collections::BTreeSet<_> = search.plan().live_actions().collect();
     assert_eq!(actions, live);
-    assert_eq!(links.len(), search.plan().links.iter().filter(|l| l.active).count());
+    assert_eq!(
+        links.len(),
+        search.plan().links.iter().filter(|l| l.active).count()
+    );
     assert!(search.executable(&[]));
 }

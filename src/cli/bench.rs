@@ -19,11 +19,14 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Incremental STN vs Floyd-Warshall.
     Stn,
+    /// Planning time and steps on the shipped and generated problems.
+    Plan,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
+        BenchWhat::Plan => bench_plan(args.json),
     }
 }
 
@@ -66,6 +69,39 @@ fn bench_stn(json: bool) -> ExitCode {
                 f.execute_median_us,
                 fw,
                 sp
+            );
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn bench_plan(json: bool) -> ExitCode {
+    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 20_000) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench plan: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    for f in &figures {
+        if json {
+            match serde_json::to_string(f) {
+                Ok(line) => println!("{line}"),
+                Err(e) => {
+                    eprintln!("bench plan: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        } else {
+            println!(
+                "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
+                f.problem,
+                if f.solved { "solved" } else { "FAILED" },
+                f.ms,
+                f.steps,
+                f.backtracks,
+                f.actions,
+                f.failure.as_deref().unwrap_or("")
             );
         }
     }

@@ -45,7 +45,11 @@ pub fn run(args: PlanArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let planned = match solve(domain.clone(), problem.clone(), Budget::steps(args.max_steps)) {
+    let planned = match solve(
+        domain.clone(),
+        problem.clone(),
+        Budget::steps(args.max_steps),
+    ) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("no plan for {}: {e}", problem.name);
@@ -101,8 +105,12 @@ fn term(t: &PlanTerm, sol: &Solution, p: &crate::model::Problem) -> String {
 
 fn window(sol: &Solution, tp: crate::plan::solution::PlanTp) -> String {
     let t = sol.timepoint(tp);
-    let f = |x: Option<i64>, inf: &str| x.map_or(inf.to_string(), |v| format!("{:.3}", v as f64 / 1000.0));
-    t.map_or("?".into(), |t| format!("[{}, {}]", f(t.lb, "-oo"), f(t.ub, "+oo")))
+    let f = |x: Option<i64>, inf: &str| {
+        x.map_or(inf.to_string(), |v| format!("{:.3}", v as f64 / 1000.0))
+    };
+    t.map_or("?".into(), |t| {
+        format!("[{}, {}]", f(t.lb, "-oo"), f(t.ub, "+oo"))
+    })
 }
 
 /// The readable listing: actions by earliest start, with parameters and windows (seconds), links, goals.
@@ -131,7 +139,11 @@ fn text(sol: &Solution, p: &crate::model::Problem) -> String {
     }
     out += "causal links:\n";
     for l in &sol.causal_links {
-        out += &format!("  {} -> {}\n", establisher(l.establisher, sol), consumer(l.consumer, sol));
+        out += &format!(
+            "  {} -> {}\n",
+            establisher(l.establisher, sol),
+            consumer(l.consumer, sol)
+        );
     }
     for g in sol.unachieved() {
         out += &format!(
@@ -158,7 +170,9 @@ fn establisher(e: Establisher, sol: &Solution) -> String {
 
 fn consumer(c: Consumer, sol: &Solution) -> String {
     match c {
-        Consumer::Hold { action, .. } | Consumer::EventFrom { action, .. } => action_name(sol, action),
+        Consumer::Hold { action, .. } | Consumer::EventFrom { action, .. } => {
+            action_name(sol, action)
+        }
         Consumer::Goal { goal } => sol
             .goals
             .iter()
@@ -170,13 +184,23 @@ fn consumer(c: Consumer, sol: &Solution) -> String {
 /// Graphviz: one node per action and goal, an edge per causal link (labelled with its proposition) — the
 /// partial order of seed 1 Fig. 5.
 fn dot(sol: &Solution, p: &crate::model::Problem) -> String {
-    let mut out = String::from("digraph plan {\n  rankdir=LR;\n  node [shape=box];\n  initial [shape=ellipse];\n");
+    let mut out = String::from(
+        "digraph plan {\n  rankdir=LR;\n  node [shape=box];\n  initial [shape=ellipse];\n",
+    );
     for a in &sol.actions {
         let args: Vec<String> = a.args.iter().take(4).map(|t| term(t, sol, p)).collect();
-        out += &format!("  {} [label=\"{}({})\"];\n", a.name, a.task_name, args.join(", "));
+        out += &format!(
+            "  {} [label=\"{}({})\"];\n",
+            a.name,
+            a.task_name,
+            args.join(", ")
+        );
     }
     for g in &sol.goals {
-        out += &format!("  goal_{} [shape=ellipse, label=\"{}\"];\n", g.goal.0, g.name);
+        out += &format!(
+            "  goal_{} [shape=ellipse, label=\"{}\"];\n",
+            g.goal.0, g.name
+        );
     }
     for l in &sol.causal_links {
         let from = match l.establisher {
@@ -188,7 +212,9 @@ fn dot(sol: &Solution, p: &crate::model::Problem) -> String {
             Establisher::Event { action, .. } => format!("a{}", action.0),
         };
         let to = match l.consumer {
-            Consumer::Hold { action, .. } | Consumer::EventFrom { action, .. } => format!("a{}", action.0),
+            Consumer::Hold { action, .. } | Consumer::EventFrom { action, .. } => {
+                format!("a{}", action.0)
+            }
             Consumer::Goal { goal } => format!("goal_{}", goal.0),
         };
         if from == to {

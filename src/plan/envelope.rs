@@ -17,7 +17,6 @@
 //! partial plan (every instantiation of the quantities) keeps the level inside: no conflict is missed.
 //! A violation names the checkpoint and the usages whose ordering is still open — the resolvers.
 
-
 use super::order::{necessarily_after, possibly_after};
 use super::{NTerm, PartialPlan, UsageId, UsageKind};
 use crate::model::ResourceId;
@@ -60,7 +59,11 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
     let capacity = if setup.profile.is_empty() {
         plan.domain.resource(r).capacity
     } else {
-        setup.profile.iter().map(|&(_, c)| c).fold(f64::INFINITY, f64::min)
+        setup
+            .profile
+            .iter()
+            .map(|&(_, c)| c)
+            .fold(f64::INFINITY, f64::min)
     };
     let mut changes: Vec<Change> = Vec::new();
     for &u in plan.usages_of(r) {

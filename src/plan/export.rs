@@ -102,7 +102,11 @@ impl PartialPlan {
                 .vars
                 .iter()
                 .enumerate()
-                .map(|(k, &v)| term(STerm::Var(v), &|| format!("a{}.?{}", a.0, task.sym_vars[k].name)))
+                .map(|(k, &v)| {
+                    term(STerm::Var(v), &|| {
+                        format!("a{}.?{}", a.0, task.sym_vars[k].name)
+                    })
+                })
                 .collect();
             let num_vars = act
                 .nums
@@ -171,11 +175,7 @@ impl PartialPlan {
                 establisher,
                 consumer,
                 attr: cond.attr,
-                args: cond
-                    .args
-                    .iter()
-                    .map(|&t| term(t, &|| "?".into()))
-                    .collect(),
+                args: cond.args.iter().map(|&t| term(t, &|| "?".into())).collect(),
                 value: term(cond.value, &|| "?".into()),
                 from: PlanTp(self.event(l.event).at.index() as u32),
                 to: PlanTp(cond.to.index() as u32),

@@ -72,7 +72,8 @@ fn possibly(plan: &PartialPlan, from: Timepoint, to: Timepoint, delay: Time) -> 
     if from == to {
         return delay <= 0;
     }
-    plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay && plan.stn.distance(from, to) >= delay
+    plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay
+        && plan.stn.distance(from, to) >= delay
 }
 
 /// Whether a task's event value can match the condition's value.
@@ -101,7 +102,11 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
         }
         let ev = plan.event(e);
         if !b.possibly_equal(ev.to, cond.value)
-            || ev.args.iter().zip(&cond.args).any(|(&x, &y)| !b.possibly_equal(x, y))
+            || ev
+                .args
+                .iter()
+                .zip(&cond.args)
+                .any(|(&x, &y)| !b.possibly_equal(x, y))
             || !possibly(plan, ev.at, cond.from, delay)
         {
             continue;

@@ -42,17 +42,29 @@ pub fn pick(plan: &mut PartialPlan) -> Option<(Flaw, Vec<Resolver>)> {
     for (event, link) in plan.live_threats() {
         let f = Flaw::Threat { event, link };
         let rs = resolvers(plan, &f);
-        consider((false, class(rs.len(), false), rs.len(), 0, 0, Reverse(0)), f, rs);
+        consider(
+            (false, class(rs.len(), false), rs.len(), 0, 0, Reverse(0)),
+            f,
+            rs,
+        );
     }
     for (a, b) in plan.live_unary_conflicts() {
         let f = Flaw::UnaryConflict { a, b };
         let rs = resolvers(plan, &f);
-        consider((false, class(rs.len(), false), rs.len(), 1, 0, Reverse(0)), f, rs);
+        consider(
+            (false, class(rs.len(), false), rs.len(), 1, 0, Reverse(0)),
+            f,
+            rs,
+        );
     }
     for c in plan.reservoir_conflicts() {
         let f = Flaw::Reservoir(c);
         let rs = resolvers(plan, &f);
-        consider((false, class(rs.len(), false), rs.len(), 2, 0, Reverse(0)), f, rs);
+        consider(
+            (false, class(rs.len(), false), rs.len(), 2, 0, Reverse(0)),
+            f,
+            rs,
+        );
     }
     let open: Vec<_> = plan.open_conditions().collect();
     for c in open {
@@ -66,7 +78,18 @@ pub fn pick(plan: &mut PartialPlan) -> Option<(Flaw, Vec<Resolver>)> {
                 .tasks
                 .iter()
                 .any(|t| t.events.iter().any(|e| e.attr == cond.attr));
-        consider((low_level, class(rs.len(), true), rs.len(), 3, urgency, Reverse(c.0)), f, rs);
+        consider(
+            (
+                low_level,
+                class(rs.len(), true),
+                rs.len(),
+                3,
+                urgency,
+                Reverse(c.0),
+            ),
+            f,
+            rs,
+        );
     }
     best.map(|(_, f, rs)| (f, rs))
 }
