@@ -21,12 +21,52 @@ pub enum BenchWhat {
     Stn,
     /// Planning time and steps on the shipped and generated problems.
     Plan,
+    /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
+    Sim,
+    /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
+    Link,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
         BenchWhat::Plan => bench_plan(args.json),
+        BenchWhat::Sim => bench_sim(args.json),
+        BenchWhat::Link => bench_link(args.json),
+    }
+}
+
+fn bench_sim(json: bool) -> ExitCode {
+    let report = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| e.to_string())
+        .and_then(|rt| {
+            rt.block_on(sitl::bench::measure_speedup(500.0, 10, 100.0))
+                .map_err(|e| e.to_string())
+        });
+    match report {
+        Ok(r) if json => match serde_json::to_string(&r) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench sim: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Ok(r) => {
+            println!(
+                "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
+                r.speedup_requested, r.speedup_achieved, r.waypoints, r.sim_s, r.wall_s, r.speedup_ceiling
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench sim: {e}");
+            ExitCode::FAILURE
+        }
     }
 }
 
@@ -73,6 +113,32 @@ fn bench_stn(json: bool) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+fn bench_link(json: bool) -> ExitCode {
+    match crate::vehicle::bench::run_link_bench(21, 200_000) {
+        Ok(b) if json => match serde_json::to_string(&b) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench link: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Ok(b) => {
+            println!(
+                "upload 100 items (median of {}): {:.2} ms (target <= 100 ms); telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
+                b.upload_runs, b.upload_100_items_ms, b.telemetry_msgs_per_s, b.telemetry_msgs
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench link: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 fn bench_plan(json: bool) -> ExitCode {

@@ -2,7 +2,9 @@
 
 mod bench;
 mod check;
+mod goal;
 mod plan;
+mod sim;
 
 use std::process::ExitCode;
 
@@ -27,6 +29,10 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Plan a problem: print the flexible plan (--json, --dot), checked by the independent checker.
     Plan(plan::PlanArgs),
+    /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
+    Goal(goal::GoalArgs),
+    /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
+    Sim(sim::SimArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
@@ -37,6 +43,8 @@ pub fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Check(args) => check::run(args),
         Command::Plan(args) => plan::run(args),
+        Command::Goal(args) => goal::run(args),
+        Command::Sim(args) => sim::run(args),
     }
 }
 

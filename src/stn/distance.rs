@@ -1,9 +1,11 @@
 //! On-demand shortest-path queries, without an all-pairs matrix.
 //!
 //! A path a→b through the origin weighs at least `d(a, origin) + d(origin, b) = ub[b] − lb[a]`, a value the
-//! bounds give for free. The search therefore starts from that bound, never expands the origin, and runs a
-//! Dijkstra over reduced costs (the lower bounds are a feasible potential) pruned at the bound: when b's
-//! bounds are tight the search stays tiny.
+//! bounds give for free. The search starts from that bound, never expands the origin, and is an A* whose
+//! heuristic comes from the bounds: both the earliest and (where finite) the latest times are solutions of
+//! the network, so `d(x, b) ≥ max(lb[b] − lb[x], ub[b] − ub[x])`, a consistent lower bound (the same
+//! potentials as the reduced-cost Dijkstra of the propagation). Nodes whose estimate reaches the bound found
+//! so far are never expanded: when b's bounds are tight the search stays tiny.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -16,28 +18,36 @@ pub(crate) fn distance(stn: &Stn, a: u32, b: u32) -> Time {
     if a == b {
         return 0;
     }
-    let lb = &stn.lb;
-    let via_origin = sat_add(stn.ub[b as usize], -lb[a as usize]);
+    let (lb, ub) = (&stn.lb, &stn.ub);
+    let via_origin = sat_add(ub[b as usize], -lb[a as usize]);
     if a == 0 || b == 0 {
         return via_origin;
     }
-    // Reduced distance r(x) = d(a, x) + lb[a] − lb[x] ≥ 0.
-    let reduced = |x: u32, d: Time| d + lb[a as usize] - lb[x as usize];
+    let (lb_b, ub_b) = (lb[b as usize], ub[b as usize]);
+    let estimate = |x: u32| {
+        let by_lb = lb_b - lb[x as usize];
+        let ub_x = ub[x as usize];
+        if ub_b < INF && ub_x < INF {
+            by_lb.max(ub_b - ub_x)
+        } else {
+            by_lb
+        }
+    };
     let mut best = via_origin;
     let mut dist: HashMap<u32, Time> = HashMap::new();
     let mut heap = BinaryHeap::new();
     dist.insert(a, 0);
-    heap.push(Reverse((reduced(a, 0), a)));
+    heap.push(Reverse((estimate(a), a)));
     while let Some(Reverse((key, x))) = heap.pop() {
-        let dx = dist[&x];
-        if key != reduced(x, dx) {
-            continue;
+        let dx = dist.get(&x).copied().unwrap_or(INF);
+        if key != sat_add(dx, estimate(x)) {
+            continue; // stale
         }
-        if best < INF && key >= reduced(b, best) {
+        if key >= best {
             break;
         }
         if x == b {
-            best = best.min(dx);
+            best = dx;
             break;
         }
         for &h in &stn.out[x as usize] {
@@ -48,7 +58,7 @@ pub(crate) fn distance(stn: &Stn, a: u32, b: u32) -> Time {
             let cand = sat_add(dx, w);
             if dist.get(&y).is_none_or(|&dy| cand < dy) {
                 dist.insert(y, cand);
-                heap.push(Reverse((reduced(y, cand), y)));
+                heap.push(Reverse((sat_add(cand, estimate(y)), y)));
             }
         }
     }

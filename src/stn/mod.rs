@@ -125,3 +125,6 @@ pub(crate) fn norm_ub(x: Time) -> Time {
         x.clamp(-MAX_FINITE, MAX_FINITE)
     }
 }
+
+#[cfg(test)]
+mod tests;

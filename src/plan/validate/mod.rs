@@ -13,9 +13,11 @@
 //!    every resource level over time ([`resource`]).
 //!
 //! It reports **all** violations it finds ([`Rejected`]). Value semantics (IxTeT's piecewise-constant
-//! attributes): an event at t sets the value from t on; `hold(v, (a, b))` requires the value v on [a, b[
-//! (on {a} when a = b), so a hold may end exactly where the next event changes the value; two changes of
-//! one attribute instance at the same instant are a violation (their order is undefined).
+//! attributes): an event at t sets the value from t on (its `from` is the value just before t); an
+//! action's `hold(v, (a, b))` requires the value v on [a, b[ (on {a} when a = b), so a hold may end exactly
+//! where the next event changes the value; a goal's hold (and a causal link to a goal) requires it on the
+//! closed [st^g, et^g]; two changes of one attribute instance at the same instant are a violation (their
+//! order is undefined). These are the semantics the planner documents in `crate::plan`.
 
 mod bind;
 mod network;
@@ -26,7 +28,7 @@ mod temporal;
 mod timeline;
 mod violation;
 
-pub use violation::{Rejected, Violation};
+pub use violation::{Lapse, Rejected, Violation};
 
 use crate::model::{Domain, ObjectId, Problem, Term, Time, TimeInterval, TpId, Value};
 use crate::plan::solution::{PlanAction, PlanTerm, PlanTp, Solution};

@@ -241,3 +241,131 @@ fn level_high_at(initial: f64, steps: &[Step], t: Time) -> f64 {
         .filter(|s| s.time <= t)
         .fold(initial, |h, s| h + s.high)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn u(who: &str, kind: Kind, q: Iv) -> Usage {
+        Usage {
+            who: who.into(),
+            kind,
+            q,
+        }
+    }
+
+    fn setup(level: f64, profile: Vec<(Time, f64)>) -> ResourceSetup {
+        ResourceSetup { level, profile }
+    }
+
+    fn run(s: &ResourceSetup, usages: &[Usage], unary_kind: bool) -> Vec<Violation> {
+        let mut out = Vec::new();
+        if unary_kind {
+            unary("R", s, usages, &mut out);
+        } else {
+            reservoir("R", s, usages, &mut out);
+        }
+        out
+    }
+
+    #[test]
+    fn reservoir_lower_bound_takes_the_maximum_consumption() {
+        let s = setup(3.0, vec![(0, 3.0)]);
+        let pics: Vec<Usage> = (0..4)
+            .map(|i| u(&format!("p{i}"), Kind::Consume(i * 10), (0.8, 1.0)))
+            .collect();
+        // 3 × [0.8, 1] fits in 3 slots; a fourth may not (4 × 0.8 would, but the worst case is 4).
+        assert!(run(&s, &pics[..3], false).is_empty());
+        let v = run(&s, &pics, false);
+        assert!(
+            matches!(v.as_slice(), [Violation::ResourceBelowZero { time: 30, culprit, .. }] if culprit == "p3"),
+            "{v:?}"
+        );
+        // A download producing [1, 2.4] before the fourth: its minimum, 1, is enough, and its maximum
+        // cannot overflow (3 − 3 × 0.8 + 2.4 = 3); one producing up to 3 could.
+        let mut with = pics;
+        with.push(u("dl", Kind::Produce(25), (1.0, 2.4)));
+        assert!(run(&s, &with, false).is_empty());
+        if let Some(dl) = with.last_mut() {
+            dl.q = (1.0, 3.0);
+        }
+        let v = run(&s, &with, false);
+        assert!(
+            matches!(v.as_slice(), [Violation::ResourceOverCapacity { time: 25, culprit, .. }] if culprit == "dl"),
+            "{v:?}"
+        );
+    }
+
+    #[test]
+    fn reservoir_upper_bound_takes_the_maximum_production_and_the_profile() {
+        let s = setup(2.0, vec![(0, 3.0)]);
+        let v = run(&s, &[u("dl", Kind::Produce(5), (1.0, 3.0))], false);
+        assert!(
+            matches!(v.as_slice(), [Violation::ResourceOverCapacity { level, capacity, .. }] if *level == 5.0 && *capacity == 3.0),
+            "{v:?}"
+        );
+        let drop = setup(3.0, vec![(0, 3.0), (1_000, 2.0)]);
+        let v = run(&drop, &[], false);
+        assert!(
+            matches!(
+                v.as_slice(),
+                [Violation::ResourceOverCapacity { time: 1_000, .. }]
+            ),
+            "{v:?}"
+        );
+    }
+
+    #[test]
+    fn within_an_instant_decreases_come_before_productions_and_returns_before_borrowings() {
+        let s = setup(0.0, vec![(0, 1.0)]);
+        let v = run(
+            &s,
+            &[
+                u("c", Kind::Consume(5), (1.0, 1.0)),
+                u("p", Kind::Produce(5), (1.0, 1.0)),
+            ],
+            false,
+        );
+        assert!(
+            matches!(v.as_slice(), [Violation::ResourceBelowZero { time: 5, .. }]),
+            "{v:?}"
+        );
+        let full = setup(1.0, vec![(0, 1.0)]);
+        let back_to_back = [
+            u("a", Kind::Use(0, 10), (1.0, 1.0)),
+            u("b", Kind::Use(10, 20), (1.0, 1.0)),
+        ];
+        assert!(run(&full, &back_to_back, false).is_empty());
+        assert!(run(&full, &back_to_back, true).is_empty());
+    }
+
+    #[test]
+    fn unary_uses_overlap_and_honour_the_availability_profile() {
+        let s = setup(1.0, vec![(0, 1.0), (1_000, 0.0), (2_000, 1.0)]);
+        let ok = [
+            u("a", Kind::Use(0, 999), (1.0, 1.0)),
+            u("b", Kind::Use(2_000, 2_500), (1.0, 1.0)),
+        ];
+        assert!(run(&s, &ok, true).is_empty());
+        let v = run(&s, &[u("c", Kind::Use(900, 1_100), (1.0, 1.0))], true);
+        assert!(
+            matches!(
+                v.as_slice(),
+                [Violation::ResourceUnavailable { time: 1_000, .. }]
+            ),
+            "{v:?}"
+        );
+        let v = run(
+            &s,
+            &[
+                u("a", Kind::Use(0, 500), (1.0, 1.0)),
+                u("b", Kind::Use(499, 600), (1.0, 1.0)),
+            ],
+            true,
+        );
+        assert!(
+            matches!(v.as_slice(), [Violation::UnaryOverlap { time: 499, .. }]),
+            "{v:?}"
+        );
+    }
+}

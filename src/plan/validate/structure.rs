@@ -3,14 +3,22 @@
 
 use std::collections::HashSet;
 
-use crate::model::{Domain, GoalId, Problem};
-use crate::plan::solution::{CausalLink, Consumer, Establisher, PlanTerm, PlanTp, Solution};
+use crate::model::{Domain, GoalId, Problem, Task};
+use crate::plan::solution::{
+    ActionId, CausalLink, Consumer, Establisher, PlanTerm, PlanTp, Solution,
+};
 
 use super::Violation;
 
 pub(super) fn check(d: &Domain, p: &Problem, s: &Solution) -> Vec<Violation> {
     let mut out = Vec::new();
     let mut bad = |msg: String| out.push(Violation::Malformed(msg));
+    if s.domain != d.name || s.problem != p.name {
+        bad(format!(
+            "a plan for {}/{} checked against {}/{}",
+            s.domain, s.problem, d.name, p.name
+        ));
+    }
     let n = s.timepoints.len();
     if n == 0 {
         bad("no timepoints (the origin is timepoint 0)".into());
@@ -136,39 +144,37 @@ fn link_ok(d: &Domain, p: &Problem, s: &Solution, l: &CausalLink) -> Result<(), 
             }
         }
         Establisher::Event { action, event } => {
-            let a = s
-                .action(action)
-                .ok_or(format!("unknown action id {}", action.0))?;
-            let n = d.tasks.get(a.task.index()).map_or(0, |t| t.events.len());
-            if event >= n {
-                return Err(format!("action {} has no event #{event}", a.name));
-            }
+            part(d, s, action, event, "event", |t| t.events.len())?
         }
     }
     match l.consumer {
-        Consumer::Hold { action, hold } => {
-            let a = s
-                .action(action)
-                .ok_or(format!("unknown action id {}", action.0))?;
-            let n = d.tasks.get(a.task.index()).map_or(0, |t| t.holds.len());
-            if hold >= n {
-                return Err(format!("action {} has no hold #{hold}", a.name));
-            }
-        }
+        Consumer::Hold { action, hold } => part(d, s, action, hold, "hold", |t| t.holds.len())?,
         Consumer::EventFrom { action, event } => {
-            let a = s
-                .action(action)
-                .ok_or(format!("unknown action id {}", action.0))?;
-            let n = d.tasks.get(a.task.index()).map_or(0, |t| t.events.len());
-            if event >= n {
-                return Err(format!("action {} has no event #{event}", a.name));
-            }
+            part(d, s, action, event, "event", |t| t.events.len())?
         }
         Consumer::Goal { goal } => {
             if goal.index() >= p.goals.len() {
                 return Err(format!("unknown goal id {}", goal.0));
             }
         }
+    }
+    Ok(())
+}
+
+/// Action `action` exists and its task has a `what` number `index` (`count` of them).
+fn part(
+    d: &Domain,
+    s: &Solution,
+    action: ActionId,
+    index: usize,
+    what: &str,
+    count: impl Fn(&Task) -> usize,
+) -> Result<(), String> {
+    let a = s
+        .action(action)
+        .ok_or(format!("unknown action id {}", action.0))?;
+    if index >= d.tasks.get(a.task.index()).map_or(0, count) {
+        return Err(format!("action {} has no {what} #{index}", a.name));
     }
     Ok(())
 }

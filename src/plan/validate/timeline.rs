@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use crate::model::{AttrId, Time, Value};
 use crate::plan::solution::{CausalLink, Consumer, Establisher, PlanTp};
 
+use super::violation::Lapse;
 use super::{Ctx, Violation};
 
 type Instance = (AttrId, Vec<Value>);
@@ -32,15 +33,16 @@ impl Timeline {
             .map_or(Value::Unknown, |&(_, v)| v)
     }
 
-    /// The first time in `[a, b[` (`{a}` when `b <= a`) where the value is not `v`, with the value then.
-    fn broken(&self, v: Value, a: Time, b: Time) -> Option<(Time, Value)> {
+    /// The first time in `[a, b[` (`[a, b]` when `closed`, `{a}` when `b <= a`) where the value is not
+    /// `v`, with the value then.
+    fn broken(&self, v: Value, a: Time, b: Time, closed: bool) -> Option<(Time, Value)> {
         let now = self.at(a);
         if now != v {
             return Some((a, now));
         }
         self.0
             .iter()
-            .find(|&&(t, x)| t > a && t < b && x != v)
+            .find(|&&(t, x)| t > a && (t < b || (closed && t == b)) && x != v)
             .map(|&(t, x)| (t, x))
     }
 }
@@ -123,15 +125,10 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
             );
             let v = cx.term(a, h.value);
             let (from, to) = (cx.at(a, h.from), cx.at(a, h.to));
-            if let Some((time, actual)) = line(&key).broken(v, from, to) {
+            if let Some(lapse) = lapse(cx, &line(&key), &key, v, (from, to), false) {
                 out.push(Violation::HoldBroken {
                     action: cx.label(a),
-                    instance: cx.instance_name(key.0, &key.1),
-                    value: cx.value_name(v),
-                    from,
-                    to,
-                    time,
-                    actual: cx.value_name(actual),
+                    lapse,
                 });
             }
         }
@@ -150,16 +147,9 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
         );
         let v = cx.value(l.value);
         let (from, to) = (cx.time(l.from), cx.time(l.to));
-        if let Some((time, actual)) = line(&key).broken(v, from, to) {
-            out.push(Violation::LinkBroken {
-                link: label,
-                instance: cx.instance_name(key.0, &key.1),
-                value: cx.value_name(v),
-                from,
-                to,
-                time,
-                actual: cx.value_name(actual),
-            });
+        let closed = matches!(l.consumer, Consumer::Goal { .. });
+        if let Some(lapse) = lapse(cx, &line(&key), &key, v, (from, to), closed) {
+            out.push(Violation::LinkBroken { link: label, lapse });
         }
     }
     for g in cx.s.goals.iter().filter(|g| g.achieved) {
@@ -182,18 +172,33 @@ pub(super) fn check(cx: &Ctx, out: &mut Vec<Violation>) {
             goal.args.iter().map(|&o| Value::Obj(o)).collect::<Vec<_>>(),
         );
         let (from, to) = (cx.time(st), cx.time(et));
-        if let Some((time, actual)) = line(&key).broken(goal.value, from, to) {
+        if let Some(lapse) = lapse(cx, &line(&key), &key, goal.value, (from, to), true) {
             out.push(Violation::GoalBroken {
                 goal: goal.name.clone(),
-                instance: cx.instance_name(key.0, &key.1),
-                value: cx.value_name(goal.value),
-                from,
-                to,
-                time,
-                actual: cx.value_name(actual),
+                lapse,
             });
         }
     }
+}
+
+/// The first failure of `key = v` over `[from, to[` (closed: `[from, to]`), for a violation.
+fn lapse(
+    cx: &Ctx,
+    line: &Timeline,
+    key: &Instance,
+    v: Value,
+    (from, to): (Time, Time),
+    closed: bool,
+) -> Option<Lapse> {
+    let (time, actual) = line.broken(v, from, to, closed)?;
+    Some(Lapse {
+        instance: cx.instance_name(key.0, &key.1),
+        value: cx.value_name(v),
+        from,
+        to,
+        time,
+        actual: cx.value_name(actual),
+    })
 }
 
 /// Ground arguments (attribute arguments are never `+oo` in a well-formed domain).
@@ -278,14 +283,14 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
             let h = &cx.d.task(a.task).holds[hold];
             let ha: Vec<Value> = h.args.iter().map(|&t| cx.term(a, t)).collect();
             same(h.attr, &ha, cx.term(a, h.value), "supported hold")?;
-            at(l.to, a.tp(h.to), "supported hold's end")?;
+            supported(cx, l, a, (h.from, h.to), "hold")?;
         }
         Consumer::EventFrom { action, event } => {
             let a = cx.s.action(action).ok_or("unknown consumer")?;
             let e = &cx.d.task(a.task).events[event];
             let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
             same(e.attr, &ea, cx.term(a, e.from), "supported event")?;
-            at(l.to, a.tp(e.at), "supported event")?;
+            supported(cx, l, a, (e.at, e.at), "event")?;
         }
         Consumer::Goal { goal } => {
             let g = &cx.p.goals[goal.index()];
@@ -298,6 +303,34 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
                     .and_then(|pg| pg.end);
             at(l.to, end, "goal's end")?;
         }
+    }
+    Ok(())
+}
+
+/// The link ends at the supported hold's / event's end and its establisher precedes its start.
+fn supported(
+    cx: &Ctx,
+    l: &CausalLink,
+    a: &crate::plan::solution::PlanAction,
+    (start, end): (crate::model::TpId, crate::model::TpId),
+    what: &str,
+) -> Result<(), String> {
+    if a.tp(end) != Some(l.to) {
+        return Err(format!(
+            "its interval bound {} is not the end of the {what} it supports",
+            cx.s.tp_name(l.to)
+        ));
+    }
+    precedes(cx, l, cx.at(a, start), &format!("the {what} it supports"))
+}
+
+/// Footnote 3 of seed 1: the establisher precedes what it supports (it may not start after it).
+fn precedes(cx: &Ctx, l: &CausalLink, start: Time, what: &str) -> Result<(), String> {
+    let from = cx.time(l.from);
+    if from > start {
+        return Err(format!(
+            "its establisher at {from} ms comes after the start of {what} at {start} ms"
+        ));
     }
     Ok(())
 }

@@ -65,41 +65,17 @@ pub enum Violation {
         second: String,
     },
     /// A hold of an action does not hold over its interval.
-    #[error("{action}: hold {instance} = {value} over [{from}, {to}] ms is broken at {time} ms (value {actual})")]
-    HoldBroken {
-        action: String,
-        instance: String,
-        value: String,
-        from: Time,
-        to: Time,
-        time: Time,
-        actual: String,
-    },
+    #[error("{action}: hold {lapse}")]
+    HoldBroken { action: String, lapse: Lapse },
     /// A causal link's value does not persist over its protected interval.
-    #[error("causal link {link}: {instance} = {value} over [{from}, {to}] ms is broken at {time} ms (value {actual})")]
-    LinkBroken {
-        link: String,
-        instance: String,
-        value: String,
-        from: Time,
-        to: Time,
-        time: Time,
-        actual: String,
-    },
+    #[error("causal link {link}: {lapse}")]
+    LinkBroken { link: String, lapse: Lapse },
     /// A causal link does not match its establisher or consumer.
     #[error("causal link {link}: {reason}")]
     LinkMismatch { link: String, reason: String },
     /// A goal marked achieved whose proposition does not hold over its window.
-    #[error("goal {goal}: {instance} = {value} over [{from}, {to}] ms is broken at {time} ms (value {actual})")]
-    GoalBroken {
-        goal: String,
-        instance: String,
-        value: String,
-        from: Time,
-        to: Time,
-        time: Time,
-        actual: String,
-    },
+    #[error("goal {goal}: {lapse}")]
+    GoalBroken { goal: String, lapse: Lapse },
     /// st^g − origin outside I^g (a missed deadline or a too-early start).
     #[error("goal {goal}: start at {start} ms is outside its window I^g = {window}")]
     GoalWindow {
@@ -152,6 +128,29 @@ pub enum Violation {
         time: Time,
         capacity: f64,
     },
+}
+
+/// A proposition that does not persist: `instance = value` over `[from, to]` fails at `time`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lapse {
+    /// `AT_ROBOT()`.
+    pub instance: String,
+    pub value: String,
+    pub from: Time,
+    pub to: Time,
+    /// The first time it fails, and the value then.
+    pub time: Time,
+    pub actual: String,
+}
+
+impl std::fmt::Display for Lapse {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {} over [{}, {}] ms is broken at {} ms (value {})",
+            self.instance, self.value, self.from, self.to, self.time, self.actual
+        )
+    }
 }
 
 /// A rejected plan: every violation found.

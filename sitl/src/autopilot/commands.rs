@@ -1,0 +1,264 @@
+//! COMMAND_LONG / COMMAND_INT handling with ArduPilot's COMMAND_ACK results.
+
+use mavlink::dialects::ardupilotmega::*;
+
+use super::telemetry::{self, data_stream_ids};
+use super::{Autopilot, Mode, Sender};
+use crate::physics::Target;
+use crate::scenario::EventKind;
+
+/// `MAV_CMD_COMPONENT_ARM_DISARM` param2 that skips the prearm checks.
+const FORCE_ARM: f32 = 21196.0;
+
+/// A command from either message, positions kept as integers when they came as COMMAND_INT.
+#[derive(Debug, Clone)]
+pub struct Cmd {
+    pub from: Sender,
+    pub command: MavCmd,
+    pub p: [f32; 7],
+    /// COMMAND_INT x / y (degrees ×1e7) and frame; None for COMMAND_LONG.
+    pub int: Option<(i32, i32, MavFrame)>,
+}
+
+impl Cmd {
+    pub fn from_long(from: Sender, m: &COMMAND_LONG_DATA) -> Self {
+        Self {
+            from,
+            command: m.command,
+            p: [
+                m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7,
+            ],
+            int: None,
+        }
+    }
+
+    pub fn from_int(from: Sender, m: &COMMAND_INT_DATA) -> Self {
+        Self {
+            from,
+            command: m.command,
+            p: [
+                m.param1, m.param2, m.param3, m.param4, m.x as f32, m.y as f32, m.z,
+            ],
+            int: Some((m.x, m.y, m.frame)),
+        }
+    }
+}
+
+impl Autopilot {
+    pub(super) fn ack(&mut self, c: &Cmd, result: MavResult, progress: u8) {
+        self.ack_to(c.from, c.command, result, progress);
+    }
+
+    pub(super) fn ack_to(&mut self, to: Sender, command: MavCmd, result: MavResult, progress: u8) {
+        self.send_to(
+            to.peer,
+            MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+                command,
+                result,
+                progress,
+                result_param2: 0,
+                target_system: to.sysid,
+                target_component: to.compid,
+            }),
+        );
+    }
+
+    pub(super) fn on_command(&mut self, c: Cmd) {
+        let id = c.command as u32;
+        self.emit_event(EventKind::Command, i64::from(id));
+        if let Some(i) = self
+            .command_failures
+            .iter()
+            .position(|(cmd, _, n)| u32::from(*cmd) == id && *n > 0)
+        {
+            let result = self.command_failures[i].1;
+            self.command_failures[i].2 -= 1;
+            if self.command_failures[i].2 == 0 {
+                self.command_failures.remove(i);
+            }
+            self.text(
+                MavSeverity::MAV_SEVERITY_WARNING,
+                &format!("Command {id} refused (injected fault)"),
+            );
+            self.ack(&c, result, 0);
+            return;
+        }
+        let result = match c.command {
+            MavCmd::MAV_CMD_DO_SET_MODE => {
+                // p1 must carry MAV_MODE_FLAG_CUSTOM_MODE_ENABLED; p2 is the custom mode.
+                match Mode::from_number(c.p[1] as u32, self.vehicle) {
+                    Some(m) if (c.p[0] as u32) & 1 == 1 => self.set_mode_result(m),
+                    _ => MavResult::MAV_RESULT_FAILED,
+                }
+            }
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => {
+                if c.p[0] >= 0.5 {
+                    match self.arm(c.p[1] == FORCE_ARM) {
+                        Ok(()) => MavResult::MAV_RESULT_ACCEPTED,
+                        Err(reason) => {
+                            self.text(MavSeverity::MAV_SEVERITY_CRITICAL, reason);
+                            MavResult::MAV_RESULT_FAILED
+                        }
+                    }
+                } else {
+                    self.disarm();
+                    MavResult::MAV_RESULT_ACCEPTED
+                }
+            }
+            MavCmd::MAV_CMD_MISSION_START => {
+                if self.mission.len() <= 1 {
+                    self.text(
+                        MavSeverity::MAV_SEVERITY_NOTICE,
+                        "No Mission. Can't set AUTO.",
+                    );
+                    MavResult::MAV_RESULT_FAILED
+                } else {
+                    let r = self.set_mode_result(Mode::Auto);
+                    if r == MavResult::MAV_RESULT_ACCEPTED && self.armed && !self.exec.started {
+                        self.start_mission();
+                    }
+                    r
+                }
+            }
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT => self.set_mission_current(c.p[0] as i64),
+            MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH => self.set_mode_result(Mode::Rtl),
+            MavCmd::MAV_CMD_DO_REPOSITION => self.reposition(&c),
+            MavCmd::MAV_CMD_DO_CHANGE_SPEED => {
+                if c.p[1] > 0.0 {
+                    self.speed_override = Some(f64::from(c.p[1]));
+                    MavResult::MAV_RESULT_ACCEPTED
+                } else {
+                    MavResult::MAV_RESULT_DENIED
+                }
+            }
+            MavCmd::MAV_CMD_DO_SET_SERVO => {
+                self.set_servo(c.p[0] as u8, c.p[1] as u16);
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            MavCmd::MAV_CMD_IMAGE_START_CAPTURE => {
+                self.start_capture(c.p[2].max(1.0) as u32, f64::from(c.p[1]));
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            MavCmd::MAV_CMD_DO_DIGICAM_CONTROL => {
+                self.start_capture(1, 0.0);
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL => {
+                if self
+                    .streams
+                    .set_interval_us(c.p[0] as u32, c.p[1], self.now_ms)
+                {
+                    MavResult::MAV_RESULT_ACCEPTED
+                } else {
+                    MavResult::MAV_RESULT_FAILED
+                }
+            }
+            MavCmd::MAV_CMD_REQUEST_MESSAGE => return self.request_message(&c, c.p[0] as u32),
+            MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => {
+                return self.request_message(&c, telemetry::AUTOPILOT_VERSION)
+            }
+            MavCmd::MAV_CMD_GET_HOME_POSITION => {
+                return self.request_message(&c, telemetry::HOME_POSITION)
+            }
+            MavCmd::MAV_CMD_USER_1 => return self.downlink_command(&c),
+            _ => MavResult::MAV_RESULT_UNSUPPORTED,
+        };
+        self.ack(&c, result, 0);
+    }
+
+    fn request_message(&mut self, c: &Cmd, id: u32) {
+        match self.build(id) {
+            Some(m) => {
+                self.ack(c, MavResult::MAV_RESULT_ACCEPTED, 0);
+                self.send_to(c.from.peer, m);
+            }
+            None => self.ack(c, MavResult::MAV_RESULT_UNSUPPORTED, 0),
+        }
+    }
+
+    fn set_mode_result(&mut self, m: Mode) -> MavResult {
+        match self.set_mode(m) {
+            Ok(()) => MavResult::MAV_RESULT_ACCEPTED,
+            Err(_) => MavResult::MAV_RESULT_FAILED,
+        }
+    }
+
+    fn set_mission_current(&mut self, seq: i64) -> MavResult {
+        // ArduPilot's DO_SET_MISSION_CURRENT counts home as 0; seq 0 means the first item.
+        let seq = seq.max(1);
+        if seq as usize >= self.mission.len() {
+            return MavResult::MAV_RESULT_DENIED;
+        }
+        self.exec.restart_at(seq as u16);
+        self.broadcast_mission_current();
+        MavResult::MAV_RESULT_ACCEPTED
+    }
+
+    /// DO_REPOSITION: COMMAND_INT only; bit 1 of p2 switches to GUIDED, else GUIDED is required.
+    fn reposition(&mut self, c: &Cmd) -> MavResult {
+        let Some((x, y, _frame)) = c.int else {
+            return MavResult::MAV_RESULT_COMMAND_INT_ONLY;
+        };
+        let change_mode = (c.p[1] as u32) & 1 == 1;
+        if self.mode != Mode::Guided {
+            if !change_mode {
+                return MavResult::MAV_RESULT_DENIED;
+            }
+            if self.set_mode(Mode::Guided).is_err() {
+                return MavResult::MAV_RESULT_FAILED;
+            }
+        }
+        self.set_guided_target(x, y, c.p[6], f64::from(c.p[0]));
+        MavResult::MAV_RESULT_ACCEPTED
+    }
+
+    pub(super) fn set_guided_target(&mut self, lat_e7: i32, lon_e7: i32, alt: f32, speed: f64) {
+        let pos = if lat_e7 == 0 && lon_e7 == 0 {
+            self.kin.pos
+        } else {
+            self.frame.to_local_e7(lat_e7, lon_e7)
+        };
+        let depth = if self.vehicle == crate::config::VehicleKind::Auv && alt < 0.0 {
+            f64::from(-alt)
+        } else {
+            0.0
+        };
+        self.guided_target = Some(Target {
+            pos,
+            depth,
+            speed: if speed > 0.0 { speed } else { 0.0 },
+            stop: true,
+        });
+    }
+
+    pub(super) fn on_set_position_target(&mut self, m: &SET_POSITION_TARGET_GLOBAL_INT_DATA) {
+        // Ignored outside GUIDED, as ArduPilot Rover does.
+        if self.mode != Mode::Guided {
+            return;
+        }
+        let pos_ignored = m
+            .type_mask
+            .contains(PositionTargetTypemask::POSITION_TARGET_TYPEMASK_X_IGNORE);
+        if !pos_ignored {
+            self.set_guided_target(m.lat_int, m.lon_int, m.alt, 0.0);
+        }
+    }
+
+    pub(super) fn on_set_mode(&mut self, from: Sender, m: &SET_MODE_DATA) {
+        let result = match Mode::from_number(m.custom_mode, self.vehicle) {
+            Some(mode) => self.set_mode_result(mode),
+            None => MavResult::MAV_RESULT_FAILED,
+        };
+        self.ack_to(from, MavCmd::MAV_CMD_DO_SET_MODE, result, 0);
+    }
+
+    pub(super) fn on_request_data_stream(&mut self, m: &REQUEST_DATA_STREAM_DATA) {
+        let hz = if m.start_stop == 0 {
+            0
+        } else {
+            m.req_message_rate
+        };
+        let ids = data_stream_ids(m.req_stream_id);
+        self.streams.set_rate_hz(&ids, hz, self.now_ms);
+    }
+}

@@ -1,0 +1,29 @@
+//! Typed errors of the simulator, each carrying its reason.
+
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum SimError {
+    #[error("bad listen address `{addr}`: {reason} (expected tcpin:HOST:PORT, tcpout:HOST:PORT, udpin:HOST:PORT or udpout:HOST:PORT)")]
+    BadAddress { addr: String, reason: String },
+    #[error("cannot open `{addr}`: {source}")]
+    Io {
+        addr: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("bad home `{0}`: expected LAT,LON in degrees (e.g. 43.5615,1.4778)")]
+    BadHome(String),
+    #[error("bad speed-up {0}: must be within [0.001, 1000000]")]
+    BadSpeedup(f64),
+    #[error("cannot read scenario {path}: {source}")]
+    ScenarioRead {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("bad scenario {path}: {reason}")]
+    Scenario { path: String, reason: String },
+    #[error("the simulator has stopped")]
+    Stopped,
+}

@@ -1,0 +1,270 @@
+//! Fault triggers (at a time, on an event) and the link's fault state (blackout, loss,
+//! duplication, reordering). What each fault does to the vehicle lives in `autopilot::faults`.
+
+use std::collections::HashMap;
+
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::link::PeerId;
+use crate::scenario::{EventKind, Fault, FaultSpec};
+use crate::time::{later, secs_to_ms};
+
+/// Something that happened in the sim, which faults can be triggered on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SimEvent {
+    pub kind: EventKind,
+    pub value: i64,
+}
+
+#[derive(Debug)]
+struct Pending {
+    spec: FaultSpec,
+    seen: u32,
+    due_ms: Option<u64>,
+    fired: bool,
+}
+
+/// The scenario's faults, waiting for their trigger.
+#[derive(Debug, Default)]
+pub struct FaultEngine {
+    pending: Vec<Pending>,
+}
+
+impl FaultEngine {
+    pub fn new(specs: &[FaultSpec]) -> Self {
+        Self {
+            pending: specs
+                .iter()
+                .map(|s| Pending {
+                    spec: s.clone(),
+                    seen: 0,
+                    due_ms: s.when.at_s.map(secs_to_ms),
+                    fired: false,
+                })
+                .collect(),
+        }
+    }
+
+    pub fn on_event(&mut self, ev: SimEvent, now_ms: u64) {
+        for p in self
+            .pending
+            .iter_mut()
+            .filter(|p| !p.fired && p.due_ms.is_none())
+        {
+            let w = &p.spec.when;
+            if w.on != Some(ev.kind) || w.value.is_some_and(|v| v != ev.value) {
+                continue;
+            }
+            p.seen += 1;
+            if p.seen == w.occurrence {
+                p.due_ms = Some(later(now_ms, w.delay_s));
+            }
+        }
+    }
+
+    /// Faults whose time has come, in scenario order; each fires once.
+    pub fn due(&mut self, now_ms: u64) -> Vec<Fault> {
+        let mut out = Vec::new();
+        for p in self.pending.iter_mut() {
+            if !p.fired && p.due_ms.is_some_and(|d| d <= now_ms) {
+                p.fired = true;
+                out.push(p.spec.fault.clone());
+            }
+        }
+        out
+    }
+}
+
+/// What to do with one frame on the link.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Delivery {
+    Drop,
+    Once,
+    Twice,
+    /// Hold it back and send it after the next frame to the same peer.
+    Reorder,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Quality {
+    loss: f64,
+    duplicate: f64,
+    reorder: f64,
+    until_ms: Option<u64>,
+}
+
+#[derive(Debug)]
+pub struct LinkFaults {
+    rng: ChaCha8Rng,
+    blackout_until_ms: u64,
+    quality: Option<Quality>,
+    held: HashMap<PeerId, Vec<u8>>,
+    pub dropped: u64,
+}
+
+impl LinkFaults {
+    pub fn new(rng: ChaCha8Rng) -> Self {
+        Self {
+            rng,
+            blackout_until_ms: 0,
+            quality: None,
+            held: HashMap::new(),
+            dropped: 0,
+        }
+    }
+
+    pub fn blackout(&mut self, now_ms: u64, duration_s: f64) {
+        self.blackout_until_ms = later(now_ms, duration_s);
+    }
+
+    pub fn set_quality(
+        &mut self,
+        now_ms: u64,
+        loss: f64,
+        duplicate: f64,
+        reorder: f64,
+        d: Option<f64>,
+    ) {
+        self.quality = Some(Quality {
+            loss,
+            duplicate,
+            reorder,
+            until_ms: d.map(|d| later(now_ms, d)),
+        });
+    }
+
+    pub fn in_blackout(&self, now_ms: u64) -> bool {
+        now_ms < self.blackout_until_ms
+    }
+
+    fn quality(&mut self, now_ms: u64) -> Option<Quality> {
+        if self
+            .quality
+            .is_some_and(|q| q.until_ms.is_some_and(|u| now_ms >= u))
+        {
+            self.quality = None;
+        }
+        self.quality
+    }
+
+    /// An incoming frame: dropped in a blackout or by loss.
+    pub fn accept_inbound(&mut self, now_ms: u64) -> bool {
+        if self.in_blackout(now_ms) {
+            self.dropped += 1;
+            return false;
+        }
+        if let Some(q) = self.quality(now_ms) {
+            if q.loss > 0.0 && self.rng.gen_bool(q.loss) {
+                self.dropped += 1;
+                return false;
+            }
+        }
+        true
+    }
+
+    /// An outgoing frame's fate.
+    pub fn outbound(&mut self, now_ms: u64) -> Delivery {
+        if self.in_blackout(now_ms) {
+            self.dropped += 1;
+            return Delivery::Drop;
+        }
+        let Some(q) = self.quality(now_ms) else {
+            return Delivery::Once;
+        };
+        let draw: f64 = self.rng.gen();
+        if draw < q.loss {
+            self.dropped += 1;
+            Delivery::Drop
+        } else if draw < q.loss + q.duplicate {
+            Delivery::Twice
+        } else if draw < q.loss + q.duplicate + q.reorder {
+            Delivery::Reorder
+        } else {
+            Delivery::Once
+        }
+    }
+
+    pub fn hold(&mut self, peer: PeerId, bytes: Vec<u8>) {
+        self.held.insert(peer, bytes);
+    }
+
+    pub fn take_held(&mut self, peer: PeerId) -> Option<Vec<u8>> {
+        self.held.remove(&peer)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Trigger;
+    use rand::SeedableRng;
+
+    fn spec(when: Trigger) -> FaultSpec {
+        FaultSpec {
+            when,
+            fault: Fault::PictureFails { count: 1 },
+        }
+    }
+
+    #[test]
+    fn time_and_event_triggers_fire_once() {
+        let mut e = FaultEngine::new(&[
+            spec(Trigger {
+                at_s: Some(2.0),
+                occurrence: 1,
+                ..Trigger::default()
+            }),
+            spec(Trigger {
+                on: Some(EventKind::WaypointReached),
+                value: Some(3),
+                occurrence: 2,
+                delay_s: 1.0,
+                ..Trigger::default()
+            }),
+        ]);
+        assert!(e.due(1999).is_empty());
+        assert_eq!(e.due(2000).len(), 1);
+        assert!(e.due(3000).is_empty());
+        let ev = SimEvent {
+            kind: EventKind::WaypointReached,
+            value: 3,
+        };
+        e.on_event(
+            SimEvent {
+                kind: EventKind::WaypointReached,
+                value: 2,
+            },
+            4000,
+        );
+        e.on_event(ev, 5000);
+        assert!(e.due(10_000).is_empty());
+        e.on_event(ev, 6000);
+        assert!(e.due(6999).is_empty());
+        assert_eq!(e.due(7000).len(), 1);
+    }
+
+    #[test]
+    fn loss_rate_is_respected_and_seeded() {
+        let run = || {
+            let mut l = LinkFaults::new(ChaCha8Rng::seed_from_u64(1));
+            l.set_quality(0, 0.3, 0.1, 0.1, None);
+            (0..10_000).map(|_| l.outbound(0)).collect::<Vec<_>>()
+        };
+        let a = run();
+        assert_eq!(a, run());
+        let drops = a.iter().filter(|d| **d == Delivery::Drop).count();
+        assert!((2700..3300).contains(&drops), "{drops}");
+        let dups = a.iter().filter(|d| **d == Delivery::Twice).count();
+        assert!((800..1200).contains(&dups), "{dups}");
+    }
+
+    #[test]
+    fn blackout_drops_everything_until_it_ends() {
+        let mut l = LinkFaults::new(ChaCha8Rng::seed_from_u64(1));
+        l.blackout(1000, 2.0);
+        assert_eq!(l.outbound(2999), Delivery::Drop);
+        assert!(!l.accept_inbound(2000));
+        assert_eq!(l.outbound(3000), Delivery::Once);
+    }
+}

@@ -1,0 +1,238 @@
+//! Payload: camera (picture sizes drawn within bounds, seeded) against a storage capacity, a
+//! downlink that frees storage inside visibility windows, and a sampler on a servo.
+
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::scenario::{CameraParams, SamplerParams};
+use crate::time::secs_to_ms;
+
+/// Most pictures one IMAGE_START_CAPTURE schedules (its count comes from outside).
+pub const MAX_PICTURES_PER_REQUEST: u32 = 1000;
+
+#[derive(Debug, Clone)]
+pub struct Storage {
+    pub capacity_mib: f64,
+    pub used_mib: f64,
+}
+
+impl Storage {
+    pub fn available(&self) -> f64 {
+        (self.capacity_mib - self.used_mib).max(0.0)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum CaptureOutcome {
+    Stored { index: i32, size_mib: f64 },
+    Failed { index: i32, reason: &'static str },
+}
+
+#[derive(Debug)]
+pub struct Camera {
+    params: CameraParams,
+    rng: ChaCha8Rng,
+    /// (due sim ms, image index)
+    pending: Vec<(u64, i32)>,
+    next_index: i32,
+    /// Injected failures still to apply.
+    pub fail_next: u32,
+}
+
+impl Camera {
+    pub fn new(params: &CameraParams, rng: ChaCha8Rng) -> Self {
+        Self {
+            params: params.clone(),
+            rng,
+            pending: Vec::new(),
+            next_index: 0,
+            fail_next: 0,
+        }
+    }
+
+    /// Schedules `count` pictures `interval_s` apart; returns their image indices.
+    pub fn start(&mut self, now_ms: u64, count: u32, interval_s: f64) -> Vec<i32> {
+        let capture_ms = secs_to_ms(self.params.capture_time_s);
+        let step_ms = secs_to_ms(interval_s);
+        (0..count.clamp(1, MAX_PICTURES_PER_REQUEST))
+            .map(|i| {
+                let index = self.next_index;
+                self.next_index += 1;
+                self.pending.push((
+                    now_ms
+                        .saturating_add(capture_ms)
+                        .saturating_add(u64::from(i).saturating_mul(step_ms)),
+                    index,
+                ));
+                index
+            })
+            .collect()
+    }
+
+    /// Completes the captures due at `now_ms`.
+    pub fn step(&mut self, now_ms: u64, storage: &mut Storage) -> Vec<CaptureOutcome> {
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < self.pending.len() {
+            if self.pending[i].0 > now_ms {
+                i += 1;
+                continue;
+            }
+            let (_, index) = self.pending.remove(i);
+            // Draw the size even on failure so that a failure does not shift later sizes.
+            let size = self
+                .rng
+                .gen_range(self.params.size_min_mib..=self.params.size_max_mib);
+            if self.fail_next > 0 {
+                self.fail_next -= 1;
+                out.push(CaptureOutcome::Failed {
+                    index,
+                    reason: "Camera: capture failed",
+                });
+            } else if storage.available() < size {
+                out.push(CaptureOutcome::Failed {
+                    index,
+                    reason: "Camera: storage full",
+                });
+            } else {
+                storage.used_mib += size;
+                out.push(CaptureOutcome::Stored {
+                    index,
+                    size_mib: size,
+                });
+            }
+        }
+        out
+    }
+}
+
+/// A running downlink.
+#[derive(Debug, Clone)]
+pub struct DownlinkRun {
+    pub to_send_mib: f64,
+    pub sent_mib: f64,
+    pub last_progress_ms: u64,
+    /// Who asked, for the COMMAND_ACKs that follow.
+    pub requester: crate::autopilot::Sender,
+}
+
+impl DownlinkRun {
+    pub fn progress_pct(&self) -> u8 {
+        if self.to_send_mib <= 0.0 {
+            100
+        } else {
+            ((self.sent_mib / self.to_send_mib) * 100.0).clamp(0.0, 100.0) as u8
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum SamplerEvent {
+    Collected(u32),
+    Lost,
+}
+
+#[derive(Debug, Clone)]
+pub struct Sampler {
+    pub params: SamplerParams,
+    pub deployed_since_ms: Option<u64>,
+    pub samples: u32,
+    pub pwm: u16,
+}
+
+impl Sampler {
+    pub fn new(params: &SamplerParams) -> Self {
+        Self {
+            params: params.clone(),
+            deployed_since_ms: None,
+            samples: 0,
+            pwm: 1000,
+        }
+    }
+
+    /// A servo output changed; returns true when it drives the sampler.
+    pub fn set_servo(&mut self, servo: u8, pwm: u16, now_ms: u64) -> bool {
+        if servo != self.params.servo {
+            return false;
+        }
+        self.pwm = pwm;
+        if pwm >= self.params.deploy_pwm {
+            self.deployed_since_ms.get_or_insert(now_ms);
+        } else {
+            self.deployed_since_ms = None;
+        }
+        true
+    }
+
+    /// A sample is collected after `duration_s` deployed while still; moving loses it.
+    pub fn step(&mut self, now_ms: u64, still: bool) -> Option<SamplerEvent> {
+        let since = self.deployed_since_ms?;
+        if !still {
+            self.deployed_since_ms = Some(now_ms);
+            return if now_ms > since {
+                Some(SamplerEvent::Lost)
+            } else {
+                None
+            };
+        }
+        if now_ms.saturating_sub(since) as f64 >= self.params.duration_s * 1000.0 {
+            self.samples += 1;
+            // Stay deployed: the next sample starts now.
+            self.deployed_since_ms = Some(now_ms);
+            return Some(SamplerEvent::Collected(self.samples));
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn picture_sizes_stay_within_bounds_and_fill_storage() {
+        let p = CameraParams::default();
+        let mut cam = Camera::new(&p, ChaCha8Rng::seed_from_u64(7));
+        let mut st = Storage {
+            capacity_mib: p.storage_capacity_mib,
+            used_mib: 0.0,
+        };
+        cam.start(0, 10, 1.0);
+        let out = cam.step(100_000, &mut st);
+        assert_eq!(out.len(), 10);
+        let mut stored = 0.0;
+        for o in &out {
+            if let CaptureOutcome::Stored { size_mib, .. } = o {
+                assert!((p.size_min_mib..=p.size_max_mib).contains(size_mib));
+                stored += size_mib;
+            }
+        }
+        assert!((st.used_mib - stored).abs() < 1e-9);
+        assert!(st.used_mib <= st.capacity_mib);
+        assert!(out.iter().any(|o| matches!(
+            o,
+            CaptureOutcome::Failed {
+                reason: "Camera: storage full",
+                ..
+            }
+        )));
+    }
+
+    #[test]
+    fn a_hostile_picture_count_is_capped() {
+        let mut cam = Camera::new(&CameraParams::default(), ChaCha8Rng::seed_from_u64(1));
+        let n = cam.start(u64::MAX - 5, u32::MAX, f64::MAX).len();
+        assert_eq!(n, MAX_PICTURES_PER_REQUEST as usize);
+    }
+
+    #[test]
+    fn sampler_collects_only_when_still() {
+        let mut s = Sampler::new(&SamplerParams::default());
+        assert!(s.set_servo(9, 1900, 0));
+        assert_eq!(s.step(1000, false), Some(SamplerEvent::Lost));
+        assert_eq!(s.step(5000, true), None);
+        assert_eq!(s.step(6000, true), Some(SamplerEvent::Collected(1)));
+        assert!(!s.set_servo(3, 1900, 0));
+    }
+}

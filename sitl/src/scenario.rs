@@ -1,0 +1,418 @@
+//! Scenario files (TOML): world (zones, windows), vehicle and payload parameters, and faults.
+//! The format is documented in `sitl/README.md`; every table rejects unknown keys by name.
+
+use serde::Deserialize;
+
+use crate::error::SimError;
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    #[serde(default)]
+    pub vehicle: VehicleParams,
+    #[serde(default)]
+    pub battery: BatteryParams,
+    #[serde(default)]
+    pub camera: CameraParams,
+    #[serde(default)]
+    pub sampler: SamplerParams,
+    /// Terrain zones that slow the vehicle (obstacles, rough ground).
+    #[serde(default)]
+    pub slow_zones: Vec<Zone>,
+    /// Zones where a still vehicle recharges. Empty: a 50 m zone around home.
+    #[serde(default)]
+    pub sunlit_zones: Vec<Zone>,
+    /// When the downlink can run. Empty: always, at `camera.downlink_mib_per_s`.
+    #[serde(default)]
+    pub visibility_windows: Vec<VisibilityWindow>,
+    #[serde(default)]
+    pub faults: Vec<FaultSpec>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct VehicleParams {
+    /// Default cruise speed (ArduPilot WP_SPEED).
+    pub speed_mps: f64,
+    pub max_speed_mps: f64,
+    pub accel_mps2: f64,
+    pub turn_rate_dps: f64,
+    /// Acceptance radius (ArduPilot WP_RADIUS).
+    pub wp_radius_m: f64,
+    /// AUV only.
+    pub vertical_speed_mps: f64,
+}
+
+impl Default for VehicleParams {
+    fn default() -> Self {
+        Self {
+            speed_mps: 5.0,
+            max_speed_mps: 8.0,
+            accel_mps2: 1.5,
+            turn_rate_dps: 90.0,
+            wp_radius_m: 3.0,
+            vertical_speed_mps: 0.5,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BatteryParams {
+    pub initial_pct: f64,
+    pub capacity_mah: f64,
+    /// Drain per kilometre driven.
+    pub drain_pct_per_km: f64,
+    /// Drain per minute, moving or not (electronics).
+    pub drain_pct_per_min: f64,
+    /// Recharge per minute while still in a sunlit zone.
+    pub recharge_pct_per_min: f64,
+    /// Arming is refused below this level ("PreArm: Battery 1 below minimum arming capacity").
+    pub arm_min_pct: f64,
+}
+
+impl Default for BatteryParams {
+    fn default() -> Self {
+        Self {
+            initial_pct: 98.0,
+            capacity_mah: 5000.0,
+            drain_pct_per_km: 4.0,
+            drain_pct_per_min: 0.2,
+            recharge_pct_per_min: 3.0,
+            arm_min_pct: 20.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraParams {
+    /// Picture sizes are drawn uniformly in [min, max] (the paper's uncertain compression rate).
+    pub size_min_mib: f64,
+    pub size_max_mib: f64,
+    pub capture_time_s: f64,
+    pub storage_capacity_mib: f64,
+    /// Downlink rate when no visibility window sets one.
+    pub downlink_mib_per_s: f64,
+}
+
+impl Default for CameraParams {
+    fn default() -> Self {
+        Self {
+            size_min_mib: 2.0,
+            size_max_mib: 4.0,
+            capture_time_s: 1.0,
+            storage_capacity_mib: 12.0,
+            downlink_mib_per_s: 0.5,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SamplerParams {
+    /// Servo output driving the sampler (DO_SET_SERVO instance).
+    pub servo: u8,
+    /// PWM at or above which the sampler is deployed.
+    pub deploy_pwm: u16,
+    /// Still time needed to collect one sample.
+    pub duration_s: f64,
+}
+
+impl Default for SamplerParams {
+    fn default() -> Self {
+        Self {
+            servo: 9,
+            deploy_pwm: 1500,
+            duration_s: 5.0,
+        }
+    }
+}
+
+/// A disc in the local frame (metres north/east of home) or around a lat/lon.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Zone {
+    /// [north, east] metres from home.
+    pub center_m: Option<[f64; 2]>,
+    /// [lat, lon] degrees.
+    pub center: Option<[f64; 2]>,
+    pub radius_m: f64,
+    /// Speed multiplier inside the zone (slow zones only; default 0.25).
+    #[serde(default = "default_speed_factor")]
+    pub speed_factor: f64,
+}
+
+fn default_speed_factor() -> f64 {
+    0.25
+}
+
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct VisibilityWindow {
+    pub start_s: f64,
+    pub end_s: f64,
+    pub rate_mib_per_s: f64,
+}
+
+/// One fault: what happens and when.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FaultSpec {
+    pub when: Trigger,
+    pub fault: Fault,
+}
+
+/// When a fault fires: at a sim time, or on the `occurrence`-th event of a kind (optionally with a
+/// value: waypoint seq, picture index, command id, mode number), `delay_s` after it.
+#[derive(Debug, Clone, Deserialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Trigger {
+    pub at_s: Option<f64>,
+    pub on: Option<EventKind>,
+    pub value: Option<i64>,
+    #[serde(default = "one")]
+    pub occurrence: u32,
+    #[serde(default)]
+    pub delay_s: f64,
+}
+
+fn one() -> u32 {
+    1
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    /// A mission item was reached (value: its seq).
+    WaypointReached,
+    /// A picture capture started (value: image index, from 0).
+    PictureStarted,
+    /// A COMMAND_LONG/COMMAND_INT arrived (value: command id).
+    Command,
+    /// The mode changed (value: custom mode number).
+    ModeChanged,
+    Armed,
+    Disarmed,
+    /// The vehicle started moving.
+    Moving,
+    DownlinkStarted,
+    MissionStarted,
+}
+
+/// What a fault does.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Fault {
+    /// The next `count` COMMAND_LONG/INT with this id are answered with `result`.
+    CommandFails {
+        command: u16,
+        #[serde(default)]
+        result: FailResult,
+        #[serde(default = "one")]
+        count: u32,
+    },
+    /// The next `count` pictures fail (CAMERA_IMAGE_CAPTURED with capture_result 0).
+    PictureFails {
+        #[serde(default = "one")]
+        count: u32,
+    },
+    /// A slow zone appears.
+    SlowZone { zone: Zone },
+    /// The battery level drops by `percent` points.
+    BatteryDrop { percent: f64 },
+    /// The storage capacity shrinks by `mib`.
+    StorageShrink { mib: f64 },
+    /// Navigation fails: STATUSTEXT "Navigation failed: no map available", vehicle stops (HOLD);
+    /// navigating modes are refused for `duration_s` (0: only this stop).
+    NavFails {
+        #[serde(default)]
+        duration_s: f64,
+    },
+    /// Nothing in or out for `duration_s`.
+    LinkBlackout { duration_s: f64 },
+    /// Per-frame probabilities on the link for `duration_s` (absent: for ever).
+    LinkQuality {
+        #[serde(default)]
+        loss: f64,
+        #[serde(default)]
+        duplicate: f64,
+        #[serde(default)]
+        reorder: f64,
+        duration_s: Option<f64>,
+    },
+    /// The downlink rate becomes `mib_per_s` (sub-production of a download).
+    DownlinkRate { mib_per_s: f64 },
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FailResult {
+    #[default]
+    Denied,
+    Failed,
+    TemporarilyRejected,
+}
+
+impl Scenario {
+    /// Reads and checks a scenario file.
+    pub fn load(path: &std::path::Path) -> Result<Self, SimError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SimError::ScenarioRead {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and checks scenario text; `origin` names it in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, SimError> {
+        let scenario: Scenario = toml::from_str(text).map_err(|e| SimError::Scenario {
+            path: origin.to_string(),
+            reason: e.to_string(),
+        })?;
+        scenario.check().map_err(|reason| SimError::Scenario {
+            path: origin.to_string(),
+            reason,
+        })?;
+        Ok(scenario)
+    }
+
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let c = &self.camera;
+        if !(c.size_min_mib > 0.0 && c.size_min_mib <= c.size_max_mib) {
+            return Err("camera: need 0 < size_min_mib <= size_max_mib".into());
+        }
+        if c.storage_capacity_mib <= 0.0 {
+            return Err("camera.storage_capacity_mib must be > 0".into());
+        }
+        let v = &self.vehicle;
+        if !(v.speed_mps > 0.0 && v.max_speed_mps >= v.speed_mps && v.accel_mps2 > 0.0) {
+            return Err("vehicle: need 0 < speed_mps <= max_speed_mps and accel_mps2 > 0".into());
+        }
+        if v.turn_rate_dps <= 0.0 || v.wp_radius_m <= 0.0 {
+            return Err("vehicle: turn_rate_dps and wp_radius_m must be > 0".into());
+        }
+        if !(0.0..=100.0).contains(&self.battery.initial_pct) {
+            return Err("battery.initial_pct must be in [0, 100]".into());
+        }
+        for (i, z) in self.slow_zones.iter().chain(&self.sunlit_zones).enumerate() {
+            check_zone(z).map_err(|e| format!("zone {i}: {e}"))?;
+        }
+        for w in &self.visibility_windows {
+            if !(w.start_s < w.end_s && w.rate_mib_per_s >= 0.0) {
+                return Err(format!(
+                    "visibility window [{}, {}]: need start_s < end_s and rate_mib_per_s >= 0",
+                    w.start_s, w.end_s
+                ));
+            }
+        }
+        for (i, f) in self.faults.iter().enumerate() {
+            check_fault(f).map_err(|e| format!("faults[{i}]: {e}"))?;
+        }
+        Ok(())
+    }
+}
+
+fn check_zone(z: &Zone) -> Result<(), String> {
+    if z.center_m.is_some() == z.center.is_some() {
+        return Err("give exactly one of center_m = [north, east] or center = [lat, lon]".into());
+    }
+    if z.radius_m <= 0.0 || !(0.0..=1.0).contains(&z.speed_factor) {
+        return Err("need radius_m > 0 and speed_factor in [0, 1]".into());
+    }
+    Ok(())
+}
+
+fn check_fault(f: &FaultSpec) -> Result<(), String> {
+    let t = &f.when;
+    if t.at_s.is_some() == t.on.is_some() {
+        return Err("`when` needs exactly one of at_s or on".into());
+    }
+    if t.occurrence == 0 || t.delay_s < 0.0 {
+        return Err("`when`: occurrence must be >= 1 and delay_s >= 0".into());
+    }
+    let prob = |p: f64| (0.0..=1.0).contains(&p);
+    match &f.fault {
+        Fault::SlowZone { zone } => check_zone(zone),
+        Fault::BatteryDrop { percent } if !(0.0..=100.0).contains(percent) => {
+            Err("battery_drop: percent must be in [0, 100]".into())
+        }
+        Fault::StorageShrink { mib } if *mib < 0.0 => {
+            Err("storage_shrink: mib must be >= 0".into())
+        }
+        Fault::LinkBlackout { duration_s } if *duration_s <= 0.0 => {
+            Err("link_blackout: duration_s must be > 0".into())
+        }
+        Fault::LinkQuality {
+            loss,
+            duplicate,
+            reorder,
+            ..
+        } if !(prob(*loss) && prob(*duplicate) && prob(*reorder)) => {
+            Err("link_quality: loss, duplicate and reorder must be in [0, 1]".into())
+        }
+        Fault::DownlinkRate { mib_per_s } if *mib_per_s < 0.0 => {
+            Err("downlink_rate: mib_per_s must be >= 0".into())
+        }
+        _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_fault_kind() {
+        let text = r#"
+[camera]
+storage_capacity_mib = 9.0
+[[slow_zones]]
+center_m = [10.0, 0.0]
+radius_m = 5.0
+[[faults]]
+when = { at_s = 1.0 }
+fault = { kind = "command_fails", command = 400, result = "failed" }
+[[faults]]
+when = { on = "picture_started", value = 0 }
+fault = { kind = "picture_fails" }
+[[faults]]
+when = { on = "waypoint_reached", value = 2, delay_s = 1.5 }
+fault = { kind = "slow_zone", zone = { center = [43.0, 1.0], radius_m = 20.0, speed_factor = 0.1 } }
+[[faults]]
+when = { on = "moving", occurrence = 2 }
+fault = { kind = "battery_drop", percent = 30.0 }
+[[faults]]
+when = { at_s = 2.0 }
+fault = { kind = "storage_shrink", mib = 3.0 }
+[[faults]]
+when = { at_s = 3.0 }
+fault = { kind = "nav_fails" }
+[[faults]]
+when = { at_s = 4.0 }
+fault = { kind = "link_blackout", duration_s = 2.0 }
+[[faults]]
+when = { at_s = 5.0 }
+fault = { kind = "link_quality", loss = 0.1, duplicate = 0.05, reorder = 0.05 }
+[[faults]]
+when = { on = "downlink_started" }
+fault = { kind = "downlink_rate", mib_per_s = 0.1 }
+"#;
+        let s = Scenario::parse(text, "inline").expect("valid scenario");
+        assert_eq!(s.faults.len(), 9);
+        assert_eq!(s.camera.storage_capacity_mib, 9.0);
+        assert_eq!(s.faults[3].when.occurrence, 2);
+    }
+
+    #[test]
+    fn rejects_unknown_keys_and_bad_triggers() {
+        let unknown = "[camera]\nsize_min = 1.0\n";
+        let err = Scenario::parse(unknown, "x.toml").expect_err("unknown key");
+        assert!(err.to_string().contains("size_min"), "{err}");
+        let both = "[[faults]]\nwhen = { at_s = 1.0, on = \"armed\" }\nfault = { kind = \"picture_fails\" }\n";
+        let err = Scenario::parse(both, "x.toml").expect_err("two triggers");
+        assert!(err.to_string().contains("exactly one"), "{err}");
+        let bad_kind = "[[faults]]\nwhen = { at_s = 1.0 }\nfault = { kind = \"meteor\" }\n";
+        assert!(Scenario::parse(bad_kind, "x.toml").is_err());
+    }
+}

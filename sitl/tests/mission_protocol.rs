@@ -1,0 +1,322 @@
+//! The mission protocol as ArduPilot runs it, seen from an independent client over a socket.
+#![allow(deprecated)]
+
+mod support;
+
+use std::time::Duration;
+
+use mavlink::dialects::ardupilotmega::*;
+use support::*;
+
+fn square() -> Vec<MISSION_ITEM_INT_DATA> {
+    vec![
+        waypoint(HOME, 0.0, 0.0),
+        waypoint(HOME, 20.0, 0.0),
+        waypoint(HOME, 20.0, 20.0),
+        waypoint(HOME, 0.0, 20.0),
+    ]
+}
+
+fn count(n: u16) -> MavMessage {
+    MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+        count: n,
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    })
+}
+
+async fn next_request(gcs: &mut Gcs) -> u16 {
+    gcs.expect("MISSION_REQUEST_INT", |m| match m {
+        MavMessage::MISSION_REQUEST_INT(r) => Some(r.seq),
+        _ => None,
+    })
+    .await
+}
+
+async fn mission_ack(gcs: &mut Gcs) -> MavMissionResult {
+    gcs.expect("MISSION_ACK", |m| match m {
+        MavMessage::MISSION_ACK(a) => Some(a.mavtype),
+        _ => None,
+    })
+    .await
+}
+
+#[tokio::test]
+async fn a_silent_uploader_is_re_requested_then_cancelled() {
+    let (sim, mut gcs) = start("").await;
+    gcs.send(count(3)).await;
+    assert_eq!(next_request(&mut gcs).await, 0);
+    // Re-requested (after 300 ms here, ~1 s on ArduPilot) ...
+    assert_eq!(next_request(&mut gcs).await, 0);
+    // ... then cancelled (1.5 s here, 8 s on ArduPilot).
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_OPERATION_CANCELLED
+    );
+    let texts = Gcs::texts(&gcs.sync().await);
+    assert!(
+        texts.iter().any(|t| t == "Mission upload timeout"),
+        "{texts:?}"
+    );
+    assert_eq!(sim.snapshot().mission_total, 0);
+}
+
+#[tokio::test]
+async fn one_uploader_at_a_time_and_wrong_seq_keeps_the_upload_open() {
+    let (sim, mut a) = start("").await;
+    let mut b = Gcs::connect(sim.local_addr()).await;
+    b.sysid = 254;
+    a.send(count(2)).await;
+    assert_eq!(next_request(&mut a).await, 0);
+    b.send(count(2)).await;
+    assert_eq!(
+        mission_ack(&mut b).await,
+        MavMissionResult::MAV_MISSION_DENIED
+    );
+    let items = square();
+    let mut wrong = items[1].clone();
+    wrong.seq = 1;
+    wrong.target_system = 1;
+    a.send(MavMessage::MISSION_ITEM_INT(wrong)).await;
+    assert_eq!(
+        mission_ack(&mut a).await,
+        MavMissionResult::MAV_MISSION_INVALID_SEQUENCE
+    );
+    for seq in 0..2u16 {
+        let mut it = items[usize::from(seq)].clone();
+        it.seq = seq;
+        it.target_system = 1;
+        a.send(MavMessage::MISSION_ITEM_INT(it)).await;
+        if seq == 0 {
+            // Skip re-requests of item 0 that crossed it on a slow machine.
+            while next_request(&mut a).await == 0 {}
+        }
+    }
+    assert_eq!(
+        mission_ack(&mut a).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+    assert_eq!(sim.snapshot().mission_total, 1);
+}
+
+#[tokio::test]
+async fn legacy_items_and_requests_round_trip_with_home_as_item_zero() {
+    let (_sim, mut gcs) = start("").await;
+    let items = square();
+    let result = gcs
+        .upload_with(items.len() as u16, |seq| {
+            let it = &items[usize::from(seq)];
+            MavMessage::MISSION_ITEM(MISSION_ITEM_DATA {
+                x: (f64::from(it.x) * 1e-7) as f32,
+                y: (f64::from(it.y) * 1e-7) as f32,
+                seq,
+                command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+                frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+                target_system: 1,
+                target_component: 1,
+                autocontinue: 1,
+                // A bogus item 0: ArduPilot replaces it with home.
+                z: if seq == 0 { 123.0 } else { 0.0 },
+                ..Default::default()
+            })
+        })
+        .await;
+    assert_eq!(result, MavMissionResult::MAV_MISSION_ACCEPTED);
+    gcs.send(MavMessage::MISSION_REQUEST_LIST(
+        MISSION_REQUEST_LIST_DATA {
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        },
+    ))
+    .await;
+    let n = gcs
+        .expect("MISSION_COUNT", |m| match m {
+            MavMessage::MISSION_COUNT(c) => Some(c.count),
+            _ => None,
+        })
+        .await;
+    assert_eq!(n, 4);
+    // Modern request -> MISSION_ITEM_INT; legacy request -> MISSION_ITEM.
+    gcs.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+        seq: 0,
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    }))
+    .await;
+    let home = gcs
+        .expect("MISSION_ITEM_INT 0", |m| match m {
+            MavMessage::MISSION_ITEM_INT(i) if i.seq == 0 => Some(i.clone()),
+            _ => None,
+        })
+        .await;
+    assert_eq!((home.x, home.y, home.z), (435_615_000, 14_778_000, 0.0));
+    gcs.send(MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
+        seq: 2,
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    }))
+    .await;
+    let it = gcs
+        .expect("MISSION_ITEM 2", |m| match m {
+            MavMessage::MISSION_ITEM(i) if i.seq == 2 => Some(i.clone()),
+            _ => None,
+        })
+        .await;
+    assert!((f64::from(it.x) - f64::from(items[2].x) * 1e-7).abs() < 1e-5);
+    assert!((f64::from(it.y) - f64::from(items[2].y) * 1e-7).abs() < 1e-5);
+}
+
+#[tokio::test]
+async fn legacy_request_kind_asks_with_mission_request() {
+    let mut cfg = sitl::SimConfig::for_tests();
+    cfg.mission_request = sitl::MissionRequestKind::Legacy;
+    let sim = sitl::spawn(cfg).await.expect("spawn");
+    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    gcs.send(count(2)).await;
+    let seq = gcs
+        .expect("MISSION_REQUEST", |m| match m {
+            MavMessage::MISSION_REQUEST(r) => Some(r.seq),
+            MavMessage::MISSION_REQUEST_INT(_) => panic!("asked with MISSION_REQUEST_INT"),
+            _ => None,
+        })
+        .await;
+    assert_eq!(seq, 0);
+}
+
+#[tokio::test]
+async fn clear_is_refused_in_auto_and_mission_current_reports_state() {
+    let (sim, mut gcs) = start("").await;
+    let state = |m: &MavMessage| match m {
+        MavMessage::MISSION_CURRENT(c) => Some((c.seq, c.total, c.mission_state, c.mission_mode)),
+        _ => None,
+    };
+    sim.step(Duration::from_secs(1)).await.expect("step");
+    let (_, total, st, _) = gcs.expect("MISSION_CURRENT", state).await;
+    assert_eq!((total, st), (0, MissionState::MISSION_STATE_NO_MISSION));
+    upload_ok(&mut gcs, &square()).await;
+    gcs.drain();
+    sim.step(Duration::from_secs(1)).await.expect("step");
+    let (_, total, st, _) = gcs.expect("MISSION_CURRENT", state).await;
+    assert_eq!((total, st), (3, MissionState::MISSION_STATE_NOT_STARTED));
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    let (r, _) = gcs
+        .command_long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7])
+        .await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(sim.snapshot().mode, "AUTO");
+    gcs.drain();
+    sim.step(Duration::from_secs(1)).await.expect("step");
+    let (seq, _, st, mode) = gcs.expect("MISSION_CURRENT", state).await;
+    assert_eq!((seq, st, mode), (1, MissionState::MISSION_STATE_ACTIVE, 1));
+    gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    }))
+    .await;
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_ERROR
+    );
+    assert_eq!(sim.snapshot().mission_total, 3);
+    // Jump to item 3, then finish.
+    let (r, _) = gcs
+        .command_long(
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
+            [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    let (r, _) = gcs
+        .command_long(
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
+            [9.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await;
+    assert_eq!(r, MavResult::MAV_RESULT_DENIED);
+    run_until(&sim, 60, |s| s.mission_complete).await;
+    let reached = gcs
+        .expect("MISSION_ITEM_REACHED", |m| match m {
+            MavMessage::MISSION_ITEM_REACHED(r) => Some(r.seq),
+            _ => None,
+        })
+        .await;
+    assert_eq!(reached, 3, "items 1 and 2 were skipped");
+    gcs.drain();
+    sim.step(Duration::from_secs(1)).await.expect("step");
+    let (_, _, st, _) = gcs.expect("MISSION_CURRENT", state).await;
+    assert_eq!(st, MissionState::MISSION_STATE_COMPLETE);
+    // Out of AUTO the mission can be cleared.
+    assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
+    gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    }))
+    .await;
+    assert_eq!(
+        mission_ack(&mut gcs).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+    assert_eq!(sim.snapshot().mission_total, 0);
+}
+
+#[tokio::test]
+async fn auto_runs_loiter_speed_camera_servo_and_rtl_items() {
+    let (sim, mut gcs) = start("[sampler]\nservo = 9\nduration_s = 2.0\n").await;
+    let mut loiter = waypoint(HOME, 20.0, 0.0);
+    loiter.command = MavCmd::MAV_CMD_NAV_LOITER_TIME;
+    loiter.param1 = 10.0;
+    let items = vec![
+        waypoint(HOME, 0.0, 0.0),
+        item(MavCmd::MAV_CMD_DO_CHANGE_SPEED, [1.0, 2.0, -1.0, 0.0]),
+        loiter,
+        item(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 0.0]),
+        item(MavCmd::MAV_CMD_DO_SET_SERVO, [9.0, 1900.0, 0.0, 0.0]),
+        waypoint(HOME, 20.0, 20.0),
+        item(MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH, [0.0; 4]),
+    ];
+    upload_ok(&mut gcs, &items).await;
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
+    // DO_CHANGE_SPEED: 2 m/s on the first leg.
+    let s = run_until(&sim, 30, |s| s.north_m > 8.0).await;
+    assert!(s.speed_mps <= 2.0 + 1e-6, "{}", s.speed_mps);
+    // LOITER_TIME: 10 s at the first point, where the picture and the sample are taken.
+    let arrived = run_until(&sim, 30, |s| {
+        s.statustexts.iter().any(|t| t.contains("Loiter for 10"))
+    })
+    .await;
+    let left = run_until(&sim, 60, |s| {
+        s.statustexts.iter().any(|t| t == "Finished active loiter")
+    })
+    .await;
+    assert!(left.time_ms - arrived.time_ms >= 10_000);
+    assert_eq!(left.pictures_ok, 1);
+    assert!(left.samples >= 1, "the sampler collects while loitering");
+    let s = run_until(&sim, 120, |s| s.mission_complete).await;
+    assert!(s.north_m.hypot(s.east_m) <= 3.5, "RTL ends at home: {s:?}");
+    let seen = gcs.sync().await;
+    let captured: Vec<_> = seen
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::CAMERA_IMAGE_CAPTURED(c) => Some((c.image_index, c.capture_result)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(captured, vec![(0, MavBool::MAV_BOOL_TRUE)]);
+    let reached: Vec<u16> = seen
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::MISSION_ITEM_REACHED(r) => Some(r.seq),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(reached, vec![1, 2, 5, 6]);
+    let texts = Gcs::texts(&seen);
+    assert!(texts.iter().any(|t| t == "Sampler deployed"), "{texts:?}");
+}

@@ -1,0 +1,363 @@
+//! A minimal MAVLink ground station for the socket tests: its own TCP/UDP socket, frames via the
+//! `mavlink` crate only (no sitl types), bounded waits with deadlines.
+#![allow(dead_code, deprecated)]
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use mavlink::dialects::ardupilotmega::*;
+use mavlink::{MavHeader, MavlinkVersion, Message};
+use tokio::io::AsyncWriteExt;
+use tokio::net::tcp::OwnedWriteHalf;
+use tokio::net::TcpStream;
+use tokio::sync::mpsc;
+
+pub const WAIT: Duration = Duration::from_secs(5);
+
+pub struct Gcs {
+    wr: OwnedWriteHalf,
+    rx: mpsc::UnboundedReceiver<(MavlinkVersion, MavHeader, MavMessage)>,
+    /// Version and header of the last frame `expect` looked at.
+    pub last_version: Option<MavlinkVersion>,
+    pub last_header: Option<MavHeader>,
+    /// Messages `expect` passed over, oldest first (taken by `sync` and `seen`).
+    backlog: Vec<(MavlinkVersion, MavHeader, MavMessage)>,
+    seq: u8,
+    pub version: MavlinkVersion,
+    pub sysid: u8,
+    pub compid: u8,
+}
+
+impl Gcs {
+    pub async fn connect(addr: SocketAddr) -> Self {
+        let stream = TcpStream::connect(addr).await.expect("connect to sim");
+        let (rd, wr) = stream.into_split();
+        let (tx, rx) = mpsc::unbounded_channel();
+        tokio::spawn(async move {
+            let mut reader = mavlink::AsyncMavlinkReader::new(rd);
+            loop {
+                match reader.read_any_raw_message::<MavMessage>().await {
+                    Ok(raw) => {
+                        let Ok(m) =
+                            MavMessage::parse(raw.version(), raw.message_id(), raw.payload())
+                        else {
+                            continue;
+                        };
+                        let h = MavHeader {
+                            system_id: raw.system_id(),
+                            component_id: raw.component_id(),
+                            sequence: raw.sequence(),
+                        };
+                        if tx.send((raw.version(), h, m)).is_err() {
+                            break;
+                        }
+                    }
+                    Err(mavlink::error::MessageReadError::Parse(_)) => continue,
+                    Err(_) => break,
+                }
+            }
+        });
+        Self {
+            wr,
+            rx,
+            last_version: None,
+            last_header: None,
+            backlog: Vec::new(),
+            seq: 0,
+            version: MavlinkVersion::V2,
+            sysid: 255,
+            compid: 190,
+        }
+    }
+
+    pub async fn send(&mut self, m: MavMessage) {
+        let header = MavHeader {
+            system_id: u32::from(self.sysid),
+            component_id: self.compid,
+            sequence: self.seq,
+        };
+        self.seq = self.seq.wrapping_add(1);
+        let mut buf = Vec::new();
+        mavlink::write_versioned_msg(&mut buf, self.version, header, &m).expect("encode");
+        self.wr.write_all(&buf).await.expect("write");
+    }
+
+    /// The first message satisfying `f`: from the backlog, else waiting (wall time, bounded).
+    pub async fn expect<T>(
+        &mut self,
+        what: &str,
+        mut f: impl FnMut(&MavMessage) -> Option<T>,
+    ) -> T {
+        for i in 0..self.backlog.len() {
+            if let Some(t) = f(&self.backlog[i].2) {
+                self.backlog.remove(i);
+                return t;
+            }
+        }
+        let deadline = tokio::time::Instant::now() + WAIT;
+        loop {
+            match tokio::time::timeout_at(deadline, self.rx.recv()).await {
+                Ok(Some((v, h, m))) => {
+                    self.last_version = Some(v);
+                    self.last_header = Some(h);
+                    if let Some(t) = f(&m) {
+                        return t;
+                    }
+                    self.backlog.push((v, h, m));
+                }
+                Ok(None) => panic!("link closed while waiting for {what}"),
+                Err(_) => panic!("timed out waiting for {what}"),
+            }
+        }
+    }
+
+    /// Round trip: returns every message the sim sent before answering a REQUEST_MESSAGE, so
+    /// that nothing it produced earlier is still in flight.
+    pub async fn sync(&mut self) -> Vec<MavMessage> {
+        self.sync_inner().await;
+        std::mem::take(&mut self.backlog)
+            .into_iter()
+            .map(|f| f.2)
+            .collect()
+    }
+
+    async fn sync_inner(&mut self) {
+        self.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        }))
+        .await;
+        self.expect("sync ACK", |m| match m {
+            MavMessage::COMMAND_ACK(a) if a.command == MavCmd::MAV_CMD_REQUEST_MESSAGE => Some(()),
+            _ => None,
+        })
+        .await;
+    }
+
+    /// As `sync`, with each frame's version and header.
+    pub async fn sync_frames(&mut self) -> Vec<(MavlinkVersion, MavHeader, MavMessage)> {
+        self.sync_inner().await;
+        std::mem::take(&mut self.backlog)
+    }
+
+    /// The STATUSTEXTs among `msgs`.
+    pub fn texts(msgs: &[MavMessage]) -> Vec<String> {
+        msgs.iter()
+            .filter_map(|m| match m {
+                MavMessage::STATUSTEXT(t) => Some(
+                    t.text
+                        .to_str()
+                        .unwrap_or("")
+                        .trim_end_matches('\0')
+                        .to_string(),
+                ),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Everything received so far with its header.
+    pub fn drain_frames(&mut self) -> Vec<(MavlinkVersion, MavHeader, MavMessage)> {
+        self.backlog.clear();
+        let mut v = Vec::new();
+        while let Ok(f) = self.rx.try_recv() {
+            v.push(f);
+        }
+        v
+    }
+
+    /// Everything received so far (including what `expect` passed over).
+    pub fn drain(&mut self) -> Vec<MavMessage> {
+        let mut v: Vec<MavMessage> = std::mem::take(&mut self.backlog)
+            .into_iter()
+            .map(|f| f.2)
+            .collect();
+        while let Ok((_, _, m)) = self.rx.try_recv() {
+            v.push(m);
+        }
+        v
+    }
+
+    pub async fn command_long(&mut self, command: MavCmd, p: [f32; 7]) -> (MavResult, u8) {
+        self.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1: p[0],
+            param2: p[1],
+            param3: p[2],
+            param4: p[3],
+            param5: p[4],
+            param6: p[5],
+            param7: p[6],
+            command,
+            target_system: 1,
+            target_component: 1,
+            confirmation: 0,
+        }))
+        .await;
+        self.ack_of(command).await
+    }
+
+    pub async fn command_int(
+        &mut self,
+        command: MavCmd,
+        p: [f32; 4],
+        x: i32,
+        y: i32,
+        z: f32,
+    ) -> (MavResult, u8) {
+        self.send(MavMessage::COMMAND_INT(COMMAND_INT_DATA {
+            param1: p[0],
+            param2: p[1],
+            param3: p[2],
+            param4: p[3],
+            x,
+            y,
+            z,
+            command,
+            target_system: 1,
+            target_component: 1,
+            frame: MavFrame::MAV_FRAME_GLOBAL,
+            current: 0,
+            autocontinue: 0,
+        }))
+        .await;
+        self.ack_of(command).await
+    }
+
+    pub async fn ack_of(&mut self, command: MavCmd) -> (MavResult, u8) {
+        self.expect("COMMAND_ACK", |m| match m {
+            MavMessage::COMMAND_ACK(a) if a.command == command => Some((a.result, a.progress)),
+            _ => None,
+        })
+        .await
+    }
+
+    pub async fn set_mode(&mut self, mode: u32) -> MavResult {
+        self.command_long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            [1.0, mode as f32, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+        .0
+    }
+
+    pub async fn arm(&mut self) -> MavResult {
+        self.command_long(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+        .0
+    }
+
+    /// Uploads `items` (seq 0 is a placeholder for home) with MISSION_ITEM_INT; returns the ACK.
+    pub async fn upload(&mut self, items: &[MISSION_ITEM_INT_DATA]) -> MavMissionResult {
+        self.upload_with(items.len() as u16, |seq| {
+            let mut it = items[usize::from(seq)].clone();
+            it.seq = seq;
+            it.target_system = 1;
+            it.target_component = 1;
+            MavMessage::MISSION_ITEM_INT(it)
+        })
+        .await
+    }
+
+    /// Uploads `count` items, answering each request with `item(seq)`; returns the final ACK.
+    pub async fn upload_with(
+        &mut self,
+        count: u16,
+        item: impl Fn(u16) -> MavMessage,
+    ) -> MavMissionResult {
+        self.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count,
+            target_system: 1,
+            target_component: 1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            opaque_id: 0,
+        }))
+        .await;
+        loop {
+            let next = self
+                .expect("MISSION_REQUEST or ACK", |m| match m {
+                    MavMessage::MISSION_REQUEST_INT(r) => Some(Ok(r.seq)),
+                    MavMessage::MISSION_REQUEST(r) => Some(Ok(r.seq)),
+                    MavMessage::MISSION_ACK(a) => Some(Err(a.mavtype)),
+                    _ => None,
+                })
+                .await;
+            match next {
+                Ok(seq) => self.send(item(seq)).await,
+                // A late item crossing a re-request is answered INVALID_SEQUENCE while the
+                // upload stays open (as on ArduPilot): keep going.
+                Err(MavMissionResult::MAV_MISSION_INVALID_SEQUENCE) => continue,
+                Err(result) => return result,
+            }
+        }
+    }
+}
+
+/// A NAV_WAYPOINT at metres north/east of `home`.
+pub fn waypoint(home: (f64, f64), north: f64, east: f64) -> MISSION_ITEM_INT_DATA {
+    let lat = home.0 + north / 111_319.490_793_273_57;
+    let lon = home.1 + east / (111_319.490_793_273_57 * home.0.to_radians().cos());
+    MISSION_ITEM_INT_DATA {
+        x: (lat * 1e7).round() as i32,
+        y: (lon * 1e7).round() as i32,
+        command: MavCmd::MAV_CMD_NAV_WAYPOINT,
+        frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+        autocontinue: 1,
+        ..Default::default()
+    }
+}
+
+pub fn item(command: MavCmd, p: [f32; 4]) -> MISSION_ITEM_INT_DATA {
+    MISSION_ITEM_INT_DATA {
+        command,
+        param1: p[0],
+        param2: p[1],
+        param3: p[2],
+        param4: p[3],
+        frame: MavFrame::MAV_FRAME_MISSION,
+        autocontinue: 1,
+        ..Default::default()
+    }
+}
+
+pub const HOME: (f64, f64) = (43.5615, 1.4778);
+
+/// Steps the manual clock in 100 ms slices until `pred` holds on the snapshot (bounded in sim time).
+pub async fn run_until(
+    sim: &sitl::SimHandle,
+    max_s: u64,
+    pred: impl Fn(&sitl::Snapshot) -> bool,
+) -> sitl::Snapshot {
+    for _ in 0..max_s * 10 {
+        sim.step(Duration::from_millis(100)).await.expect("step");
+        let s = sim.snapshot();
+        if pred(&s) {
+            return s;
+        }
+    }
+    panic!(
+        "condition not reached within {max_s} sim seconds: {:?}",
+        sim.snapshot()
+    );
+}
+
+/// A sim on port 0 with the manual clock and `scenario` (TOML text), plus a connected client.
+pub async fn start(scenario: &str) -> (sitl::SimHandle, Gcs) {
+    let mut cfg = sitl::SimConfig::for_tests();
+    cfg.scenario = sitl::Scenario::parse(scenario, "test").expect("scenario");
+    let sim = sitl::spawn(cfg).await.expect("spawn");
+    let gcs = Gcs::connect(sim.local_addr()).await;
+    (sim, gcs)
+}
+
+/// Uploads a mission through `gcs` and checks it is accepted.
+pub async fn upload_ok(gcs: &mut Gcs, items: &[MISSION_ITEM_INT_DATA]) {
+    assert_eq!(
+        gcs.upload(items).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+}

@@ -1,0 +1,89 @@
+//! `mavtempo sim`: the built-in SITL vehicle on a socket, until Ctrl-C. Wiring only.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+#[derive(Args, Debug)]
+pub struct SimArgs {
+    /// tcpin:HOST:PORT, udpin:HOST:PORT, tcpout:HOST:PORT or udpout:HOST:PORT (port 0: any free port).
+    #[arg(long, default_value = "tcpin:127.0.0.1:5760")]
+    pub listen: String,
+    /// Sim seconds per wall second.
+    #[arg(long, default_value_t = 1.0)]
+    pub speedup: f64,
+    /// rover or auv.
+    #[arg(long, default_value = "rover")]
+    pub vehicle: String,
+    /// Home as LAT,LON in degrees.
+    #[arg(long)]
+    pub home: Option<String>,
+    /// Scenario file (TOML): world, parameters, faults.
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// Seed for picture sizes and link faults.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+pub fn run(args: SimArgs) -> ExitCode {
+    match configure(&args) {
+        Ok(config) => serve(config),
+        Err(e) => {
+            eprintln!("mavtempo sim: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn configure(args: &SimArgs) -> Result<sitl::SimConfig, String> {
+    let mut config = sitl::SimConfig {
+        listen: args.listen.clone(),
+        speedup: args.speedup,
+        vehicle: args.vehicle.parse()?,
+        seed: args.seed,
+        ..sitl::SimConfig::default()
+    };
+    if let Some(home) = &args.home {
+        config.home = sitl::parse_home(home).map_err(|e| e.to_string())?;
+    }
+    if let Some(path) = &args.scenario {
+        config.scenario = sitl::Scenario::load(path).map_err(|e| e.to_string())?;
+    }
+    config.validate().map_err(|e| e.to_string())?;
+    Ok(config)
+}
+
+fn serve(config: sitl::SimConfig) -> ExitCode {
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+    {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("mavtempo sim: cannot start the runtime: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    rt.block_on(async move {
+        let sim = match sitl::spawn(config).await {
+            Ok(sim) => sim,
+            Err(e) => {
+                eprintln!("mavtempo sim: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        // Scripts read this line to learn the port when they asked for port 0.
+        println!(
+            "sitl listening on {} (connect with {})",
+            sim.local_addr(),
+            sim.client_address()
+        );
+        let _ = std::io::stdout().flush();
+        let _ = tokio::signal::ctrl_c().await;
+        sim.stop().await;
+        ExitCode::SUCCESS
+    })
+}
