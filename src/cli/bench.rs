@@ -19,6 +19,8 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Incremental STN vs Floyd-Warshall.
     Stn,
+    /// Planning time and steps on the shipped and generated problems.
+    Plan,
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
     Sim,
     /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
@@ -28,6 +30,7 @@ pub enum BenchWhat {
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
+        BenchWhat::Plan => bench_plan(args.json),
         BenchWhat::Sim => bench_sim(args.json),
         BenchWhat::Link => bench_link(args.json),
     }
@@ -136,4 +139,37 @@ fn bench_link(json: bool) -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn bench_plan(json: bool) -> ExitCode {
+    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 20_000) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench plan: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    for f in &figures {
+        if json {
+            match serde_json::to_string(f) {
+                Ok(line) => println!("{line}"),
+                Err(e) => {
+                    eprintln!("bench plan: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        } else {
+            println!(
+                "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
+                f.problem,
+                if f.solved { "solved" } else { "FAILED" },
+                f.ms,
+                f.steps,
+                f.backtracks,
+                f.actions,
+                f.failure.as_deref().unwrap_or("")
+            );
+        }
+    }
+    ExitCode::SUCCESS
 }

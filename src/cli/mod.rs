@@ -3,6 +3,7 @@
 mod bench;
 mod check;
 mod goal;
+mod plan;
 mod sim;
 
 use std::process::ExitCode;
@@ -26,6 +27,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Check domain and problem files; exit non-zero with file:line:col diagnostics on errors.
     Check(check::CheckArgs),
+    /// Plan a problem: print the flexible plan (--json, --dot), checked by the independent checker.
+    Plan(plan::PlanArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
@@ -39,6 +42,7 @@ pub fn main() -> ExitCode {
     match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Check(args) => check::run(args),
+        Command::Plan(args) => plan::run(args),
         Command::Goal(args) => goal::run(args),
         Command::Sim(args) => sim::run(args),
     }

@@ -293,6 +293,11 @@ impl Bindings {
         self.root(v.0)
     }
 
+    /// The posted inequalities between variables.
+    pub fn ne_pairs(&self) -> impl Iterator<Item = (VarId, VarId)> + '_ {
+        self.ne.iter().map(|&(a, b)| (VarId(a), VarId(b)))
+    }
+
     pub fn save(&self) -> BLevel {
         BLevel(self.trail.len())
     }

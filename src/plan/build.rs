@@ -7,8 +7,8 @@ use std::sync::Arc;
 use super::changes::ChangeLog;
 use super::{
     Action, ActionId, Candidate, CausalLink, CondId, CondKind, Condition, EventId, EventRec,
-    LinkId, NTerm, NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm,
-    TimeFloor, Usage, UsageId, UsageKind,
+    LinkId, NTerm, NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm, TimeFloor,
+    Usage, UsageId, UsageKind,
 };
 use crate::model::{
     Binding, Domain, GoalId, NumConstraint, NumTerm, Problem, ResourceKind, TaskId, Term,
@@ -180,12 +180,15 @@ impl PartialPlan {
     pub fn add_link(&mut self, event: EventId, cond: CondId) -> Result<LinkId, PlanError> {
         let (e, c) = (&self.events[event.index()], &self.conds[cond.index()]);
         if e.attr != c.attr || e.args.len() != c.args.len() {
-            return Err(PlanError::Invalid("link between different attributes".into()));
+            return Err(PlanError::Invalid(
+                "link between different attributes".into(),
+            ));
         }
         if c.link.is_some() {
             return Err(PlanError::Invalid("condition already supported".into()));
         }
-        let pairs: Vec<(STerm, STerm)> = e.args.iter().copied().zip(c.args.iter().copied()).collect();
+        let pairs: Vec<(STerm, STerm)> =
+            e.args.iter().copied().zip(c.args.iter().copied()).collect();
         let (to, value, at, from, delay) = (e.to, c.value, e.at, c.from, c.support_delay());
         for (x, y) in pairs {
             self.bindings.unify(x, y)?;
@@ -317,9 +320,9 @@ impl PartialPlan {
                     b: sterm(b),
                 },
                 NumConstraint::Duration { var, from, to } => {
-                    let c = self
-                        .stn
-                        .add_constraint(tps[from.index()], tps[to.index()], -INF, INF)?;
+                    let c =
+                        self.stn
+                            .add_constraint(tps[from.index()], tps[to.index()], -INF, INF)?;
                     NumCons::Duration {
                         var: nums[var.index()],
                         c,
@@ -392,9 +395,7 @@ impl PartialPlan {
                 value: sterm(&h.value),
                 from,
                 to,
-                kind: CondKind::Hold {
-                    closed: from == to,
-                },
+                kind: CondKind::Hold { closed: from == to },
                 link: None,
             });
             self.actions[id.index()].conds.push(cond);
@@ -442,7 +443,10 @@ impl PartialPlan {
             };
             let found = events.iter().copied().find(|&e| {
                 let ev = &self.events[e.index()];
-                ev.at == want_at && ev.attr == cond.attr && ev.args == cond.args && ev.to == cond.value
+                ev.at == want_at
+                    && ev.attr == cond.attr
+                    && ev.args == cond.args
+                    && ev.to == cond.value
             });
             if let Some(e) = found {
                 self.add_link(e, c)?;

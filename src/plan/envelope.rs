@@ -5,16 +5,17 @@
 //! borrowing (`use`) `−q` at its start and `+q` at its end. At each decrease `i`, the lowest level any
 //! schedule can reach just after `i` is at least
 //!
-//! `L0 + Σ_{increases j necessarily ≤ i} q_min(j) − Σ_{decreases j possibly ≤ i (i included)} q_max(j)`,
+//! `L0 + Σ_{increases j necessarily < i} q_min(j) − Σ_{decreases j possibly ≤ i (i included)} q_max(j)`,
 //!
 //! and at each increase `i`, the highest level is at most
 //!
-//! `L0 + Σ_{increases j possibly ≤ i (i included)} q_max(j) − Σ_{decreases j necessarily ≤ i} q_min(j)`.
+//! `L0 + Σ_{increases j possibly ≤ i (i included)} q_max(j) − Σ_{decreases j necessarily < i} q_min(j)`.
+//!
+//! (Changes at the same instant are taken in their worst order, as the checker does.)
 //!
 //! Levels only change at these instants, so if every bound is within `[0, capacity]` every schedule of the
 //! partial plan (every instantiation of the quantities) keeps the level inside: no conflict is missed.
 //! A violation names the checkpoint and the usages whose ordering is still open — the resolvers.
-
 
 use super::order::{necessarily_after, possibly_after};
 use super::{NTerm, PartialPlan, UsageId, UsageKind};
@@ -33,7 +34,7 @@ pub struct ReservoirConflict {
     /// The pessimistic level bound at `point`.
     pub level: f64,
     pub capacity: f64,
-    /// Decreases (usages, timepoints) possibly but not necessarily before `point`.
+    /// Decreases (usages, timepoints) possibly but not necessarily (strictly) before `point`.
     pub open_decreases: Vec<(UsageId, Timepoint)>,
     /// Increases possibly but not necessarily before `point`.
     pub open_increases: Vec<(UsageId, Timepoint)>,
@@ -58,7 +59,11 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
     let capacity = if setup.profile.is_empty() {
         plan.domain.resource(r).capacity
     } else {
-        setup.profile.iter().map(|&(_, c)| c).fold(f64::INFINITY, f64::min)
+        setup
+            .profile
+            .iter()
+            .map(|&(_, c)| c)
+            .fold(f64::INFINITY, f64::min)
     };
     let mut changes: Vec<Change> = Vec::new();
     for &u in plan.usages_of(r) {
@@ -97,7 +102,7 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
         let mut open_dec = Vec::new();
         let mut open_inc = Vec::new();
         for (j, cj) in changes.iter().enumerate() {
-            let nec = j == i || necessarily_after(stn, cj.at, ci.at, 0);
+            let nec = j == i || necessarily_after(stn, cj.at, ci.at, 1);
             let poss = nec || possibly_after(stn, cj.at, ci.at, 0);
             if ci.up {
                 if cj.up && poss {

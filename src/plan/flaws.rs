@@ -6,7 +6,6 @@
 //! resolved is marked done (on the trail) and never examined again on this branch. After the executive
 //! *relaxes* constraints, [`PartialPlan::recompute_candidates`] starts over.
 
-
 use super::envelope::{reservoir_conflict, ReservoirConflict};
 use super::order::necessarily_after;
 use super::{
@@ -51,7 +50,11 @@ impl PartialPlan {
         }
         let ev = self.event(e);
         let b = &self.bindings;
-        if ev.args.iter().zip(&cond.args).any(|(&x, &y)| !b.possibly_equal(x, y))
+        if ev
+            .args
+            .iter()
+            .zip(&cond.args)
+            .any(|(&x, &y)| !b.possibly_equal(x, y))
             || b.necessarily_equal(ev.to, cond.value)
         {
             return ThreatCheck::Resolved;
@@ -77,9 +80,7 @@ impl PartialPlan {
         else {
             return Some(false);
         };
-        Some(
-            !(necessarily_after(&self.stn, ta, fb, 0) || necessarily_after(&self.stn, tb, fa, 0)),
-        )
+        Some(!(necessarily_after(&self.stn, ta, fb, 0) || necessarily_after(&self.stn, tb, fa, 0)))
     }
 
     /// The live threats (marks resolved candidates done).
@@ -260,7 +261,10 @@ impl PartialPlan {
             Owner::Exogenous(i) => format!("timed fact #{i}"),
             Owner::Goal(g) => format!(
                 "goal {}",
-                self.problem.goals.get(g.index()).map_or("?", |g| g.name.as_str())
+                self.problem
+                    .goals
+                    .get(g.index())
+                    .map_or("?", |g| g.name.as_str())
             ),
             Owner::Action(a) => format!("{}#{}", self.domain.task(self.action(a).task).name, a.0),
         }

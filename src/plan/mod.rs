@@ -25,6 +25,7 @@ mod bindings;
 mod build;
 mod changes;
 mod envelope;
+mod export;
 pub mod flaws;
 mod numeric;
 mod order;
@@ -39,7 +40,7 @@ pub use bindings::{BindingConflict, Bindings, STerm, VarId};
 pub use changes::{ChangeCursor, PlanChange};
 pub use envelope::{reservoir_conflict, ReservoirConflict};
 pub use flaws::{Flaw, ThreatCheck};
-pub use numeric::{NLevel, NTerm, NVar, NumCons, NumConflict, Numeric};
+pub use numeric::{NLevel, NTerm, NVar, NumConflict, NumCons, Numeric};
 
 use crate::model::{AttrId, Domain, GoalId, Problem, ResourceId, TaskId, Time};
 use crate::stn::{ConstraintId, Inconsistent, Stn, Timepoint};
@@ -376,13 +377,15 @@ impl PartialPlan {
         self.links.truncate(level.links);
         for g in (level.goals..self.goals.len()).rev() {
             if self.goals[g].active {
-                self.changes.push(PlanChange::GoalRemoved(self.goals[g].goal));
+                self.changes
+                    .push(PlanChange::GoalRemoved(self.goals[g].goal));
             }
         }
         self.goals.truncate(level.goals);
         for a in (level.actions..self.actions.len()).rev() {
             if !self.actions[a].removed {
-                self.changes.push(PlanChange::ActionRemoved(ActionId(a as u32)));
+                self.changes
+                    .push(PlanChange::ActionRemoved(ActionId(a as u32)));
             }
         }
         self.actions.truncate(level.actions);
@@ -470,7 +473,10 @@ impl PartialPlan {
     pub fn cond_live(&self, c: CondId) -> bool {
         match self.conds[c.index()].owner {
             Owner::Action(a) => !self.actions[a.index()].removed,
-            Owner::Goal(g) => self.goals.iter().any(|pg| pg.goal == g && pg.active && pg.cond == c),
+            Owner::Goal(g) => self
+                .goals
+                .iter()
+                .any(|pg| pg.goal == g && pg.active && pg.cond == c),
             _ => true,
         }
     }
@@ -494,7 +500,8 @@ impl PartialPlan {
 
     pub(crate) fn set_reservoir_dirty(&mut self, r: usize, dirty: bool) {
         if self.reservoir_dirty[r] != dirty {
-            self.trail.push(Entry::ReservoirDirty(r, self.reservoir_dirty[r]));
+            self.trail
+                .push(Entry::ReservoirDirty(r, self.reservoir_dirty[r]));
             self.reservoir_dirty[r] = dirty;
         }
     }

@@ -23,11 +23,26 @@ pub enum NTerm {
 /// A numeric constraint of an inserted task (see [`crate::model::NumConstraint`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum NumCons {
-    Distance { var: NVar, a: STerm, b: STerm },
+    Distance {
+        var: NVar,
+        a: STerm,
+        b: STerm,
+    },
     /// `var · 1000 = to − from` in the STN constraint `c` (seconds vs milliseconds).
-    Duration { var: NVar, c: ConstraintId },
-    Product { var: NVar, a: NTerm, b: NTerm },
-    Sum { var: NVar, a: NTerm, b: NTerm },
+    Duration {
+        var: NVar,
+        c: ConstraintId,
+    },
+    Product {
+        var: NVar,
+        a: NTerm,
+        b: NTerm,
+    },
+    Sum {
+        var: NVar,
+        a: NTerm,
+        b: NTerm,
+    },
     Le(NTerm, NTerm),
     Equal(NTerm, NTerm),
 }
@@ -168,12 +183,28 @@ impl Numeric {
             NumCons::Duration { var, c } => {
                 let k = stn.constraint(c);
                 let s = MS_PER_S as f64;
-                let lo = if k.lb <= -INF { f64::NEG_INFINITY } else { k.lb as f64 / s };
-                let hi = if k.ub >= INF { f64::INFINITY } else { k.ub as f64 / s };
+                let lo = if k.lb <= -INF {
+                    f64::NEG_INFINITY
+                } else {
+                    k.lb as f64 / s
+                };
+                let hi = if k.ub >= INF {
+                    f64::INFINITY
+                } else {
+                    k.ub as f64 / s
+                };
                 let changed = self.narrow(var, lo, hi)?;
                 let (vlo, vhi) = self.bounds(var);
-                let tlo = if vlo.is_finite() { (vlo * s - 1e-6).ceil() as i64 } else { -INF };
-                let thi = if vhi.is_finite() { (vhi * s + 1e-6).floor() as i64 } else { INF };
+                let tlo = if vlo.is_finite() {
+                    (vlo * s - 1e-6).ceil() as i64
+                } else {
+                    -INF
+                };
+                let thi = if vhi.is_finite() {
+                    (vhi * s + 1e-6).floor() as i64
+                } else {
+                    INF
+                };
                 if tlo > k.lb || thi < k.ub {
                     stn.tighten(c, tlo, thi).map_err(|_| NumConflict)?;
                 }
@@ -285,11 +316,18 @@ mod tests {
         let mut stn = Stn::new();
         n.propagate(&cons, &b, &p, &mut stn).unwrap();
         let (lo, hi) = n.bounds(dur);
-        assert!((lo - 10.0).abs() < 1e-9 && (hi - 20.0).abs() < 1e-9, "{lo} {hi}");
+        assert!(
+            (lo - 10.0).abs() < 1e-9 && (hi - 20.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
+        assert!(n.narrow(dur, 25.0, 30.0).is_err());
+        // A higher minimal speed shortens the longest duration; undone by restore.
         let l = n.save();
-        n.narrow(dur, 25.0, 30.0).map(|_| ()).unwrap();
-        assert!(n.propagate(&cons, &b, &p, &mut stn).is_err());
+        assert_eq!(n.narrow(speed, 0.8, 1.0), Ok(true));
+        n.propagate(&cons, &b, &p, &mut stn).unwrap();
+        assert!((n.bounds(dur).1 - 12.5).abs() < 1e-9);
         n.restore(l);
         assert_eq!(n.bounds(dur), (lo, hi));
+        assert_eq!(n.bounds(speed), (0.5, 1.0));
     }
 }

@@ -162,7 +162,7 @@ impl Search {
                 StepOutcome::Solved
             }
             Some((flaw, resolvers)) => {
-                tracing::trace!(flaw = %self.plan.flaw_text(&flaw), n = resolvers.len(), "step");
+                tracing::trace!(flaw = %self.plan.flaw_text(&flaw), resolvers = ?resolvers, "step");
                 let level = self.plan.save();
                 self.stack.push(Choice {
                     level,
@@ -196,7 +196,10 @@ impl Search {
                         }
                         return StepOutcome::Progress;
                     }
-                    Err(_) => self.plan.restore(level),
+                    Err(e) => {
+                        tracing::trace!(resolver = ?r, error = %e, "resolver rejected");
+                        self.plan.restore(level)
+                    }
                 }
             } else {
                 let Some(top) = self.stack.pop() else {
@@ -233,5 +236,45 @@ impl Search {
                 other => return other,
             }
         }
+    }
+}
+
+/// A plan found by [`solve`], with the search's figures.
+#[derive(Clone, Debug)]
+pub struct Planned {
+    pub plan: PartialPlan,
+    pub steps: u64,
+    pub backtracks: u64,
+}
+
+/// Why [`solve`] found no plan.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PlanFailure {
+    /// The root plan could not be built (e.g. a goal window outside the horizon).
+    #[error("invalid problem: {0}")]
+    Root(String),
+    #[error(transparent)]
+    Search(#[from] FailReason),
+}
+
+/// Plans `problem` from scratch within `budget`.
+pub fn solve(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+    budget: Budget,
+) -> Result<Planned, PlanFailure> {
+    let root = PartialPlan::new(domain, problem).map_err(|e| PlanFailure::Root(e.to_string()))?;
+    let mut search = Search::new(root);
+    match search.run(budget) {
+        StepOutcome::Solved => Ok(Planned {
+            steps: search.steps(),
+            backtracks: search.backtracks(),
+            plan: search.into_plan(),
+        }),
+        StepOutcome::Failed(r) => Err(r.into()),
+        StepOutcome::Progress => Err(FailReason::Deadline {
+            steps: search.steps(),
+        }
+        .into()),
     }
 }

@@ -1,8 +1,9 @@
 //! Resolvers of each flaw kind (seed 1 §2.2) and their application to the partial plan.
 //!
 //! Ordering heuristics (least commitment first, existing structure before new actions):
-//! - open condition: existing establishers first (no new action), the *latest* possible one first (it is
-//!   the closest in time, so the protected interval is short and fewer threats arise), then new tasks;
+//! - open condition: existing establishers first (no new action), the
+//!   earliest possible one first (it extends the current chain of changes from its start, and a wrong early
+//!   choice fails fast on a forced threat), then new tasks;
 //! - threat: the two precedences first, the one agreeing with the current earliest times first (it
 //!   disturbs the schedule least), then binding `≠` on the attribute instance, then `=` on the value;
 //! - unary conflict: the order agreeing with the current earliest starts first;
@@ -71,7 +72,8 @@ fn possibly(plan: &PartialPlan, from: Timepoint, to: Timepoint, delay: Time) -> 
     if from == to {
         return delay <= 0;
     }
-    plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay && plan.stn.distance(from, to) >= delay
+    plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay
+        && plan.stn.distance(from, to) >= delay
 }
 
 /// Whether a task's event value can match the condition's value.
@@ -100,14 +102,18 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
         }
         let ev = plan.event(e);
         if !b.possibly_equal(ev.to, cond.value)
-            || ev.args.iter().zip(&cond.args).any(|(&x, &y)| !b.possibly_equal(x, y))
+            || ev
+                .args
+                .iter()
+                .zip(&cond.args)
+                .any(|(&x, &y)| !b.possibly_equal(x, y))
             || !possibly(plan, ev.at, cond.from, delay)
         {
             continue;
         }
         existing.push((plan.stn.lb(ev.at), e.0));
     }
-    existing.sort_by(|x, y| y.cmp(x));
+    existing.sort();
     let mut out: Vec<Resolver> = existing
         .into_iter()
         .map(|(_, e)| Resolver::Link {
@@ -209,11 +215,11 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
     let mut out = Vec::new();
     if c.overflow {
         for &(_, t) in &c.open_decreases {
-            if possibly(plan, t, c.point, 0) {
+            if possibly(plan, t, c.point, 1) {
                 out.push(Resolver::Order {
                     from: t,
                     to: c.point,
-                    delay: 0,
+                    delay: 1,
                 });
             }
         }
@@ -240,11 +246,11 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
         }
     } else {
         for &(_, t) in &c.open_increases {
-            if possibly(plan, t, c.point, 0) {
+            if possibly(plan, t, c.point, 1) {
                 out.push(Resolver::Order {
                     from: t,
                     to: c.point,
-                    delay: 0,
+                    delay: 1,
                 });
             }
         }
@@ -317,7 +323,7 @@ pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
                 UsageKind::Produce { at } | UsageKind::Consume { at } => at,
                 UsageKind::Use { to, .. } => to,
             };
-            plan.stn.add_constraint(at, before, 0, INF)?;
+            plan.stn.add_constraint(at, before, 1, INF)?;
             Ok(())
         }
         Resolver::CapQuantity { action, var, hi } => {

@@ -1,0 +1,192 @@
+//! The planner on small problems of a camera domain: flexible plans, resource conflicts solved by ordering
+//! and by inserting a producer, typed failure reasons, step-wise search with plan-change notifications.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use mavtempo::lang::{parse_domain, parse_problem};
+use mavtempo::model::{Domain, Problem};
+use mavtempo::plan::validate::validate;
+use mavtempo::plan::{PartialPlan, PlanChange, UsageKind};
+use mavtempo::planner::{solve, Budget, FailReason, PlanFailure, Search, StepOutcome};
+
+/// Pictures of targets; a unary camera (optional) and a storage reservoir freed by downloads.
+fn domain(with_camera: bool) -> Arc<Domain> {
+    let camera = if with_camera {
+        "use(CAMERA: 1, (st, et));"
+    } else {
+        ""
+    };
+    let text = format!(
+        "domain snap;
+         type target;
+         attribute PICTURE(?t: target): bool;
+         resource CAMERA: unary;
+         resource STORAGE: reservoir capacity 3;
+         task take(?t: target) (st, et) {{
+             event(PICTURE(?t): (false, true), et);
+             {camera}
+             consume(STORAGE: 1, st);
+             (et - st) in [5, 10];
+         }} nonPreemptive
+         task download() (st, et) {{
+             produce(STORAGE: ?freed, et);
+             variable ?freed;
+             ?freed in [1, 3];
+             (et - st) in [10, 20];
+         }} nonPreemptive"
+    );
+    Arc::new(parse_domain("snap.ixt", &text).unwrap_or_else(|e| panic!("{e}")))
+}
+
+fn problem(d: &Domain, targets: usize, deadline_s: Option<u32>) -> Arc<Problem> {
+    let mut text = String::from("problem p; domain snap; horizon 30min;\n");
+    for i in 1..=targets {
+        text += &format!("object t{i}: target;\n");
+    }
+    text += "initial { PICTURE(*) = false; }\nresource STORAGE: level 3, capacity 3;\n";
+    for i in 1..=targets {
+        let window = deadline_s.map_or(String::new(), |s| format!("st in [0, {s}s];"));
+        text += &format!("goal g{i} {{ hold(PICTURE(t{i}): true, (st, et)); {window} }}\n");
+    }
+    Arc::new(parse_problem("p.ixt", &text, d).unwrap_or_else(|e| panic!("{e}")))
+}
+
+fn checked(d: &Arc<Domain>, p: &Arc<Problem>) -> PartialPlan {
+    let planned =
+        solve(d.clone(), p.clone(), Budget::steps(5_000)).unwrap_or_else(|e| panic!("{e}"));
+    let sol = planned.plan.to_solution(&HashMap::new());
+    assert_eq!(sol.unachieved().count(), 0);
+    if let Err(r) = validate(d, p, &sol) {
+        panic!("checker rejects: {r}");
+    }
+    planned.plan
+}
+
+fn takes(plan: &PartialPlan) -> Vec<mavtempo::plan::ActionId> {
+    plan.live_actions()
+        .filter(|&a| plan.domain.task(plan.action(a).task).name == "take")
+        .collect()
+}
+
+#[test]
+fn independent_actions_stay_unordered() {
+    let d = domain(false);
+    let plan = checked(&d, &problem(&d, 2, None));
+    let t = takes(&plan);
+    assert_eq!(t.len(), 2);
+    let (a, b) = (plan.action(t[0]), plan.action(t[1]));
+    // Least commitment: either order (and overlap) remains possible.
+    assert!(plan.stn.possibly_before(a.end, b.start));
+    assert!(plan.stn.possibly_before(b.end, a.start));
+    assert!(plan.stn.possibly_before(a.start, b.end) && plan.stn.possibly_before(b.start, a.end));
+}
+
+#[test]
+fn unary_resource_conflict_is_solved_by_ordering() {
+    let d = domain(true);
+    let plan = checked(&d, &problem(&d, 2, None));
+    let t = takes(&plan);
+    assert_eq!(t.len(), 2);
+    let (a, b) = (plan.action(t[0]), plan.action(t[1]));
+    let ordered = |x: &mavtempo::plan::Action, y: &mavtempo::plan::Action| {
+        !plan.stn.possibly_before(y.start, x.end)
+    };
+    assert!(
+        ordered(a, b) || ordered(b, a),
+        "the camera uses must not overlap"
+    );
+}
+
+#[test]
+fn fourth_picture_with_capacity_three_needs_a_download_before_it() {
+    let d = domain(true);
+    let plan = checked(&d, &problem(&d, 4, None));
+    let downloads: Vec<_> = plan
+        .live_actions()
+        .filter(|&a| plan.domain.task(plan.action(a).task).name == "download")
+        .collect();
+    assert_eq!(
+        downloads.len(),
+        1,
+        "one download frees room for the fourth picture"
+    );
+    let dl = plan.action(downloads[0]);
+    let produced_at = plan
+        .action(downloads[0])
+        .usages
+        .iter()
+        .find_map(|&u| match plan.usage(u).kind {
+            UsageKind::Produce { at } => Some(at),
+            _ => None,
+        })
+        .unwrap_or(dl.end);
+    // At least one picture is necessarily after the download's production.
+    let after = takes(&plan)
+        .into_iter()
+        .filter(|&a| {
+            plan.stn
+                .necessarily_before(produced_at, plan.action(a).start)
+                || {
+                    let s = plan.action(a).start;
+                    plan.stn.distance(s, produced_at) <= 0
+                }
+        })
+        .count();
+    assert!(after >= 1);
+    // Three pictures without a download: no producer needed.
+    let plan3 = checked(&d, &problem(&d, 3, None));
+    assert_eq!(plan3.num_actions(), 3);
+}
+
+#[test]
+fn impossible_deadline_reports_the_root_flaw() {
+    let d = domain(false);
+    // A picture takes at least 5 s; the goal must hold from at most 2 s on.
+    let p = problem(&d, 1, Some(2));
+    match solve(d, p, Budget::steps(1_000)) {
+        Err(PlanFailure::Search(FailReason::NoResolver { flaw })) => {
+            assert!(flaw.contains("PICTURE(t1) = true"), "{flaw}");
+        }
+        other => panic!("expected no resolver at the root, got {other:?}"),
+    }
+}
+
+#[test]
+fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
+    let d = domain(true);
+    let root = PartialPlan::new(d.clone(), problem(&d, 4, None)).unwrap_or_else(|e| panic!("{e}"));
+    let cursor = root.change_cursor();
+    let mut search = Search::new(root);
+    assert_eq!(
+        search.run(Budget::steps(1)),
+        StepOutcome::Failed(FailReason::Deadline { steps: 1 })
+    );
+    let mut outcome = StepOutcome::Progress;
+    for _ in 0..5_000 {
+        outcome = search.step();
+        if outcome != StepOutcome::Progress {
+            break;
+        }
+    }
+    assert_eq!(outcome, StepOutcome::Solved);
+    // Replaying the change log gives exactly the plan's live actions and links.
+    let mut actions = std::collections::BTreeSet::new();
+    let mut links = std::collections::BTreeSet::new();
+    for c in search.plan().changes_since(cursor) {
+        match *c {
+            PlanChange::ActionAdded(a) => assert!(actions.insert(a)),
+            PlanChange::ActionRemoved(a) => assert!(actions.remove(&a)),
+            PlanChange::LinkAdded(l) => assert!(links.insert(l)),
+            PlanChange::LinkRemoved(l) => assert!(links.remove(&l)),
+            _ => {}
+        }
+    }
+    let live: std::collections::BTreeSet<_> = search.plan().live_actions().collect();
+    assert_eq!(actions, live);
+    assert_eq!(
+        links.len(),
+        search.plan().links.iter().filter(|l| l.active).count()
+    );
+    assert!(search.executable(&[]));
+}
