@@ -11,8 +11,8 @@ use mavtempo::model::{GoalId, Value};
 use mavtempo::plan::PartialPlan;
 
 fn fig2() -> Executive {
-    let (d, p) = load_problem_and_domain(Path::new("domains/rover/problems/fig2.ixt"))
-        .expect("fig2 loads");
+    let (d, p) =
+        load_problem_and_domain(Path::new("domains/rover/problems/fig2.ixt")).expect("fig2 loads");
     let plan = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
     Executive::new(plan, ExecConfig::default())
 }
@@ -55,7 +55,13 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
     assert!((ext.plan.problem.resources[storage.index()].level - 1.2).abs() < 1e-9);
     // g3 (st ≤ 8 min) is no longer coherent with 9 min; g1 is done; g2, g4, g5 remain.
     assert_eq!(ext.incoherent, vec![GoalId(2)]);
-    let active: Vec<u32> = ext.plan.goals.iter().filter(|g| g.active).map(|g| g.goal.0).collect();
+    let active: Vec<u32> = ext
+        .plan
+        .goals
+        .iter()
+        .filter(|g| g.active)
+        .map(|g| g.goal.0)
+        .collect();
     assert_eq!(active, vec![1, 3, 4]);
     // T_end after now; each goal after T_end; new timepoints after T_end.
     assert!(ext.plan.stn.lb(ext.t_end) >= now);
@@ -67,6 +73,8 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
     assert!(plan.stn.necessarily_before(ext.t_end, tp));
     // Inserting actions lowers T_end's upper bound ("planning to plan").
     let before = plan.stn.ub(ext.t_end);
-    plan.stn.add_constraint(tp, plan.goals[1].st, 600_000, mavtempo::stn::INF).unwrap();
+    plan.stn
+        .add_constraint(tp, plan.goals[1].st, 600_000, mavtempo::stn::INF)
+        .unwrap();
     assert!(plan.stn.ub(ext.t_end) < before);
 }
