@@ -57,6 +57,8 @@ pub struct Executive {
     pub by_vid: BTreeMap<u64, ActionId>,
     /// Preemptive actions an `END i_a` was sent to.
     pub stop_sent: Vec<ActionId>,
+    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
+    pub vehicle_origin_ms: u64,
     /// Interruptions requested by message integration (sent in the act part).
     pub interrupt: Vec<ActionId>,
     pub next_vid: u64,
@@ -107,6 +109,7 @@ impl Executive {
             started: BTreeMap::new(),
             by_vid: BTreeMap::new(),
             stop_sent: Vec::new(),
+            vehicle_origin_ms: 0,
             interrupt: Vec::new(),
             next_vid: 1,
             repair: None,

@@ -64,7 +64,9 @@ impl Executive {
             tracing::warn!(id = r.id, "report for an unknown action ignored");
             return;
         };
-        let t = now;
+        // The report carries the vehicle time of the completion (a stopped action ended when the END was
+        // obeyed, usually a cycle before the report is integrated).
+        let t = (r.time_ms.saturating_sub(self.vehicle_origin_ms) as Time).clamp(0, now);
         let when = timing(&self.plan, a, t);
         let name = self.action_text(a);
         self.trace(TraceEvent::Report {
