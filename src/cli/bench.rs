@@ -19,6 +19,8 @@ pub struct BenchArgs {
 pub enum BenchWhat {
     /// Incremental STN vs Floyd-Warshall.
     Stn,
+    /// Executive cycle time (p50/p99) on plans of 200 and 2,000 actions.
+    Cycle,
     /// Planning time and steps on the shipped and generated problems.
     Plan,
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
@@ -30,6 +32,7 @@ pub enum BenchWhat {
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
+        BenchWhat::Cycle => bench_cycle(args.json),
         BenchWhat::Plan => bench_plan(args.json),
         BenchWhat::Sim => bench_sim(args.json),
         BenchWhat::Link => bench_link(args.json),
@@ -169,6 +172,29 @@ fn bench_plan(json: bool) -> ExitCode {
                 f.actions,
                 f.failure.as_deref().unwrap_or("")
             );
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn bench_cycle(json: bool) -> ExitCode {
+    for n in [200, 2_000] {
+        match crate::exec::bench::run(n, 400) {
+            Ok(f) if json => match serde_json::to_string(&f) {
+                Ok(line) => println!("{line}"),
+                Err(e) => {
+                    eprintln!("bench cycle: {e}");
+                    return ExitCode::FAILURE;
+                }
+            },
+            Ok(f) => println!(
+                "{:>6} actions: {} cycles, p50 {} µs, p99 {} µs, max {} µs",
+                f.actions, f.cycles, f.p50_us, f.p99_us, f.max_us
+            ),
+            Err(e) => {
+                eprintln!("bench cycle: {e}");
+                return ExitCode::FAILURE;
+            }
         }
     }
     ExitCode::SUCCESS

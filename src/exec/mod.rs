@@ -25,6 +25,7 @@
 
 pub mod abstraction;
 pub mod act;
+pub mod bench;
 pub mod capacity;
 pub mod clock;
 pub mod config;
