@@ -179,7 +179,7 @@ fn bench_plan(json: bool) -> ExitCode {
 
 fn bench_cycle(json: bool) -> ExitCode {
     for n in [200, 2_000] {
-        match crate::exec::bench::run(n, 400) {
+        match crate::exec::bench::run(n, 100) {
             Ok(f) if json => match serde_json::to_string(&f) {
                 Ok(line) => println!("{line}"),
                 Err(e) => {

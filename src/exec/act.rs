@@ -29,10 +29,12 @@ impl Executive {
             self.stop(vehicle, a);
         }
         let mut postponed: Vec<ActionId> = Vec::new();
+        // A_t^f once per act part: executing timepoints only adds constraints, which can resolve flaws but
+        // never create one, so this set stays a (conservative) superset while ExecTPs is recomputed.
+        let flawed = flawed_actions(&mut self.plan);
         loop {
             let mut executed = false;
             let pt = classify(&self.plan, now);
-            let flawed = flawed_actions(&mut self.plan);
             for &a in &pt.future {
                 let st = self.plan.action(a).start;
                 if self.plan.stn.is_executed(st) {
