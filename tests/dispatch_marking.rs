@@ -73,7 +73,10 @@ impl Model {
         let mut out: Vec<Change> = self
             .links
             .iter()
-            .filter(|(_, l)| l.to == n || matches!((l.from, n), (Establisher::Action(a), Node::Action(b)) if a == b))
+            .filter(|(_, l)| {
+                l.to == n
+                    || matches!((l.from, n), (Establisher::Action(a), Node::Action(b)) if a == b)
+            })
             .map(|(&l, _)| Change::LinkRemoved(LinkKey(l)))
             .collect();
         out.push(match n {
@@ -161,7 +164,10 @@ fn check(marking: &Marking, model: &Model) -> Result<(), TestCaseError> {
         .count();
     prop_assert_eq!(
         marked_actions,
-        marking.list_goals().filter(|n| matches!(n, Node::Action(_))).count(),
+        marking
+            .list_goals()
+            .filter(|n| matches!(n, Node::Action(_)))
+            .count(),
         "a removed action is still marked"
     );
     Ok(())

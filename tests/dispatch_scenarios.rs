@@ -95,7 +95,9 @@ impl Sim {
         let key = LinkKey(self.next_link);
         self.next_link += 1;
         let link = Link {
-            from: from.map_or(Establisher::Initial, |a| Establisher::Action(ActionKey(a as u32))),
+            from: from.map_or(Establisher::Initial, |a| {
+                Establisher::Action(ActionKey(a as u32))
+            }),
             to,
         };
         if let (Some(a), Node::Action(b)) = (from, to) {
@@ -168,9 +170,9 @@ impl Sim {
                 ub: self.stn.ub(act.st),
             };
             let key = ActionKey(i as u32);
-            let decision =
-                self.dispatcher
-                    .decide(key, window, tick, &self.mirror, &self.marking);
+            let decision = self
+                .dispatcher
+                .decide(key, window, tick, &self.mirror, &self.marking);
             if let mavtempo::dispatch::Decision::Dispatch { at } = decision {
                 let (st, et, dur) = (act.st, act.et, act.dur);
                 self.stn.execute(st, at).unwrap();

@@ -30,8 +30,9 @@ pub struct DispatchFigure {
     pub mean_us: f64,
     pub p50_us: f64,
     pub p99_us: f64,
-    /// Share of the decided actions found to support an external goal (the same for both forms).
-    pub proactive_share: f64,
+    /// Share of the decisions that dispatched (the windows open now, so about the share of actions that
+    /// support an external goal; the same for both forms).
+    pub dispatched_share: f64,
     /// Per plan-change notification while building the plan and repairing it (marking form only: the
     /// search form reads the plan as it is).
     pub update_mean_us: Option<f64>,
@@ -102,7 +103,11 @@ pub fn plan_like(n: usize, seed: u64) -> PlanLikeGraph {
 }
 
 /// Runs the benchmark on plans of each size, `decisions` decisions per form.
-pub fn run(sizes: &[usize], decisions: usize, seed: u64) -> Result<Vec<DispatchFigure>, GraphError> {
+pub fn run(
+    sizes: &[usize],
+    decisions: usize,
+    seed: u64,
+) -> Result<Vec<DispatchFigure>, GraphError> {
     let mut out = Vec::new();
     for &n in sizes {
         let plan = plan_like(n, seed ^ n as u64);
@@ -132,12 +137,12 @@ pub fn run(sizes: &[usize], decisions: usize, seed: u64) -> Result<Vec<DispatchF
         for form in [SupportForm::Search, SupportForm::Marking] {
             let mut d = Dispatcher::new(PolicyKind::GoalDriven(form));
             let mut samples = Vec::with_capacity(decisions / BATCH + 1);
-            let mut proactive = 0usize;
+            let mut dispatched = 0usize;
             for batch in queries.chunks(BATCH) {
                 let t0 = Instant::now();
                 for &(a, window, tick) in batch {
                     let decision = d.decide(a, window, tick, marking.graph(), &marking);
-                    proactive += usize::from(std::hint::black_box(decision).is_dispatch());
+                    dispatched += usize::from(std::hint::black_box(decision).is_dispatch());
                 }
                 samples.push(t0.elapsed().as_secs_f64() * 1e6 / batch.len() as f64);
             }
@@ -156,7 +161,7 @@ pub fn run(sizes: &[usize], decisions: usize, seed: u64) -> Result<Vec<DispatchF
                 mean_us: mean,
                 p50_us: p50,
                 p99_us: p99,
-                proactive_share: proactive as f64 / queries.len().max(1) as f64,
+                dispatched_share: dispatched as f64 / queries.len().max(1) as f64,
                 update_mean_us: marking_form.then_some(upd.0),
                 update_p50_us: marking_form.then_some(upd.1),
                 update_p99_us: marking_form.then_some(upd.2),
@@ -204,7 +209,11 @@ fn stats(v: &mut [f64]) -> (f64, f64, f64) {
     }
     v.sort_by(f64::total_cmp);
     let pick = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-    (v.iter().sum::<f64>() / v.len() as f64, pick(0.5), pick(0.99))
+    (
+        v.iter().sum::<f64>() / v.len() as f64,
+        pick(0.5),
+        pick(0.99),
+    )
 }
 
 #[cfg(test)]
@@ -233,8 +242,10 @@ mod tests {
     fn run_reports_both_forms_per_size() {
         let figs = run(&[60], 64, 1).unwrap();
         assert_eq!(figs.len(), 2);
-        assert_eq!(figs[0].proactive_share, figs[1].proactive_share);
+        assert_eq!(figs[0].dispatched_share, figs[1].dispatched_share);
         assert!(figs[1].update_mean_us.is_some() && figs[0].update_mean_us.is_none());
-        assert!(figs.iter().all(|f| f.decisions == 64 && f.p99_us >= f.p50_us));
+        assert!(figs
+            .iter()
+            .all(|f| f.decisions == 64 && f.p99_us >= f.p50_us));
     }
 }

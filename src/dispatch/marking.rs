@@ -192,12 +192,11 @@ impl Marking {
             let x = affected[i];
             i += 1;
             let marked = &self.marked;
-            self.graph
-                .for_each_establisher(Node::Action(x), &mut |b| {
-                    if marked.contains(&Node::Action(b)) && seen.insert(b) {
-                        affected.push(b);
-                    }
-                });
+            self.graph.for_each_establisher(Node::Action(x), &mut |b| {
+                if marked.contains(&Node::Action(b)) && seen.insert(b) {
+                    affected.push(b);
+                }
+            });
         }
         for &x in &affected {
             self.unmark(Node::Action(x));
@@ -225,12 +224,11 @@ impl Marking {
         while let Some(x) = stack.pop() {
             let mut found = Vec::new();
             let marked = &self.marked;
-            self.graph
-                .for_each_establisher(Node::Action(x), &mut |b| {
-                    if !marked.contains(&Node::Action(b)) {
-                        found.push(b);
-                    }
-                });
+            self.graph.for_each_establisher(Node::Action(x), &mut |b| {
+                if !marked.contains(&Node::Action(b)) {
+                    found.push(b);
+                }
+            });
             for b in found {
                 if self.mark(Node::Action(b)) {
                     stack.push(b);
@@ -281,7 +279,8 @@ mod tests {
                 from: Establisher::Action(ActionKey(from)),
                 to,
             };
-            m.apply(&Change::LinkAdded(LinkKey(k as u32), link)).unwrap();
+            m.apply(&Change::LinkAdded(LinkKey(k as u32), link))
+                .unwrap();
         }
         m
     }

@@ -15,7 +15,8 @@ pub mod policy;
 pub mod search;
 
 pub use graph::{
-    ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
+    ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey,
+    Node,
 };
 pub use marking::{MarkLevel, Marking};
 pub use policy::{

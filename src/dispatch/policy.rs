@@ -423,7 +423,12 @@ mod tests {
 
     #[test]
     fn policy_names_parse_and_round_trip() {
-        for s in ["earliest", "latest", "goal-driven:search", "goal-driven:marking"] {
+        for s in [
+            "earliest",
+            "latest",
+            "goal-driven:search",
+            "goal-driven:marking",
+        ] {
             let k: PolicyKind = s.parse().unwrap();
             assert_eq!(k.to_string(), s);
         }
