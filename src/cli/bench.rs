@@ -117,7 +117,7 @@ fn bench_dispatch(json: bool) -> ExitCode {
     }
     let us = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.3}"));
     println!(
-        "{:>7} {:>7} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>10}",
+        "{:>7} {:>7} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>10} {:>8}",
         "actions",
         "form",
         "mean µs",
@@ -126,11 +126,12 @@ fn bench_dispatch(json: bool) -> ExitCode {
         "dispatched",
         "upd mean µs",
         "upd p50 µs",
-        "upd p99 µs"
+        "upd p99 µs",
+        "build ms"
     );
     for f in &figures {
         println!(
-            "{:>7} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11} {:>10} {:>10}",
+            "{:>7} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11} {:>10} {:>10} {:>8}",
             f.actions,
             f.form,
             f.mean_us,
@@ -139,7 +140,8 @@ fn bench_dispatch(json: bool) -> ExitCode {
             f.dispatched_share,
             us(f.update_mean_us),
             us(f.update_p50_us),
-            us(f.update_p99_us)
+            us(f.update_p99_us),
+            us(f.build_ms)
         );
     }
     ExitCode::SUCCESS

@@ -15,10 +15,12 @@
 //! - Alg. 8 NotifySplit: the paper removes the token "if it is not a goal or not causally linked to a goal",
 //!   looking one link ahead. That is wrong in two ways once actions support several goals or chains are
 //!   longer than one link: the token may still reach an external goal through another link, and the actions
-//!   upstream of it may lose their only path. So a removal (of a link, an action or a goal) recomputes:
-//!   every marked action upstream of the removal is unmarked, then re-marked backwards from those of them
-//!   that still have a link to a marked node (delete and re-derive). Only actions upstream of the removed
-//!   link can have used it, so nothing else needs looking at.
+//!   upstream of it may lose their only path. So a removal (of a link, an action or a goal) first asks
+//!   Algorithm 2 whether the establisher still reaches an external goal (then nothing changes); if not, it
+//!   recomputes the marks of the marked actions upstream of it (delete and re-derive): those still linked to a marked node
+//!   outside that set, and whatever in the set is upstream of them, stay; the others are unmarked. Only
+//!   actions upstream of the removed link can have used it, so nothing else needs looking at; this holds
+//!   for any graph, cycles included (no reference counting).
 //!
 //! Retraction on backtrack: either the plan announces the reverse changes (they are ordinary changes here),
 //! or [`Marking::save`] / [`Marking::restore`] undo the graph and the marks by trail.
@@ -28,6 +30,7 @@ use std::collections::HashSet;
 use super::graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, Node,
 };
+use super::search::GoalSearch;
 use crate::model::GoalKind;
 
 /// A trail level returned by [`Marking::save`].
@@ -50,6 +53,7 @@ pub struct Marking {
     graph: CausalGraph,
     marked: HashSet<Node>,
     trail: Vec<Undo>,
+    search: GoalSearch,
 }
 
 impl Marking {
@@ -178,11 +182,17 @@ impl Marking {
     /// Algorithm 8 (corrected, see the module doc): delete and re-derive upstream of `from`.
     fn notify_split(&mut self, from: &[Establisher]) {
         // The marked actions upstream of the removal (every action upstream of a marked one is marked).
+        // An establisher that still reaches an external goal (Algorithm 2 on the graph as it is now, which
+        // usually stops after a few links) keeps its mark, and so does everything upstream of it.
         let mut affected = Vec::new();
         let mut seen = HashSet::new();
         for e in from {
             if let Establisher::Action(a) = *e {
-                if self.marked.contains(&Node::Action(a)) && seen.insert(a) {
+                if self.marked.contains(&Node::Action(a))
+                    && !seen.contains(&a)
+                    && !self.search.supports_external_goal(&self.graph, a)
+                {
+                    seen.insert(a);
                     affected.push(a);
                 }
             }
@@ -198,19 +208,31 @@ impl Marking {
                 }
             });
         }
+        // Re-derive within the affected set: those with a link to a node outside it that is still marked
+        // (an external goal, or an action whose marking never depended on the removed link) keep their
+        // mark, and so does everything in the set upstream of them; the rest lose it.
+        let mut keep = HashSet::new();
+        let mut stack = Vec::new();
         for &x in &affected {
-            self.unmark(Node::Action(x));
-        }
-        for &x in &affected {
-            if self.marked.contains(&Node::Action(x)) {
-                continue;
-            }
             let mut still = false;
             let marked = &self.marked;
-            self.graph
-                .for_each_supported(x, &mut |n| still |= marked.contains(&n));
-            if still {
-                self.mark_upstream(x);
+            self.graph.for_each_supported(x, &mut |n| {
+                still |= marked.contains(&n) && !matches!(n, Node::Action(b) if seen.contains(&b));
+            });
+            if still && keep.insert(x) {
+                stack.push(x);
+            }
+        }
+        while let Some(x) = stack.pop() {
+            self.graph.for_each_establisher(Node::Action(x), &mut |b| {
+                if seen.contains(&b) && keep.insert(b) {
+                    stack.push(b);
+                }
+            });
+        }
+        for &x in &affected {
+            if !keep.contains(&x) {
+                self.unmark(Node::Action(x));
             }
         }
     }

@@ -15,7 +15,7 @@ use super::graph::{ActionKey, CausalView, Node};
 use crate::model::GoalKind;
 
 /// Algorithm 2 with reusable scratch space (one per dispatcher, so a decision allocates nothing once warm).
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct GoalSearch {
     visited: HashSet<ActionKey>,
     queue: VecDeque<ActionKey>,
