@@ -23,6 +23,8 @@ pub enum BenchWhat {
     Sim,
     /// Goal-driven dispatch decision cost, Algorithm 2 vs the incremental marking, at 200 and 2,000 actions.
     Dispatch,
+    /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
+    Link,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
@@ -30,6 +32,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         BenchWhat::Stn => bench_stn(args.json),
         BenchWhat::Sim => bench_sim(args.json),
         BenchWhat::Dispatch => bench_dispatch(args.json),
+        BenchWhat::Link => bench_link(args.json),
     }
 }
 
@@ -159,4 +162,30 @@ fn print_json_lines<T: serde::Serialize>(what: &str, rows: &[T]) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+fn bench_link(json: bool) -> ExitCode {
+    match crate::vehicle::bench::run_link_bench(21, 200_000) {
+        Ok(b) if json => match serde_json::to_string(&b) {
+            Ok(line) => {
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench link: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Ok(b) => {
+            println!(
+                "upload 100 items (median of {}): {:.2} ms (target <= 100 ms); telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
+                b.upload_runs, b.upload_100_items_ms, b.telemetry_msgs_per_s, b.telemetry_msgs
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bench link: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }

@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod goal;
 mod sim;
 
 use std::process::ExitCode;
@@ -25,6 +26,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Check domain and problem files; exit non-zero with file:line:col diagnostics on errors.
     Check(check::CheckArgs),
+    /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
+    Goal(goal::GoalArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
     Sim(sim::SimArgs),
 }
@@ -36,6 +39,7 @@ pub fn main() -> ExitCode {
     match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Check(args) => check::run(args),
+        Command::Goal(args) => goal::run(args),
         Command::Sim(args) => sim::run(args),
     }
 }

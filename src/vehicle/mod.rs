@@ -1,1 +1,33 @@
-//! vehicle (see DESIGN in README).
+//! The vehicle side: the executive's view of a vehicle ([`Vehicle`]), its in-memory [`MockVehicle`], and the
+//! MAVLink implementation ([`MavlinkVehicle`]): action bindings from config, telemetry → state, goal intake
+//! from a ground station, `.tlog` recording. Layers, bottom up:
+//! - `frame`, `tlog`: bytes ↔ frames, signing, recording;
+//! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
+//! - `intake`, `goals`, `goal_files`: goal lists from a ground station or a file;
+//! - `endpoint`, `link`: tokio transports and the tasks that pump bytes through the core.
+
+pub mod actions;
+pub mod api;
+pub mod bench;
+pub mod commands;
+pub mod config;
+pub mod driver;
+pub mod endpoint;
+pub mod frame;
+pub mod geo;
+pub mod goal_client;
+pub mod goal_files;
+pub mod goals;
+pub mod intake;
+pub mod items;
+pub mod link;
+pub mod mission_client;
+pub mod mock;
+pub mod telemetry;
+pub mod tlog;
+pub mod types;
+
+pub use api::{Vehicle, VehicleError};
+pub use link::MavlinkVehicle;
+pub use mock::MockVehicle;
+pub use types::*;

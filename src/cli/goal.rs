@@ -1,0 +1,176 @@
+//! `mavtempo goal send FILE --to ADDR` (a small ground station) and `mavtempo goal serve --listen ADDR`
+//! (a goal intake answering uploads to component 191 with the default syntactic decider).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::{Args, Subcommand};
+
+use crate::vehicle::geo::Home;
+use crate::vehicle::goal_client::send_goals;
+use crate::vehicle::goal_files;
+use crate::vehicle::goals::{KnownLocations, SyntacticDecider};
+use crate::vehicle::link::{Decider, GoalServer};
+
+#[derive(Args, Debug)]
+pub struct GoalArgs {
+    #[command(subcommand)]
+    pub command: GoalCommand,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum GoalCommand {
+    /// Upload the goals of a QGroundControl .plan or a .waypoints file to a companion (component 191).
+    Send {
+        file: PathBuf,
+        /// Where the companion's goal intake listens, e.g. udpout:127.0.0.1:14551 or tcpout:HOST:PORT.
+        #[arg(long)]
+        to: String,
+        /// Seconds to wait for the companion's heartbeat.
+        #[arg(long, default_value_t = 5)]
+        timeout: u64,
+    },
+    /// Check a goal file and print the goal requests it maps to.
+    Check { file: PathBuf },
+    /// Answer goal uploads (syntactic checks only; `mavtempo run` lets the executive decide).
+    Serve {
+        /// e.g. udpin:127.0.0.1:0 (the bound address is printed on stdout).
+        #[arg(long)]
+        listen: String,
+        /// Home as LAT,LON (positions become local coordinates around it).
+        #[arg(long, default_value = "0,0")]
+        home: String,
+        #[arg(long, default_value_t = 1)]
+        system_id: u8,
+        /// Record every frame to this .tlog.
+        #[arg(long)]
+        tlog: Option<PathBuf>,
+    },
+}
+
+pub fn run(args: GoalArgs) -> ExitCode {
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+    {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("error: tokio runtime: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    match args.command {
+        GoalCommand::Send { file, to, timeout } => rt.block_on(send(file, to, timeout)),
+        GoalCommand::Check { file } => check(file),
+        GoalCommand::Serve {
+            listen,
+            home,
+            system_id,
+            tlog,
+        } => rt.block_on(serve(listen, home, system_id, tlog)),
+    }
+}
+
+fn check(file: PathBuf) -> ExitCode {
+    let parsed = match goal_files::load(&file) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let home = parsed.home.unwrap_or(Home {
+        lat: 0.0,
+        lon: 0.0,
+        alt: 0.0,
+    });
+    match crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1) {
+        Ok(goals) => {
+            for g in goals {
+                println!(
+                    "{}: {} priority {} window [{}, {}] s duration [{}, {}] s d_achiev {} s",
+                    g.name,
+                    g.proposition,
+                    g.priority,
+                    g.start_window_s.0,
+                    g.start_window_s.1,
+                    g.duration_s.0,
+                    g.duration_s.1,
+                    g.d_achiev_s
+                );
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}: {e}", file.display());
+            ExitCode::FAILURE
+        }
+    }
+}
+
+async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
+    let parsed = match goal_files::load(&file) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    match send_goals(&to, parsed.items, Duration::from_secs(timeout)).await {
+        Ok(report) => {
+            for t in &report.texts {
+                println!("{t}");
+            }
+            match report.failure {
+                None => {
+                    println!("upload accepted");
+                    ExitCode::SUCCESS
+                }
+                Some(f) => {
+                    eprintln!("error: {f}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+async fn serve(listen: String, home: String, system_id: u8, tlog: Option<PathBuf>) -> ExitCode {
+    let parsed: Option<(f64, f64)> = home
+        .split_once(',')
+        .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)));
+    let Some((lat, lon)) = parsed else {
+        eprintln!("error: --home: expected LAT,LON, got `{home}`");
+        return ExitCode::FAILURE;
+    };
+    let known = KnownLocations::new(Home { lat, lon, alt: 0.0 });
+    let server = match GoalServer::start(
+        &listen,
+        system_id,
+        known,
+        Decider::Local(Box::new(SyntacticDecider)),
+        tlog,
+    )
+    .await
+    {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    match server.local_addr {
+        Some(a) => println!("listening on {a}"),
+        None => println!("listening on {listen}"),
+    }
+    // Decided locally: the server's event channel stays empty; keep the server alive until Ctrl-C.
+    let _ = tokio::signal::ctrl_c().await;
+    drop(server);
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,549 @@
+//! Action bindings at run time: one state machine per running action instance, realising its task in MAVLink
+//! and recognising its end (nominal / interrupted / failed, seed 1 §2.1). Pure: messages in, messages out.
+
+use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, COMMAND_INT_DATA};
+
+use super::commands::{Command, CommandClient, CommandOutcome};
+use super::config::{Binding, Mode, VehicleConfig};
+use super::geo::deg_e7;
+use super::items::MissionItem;
+use super::mission_client::{MissionClient, MissionOutcome};
+use super::telemetry::Telemetry;
+use super::types::{ActionId, ActionStart, Enu, ReportStatus, StateValue};
+
+/// What an action run needs from the driver.
+pub struct Ctx<'a> {
+    /// Wall-clock ms: protocol timeouts (ACKs, mission transfer) are about the link.
+    pub now: u64,
+    /// Vehicle ms (time_boot_ms): the action's own durations (holds, capture timeout, polling) follow the
+    /// vehicle's clock, so a simulator at 200x speed-up keeps them right.
+    pub vnow: u64,
+    pub cfg: &'a VehicleConfig,
+    pub tel: &'a Telemetry,
+    pub cmds: &'a mut CommandClient,
+    pub mission: &'a mut MissionClient,
+    pub out: &'a mut Vec<MavMessage>,
+    pub target: (u8, u8),
+}
+
+impl Ctx<'_> {
+    fn command(&mut self, id: ActionId, cmd: Command) {
+        self.cmds.send(id, cmd, self.now, self.out);
+    }
+
+    fn set_mode(&mut self, id: ActionId, mode: Mode) {
+        let (p2, p3) = mode.set_mode_params();
+        // p1 = MAV_MODE_FLAG_CUSTOM_MODE_ENABLED.
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            self.target,
+            [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.command(id, cmd);
+    }
+
+    fn arm(&mut self, id: ActionId) {
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            self.target,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.command(id, cmd);
+    }
+
+    fn request_storage(&mut self) {
+        // MAV_CMD_REQUEST_MESSAGE(STORAGE_INFORMATION = 261); fire and forget (no owner waits on it).
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            self.target,
+            [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.cmds.send(u64::MAX, cmd, self.now, self.out);
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct End {
+    pub status: ReportStatus,
+    pub reason: Option<String>,
+    pub state: Vec<(String, StateValue)>,
+}
+
+impl End {
+    fn nominal() -> Self {
+        End {
+            status: ReportStatus::Nominal,
+            reason: None,
+            state: Vec::new(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Phase {
+    Arming,
+    /// Waiting for the ACK of the command that starts the action.
+    Starting,
+    Uploading,
+    SettingCurrent,
+    Running,
+    /// Sampler: hold of step i until the given time.
+    Holding(usize, u64),
+    /// Sampler: waiting for the ACK of step i.
+    Servo(usize),
+}
+
+/// One running action instance.
+#[derive(Debug)]
+pub struct Run {
+    pub id: ActionId,
+    pub task: String,
+    binding: Binding,
+    phase: Phase,
+    started_ms: u64,
+    /// Destination (move), last survey item, picture index, recharge level.
+    goal: Option<Enu>,
+    last_seq: u16,
+    target_level: f64,
+    /// Mode the action expects the vehicle to stay in, once reached (foreign mode change = failure).
+    expect_mode: Option<u32>,
+    mode_seen: bool,
+    last_poll: u64,
+}
+
+fn lawnmower(center: Enu, width: f64, height: f64, spacing: f64) -> Vec<Enu> {
+    let rows = (height / spacing).floor() as usize + 1;
+    let (x0, x1) = (center.east - width / 2.0, center.east + width / 2.0);
+    let y0 = center.north - height / 2.0;
+    let mut pts = Vec::with_capacity(rows * 2);
+    for r in 0..rows {
+        let y = y0 + r as f64 * spacing;
+        let (a, b) = if r % 2 == 0 { (x0, x1) } else { (x1, x0) };
+        pts.push(Enu::new(a, y, center.up));
+        pts.push(Enu::new(b, y, center.up));
+    }
+    pts
+}
+
+fn location_arg(start: &ActionStart, name: &str) -> Result<Enu, String> {
+    start
+        .arg(name)
+        .and_then(|a| a.as_enu())
+        .ok_or_else(|| format!("needs a location argument `{name}`"))
+}
+
+impl Run {
+    /// Checks the arguments and issues the first messages.
+    pub fn begin(start: &ActionStart, binding: &Binding, ctx: &mut Ctx) -> Result<Self, String> {
+        let mut run = Run {
+            id: start.id,
+            task: start.task.clone(),
+            binding: binding.clone(),
+            phase: Phase::Starting,
+            started_ms: ctx.vnow,
+            goal: None,
+            last_seq: 0,
+            target_level: 0.0,
+            expect_mode: None,
+            mode_seen: false,
+            last_poll: ctx.vnow,
+        };
+        let id = start.id;
+        match binding {
+            Binding::Move { to, .. } => {
+                run.goal = Some(location_arg(start, to)?);
+                run.expect_mode = Some(ctx.cfg.modes.guided.custom_mode());
+                run.arm_or(ctx, Self::start_motion);
+            }
+            Binding::Survey {
+                area,
+                width_m,
+                height_m,
+                spacing_m,
+                ..
+            } => {
+                let center = location_arg(start, area)?;
+                let pts = lawnmower(center, *width_m, *height_m, *spacing_m);
+                let home = ctx.cfg.home;
+                // Item 0 is replaced by home on ArduPilot: a placeholder keeps the numbering.
+                let mut items = vec![MissionItem::waypoint(home.lat, home.lon, 0.0)];
+                items.extend(pts.iter().map(|p| {
+                    let (lat, lon, _) = home.to_global(*p);
+                    MissionItem::waypoint(lat, lon, p.up as f32)
+                }));
+                run.last_seq = (items.len() - 1) as u16;
+                run.goal = pts.last().copied();
+                run.expect_mode = Some(ctx.cfg.modes.auto.custom_mode());
+                if !ctx.mission.upload(id, items, ctx.now, ctx.out) {
+                    return Err("another mission transfer is running".into());
+                }
+                run.phase = Phase::Uploading;
+            }
+            Binding::TakePicture { camera_id, .. } => {
+                // p3 = 1 image, p4 = 0: no sequence number.
+                let cmd = Command::long(
+                    MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+                    ctx.target,
+                    [f32::from(*camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+                );
+                ctx.command(id, cmd);
+            }
+            Binding::Sample { steps } => {
+                run.servo(ctx, 0, steps[0].servo, steps[0].pwm);
+            }
+            Binding::ReturnHome { .. } => {
+                run.goal = Some(Enu::default());
+                run.expect_mode = Some(ctx.cfg.modes.rtl.custom_mode());
+                run.arm_or(ctx, |r, c| {
+                    let rtl = c.cfg.modes.rtl;
+                    c.set_mode(r.id, rtl);
+                });
+            }
+            Binding::Recharge {
+                until_percent,
+                level_arg,
+            } => {
+                run.target_level = start
+                    .arg(level_arg)
+                    .and_then(|a| a.as_number())
+                    .unwrap_or(*until_percent);
+                run.expect_mode = Some(ctx.cfg.modes.hold.custom_mode());
+                let hold = ctx.cfg.modes.hold;
+                ctx.set_mode(id, hold);
+            }
+            Binding::Download { command, .. } => {
+                let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) else {
+                    return Err(format!("command {command} unknown to the dialect"));
+                };
+                ctx.command(
+                    id,
+                    Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+                );
+            }
+        }
+        Ok(run)
+    }
+
+    fn arm_or(&mut self, ctx: &mut Ctx, then: fn(&mut Run, &mut Ctx)) {
+        if ctx.tel.armed {
+            then(self, ctx);
+            self.phase = Phase::Starting;
+        } else {
+            ctx.arm(self.id);
+            self.phase = Phase::Arming;
+        }
+    }
+
+    fn start_motion(&mut self, ctx: &mut Ctx) {
+        let (Binding::Move { speed_m_s, .. }, Some(goal)) = (&self.binding, self.goal) else {
+            return;
+        };
+        let (lat, lon, alt) = ctx.cfg.home.to_global(goal);
+        // DO_REPOSITION over COMMAND_INT; param2 = MAV_DO_REPOSITION_FLAGS_CHANGE_MODE (switch to GUIDED).
+        let cmd = Command::Int(COMMAND_INT_DATA {
+            param1: *speed_m_s as f32,
+            param2: 1.0,
+            param3: 0.0,
+            param4: f32::NAN,
+            x: deg_e7(lat),
+            y: deg_e7(lon),
+            z: alt as f32,
+            command: MavCmd::MAV_CMD_DO_REPOSITION,
+            target_system: ctx.target.0,
+            target_component: ctx.target.1,
+            frame: MavFrame::MAV_FRAME_GLOBAL,
+            current: 0,
+            autocontinue: 0,
+        });
+        ctx.command(self.id, cmd);
+    }
+
+    fn servo(&mut self, ctx: &mut Ctx, step: usize, servo: u8, pwm: u16) {
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_SERVO,
+            ctx.target,
+            [f32::from(servo), f32::from(pwm), 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        ctx.command(self.id, cmd);
+        self.phase = Phase::Servo(step);
+    }
+
+    fn failed(&self, ctx: &Ctx, reason: String) -> End {
+        End {
+            status: ReportStatus::Failed,
+            reason: Some(reason),
+            state: self.state_values(ctx),
+        }
+    }
+
+    /// The action's state variables for a non-nominal report.
+    fn state_values(&self, ctx: &Ctx) -> Vec<(String, StateValue)> {
+        let pos_var = match &self.binding {
+            Binding::Move {
+                position_variable, ..
+            }
+            | Binding::Survey {
+                position_variable, ..
+            }
+            | Binding::ReturnHome {
+                position_variable, ..
+            } => Some(position_variable),
+            _ => None,
+        };
+        let mut v = Vec::new();
+        if let (Some(var), Some(p)) = (pos_var, ctx.tel.position) {
+            v.push((var.clone(), StateValue::Position(p)));
+        }
+        v
+    }
+
+    pub fn on_command(
+        &mut self,
+        ctx: &mut Ctx,
+        cmd: MavCmd,
+        outcome: CommandOutcome,
+    ) -> Option<End> {
+        let what = format!("{cmd:?}");
+        match outcome {
+            CommandOutcome::Rejected(r) => {
+                return Some(self.failed(ctx, format!("{what} refused: {}", result_name(r))))
+            }
+            CommandOutcome::TimedOut { tries } => {
+                return Some(self.failed(
+                    ctx,
+                    format!("no COMMAND_ACK for {what} after {tries} tries"),
+                ))
+            }
+            CommandOutcome::Accepted => {}
+        }
+        match self.phase {
+            Phase::Arming => {
+                self.phase = Phase::Starting;
+                match self.binding {
+                    Binding::Move { .. } => self.start_motion(ctx),
+                    Binding::ReturnHome { .. } => {
+                        let rtl = ctx.cfg.modes.rtl;
+                        ctx.set_mode(self.id, rtl);
+                    }
+                    Binding::Survey { .. } => self.start_auto(ctx),
+                    _ => {}
+                }
+                None
+            }
+            Phase::SettingCurrent => {
+                let auto = ctx.cfg.modes.auto;
+                ctx.set_mode(self.id, auto);
+                self.phase = Phase::Starting;
+                None
+            }
+            Phase::Starting => {
+                self.phase = Phase::Running;
+                if let Binding::Download { .. } = self.binding {
+                    ctx.request_storage();
+                    self.last_poll = ctx.vnow;
+                }
+                None
+            }
+            Phase::Servo(i) => {
+                if let Binding::Sample { steps } = &self.binding {
+                    self.phase = Phase::Holding(i, ctx.vnow + steps[i].hold_ms);
+                }
+                None
+            }
+            _ => None,
+        }
+    }
+
+    fn start_auto(&mut self, ctx: &mut Ctx) {
+        // Start from the first real item (0 is home), then AUTO.
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
+            ctx.target,
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        ctx.command(self.id, cmd);
+        self.phase = Phase::SettingCurrent;
+    }
+
+    pub fn on_mission(&mut self, ctx: &mut Ctx, outcome: MissionOutcome) -> Option<End> {
+        match outcome {
+            MissionOutcome::Uploaded if self.phase == Phase::Uploading => {
+                if ctx.tel.armed {
+                    self.start_auto(ctx);
+                } else {
+                    ctx.arm(self.id);
+                    self.phase = Phase::Arming;
+                }
+                None
+            }
+            MissionOutcome::Failed(r) => Some(self.failed(ctx, r)),
+            _ => None,
+        }
+    }
+
+    /// A message from the autopilot while the run is active.
+    pub fn on_message(&mut self, ctx: &mut Ctx, msg: &MavMessage) -> Option<End> {
+        match msg {
+            MavMessage::HEARTBEAT(h) => {
+                if let Some(m) = self.expect_mode {
+                    if h.custom_mode == m {
+                        self.mode_seen = true;
+                    } else if self.mode_seen {
+                        return Some(
+                            self.failed(ctx, format!("foreign mode change to {}", h.custom_mode)),
+                        );
+                    }
+                }
+                None
+            }
+            // An autopilot error (e.g. "no map available") ends motion; payload failures have their own
+            // signals (capture_result, COMMAND_ACK) and must not fail a concurrent move.
+            MavMessage::STATUSTEXT(s) if (s.severity as u8) <= 3 && self.is_motion() => {
+                let text = s
+                    .text
+                    .to_str()
+                    .unwrap_or("")
+                    .trim_end_matches('\0')
+                    .to_string();
+                Some(self.failed(ctx, format!("autopilot error: {text}")))
+            }
+            MavMessage::CAMERA_IMAGE_CAPTURED(c)
+                if matches!(self.binding, Binding::TakePicture { .. }) =>
+            {
+                ctx.request_storage();
+                if c.capture_result.bits() == 1 {
+                    Some(End::nominal())
+                } else {
+                    Some(self.failed(
+                        ctx,
+                        format!("image {} not captured (capture_result 0)", c.image_index),
+                    ))
+                }
+            }
+            MavMessage::MISSION_ITEM_REACHED(r)
+                if matches!(self.binding, Binding::Survey { .. }) =>
+            {
+                (self.phase == Phase::Running && r.seq >= self.last_seq).then(End::nominal)
+            }
+            _ => None,
+        }
+    }
+
+    /// Time passed / telemetry changed: recognise ends that are states (position, battery, storage).
+    pub fn on_tick(&mut self, ctx: &mut Ctx) -> Option<End> {
+        match (&self.binding, self.phase) {
+            (
+                Binding::Move {
+                    acceptance_radius_m,
+                    ..
+                },
+                Phase::Running,
+            )
+            | (
+                Binding::ReturnHome {
+                    acceptance_radius_m,
+                    ..
+                },
+                Phase::Running,
+            ) => {
+                let (p, g) = (ctx.tel.position?, self.goal?);
+                (p.horizontal_distance(&g) <= *acceptance_radius_m).then(End::nominal)
+            }
+            (Binding::TakePicture { timeout_ms, .. }, _)
+                if ctx.vnow.saturating_sub(self.started_ms) > *timeout_ms =>
+            {
+                Some(self.failed(
+                    ctx,
+                    format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms"),
+                ))
+            }
+            (Binding::Sample { steps }, Phase::Holding(i, until)) if ctx.vnow >= until => {
+                if i + 1 == steps.len() {
+                    Some(End::nominal())
+                } else {
+                    let s = steps[i + 1];
+                    self.servo(ctx, i + 1, s.servo, s.pwm);
+                    None
+                }
+            }
+            (Binding::Recharge { .. }, Phase::Running) => {
+                (ctx.tel.battery_percent? >= self.target_level).then(End::nominal)
+            }
+            (
+                Binding::Download {
+                    until_used,
+                    poll_ms,
+                    ..
+                },
+                Phase::Running,
+            ) => {
+                if ctx.tel.storage_used.is_some_and(|u| u <= *until_used) {
+                    return Some(End::nominal());
+                }
+                if ctx.vnow.saturating_sub(self.last_poll) >= *poll_ms {
+                    self.last_poll = ctx.vnow;
+                    ctx.request_storage();
+                }
+                None
+            }
+            _ => None,
+        }
+    }
+
+    fn is_motion(&self) -> bool {
+        matches!(
+            self.binding,
+            Binding::Move { .. }
+                | Binding::Survey { .. }
+                | Binding::ReturnHome { .. }
+                | Binding::Recharge { .. }
+        )
+    }
+
+    /// `END i_a`: stops the action; motion is stopped by HOLD, a downlink by its command with p1 = 0.
+    /// The report is `Interrupted` with the state.
+    pub fn stop(&mut self, ctx: &mut Ctx) -> End {
+        ctx.cmds.cancel(self.id);
+        if let Binding::Download { command, .. } = self.binding {
+            if let Some(cmd) = num_traits::FromPrimitive::from_u16(command) {
+                ctx.cmds.send(
+                    u64::MAX,
+                    Command::long(cmd, ctx.target, [0.0; 7]),
+                    ctx.now,
+                    ctx.out,
+                );
+            }
+        }
+        if matches!(
+            self.binding,
+            Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. }
+        ) {
+            let hold = ctx.cfg.modes.hold;
+            // The HOLD's ACK is nobody's business once the action ended: owner u64::MAX.
+            let (p2, p3) = hold.set_mode_params();
+            let cmd = Command::long(
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                ctx.target,
+                [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+            );
+            ctx.cmds.send(u64::MAX, cmd, ctx.now, ctx.out);
+        }
+        End {
+            status: ReportStatus::Interrupted,
+            reason: Some("stopped (END)".into()),
+            state: self.state_values(ctx),
+        }
+    }
+}
+
+fn result_name(r: MavResult) -> &'static str {
+    match r {
+        MavResult::MAV_RESULT_DENIED => "DENIED",
+        MavResult::MAV_RESULT_FAILED => "FAILED",
+        MavResult::MAV_RESULT_UNSUPPORTED => "UNSUPPORTED",
+        MavResult::MAV_RESULT_TEMPORARILY_REJECTED => "TEMPORARILY_REJECTED",
+        MavResult::MAV_RESULT_CANCELLED => "CANCELLED",
+        _ => "refused",
+    }
+}

@@ -1,0 +1,34 @@
+//! The Vehicle trait: the executive's only view of a vehicle.
+
+use std::time::Duration;
+
+use super::types::{ActionId, ActionStart, VehicleEvent};
+
+/// Why a command to the vehicle could not even be issued (its outcome comes later, as a report).
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum VehicleError {
+    #[error("no binding for task `{0}` in the vehicle configuration")]
+    UnknownTask(String),
+    #[error("action {0} is already running")]
+    AlreadyRunning(ActionId),
+    #[error("action {0} is not running")]
+    NotRunning(ActionId),
+    #[error("task `{task}`: {reason}")]
+    BadArguments { task: String, reason: String },
+    #[error("vehicle link closed")]
+    Closed,
+}
+
+/// Seed 1 §2.1: `START a p_a i_a`, `END i_a`, and the messages coming back.
+pub trait Vehicle {
+    /// `START a p_a i_a`.
+    fn start(&mut self, action: ActionStart) -> Result<(), VehicleError>;
+    /// `END i_a`: stop a preemptive action; an `Interrupted` report follows.
+    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError>;
+    /// The next pending event, without waiting.
+    fn try_event(&mut self) -> Option<VehicleEvent>;
+    /// The next event, waiting at most `timeout` (a mock never waits: it has a manual clock).
+    fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent>;
+    /// The vehicle's clock in ms (SYSTEM_TIME / time_boot_ms on a live link): the executive's time.
+    fn now_ms(&self) -> u64;
+}

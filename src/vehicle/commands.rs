@@ -1,0 +1,253 @@
+//! Command protocol client: COMMAND_LONG / COMMAND_INT → COMMAND_ACK, re-sent on ACK timeout (COMMAND_LONG with
+//! `confirmation` incremented), IN_PROGRESS extending the wait, a give-up after the configured retries.
+
+use mavlink::dialects::ardupilotmega::{
+    MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA,
+};
+
+/// Who asked for a command (an action id, or an internal request).
+pub type Token = u64;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    Long(COMMAND_LONG_DATA),
+    Int(COMMAND_INT_DATA),
+}
+
+impl Command {
+    pub fn id(&self) -> MavCmd {
+        match self {
+            Command::Long(c) => c.command,
+            Command::Int(c) => c.command,
+        }
+    }
+
+    fn message(&self) -> MavMessage {
+        match self {
+            Command::Long(c) => MavMessage::COMMAND_LONG(c.clone()),
+            Command::Int(c) => MavMessage::COMMAND_INT(c.clone()),
+        }
+    }
+
+    pub fn long(command: MavCmd, target: (u8, u8), p: [f32; 7]) -> Self {
+        Command::Long(COMMAND_LONG_DATA {
+            param1: p[0],
+            param2: p[1],
+            param3: p[2],
+            param4: p[3],
+            param5: p[4],
+            param6: p[5],
+            param7: p[6],
+            command,
+            target_system: target.0,
+            target_component: target.1,
+            confirmation: 0,
+        })
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum CommandOutcome {
+    Accepted,
+    /// DENIED, FAILED, UNSUPPORTED, ... with the result.
+    Rejected(MavResult),
+    /// No ACK after all retries.
+    TimedOut {
+        tries: u32,
+    },
+}
+
+#[derive(Debug)]
+struct Pending {
+    token: Token,
+    cmd: Command,
+    sent_ms: u64,
+    tries: u32,
+    /// IN_PROGRESS received: wait for the final ACK without re-sending (the action's own timeout governs).
+    in_progress: bool,
+}
+
+#[derive(Debug)]
+pub struct CommandClient {
+    pending: Vec<Pending>,
+    pub ack_timeout_ms: u64,
+    pub retries: u32,
+}
+
+impl CommandClient {
+    pub fn new(ack_timeout_ms: u64, retries: u32) -> Self {
+        Self {
+            pending: Vec::new(),
+            ack_timeout_ms,
+            retries,
+        }
+    }
+
+    pub fn send(&mut self, token: Token, cmd: Command, now: u64, out: &mut Vec<MavMessage>) {
+        out.push(cmd.message());
+        self.pending.push(Pending {
+            token,
+            cmd,
+            sent_ms: now,
+            tries: 1,
+            in_progress: false,
+        });
+    }
+
+    /// Forgets the commands of `token` (its action ended).
+    pub fn cancel(&mut self, token: Token) {
+        self.pending.retain(|p| p.token != token);
+    }
+
+    /// Matches an ACK to the oldest pending command with the same id.
+    pub fn on_ack(
+        &mut self,
+        ack: &COMMAND_ACK_DATA,
+        now: u64,
+    ) -> Option<(Token, MavCmd, CommandOutcome)> {
+        let i = self
+            .pending
+            .iter()
+            .position(|p| p.cmd.id() == ack.command)?;
+        match ack.result {
+            MavResult::MAV_RESULT_IN_PROGRESS => {
+                // Still working: re-sending would start it again.
+                self.pending[i].sent_ms = now;
+                self.pending[i].in_progress = true;
+                None
+            }
+            MavResult::MAV_RESULT_ACCEPTED => {
+                let p = self.pending.remove(i);
+                Some((p.token, ack.command, CommandOutcome::Accepted))
+            }
+            other => {
+                let p = self.pending.remove(i);
+                Some((p.token, ack.command, CommandOutcome::Rejected(other)))
+            }
+        }
+    }
+
+    /// Re-sends what timed out; returns the commands given up on.
+    pub fn tick(
+        &mut self,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Vec<(Token, MavCmd, CommandOutcome)> {
+        let mut gave_up = Vec::new();
+        let (timeout, retries) = (self.ack_timeout_ms, self.retries);
+        self.pending.retain_mut(|p| {
+            if p.in_progress || now.saturating_sub(p.sent_ms) < timeout {
+                return true;
+            }
+            if p.tries > retries {
+                gave_up.push((
+                    p.token,
+                    p.cmd.id(),
+                    CommandOutcome::TimedOut { tries: p.tries },
+                ));
+                return false;
+            }
+            if let Command::Long(c) = &mut p.cmd {
+                c.confirmation = c.confirmation.wrapping_add(1);
+            }
+            p.tries += 1;
+            p.sent_ms = now;
+            out.push(p.cmd.message());
+            true
+        });
+        gave_up
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ack(command: MavCmd, result: MavResult) -> COMMAND_ACK_DATA {
+        COMMAND_ACK_DATA {
+            command,
+            result,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn retries_with_confirmation_incremented_then_gives_up() {
+        let mut c = CommandClient::new(100, 2);
+        let mut out = Vec::new();
+        c.send(
+            7,
+            Command::long(
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                (1, 1),
+                [1.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ),
+            0,
+            &mut out,
+        );
+        assert!(c.tick(99, &mut out).is_empty());
+        assert_eq!(out.len(), 1);
+        assert!(c.tick(100, &mut out).is_empty());
+        assert!(c.tick(200, &mut out).is_empty());
+        let confirmations: Vec<u8> = out
+            .iter()
+            .map(|m| match m {
+                MavMessage::COMMAND_LONG(l) => l.confirmation,
+                _ => 255,
+            })
+            .collect();
+        assert_eq!(confirmations, vec![0, 1, 2]);
+        let gave_up = c.tick(300, &mut out);
+        assert_eq!(
+            gave_up,
+            vec![(
+                7,
+                MavCmd::MAV_CMD_DO_SET_MODE,
+                CommandOutcome::TimedOut { tries: 3 }
+            )]
+        );
+    }
+
+    #[test]
+    fn in_progress_extends_and_result_is_delivered() {
+        let mut c = CommandClient::new(100, 0);
+        let mut out = Vec::new();
+        c.send(
+            1,
+            Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [0.0; 7]),
+            0,
+            &mut out,
+        );
+        assert_eq!(
+            c.on_ack(
+                &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_IN_PROGRESS),
+                90
+            ),
+            None
+        );
+        assert!(
+            c.tick(10_000, &mut out).is_empty(),
+            "in progress: no re-send, no give-up"
+        );
+        assert_eq!(out.len(), 1);
+        let got = c.on_ack(
+            &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_DENIED),
+            160,
+        );
+        assert_eq!(
+            got,
+            Some((
+                1,
+                MavCmd::MAV_CMD_USER_1,
+                CommandOutcome::Rejected(MavResult::MAV_RESULT_DENIED)
+            ))
+        );
+        assert_eq!(
+            c.on_ack(
+                &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_ACCEPTED),
+                170
+            ),
+            None
+        );
+    }
+}

@@ -1,0 +1,336 @@
+//! Vehicle configuration (`config/*.toml`): link, identity, timeouts, flight modes and, for each domain task,
+//! its action binding — how the task is realised in MAVLink and how its end is recognised.
+//! Typed serde with unknown keys rejected; errors name the file, the key and the line.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::geo::Home;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Parse { path: String, message: String },
+    #[error("{path}: {key}: {reason}")]
+    Invalid {
+        path: String,
+        key: String,
+        reason: String,
+    },
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleConfig {
+    pub link: LinkConfig,
+    pub home: Home,
+    #[serde(default)]
+    pub autopilot: Autopilot,
+    pub modes: Modes,
+    #[serde(default)]
+    pub resources: ResourceNames,
+    /// Task name of the domain → binding.
+    #[serde(default)]
+    pub actions: BTreeMap<String, Binding>,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Autopilot {
+    #[default]
+    Ardupilot,
+    Px4,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkConfig {
+    /// `udpin:`, `udpout:`, `tcpin:`, `tcpout:` or `serial:PORT:BAUD`.
+    pub address: String,
+    #[serde(default = "d_heartbeat_timeout")]
+    pub heartbeat_timeout_ms: u64,
+    #[serde(default = "d_ack_timeout")]
+    pub command_ack_timeout_ms: u64,
+    #[serde(default = "d_retries")]
+    pub command_retries: u32,
+    #[serde(default = "d_mission_timeout")]
+    pub mission_timeout_ms: u64,
+    #[serde(default = "d_retries")]
+    pub mission_retries: u32,
+    /// 64 hex digits; when set, outgoing frames are signed and unsigned incoming frames rejected.
+    #[serde(default)]
+    pub signing_key: Option<String>,
+    #[serde(default)]
+    pub signing_link_id: u8,
+    /// Record every frame in and out to this `.tlog`.
+    #[serde(default)]
+    pub tlog: Option<String>,
+    #[serde(default = "d_reconnect")]
+    pub reconnect_ms: u64,
+}
+
+fn d_heartbeat_timeout() -> u64 {
+    3000
+}
+fn d_ack_timeout() -> u64 {
+    1000
+}
+fn d_retries() -> u32 {
+    3
+}
+fn d_mission_timeout() -> u64 {
+    1500
+}
+fn d_reconnect() -> u64 {
+    500
+}
+
+/// A flight mode: ArduPilot's custom mode number, or PX4's main/sub mode pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(untagged)]
+pub enum Mode {
+    Number(u32),
+    Px4 {
+        main: u8,
+        #[serde(default)]
+        sub: u8,
+    },
+}
+
+impl Mode {
+    /// HEARTBEAT.custom_mode of this mode (PX4: main << 16 | sub << 24).
+    pub fn custom_mode(&self) -> u32 {
+        match *self {
+            Mode::Number(n) => n,
+            Mode::Px4 { main, sub } => (u32::from(main) << 16) | (u32::from(sub) << 24),
+        }
+    }
+
+    /// MAV_CMD_DO_SET_MODE params 2 and 3 (ArduPilot: mode number; PX4: main, sub).
+    pub fn set_mode_params(&self) -> (f32, f32) {
+        match *self {
+            Mode::Number(n) => (n as f32, 0.0),
+            Mode::Px4 { main, sub } => (f32::from(main), f32::from(sub)),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Modes {
+    pub hold: Mode,
+    pub auto: Mode,
+    pub guided: Mode,
+    pub rtl: Mode,
+    #[serde(default)]
+    pub manual: Option<Mode>,
+}
+
+/// Names of the resources as the domain calls them.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResourceNames {
+    #[serde(default = "d_battery")]
+    pub battery: String,
+    #[serde(default = "d_storage")]
+    pub storage: String,
+}
+
+impl Default for ResourceNames {
+    fn default() -> Self {
+        Self {
+            battery: d_battery(),
+            storage: d_storage(),
+        }
+    }
+}
+
+fn d_battery() -> String {
+    "battery".into()
+}
+fn d_storage() -> String {
+    "storage".into()
+}
+
+/// One servo step of a sampler sequence.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ServoStep {
+    pub servo: u8,
+    pub pwm: u16,
+    pub hold_ms: u64,
+}
+
+/// How a task is realised and how its end is recognised.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Binding {
+    /// GUIDED `DO_REPOSITION` to the location argument `to`; done within `acceptance_radius_m`;
+    /// interrupted by HOLD (the report gives the reached position as state variable `position`).
+    Move {
+        #[serde(default = "d_to")]
+        to: String,
+        #[serde(default = "d_radius")]
+        acceptance_radius_m: f64,
+        #[serde(default = "d_speed")]
+        speed_m_s: f64,
+        #[serde(default = "d_position")]
+        position_variable: String,
+    },
+    /// A lawnmower mission over a rectangle centred on the location argument `area`, run in AUTO;
+    /// done on the last MISSION_ITEM_REACHED.
+    Survey {
+        #[serde(default = "d_area")]
+        area: String,
+        width_m: f64,
+        height_m: f64,
+        spacing_m: f64,
+        #[serde(default = "d_position")]
+        position_variable: String,
+    },
+    /// IMAGE_START_CAPTURE; done on CAMERA_IMAGE_CAPTURED, failed on capture_result 0 or timeout.
+    TakePicture {
+        #[serde(default)]
+        camera_id: u8,
+        #[serde(default = "d_picture_timeout")]
+        timeout_ms: u64,
+    },
+    /// A DO_SET_SERVO sequence; done when the last step's hold time has elapsed.
+    Sample { steps: Vec<ServoStep> },
+    /// RTL; done within `acceptance_radius_m` of home.
+    ReturnHome {
+        #[serde(default = "d_radius")]
+        acceptance_radius_m: f64,
+        #[serde(default = "d_position")]
+        position_variable: String,
+    },
+    /// HOLD until the battery reaches `until_percent` (or the number argument `level` when given).
+    Recharge {
+        until_percent: f64,
+        #[serde(default = "d_level")]
+        level_arg: String,
+    },
+    /// The vehicle's downlink command (COMMAND_LONG `command`); done when used storage falls to
+    /// `until_used` (STORAGE_INFORMATION polled every `poll_ms`).
+    Download {
+        command: u16,
+        #[serde(default)]
+        until_used: f64,
+        #[serde(default = "d_poll")]
+        poll_ms: u64,
+    },
+}
+
+fn d_to() -> String {
+    "to".into()
+}
+fn d_area() -> String {
+    "area".into()
+}
+fn d_level() -> String {
+    "level".into()
+}
+fn d_position() -> String {
+    "position".into()
+}
+fn d_radius() -> f64 {
+    3.0
+}
+fn d_speed() -> f64 {
+    -1.0
+}
+fn d_picture_timeout() -> u64 {
+    10_000
+}
+fn d_poll() -> u64 {
+    1000
+}
+
+impl VehicleConfig {
+    pub fn load(path: &Path) -> Result<Self, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates; `origin` names the source in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, ConfigError> {
+        let cfg: VehicleConfig = toml::from_str(text).map_err(|e| ConfigError::Parse {
+            path: origin.to_string(),
+            message: e.to_string().trim_end().to_string(),
+        })?;
+        cfg.validate(origin)?;
+        Ok(cfg)
+    }
+
+    fn validate(&self, origin: &str) -> Result<(), ConfigError> {
+        let invalid = |key: String, reason: &str| ConfigError::Invalid {
+            path: origin.to_string(),
+            key,
+            reason: reason.to_string(),
+        };
+        if let Some(k) = &self.link.signing_key {
+            super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
+        }
+        if !(-90.0..=90.0).contains(&self.home.lat) || !(-180.0..=180.0).contains(&self.home.lon) {
+            return Err(invalid(
+                "home".into(),
+                "lat must be in [-90, 90] and lon in [-180, 180]",
+            ));
+        }
+        for (task, b) in &self.actions {
+            let key = |k: &str| format!("actions.{task}.{k}");
+            match b {
+                Binding::Move {
+                    acceptance_radius_m,
+                    ..
+                }
+                | Binding::ReturnHome {
+                    acceptance_radius_m,
+                    ..
+                } if acceptance_radius_m.is_nan() || *acceptance_radius_m <= 0.0 => {
+                    return Err(invalid(key("acceptance_radius_m"), "must be > 0"));
+                }
+                Binding::Survey {
+                    spacing_m,
+                    width_m,
+                    height_m,
+                    ..
+                } => {
+                    if spacing_m.is_nan() || *spacing_m <= 0.0 {
+                        return Err(invalid(key("spacing_m"), "must be > 0"));
+                    }
+                    if width_m.is_nan() || height_m.is_nan() || *width_m <= 0.0 || *height_m <= 0.0
+                    {
+                        return Err(invalid(key("width_m"), "width_m and height_m must be > 0"));
+                    }
+                    if width_m / spacing_m > 500.0 {
+                        return Err(invalid(
+                            key("spacing_m"),
+                            "more than 500 legs: spacing too small",
+                        ));
+                    }
+                }
+                Binding::Sample { steps } if steps.is_empty() => {
+                    return Err(invalid(key("steps"), "needs at least one servo step"));
+                }
+                Binding::Recharge { until_percent, .. }
+                    if !(0.0..=100.0).contains(until_percent) =>
+                {
+                    return Err(invalid(key("until_percent"), "must be in [0, 100]"));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,272 @@
+//! The companion's protocol core, free of I/O: fed with the autopilot's messages and the passage of time, it
+//! runs the action bindings, the command and mission clients, telemetry and link supervision, and yields
+//! messages to send and events for the executive. The socket layer ([`super::link`]) and tests drive it alike.
+
+use std::collections::BTreeMap;
+
+use mavlink::dialects::ardupilotmega::{
+    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+};
+use mavlink::MavHeader;
+
+use super::actions::{Ctx, End, Run};
+use super::api::VehicleError;
+use super::commands::CommandClient;
+use super::config::VehicleConfig;
+use super::mission_client::MissionClient;
+use super::telemetry::Telemetry;
+use super::types::{ActionId, ActionReport, ActionStart, LinkStatus, VehicleEvent};
+
+/// The context of an action run: borrows the driver's parts beside `runs` (a macro, as a method would
+/// borrow all of `self`).
+macro_rules! ctx {
+    ($d:ident, $now:expr) => {
+        Ctx {
+            now: $now,
+            vnow: $d.tel.time_boot_ms.unwrap_or($now),
+            cfg: &$d.cfg,
+            tel: &$d.tel,
+            cmds: &mut $d.cmds,
+            mission: &mut $d.mission,
+            out: &mut $d.out,
+            target: $d.target.unwrap_or(($d.system_id, 1)),
+        }
+    };
+}
+
+/// `MAV_COMP_ID_ONBOARD_COMPUTER`.
+pub const COMPANION_COMPONENT: u8 = 191;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Link {
+    Waiting,
+    Up,
+    Lost,
+}
+
+pub struct Driver {
+    cfg: VehicleConfig,
+    /// Our system id: the autopilot's once its heartbeat is seen.
+    pub system_id: u8,
+    target: Option<(u8, u8)>,
+    tel: Telemetry,
+    cmds: CommandClient,
+    mission: MissionClient,
+    runs: BTreeMap<ActionId, Run>,
+    out: Vec<MavMessage>,
+    events: Vec<VehicleEvent>,
+    link: Link,
+    last_heartbeat_rx: u64,
+    last_heartbeat_tx: Option<u64>,
+}
+
+/// The HEARTBEAT of the companion.
+pub fn companion_heartbeat() -> MavMessage {
+    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode: 0,
+        mavtype: MavType::MAV_TYPE_ONBOARD_CONTROLLER,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+        base_mode: MavModeFlag::empty(),
+        system_status: MavState::MAV_STATE_ACTIVE,
+        mavlink_version: 3,
+    })
+}
+
+impl Driver {
+    pub fn new(cfg: VehicleConfig) -> Self {
+        let cmds = CommandClient::new(cfg.link.command_ack_timeout_ms, cfg.link.command_retries);
+        let mission = MissionClient::new(
+            (1, 1),
+            cfg.link.mission_timeout_ms,
+            cfg.link.mission_retries,
+        );
+        Self {
+            cfg,
+            system_id: 1,
+            target: None,
+            tel: Telemetry::default(),
+            cmds,
+            mission,
+            runs: BTreeMap::new(),
+            out: Vec::new(),
+            events: Vec::new(),
+            link: Link::Waiting,
+            last_heartbeat_rx: 0,
+            last_heartbeat_tx: None,
+        }
+    }
+
+    pub fn config(&self) -> &VehicleConfig {
+        &self.cfg
+    }
+
+    pub fn telemetry(&self) -> &Telemetry {
+        &self.tel
+    }
+
+    pub fn target(&self) -> Option<(u8, u8)> {
+        self.target
+    }
+
+    pub fn running(&self) -> impl Iterator<Item = &ActionId> {
+        self.runs.keys()
+    }
+
+    pub fn take_outgoing(&mut self) -> Vec<MavMessage> {
+        std::mem::take(&mut self.out)
+    }
+
+    pub fn take_events(&mut self) -> Vec<VehicleEvent> {
+        std::mem::take(&mut self.events)
+    }
+
+    fn report(&mut self, id: ActionId, end: End) {
+        self.cmds.cancel(id);
+        let run = self.runs.remove(&id);
+        tracing::info!(id, task = run.as_ref().map(|r| r.task.as_str()), status = %end.status, reason = ?end.reason, "action report");
+        self.events.push(VehicleEvent::Report(ActionReport {
+            id,
+            status: end.status,
+            time_ms: self.tel.time_boot_ms.unwrap_or(0),
+            resources: self.tel.levels(&self.cfg.resources),
+            state: end.state,
+            reason: end.reason,
+        }));
+    }
+
+    /// Runs `f` on one run with a context; a returned end becomes its report.
+    fn with_run(
+        &mut self,
+        id: ActionId,
+        now: u64,
+        f: impl FnOnce(&mut Run, &mut Ctx) -> Option<End>,
+    ) {
+        let Some(run) = self.runs.get_mut(&id) else {
+            return;
+        };
+        let mut ctx = ctx!(self, now);
+        if let Some(end) = f(run, &mut ctx) {
+            self.report(id, end);
+        }
+    }
+
+    /// `START a p_a i_a`.
+    pub fn start(&mut self, action: ActionStart, now: u64) -> Result<(), VehicleError> {
+        if self.runs.contains_key(&action.id) {
+            return Err(VehicleError::AlreadyRunning(action.id));
+        }
+        let binding = self
+            .cfg
+            .actions
+            .get(&action.task)
+            .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?
+            .clone();
+        let mut ctx = ctx!(self, now);
+        let run = Run::begin(&action, &binding, &mut ctx).map_err(|reason| {
+            VehicleError::BadArguments {
+                task: action.task.clone(),
+                reason,
+            }
+        })?;
+        tracing::info!(id = action.id, task = %action.task, "action started");
+        self.runs.insert(action.id, run);
+        Ok(())
+    }
+
+    /// `END i_a`.
+    pub fn stop(&mut self, id: ActionId, now: u64) -> Result<(), VehicleError> {
+        if !self.runs.contains_key(&id) {
+            return Err(VehicleError::NotRunning(id));
+        }
+        self.with_run(id, now, |run, ctx| Some(run.stop(ctx)));
+        Ok(())
+    }
+
+    /// A message received from the link.
+    pub fn handle(&mut self, header: MavHeader, msg: &MavMessage, now: u64) {
+        let (sys, comp) = (header.system_id as u8, header.component_id);
+        if let MavMessage::HEARTBEAT(h) = msg {
+            let is_autopilot = h.autopilot != MavAutopilot::MAV_AUTOPILOT_INVALID
+                && !matches!(
+                    h.mavtype,
+                    MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_ONBOARD_CONTROLLER
+                );
+            if is_autopilot && self.target.is_none() {
+                // Adopt the system id of the first autopilot seen.
+                self.target = Some((sys, comp));
+                self.system_id = sys;
+                self.mission.target = (sys, comp);
+                tracing::info!(system_id = sys, component = comp, "autopilot found");
+            }
+            if self.target == Some((sys, comp)) {
+                self.last_heartbeat_rx = now;
+                match self.link {
+                    Link::Waiting => self
+                        .events
+                        .push(VehicleEvent::Link(LinkStatus::Up { system_id: sys })),
+                    Link::Lost => self.events.push(VehicleEvent::Link(LinkStatus::Recovered)),
+                    Link::Up => {}
+                }
+                self.link = Link::Up;
+            }
+        }
+        if self.target != Some((sys, comp)) {
+            return;
+        }
+        let cfg = &self.cfg;
+        self.tel
+            .update(msg, &cfg.home, &cfg.resources, &mut self.events);
+        if let MavMessage::COMMAND_ACK(ack) = msg {
+            if let Some((token, cmd, outcome)) = self.cmds.on_ack(ack, now) {
+                self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
+            }
+        }
+        if let Some((token, outcome)) = self.mission.handle(msg, now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+        }
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
+            self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+    }
+
+    /// The transport closed (TCP reset, serial unplugged).
+    pub fn transport_lost(&mut self) {
+        if self.link == Link::Up {
+            self.link = Link::Lost;
+            self.events.push(VehicleEvent::Link(LinkStatus::Lost));
+        }
+    }
+
+    /// Time passed: heartbeats out, link supervision, timeouts, state-based ends.
+    pub fn tick(&mut self, now: u64) {
+        if self
+            .last_heartbeat_tx
+            .is_none_or(|t| now.saturating_sub(t) >= 1000)
+        {
+            self.last_heartbeat_tx = Some(now);
+            self.out.push(companion_heartbeat());
+        }
+        if self.link == Link::Up
+            && now.saturating_sub(self.last_heartbeat_rx) > self.cfg.link.heartbeat_timeout_ms
+        {
+            tracing::warn!(
+                "no autopilot heartbeat for {} ms: link lost",
+                self.cfg.link.heartbeat_timeout_ms
+            );
+            self.link = Link::Lost;
+            self.events.push(VehicleEvent::Link(LinkStatus::Lost));
+        }
+        for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
+        }
+        if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+        }
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+    }
+}

@@ -1,0 +1,607 @@
+//! The MAVLink vehicle: tokio tasks pumping bytes between a transport and the protocol core ([`Driver`], and
+//! the [`GoalIntake`] for ground stations), with `.tlog` recording, signing, link-loss reporting and
+//! reconnection. The executive talks to it through the [`Vehicle`] trait, never waiting on I/O.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{mpsc as std_mpsc, Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use mavlink::dialects::ardupilotmega::MavMessage;
+use mavlink::MavlinkVersion;
+use tokio::sync::{oneshot, Notify};
+
+use super::api::{Vehicle, VehicleError};
+use super::config::VehicleConfig;
+use super::driver::{companion_heartbeat, Driver, COMPANION_COMPONENT};
+use super::endpoint::{Address, Transport};
+use super::frame::{parse_key, Encoder, FrameDecoder, Signer};
+use super::goals::{GoalBatch, GoalDecider, KnownLocations, SyntacticDecider};
+use super::intake::{GoalIntake, PendingDecision};
+use super::tlog::TlogWriter;
+use super::types::{ActionId, ActionStart, GoalVerdict, VehicleEvent};
+
+#[derive(Debug, thiserror::Error)]
+pub enum LinkError {
+    #[error("bad address: {0}")]
+    Address(String),
+    #[error("{what}: {source}")]
+    Io {
+        what: String,
+        source: std::io::Error,
+    },
+    #[error("signing key: {0}")]
+    Key(String),
+}
+
+/// Counters of one link, readable while it runs.
+#[derive(Debug, Default)]
+pub struct LinkStats {
+    pub frames_in: AtomicU64,
+    pub frames_out: AtomicU64,
+    /// Frames dropped because signing is on and they were unsigned or badly signed.
+    pub rejected_unsigned: AtomicU64,
+    pub crc_errors: AtomicU64,
+}
+
+/// Who decides on uploaded goals.
+pub enum Decider {
+    /// Decided here (e.g. [`SyntacticDecider`]): no executive involved.
+    Local(Box<dyn GoalDecider>),
+    /// Handed to the executive as [`VehicleEvent::Goals`]; after `timeout` without an answer the syntactic
+    /// verdicts are sent so the ground station is not left hanging.
+    Executive { timeout: Duration },
+}
+
+/// Options beyond the config file.
+pub struct LinkOptions {
+    /// Overrides `link.address`.
+    pub address: Option<String>,
+    /// Overrides `link.tlog`.
+    pub tlog: Option<PathBuf>,
+    /// A second endpoint where ground stations connect (goal intake only).
+    pub gcs: Option<String>,
+    pub known: Option<KnownLocations>,
+    pub decider: Decider,
+    pub first_goal_number: u32,
+}
+
+impl Default for LinkOptions {
+    fn default() -> Self {
+        Self {
+            address: None,
+            tlog: None,
+            gcs: None,
+            known: None,
+            decider: Decider::Executive {
+                timeout: Duration::from_secs(2),
+            },
+            first_goal_number: 1,
+        }
+    }
+}
+
+struct Shared {
+    driver: Mutex<Driver>,
+    notify: Notify,
+    clock_ms: AtomicU64,
+    /// The adopted system id, for the ground-station endpoint to answer as the same system.
+    system_id: std::sync::atomic::AtomicU8,
+    epoch: Instant,
+}
+
+/// The goal intake shared by the pumps that serve it, and who decides.
+type IntakeRole = (Arc<Mutex<GoalIntake>>, Arc<Mutex<Decider>>);
+
+/// What one pump task serves.
+struct Pump {
+    transport: Transport,
+    shared: Option<Arc<Shared>>,
+    /// The vehicle whose system id a ground-station endpoint answers with.
+    follow: Option<Arc<Shared>>,
+    intake: Option<IntakeRole>,
+    own_system: u8,
+    signer_key: Option<([u8; 32], u8)>,
+    tlog: Option<Arc<Mutex<TlogWriter>>>,
+    events: std_mpsc::Sender<VehicleEvent>,
+    stats: Arc<LinkStats>,
+    reconnect: Duration,
+    epoch: Instant,
+}
+
+struct Awaiting {
+    pending: PendingDecision,
+    rx: oneshot::Receiver<Vec<GoalVerdict>>,
+    deadline: Instant,
+}
+
+impl Pump {
+    fn now(&self) -> u64 {
+        self.epoch.elapsed().as_millis() as u64
+    }
+
+    fn record(&self, bytes: &[u8]) {
+        if let Some(t) = &self.tlog {
+            if let Ok(mut t) = t.lock() {
+                if let Err(e) = t.record(bytes) {
+                    tracing::warn!("tlog: {e}");
+                }
+            }
+        }
+    }
+
+    async fn run(mut self) {
+        let mut encoder = Encoder::new(
+            self.own_system,
+            COMPANION_COMPONENT,
+            self.signer_key.map(|(k, l)| Signer::new(k, l)),
+        );
+        let verifier = self.signer_key.map(|(k, l)| Signer::new(k, l));
+        let mut awaiting: Vec<Awaiting> = Vec::new();
+        let mut last_own_heartbeat: Option<u64> = None;
+        loop {
+            let mut endpoint = match self.transport.open().await {
+                Ok(e) => e,
+                Err(e) => {
+                    tracing::debug!("link open failed: {e}; retrying");
+                    tokio::time::sleep(self.reconnect).await;
+                    continue;
+                }
+            };
+            let mut decoder = FrameDecoder::default();
+            let mut buf = vec![0u8; 65536];
+            let mut ticker = tokio::time::interval(Duration::from_millis(10));
+            ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+            let mut peer_v1 = false;
+            let mut out = Vec::new();
+            let closed = loop {
+                let notified = async {
+                    match &self.shared {
+                        Some(s) => s.notify.notified().await,
+                        None => std::future::pending().await,
+                    }
+                };
+                tokio::select! {
+                    r = endpoint.recv(&mut buf) => match r {
+                        Ok(0) | Err(_) => break true,
+                        Ok(n) => {
+                            decoder.push(&buf[..n]);
+                            let now = self.now();
+                            while let Some(frame) = decoder.next_frame() {
+                                self.record(&frame.bytes);
+                                if let Some(v) = &verifier {
+                                    if !v.accepts(&frame) {
+                                        self.stats.rejected_unsigned.fetch_add(1, Ordering::Relaxed);
+                                        tracing::debug!(msgid = frame.message_id, "unsigned or badly signed frame rejected");
+                                        continue;
+                                    }
+                                }
+                                self.stats.frames_in.fetch_add(1, Ordering::Relaxed);
+                                peer_v1 = frame.version == MavlinkVersion::V1;
+                                let Some(msg) = frame.parse() else { continue };
+                                let header = frame.header();
+                                if self.shared.is_none() && matches!(msg, MavMessage::HEARTBEAT(_)) {
+                                    // Answer a ground station's heartbeat at once: over UDP it is how we learn
+                                    // where it is, and it is waiting for ours to find component 191.
+                                    out.push(companion_heartbeat());
+                                    last_own_heartbeat = Some(now);
+                                }
+                                let mut from_autopilot = false;
+                                if let Some(s) = &self.shared {
+                                    if let Ok(mut d) = s.driver.lock() {
+                                        d.handle(header, &msg, now);
+                                        encoder.system_id = d.system_id;
+                                        s.system_id.store(d.system_id, Ordering::Relaxed);
+                                        from_autopilot = d.target() == Some((frame.system_id, frame.component_id));
+                                        if let Some(t) = d.telemetry().time_boot_ms {
+                                            s.clock_ms.store(t, Ordering::Relaxed);
+                                        }
+                                    }
+                                }
+                                if let Some(f) = &self.follow {
+                                    encoder.system_id = f.system_id.load(Ordering::Relaxed);
+                                }
+                                // The autopilot's mission messages to 191 belong to our mission client, never
+                                // to the goal intake.
+                                if let (Some((intake, decider)), false) = (&self.intake, from_autopilot) {
+                                    let done = intake.lock().ok().and_then(|mut i| i.handle(header, &msg, encoder.system_id, now, &mut out));
+                                    if let Some(p) = done {
+                                        self.decide(p, decider, intake, &mut awaiting, &mut out);
+                                    }
+                                }
+                            }
+                            self.stats.crc_errors.store(decoder.crc_errors, Ordering::Relaxed);
+                        }
+                    },
+                    _ = ticker.tick() => {
+                        let now = self.now();
+                        match &self.shared {
+                            Some(s) => if let Ok(mut d) = s.driver.lock() { d.tick(now) },
+                            None => if last_own_heartbeat.is_none_or(|t| now.saturating_sub(t) >= 1000) {
+                                last_own_heartbeat = Some(now);
+                                out.push(companion_heartbeat());
+                            },
+                        }
+                        if let Some((intake, _)) = &self.intake {
+                            if let Ok(mut i) = intake.lock() {
+                                i.tick(now, &mut out);
+                                awaiting.retain_mut(|a| {
+                                    let verdicts = match a.rx.try_recv() {
+                                        Ok(v) => v,
+                                        Err(oneshot::error::TryRecvError::Empty) if Instant::now() < a.deadline => return true,
+                                        Err(_) => {
+                                            tracing::warn!("no goal decision from the executive: syntactic verdicts sent");
+                                            a.pending.goals.iter().map(SyntacticDecider::verdict).collect()
+                                        }
+                                    };
+                                    i.decided(a.pending.clone(), &verdicts, &mut out);
+                                    false
+                                });
+                            }
+                        }
+                    },
+                    _ = notified => {},
+                }
+                if let Some(s) = &self.shared {
+                    if let Ok(mut d) = s.driver.lock() {
+                        out.extend(d.take_outgoing());
+                        for e in d.take_events() {
+                            let _ = self.events.send(e);
+                        }
+                    }
+                }
+                let mut failed = false;
+                for msg in out.drain(..) {
+                    let bytes = encoder.encode(&msg, peer_v1);
+                    self.record(&bytes);
+                    if endpoint.send(&bytes).await.is_err() {
+                        failed = true;
+                        break;
+                    }
+                    self.stats.frames_out.fetch_add(1, Ordering::Relaxed);
+                }
+                if failed {
+                    break true;
+                }
+            };
+            if closed {
+                if let Some(s) = &self.shared {
+                    if let Ok(mut d) = s.driver.lock() {
+                        d.transport_lost();
+                        for e in d.take_events() {
+                            let _ = self.events.send(e);
+                        }
+                    }
+                }
+                if self.transport.is_datagram() {
+                    // A UDP socket error is transient: keep the socket.
+                    tokio::time::sleep(Duration::from_millis(10)).await;
+                } else {
+                    tokio::time::sleep(self.reconnect).await;
+                }
+            }
+        }
+    }
+
+    fn decide(
+        &self,
+        pending: PendingDecision,
+        decider: &Arc<Mutex<Decider>>,
+        intake: &Arc<Mutex<GoalIntake>>,
+        awaiting: &mut Vec<Awaiting>,
+        out: &mut Vec<MavMessage>,
+    ) {
+        let Ok(mut d) = decider.lock() else { return };
+        match &mut *d {
+            Decider::Local(local) => {
+                let verdicts = local.decide(&pending.goals);
+                if let Ok(mut i) = intake.lock() {
+                    i.decided(pending, &verdicts, out);
+                }
+            }
+            Decider::Executive { timeout } => {
+                let (batch, rx) = GoalBatch::new(pending.goals.clone());
+                let _ = self.events.send(VehicleEvent::Goals(batch));
+                awaiting.push(Awaiting {
+                    pending,
+                    rx,
+                    deadline: Instant::now() + *timeout,
+                });
+            }
+        }
+    }
+}
+
+fn signing_key(cfg: &VehicleConfig) -> Result<Option<([u8; 32], u8)>, LinkError> {
+    cfg.link
+        .signing_key
+        .as_deref()
+        .map(|k| {
+            parse_key(k)
+                .map(|key| (key, cfg.link.signing_link_id))
+                .map_err(LinkError::Key)
+        })
+        .transpose()
+}
+
+async fn bind(addr: &str) -> Result<Transport, LinkError> {
+    let a = Address::parse(addr).map_err(LinkError::Address)?;
+    Transport::bind(a).await.map_err(|source| LinkError::Io {
+        what: format!("bind {addr}"),
+        source,
+    })
+}
+
+fn open_tlog(path: &std::path::Path) -> Result<Arc<Mutex<TlogWriter>>, LinkError> {
+    TlogWriter::create(path)
+        .map(|t| Arc::new(Mutex::new(t)))
+        .map_err(|source| LinkError::Io {
+            what: format!("tlog {}", path.display()),
+            source,
+        })
+}
+
+/// The MAVLink implementation of [`Vehicle`].
+pub struct MavlinkVehicle {
+    shared: Arc<Shared>,
+    events: std_mpsc::Receiver<VehicleEvent>,
+    local_addr: Option<SocketAddr>,
+    gcs_addr: Option<SocketAddr>,
+    stats: Arc<LinkStats>,
+    tasks: Vec<tokio::task::JoinHandle<()>>,
+    tlog: Option<Arc<Mutex<TlogWriter>>>,
+    /// Present when the vehicle made its own runtime ([`MavlinkVehicle::connect_blocking`]).
+    _runtime: Option<tokio::runtime::Runtime>,
+}
+
+impl MavlinkVehicle {
+    /// Binds / connects and spawns the link tasks on the current tokio runtime.
+    pub async fn connect(cfg: VehicleConfig, opts: LinkOptions) -> Result<Self, LinkError> {
+        let address = opts
+            .address
+            .clone()
+            .unwrap_or_else(|| cfg.link.address.clone());
+        let key = signing_key(&cfg)?;
+        let tlog_path = opts
+            .tlog
+            .clone()
+            .or_else(|| cfg.link.tlog.as_ref().map(PathBuf::from));
+        let tlog = tlog_path.as_deref().map(open_tlog).transpose()?;
+        let reconnect = Duration::from_millis(cfg.link.reconnect_ms);
+        let known = opts
+            .known
+            .clone()
+            .unwrap_or_else(|| KnownLocations::new(cfg.home));
+        let transport = bind(&address).await?;
+        let local_addr = transport.local_addr();
+        let gcs_transport = match &opts.gcs {
+            Some(g) => Some(bind(g).await?),
+            None => None,
+        };
+        let gcs_addr = gcs_transport.as_ref().and_then(|t| t.local_addr());
+        let epoch = Instant::now();
+        let shared = Arc::new(Shared {
+            driver: Mutex::new(Driver::new(cfg)),
+            notify: Notify::new(),
+            clock_ms: AtomicU64::new(0),
+            system_id: std::sync::atomic::AtomicU8::new(1),
+            epoch,
+        });
+        let (tx, rx) = std_mpsc::channel();
+        let stats = Arc::new(LinkStats::default());
+        let intake = Arc::new(Mutex::new(GoalIntake::new(known, opts.first_goal_number)));
+        let decider = Arc::new(Mutex::new(opts.decider));
+        let mut tasks = vec![tokio::spawn(
+            Pump {
+                transport,
+                shared: Some(shared.clone()),
+                follow: None,
+                intake: Some((intake.clone(), decider.clone())),
+                own_system: 1,
+                signer_key: key,
+                tlog: tlog.clone(),
+                events: tx.clone(),
+                stats: stats.clone(),
+                reconnect,
+                epoch,
+            }
+            .run(),
+        )];
+        if let Some(t) = gcs_transport {
+            // The ground-station side: goal intake only; its system id follows the vehicle's.
+            tasks.push(tokio::spawn(
+                Pump {
+                    transport: t,
+                    shared: None,
+                    follow: Some(shared.clone()),
+                    intake: Some((intake, decider)),
+                    own_system: 1,
+                    signer_key: key,
+                    tlog: tlog.clone(),
+                    events: tx,
+                    stats: stats.clone(),
+                    reconnect,
+                    epoch,
+                }
+                .run(),
+            ));
+        }
+        Ok(Self {
+            shared,
+            events: rx,
+            local_addr,
+            gcs_addr,
+            stats,
+            tasks,
+            tlog,
+            _runtime: None,
+        })
+    }
+
+    /// For a synchronous executive: runs the link on a runtime of its own.
+    pub fn connect_blocking(cfg: VehicleConfig, opts: LinkOptions) -> Result<Self, LinkError> {
+        let rt = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .enable_all()
+            .build()
+            .map_err(|source| LinkError::Io {
+                what: "tokio runtime".into(),
+                source,
+            })?;
+        let mut v = rt.block_on(Self::connect(cfg, opts))?;
+        v._runtime = Some(rt);
+        Ok(v)
+    }
+
+    pub fn local_addr(&self) -> Option<SocketAddr> {
+        self.local_addr
+    }
+
+    pub fn gcs_addr(&self) -> Option<SocketAddr> {
+        self.gcs_addr
+    }
+
+    pub fn stats(&self) -> &LinkStats {
+        &self.stats
+    }
+
+    /// The adopted autopilot (system, component), once seen.
+    pub fn target(&self) -> Option<(u8, u8)> {
+        self.shared.driver.lock().ok().and_then(|d| d.target())
+    }
+
+    /// Writes buffered `.tlog` records to disk.
+    pub fn flush_tlog(&self) {
+        if let Some(t) = &self.tlog {
+            if let Ok(mut t) = t.lock() {
+                let _ = t.flush();
+            }
+        }
+    }
+}
+
+impl Drop for MavlinkVehicle {
+    fn drop(&mut self) {
+        for t in &self.tasks {
+            t.abort();
+        }
+        self.flush_tlog();
+    }
+}
+
+impl Vehicle for MavlinkVehicle {
+    fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        let now = self.shared.clock_now();
+        self.shared
+            .driver
+            .lock()
+            .map_err(|_| VehicleError::Closed)?
+            .start(action, now)?;
+        self.shared.notify.notify_one();
+        Ok(())
+    }
+
+    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
+        let now = self.shared.clock_now();
+        self.shared
+            .driver
+            .lock()
+            .map_err(|_| VehicleError::Closed)?
+            .stop(id, now)?;
+        self.shared.notify.notify_one();
+        Ok(())
+    }
+
+    fn try_event(&mut self) -> Option<VehicleEvent> {
+        self.events.try_recv().ok()
+    }
+
+    fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent> {
+        self.events.recv_timeout(timeout).ok()
+    }
+
+    fn now_ms(&self) -> u64 {
+        self.shared.clock_ms.load(Ordering::Relaxed)
+    }
+}
+
+impl Shared {
+    /// The driver's timeouts run on the pump's monotonic clock; start/stop stamp with it too.
+    fn clock_now(&self) -> u64 {
+        self.epoch.elapsed().as_millis() as u64
+    }
+}
+
+/// A standalone goal intake (`mavtempo goal serve`): answers uploads to component 191 at `addr`.
+pub struct GoalServer {
+    pub local_addr: Option<SocketAddr>,
+    pub events: std_mpsc::Receiver<VehicleEvent>,
+    pub stats: Arc<LinkStats>,
+    task: tokio::task::JoinHandle<()>,
+}
+
+impl GoalServer {
+    pub async fn start(
+        addr: &str,
+        system_id: u8,
+        known: KnownLocations,
+        decider: Decider,
+        tlog: Option<PathBuf>,
+    ) -> Result<Self, LinkError> {
+        let transport = bind(addr).await?;
+        let local_addr = transport.local_addr();
+        let tlog = tlog.as_deref().map(open_tlog).transpose()?;
+        let (tx, rx) = std_mpsc::channel();
+        let stats = Arc::new(LinkStats::default());
+        let task = tokio::spawn(
+            Pump {
+                transport,
+                shared: None,
+                follow: None,
+                intake: Some((
+                    Arc::new(Mutex::new(GoalIntake::new(known, 1))),
+                    Arc::new(Mutex::new(decider)),
+                )),
+                own_system: system_id,
+                signer_key: None,
+                tlog,
+                events: tx,
+                stats: stats.clone(),
+                reconnect: Duration::from_millis(200),
+                epoch: Instant::now(),
+            }
+            .run(),
+        );
+        Ok(Self {
+            local_addr,
+            events: rx,
+            stats,
+            task,
+        })
+    }
+
+    /// A goal intake deciding with [`SyntacticDecider`], no `.tlog`: for tools, tests and benchmarks.
+    pub async fn syntactic(addr: &str, home: super::geo::Home) -> Result<Self, LinkError> {
+        Self::start(
+            addr,
+            1,
+            KnownLocations::new(home),
+            Decider::Local(Box::new(SyntacticDecider)),
+            None,
+        )
+        .await
+    }
+
+    /// Runs until the task ends (it does not on its own).
+    pub async fn join(mut self) {
+        let task = std::mem::replace(&mut self.task, tokio::spawn(async {}));
+        let _ = task.await;
+    }
+}
+
+impl Drop for GoalServer {
+    fn drop(&mut self) {
+        self.task.abort();
+    }
+}

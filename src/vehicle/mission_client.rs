@@ -1,0 +1,307 @@
+//! Mission protocol client (upload with re-requests and timeouts, download, clear). Answers both
+//! MISSION_REQUEST_INT and the legacy MISSION_REQUEST (ArduPilot sends the latter) with MISSION_ITEM_INT.
+//! Setting the current item goes through the command client (`MAV_CMD_DO_SET_MISSION_CURRENT`).
+
+// The legacy MISSION_ITEM / MISSION_REQUEST must still be accepted (ArduPilot sends MISSION_REQUEST).
+#![allow(deprecated)]
+
+use mavlink::dialects::ardupilotmega::{
+    MavMessage, MavMissionResult, MavMissionType, MISSION_ACK_DATA, MISSION_CLEAR_ALL_DATA,
+    MISSION_COUNT_DATA, MISSION_REQUEST_INT_DATA, MISSION_REQUEST_LIST_DATA,
+};
+
+use super::commands::Token;
+use super::items::MissionItem;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum MissionOutcome {
+    Uploaded,
+    Downloaded(Vec<MissionItem>),
+    Cleared,
+    Failed(String),
+}
+
+#[derive(Debug)]
+enum Op {
+    Upload {
+        items: Vec<MissionItem>,
+    },
+    Download {
+        count: Option<u16>,
+        items: Vec<MissionItem>,
+    },
+    Clear,
+}
+
+#[derive(Debug)]
+struct Running {
+    token: Token,
+    op: Op,
+    last_sent: MavMessage,
+    last_ms: u64,
+    retries_left: u32,
+}
+
+#[derive(Debug)]
+pub struct MissionClient {
+    pub target: (u8, u8),
+    pub timeout_ms: u64,
+    pub retries: u32,
+    running: Option<Running>,
+}
+
+impl MissionClient {
+    pub fn new(target: (u8, u8), timeout_ms: u64, retries: u32) -> Self {
+        Self {
+            target,
+            timeout_ms,
+            retries,
+            running: None,
+        }
+    }
+
+    pub fn busy(&self) -> bool {
+        self.running.is_some()
+    }
+
+    fn begin(
+        &mut self,
+        token: Token,
+        op: Op,
+        first: MavMessage,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> bool {
+        if self.running.is_some() {
+            return false;
+        }
+        out.push(first.clone());
+        self.running = Some(Running {
+            token,
+            op,
+            last_sent: first,
+            last_ms: now,
+            retries_left: self.retries,
+        });
+        true
+    }
+
+    /// Starts an upload; false when another transfer is running.
+    pub fn upload(
+        &mut self,
+        token: Token,
+        items: Vec<MissionItem>,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> bool {
+        let count = MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: items.len() as u16,
+            target_system: self.target.0,
+            target_component: self.target.1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            opaque_id: 0,
+        });
+        self.begin(token, Op::Upload { items }, count, now, out)
+    }
+
+    pub fn download(&mut self, token: Token, now: u64, out: &mut Vec<MavMessage>) -> bool {
+        let list = MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
+            target_system: self.target.0,
+            target_component: self.target.1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        });
+        self.begin(
+            token,
+            Op::Download {
+                count: None,
+                items: Vec::new(),
+            },
+            list,
+            now,
+            out,
+        )
+    }
+
+    pub fn clear(&mut self, token: Token, now: u64, out: &mut Vec<MavMessage>) -> bool {
+        let clear = MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
+            target_system: self.target.0,
+            target_component: self.target.1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        });
+        self.begin(token, Op::Clear, clear, now, out)
+    }
+
+    fn send(&mut self, msg: MavMessage, now: u64, out: &mut Vec<MavMessage>) {
+        if let Some(r) = &mut self.running {
+            out.push(msg.clone());
+            r.last_sent = msg;
+            r.last_ms = now;
+            r.retries_left = self.retries;
+        }
+    }
+
+    fn finish(&mut self, outcome: MissionOutcome) -> Option<(Token, MissionOutcome)> {
+        self.running.take().map(|r| (r.token, outcome))
+    }
+
+    fn request(&self, seq: u16) -> MavMessage {
+        MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+            seq,
+            target_system: self.target.0,
+            target_component: self.target.1,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        })
+    }
+
+    /// Feeds a message from the target component.
+    pub fn handle(
+        &mut self,
+        msg: &MavMessage,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Option<(Token, MissionOutcome)> {
+        let running = self.running.as_mut()?;
+        let op = &mut running.op;
+        match (op, msg) {
+            (
+                Op::Upload { items },
+                MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+                    seq, mission_type, ..
+                }),
+            )
+            | (
+                Op::Upload { items },
+                MavMessage::MISSION_REQUEST(
+                    mavlink::dialects::ardupilotmega::MISSION_REQUEST_DATA {
+                        seq,
+                        mission_type,
+                        ..
+                    },
+                ),
+            ) if *mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION => {
+                let (seq, n) = (*seq, items.len());
+                let wire = items.get(usize::from(seq)).map(|item| {
+                    (
+                        item.to_int(seq, self.target, MavMissionType::MAV_MISSION_TYPE_MISSION),
+                        item.command,
+                        item.frame,
+                    )
+                });
+                match wire {
+                    None => self.finish(MissionOutcome::Failed(format!(
+                        "vehicle requested item {seq} of {n}"
+                    ))),
+                    Some((Some(w), _, _)) => {
+                        self.send(MavMessage::MISSION_ITEM_INT(w), now, out);
+                        None
+                    }
+                    Some((None, command, frame)) => self.finish(MissionOutcome::Failed(format!(
+                        "item {seq}: command {command} or frame {frame} unknown to the dialect"
+                    ))),
+                }
+            }
+            (Op::Upload { .. }, MavMessage::MISSION_ACK(a))
+                if a.mission_type == MavMissionType::MAV_MISSION_TYPE_MISSION =>
+            {
+                if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED {
+                    self.finish(MissionOutcome::Uploaded)
+                } else if a.mavtype == MavMissionResult::MAV_MISSION_INVALID_SEQUENCE {
+                    // ArduPilot keeps the upload open after a wrong sequence: wait for its next request.
+                    None
+                } else {
+                    self.finish(MissionOutcome::Failed(format!(
+                        "upload refused: {:?}",
+                        a.mavtype
+                    )))
+                }
+            }
+            (Op::Download { count, items }, MavMessage::MISSION_COUNT(c)) if count.is_none() => {
+                *count = Some(c.count);
+                items.clear();
+                if c.count == 0 {
+                    return self.finish_download(now, out);
+                }
+                let req = self.request(0);
+                self.send(req, now, out);
+                None
+            }
+            (
+                Op::Download {
+                    count: Some(n),
+                    items,
+                },
+                MavMessage::MISSION_ITEM_INT(_) | MavMessage::MISSION_ITEM(_),
+            ) => {
+                let item = match msg {
+                    MavMessage::MISSION_ITEM_INT(it) => (it.seq, MissionItem::from_int(it)),
+                    MavMessage::MISSION_ITEM(it) => (it.seq, MissionItem::from_float(it)),
+                    _ => return None,
+                };
+                if usize::from(item.0) == items.len() {
+                    items.push(item.1);
+                }
+                let (got, n) = (items.len(), *n);
+                if got == usize::from(n) {
+                    self.finish_download(now, out)
+                } else {
+                    let req = self.request(got as u16);
+                    self.send(req, now, out);
+                    None
+                }
+            }
+            (Op::Clear, MavMessage::MISSION_ACK(a)) => {
+                if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED {
+                    self.finish(MissionOutcome::Cleared)
+                } else {
+                    self.finish(MissionOutcome::Failed(format!(
+                        "clear refused: {:?}",
+                        a.mavtype
+                    )))
+                }
+            }
+            _ => None,
+        }
+    }
+
+    fn finish_download(
+        &mut self,
+        _now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> Option<(Token, MissionOutcome)> {
+        out.push(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
+            target_system: self.target.0,
+            target_component: self.target.1,
+            mavtype: MavMissionResult::MAV_MISSION_ACCEPTED,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            opaque_id: 0,
+        }));
+        let r = self.running.take()?;
+        match r.op {
+            Op::Download { items, .. } => Some((r.token, MissionOutcome::Downloaded(items))),
+            _ => None,
+        }
+    }
+
+    /// Re-sends the last message on timeout; fails the transfer after the retries.
+    pub fn tick(&mut self, now: u64, out: &mut Vec<MavMessage>) -> Option<(Token, MissionOutcome)> {
+        let r = self.running.as_mut()?;
+        if now.saturating_sub(r.last_ms) < self.timeout_ms {
+            return None;
+        }
+        if r.retries_left == 0 {
+            let what = match r.op {
+                Op::Upload { .. } => "upload",
+                Op::Download { .. } => "download",
+                Op::Clear => "clear",
+            };
+            return self.finish(MissionOutcome::Failed(format!(
+                "mission {what} timed out after {} retries",
+                self.retries
+            )));
+        }
+        r.retries_left -= 1;
+        r.last_ms = now;
+        out.push(r.last_sent.clone());
+        None
+    }
+}

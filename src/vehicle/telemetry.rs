@@ -1,0 +1,123 @@
+//! Telemetry → state: battery level (BATTERY_STATUS, else SYS_STATUS), storage level and capacity
+//! (STORAGE_INFORMATION), position (GLOBAL_POSITION_INT → local ENU), mode and arming (HEARTBEAT), and the
+//! vehicle's clock (SYSTEM_TIME / time_boot_ms).
+
+use mavlink::dialects::ardupilotmega::{MavMessage, MavModeFlag};
+
+use super::config::ResourceNames;
+use super::geo::Home;
+use super::types::{CapacityChange, Enu, ResourceLevel, VehicleEvent};
+
+#[derive(Debug, Default, Clone)]
+pub struct Telemetry {
+    pub position: Option<Enu>,
+    pub battery_percent: Option<f64>,
+    /// Available storage (MiB): the storage resource level.
+    pub storage_available: Option<f64>,
+    pub storage_used: Option<f64>,
+    pub storage_total: Option<f64>,
+    pub time_boot_ms: Option<u64>,
+    pub custom_mode: Option<u32>,
+    pub armed: bool,
+    pub mission_current: Option<(u16, u16)>,
+    has_battery_status: bool,
+}
+
+impl Telemetry {
+    /// Updates the state from an autopilot message; resource changes become events.
+    pub fn update(
+        &mut self,
+        msg: &MavMessage,
+        home: &Home,
+        names: &ResourceNames,
+        events: &mut Vec<VehicleEvent>,
+    ) {
+        match msg {
+            MavMessage::HEARTBEAT(h) => {
+                self.custom_mode = Some(h.custom_mode);
+                self.armed = h
+                    .base_mode
+                    .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
+            }
+            MavMessage::GLOBAL_POSITION_INT(p) => {
+                self.clock(u64::from(p.time_boot_ms));
+                // (0, 0) until the GPS has a fix: never a position to plan from.
+                if p.lat != 0 || p.lon != 0 {
+                    self.position = Some(home.to_local(
+                        f64::from(p.lat) * 1e-7,
+                        f64::from(p.lon) * 1e-7,
+                        f64::from(p.alt) * 1e-3,
+                    ));
+                }
+            }
+            MavMessage::SYSTEM_TIME(t) => self.clock(u64::from(t.time_boot_ms)),
+            MavMessage::BATTERY_STATUS(b) if b.battery_remaining >= 0 => {
+                self.has_battery_status = true;
+                self.battery(f64::from(b.battery_remaining), names, events);
+            }
+            MavMessage::SYS_STATUS(s) if !self.has_battery_status && s.battery_remaining >= 0 => {
+                self.battery(f64::from(s.battery_remaining), names, events);
+            }
+            MavMessage::STORAGE_INFORMATION(s) => {
+                self.clock(u64::from(s.time_boot_ms));
+                let total = f64::from(s.total_capacity);
+                if let Some(old) = self.storage_total {
+                    if (old - total).abs() > 1e-6 {
+                        events.push(VehicleEvent::Capacity(CapacityChange {
+                            resource: names.storage.clone(),
+                            capacity: total,
+                            delta: total - old,
+                        }));
+                    }
+                }
+                self.storage_total = Some(total);
+                self.storage_used = Some(f64::from(s.used_capacity));
+                let avail = f64::from(s.available_capacity);
+                if self.storage_available != Some(avail) {
+                    self.storage_available = Some(avail);
+                    events.push(VehicleEvent::Resource(ResourceLevel {
+                        resource: names.storage.clone(),
+                        level: avail,
+                    }));
+                }
+            }
+            MavMessage::MISSION_CURRENT(m) => self.mission_current = Some((m.seq, m.total)),
+            _ => {}
+        }
+    }
+
+    fn clock(&mut self, ms: u64) {
+        // Monotonic: a late message must not move the executive's clock back.
+        if ms > 0 && self.time_boot_ms.is_none_or(|t| ms > t) {
+            self.time_boot_ms = Some(ms);
+        }
+    }
+
+    fn battery(&mut self, level: f64, names: &ResourceNames, events: &mut Vec<VehicleEvent>) {
+        if self.battery_percent != Some(level) {
+            self.battery_percent = Some(level);
+            events.push(VehicleEvent::Resource(ResourceLevel {
+                resource: names.battery.clone(),
+                level,
+            }));
+        }
+    }
+
+    /// The current levels of the known resources (the final levels a report carries).
+    pub fn levels(&self, names: &ResourceNames) -> Vec<ResourceLevel> {
+        let mut v = Vec::new();
+        if let Some(b) = self.battery_percent {
+            v.push(ResourceLevel {
+                resource: names.battery.clone(),
+                level: b,
+            });
+        }
+        if let Some(s) = self.storage_available {
+            v.push(ResourceLevel {
+                resource: names.storage.clone(),
+                level: s,
+            });
+        }
+        v
+    }
+}

@@ -1,0 +1,613 @@
+//! Every action binding of config/sitl-rover.toml, driven in memory (no sockets, manual clock) against a
+//! scripted autopilot that answers like ArduPilot Rover; each report kind is checked.
+
+// ArduPilot asks for items with the legacy MISSION_REQUEST: the scripted autopilot does too.
+#![allow(deprecated)]
+
+use mavlink::dialects::ardupilotmega::*;
+use mavlink::MavHeader;
+use mavtempo::vehicle::config::VehicleConfig;
+use mavtempo::vehicle::driver::Driver;
+use mavtempo::vehicle::{
+    ActionStart, Arg, Enu, LinkStatus, ReportStatus, StateValue, VehicleEvent,
+};
+
+fn config() -> VehicleConfig {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/sitl-rover.toml");
+    VehicleConfig::load(std::path::Path::new(path)).expect("shipped config parses")
+}
+
+/// A scripted ArduPilot-like autopilot: answers commands and the mission protocol, holds a position.
+struct Autopilot {
+    mode: u32,
+    armed: bool,
+    /// Result given to the next command with this id (default ACCEPTED).
+    results: Vec<(MavCmd, MavResult)>,
+    /// Commands seen, in order.
+    seen: Vec<MavMessage>,
+    mission: Vec<MISSION_ITEM_INT_DATA>,
+    upload_count: Option<u16>,
+    /// CAMERA_IMAGE_CAPTURED result to send, or none at all.
+    capture: Option<bool>,
+    answer_commands: bool,
+}
+
+impl Autopilot {
+    fn new() -> Self {
+        Self {
+            mode: 0,
+            armed: false,
+            results: Vec::new(),
+            seen: Vec::new(),
+            mission: Vec::new(),
+            upload_count: None,
+            capture: Some(true),
+            answer_commands: true,
+        }
+    }
+
+    fn heartbeat(&self) -> MavMessage {
+        MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: self.mode,
+            mavtype: MavType::MAV_TYPE_GROUND_ROVER,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+            base_mode: if self.armed {
+                MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+            } else {
+                MavModeFlag::empty()
+            },
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        })
+    }
+
+    fn result_for(&mut self, cmd: MavCmd) -> MavResult {
+        match self.results.iter().position(|(c, _)| *c == cmd) {
+            Some(i) => self.results.remove(i).1,
+            None => MavResult::MAV_RESULT_ACCEPTED,
+        }
+    }
+
+    /// Answers what the companion sent.
+    fn respond(&mut self, sent: Vec<MavMessage>) -> Vec<MavMessage> {
+        let mut replies = Vec::new();
+        for m in sent {
+            match &m {
+                MavMessage::COMMAND_LONG(c) => {
+                    self.seen.push(m.clone());
+                    if !self.answer_commands {
+                        continue;
+                    }
+                    let result = self.result_for(c.command);
+                    if result == MavResult::MAV_RESULT_ACCEPTED {
+                        match c.command {
+                            MavCmd::MAV_CMD_DO_SET_MODE => self.mode = c.param2 as u32,
+                            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => self.armed = c.param1 == 1.0,
+                            _ => {}
+                        }
+                    }
+                    replies.push(ack(c.command, result));
+                    if let (
+                        MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+                        MavResult::MAV_RESULT_ACCEPTED,
+                        Some(ok),
+                    ) = (c.command, result, self.capture)
+                    {
+                        replies.push(MavMessage::CAMERA_IMAGE_CAPTURED(
+                            CAMERA_IMAGE_CAPTURED_DATA {
+                                image_index: 1,
+                                capture_result: if ok {
+                                    MavBool::MAV_BOOL_TRUE
+                                } else {
+                                    MavBool::MAV_BOOL_FALSE
+                                },
+                                ..Default::default()
+                            },
+                        ));
+                    }
+                }
+                MavMessage::COMMAND_INT(c) => {
+                    self.seen.push(m.clone());
+                    let result = self.result_for(c.command);
+                    if result == MavResult::MAV_RESULT_ACCEPTED
+                        && c.command == MavCmd::MAV_CMD_DO_REPOSITION
+                    {
+                        self.mode = 15;
+                    }
+                    replies.push(ack(c.command, result));
+                }
+                MavMessage::MISSION_COUNT(c) => {
+                    self.upload_count = Some(c.count);
+                    self.mission.clear();
+                    // ArduPilot asks with the legacy MISSION_REQUEST.
+                    replies.push(MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
+                        seq: 0,
+                        target_system: 1,
+                        target_component: 191,
+                        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+                    }));
+                }
+                MavMessage::MISSION_ITEM_INT(it) => {
+                    self.mission.push(it.clone());
+                    let n = self.upload_count.unwrap_or(0);
+                    if (self.mission.len() as u16) < n {
+                        replies.push(MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
+                            seq: self.mission.len() as u16,
+                            target_system: 1,
+                            target_component: 191,
+                            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+                        }));
+                    } else {
+                        replies.push(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
+                            mavtype: MavMissionResult::MAV_MISSION_ACCEPTED,
+                            ..Default::default()
+                        }));
+                    }
+                }
+                _ => {}
+            }
+        }
+        replies
+    }
+}
+
+fn ack(command: MavCmd, result: MavResult) -> MavMessage {
+    MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+        command,
+        result,
+        ..Default::default()
+    })
+}
+
+fn position(cfg: &VehicleConfig, at: Enu) -> MavMessage {
+    let (lat, lon, alt) = cfg.home.to_global(at);
+    MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+        time_boot_ms: 1000,
+        lat: (lat * 1e7).round() as i32,
+        lon: (lon * 1e7).round() as i32,
+        alt: (alt * 1e3) as i32,
+        ..Default::default()
+    })
+}
+
+struct Bench {
+    d: Driver,
+    ap: Autopilot,
+    now: u64,
+    events: Vec<VehicleEvent>,
+}
+
+const AP: MavHeader = MavHeader {
+    system_id: 1,
+    component_id: 1,
+    sequence: 0,
+};
+
+impl Bench {
+    fn new() -> Self {
+        let mut b = Self {
+            d: Driver::new(config()),
+            ap: Autopilot::new(),
+            now: 0,
+            events: Vec::new(),
+        };
+        b.feed(b.ap.heartbeat());
+        b
+    }
+
+    /// Delivers a message from the autopilot and lets the conversation run to quiescence.
+    fn feed(&mut self, msg: MavMessage) {
+        self.d.handle(AP, &msg, self.now);
+        self.settle();
+    }
+
+    fn settle(&mut self) {
+        for _ in 0..1000 {
+            let out: Vec<MavMessage> = self
+                .d
+                .take_outgoing()
+                .into_iter()
+                .filter(|m| !matches!(m, MavMessage::HEARTBEAT(_)))
+                .collect();
+            if out.is_empty() {
+                break;
+            }
+            for r in self.ap.respond(out) {
+                self.d.handle(AP, &r, self.now);
+            }
+        }
+        self.events.extend(self.d.take_events());
+    }
+
+    fn tick(&mut self, ms: u64) {
+        self.now += ms;
+        self.d.tick(self.now);
+        self.settle();
+    }
+
+    fn start(&mut self, id: u64, task: &str, args: Vec<(&str, Arg)>) {
+        let args = args.into_iter().map(|(n, a)| (n.to_string(), a)).collect();
+        self.d
+            .start(
+                ActionStart {
+                    id,
+                    task: task.into(),
+                    args,
+                },
+                self.now,
+            )
+            .expect("start accepted");
+        self.settle();
+    }
+
+    fn report(&mut self, id: u64) -> Option<mavtempo::vehicle::ActionReport> {
+        let i = self
+            .events
+            .iter()
+            .position(|e| matches!(e, VehicleEvent::Report(r) if r.id == id))?;
+        match self.events.remove(i) {
+            VehicleEvent::Report(r) => Some(r),
+            _ => None,
+        }
+    }
+}
+
+fn to(at: Enu) -> Vec<(&'static str, Arg)> {
+    vec![("to", Arg::location("L2", at))]
+}
+
+#[test]
+fn link_comes_up_on_the_autopilot_heartbeat_and_adopts_its_system_id() {
+    let mut d = Driver::new(config());
+    let h = MavHeader {
+        system_id: 42,
+        component_id: 1,
+        sequence: 0,
+    };
+    d.handle(h, &Autopilot::new().heartbeat(), 0);
+    assert_eq!(d.system_id, 42);
+    assert!(matches!(
+        d.take_events()[..],
+        [VehicleEvent::Link(LinkStatus::Up { system_id: 42 })]
+    ));
+    d.tick(100);
+    let out = d.take_outgoing();
+    assert!(out.iter().any(|m| matches!(m, MavMessage::HEARTBEAT(h) if h.mavtype == MavType::MAV_TYPE_ONBOARD_CONTROLLER)));
+}
+
+#[test]
+fn move_is_nominal_within_the_acceptance_radius() {
+    let mut b = Bench::new();
+    let dest = Enu::new(30.0, 40.0, 0.0);
+    b.start(1, "move", to(dest));
+    // Disarmed rover: ARM first, then DO_REPOSITION with the change-mode flag over COMMAND_INT.
+    assert!(
+        matches!(&b.ap.seen[0], MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM)
+    );
+    let MavMessage::COMMAND_INT(rep) = &b.ap.seen[1] else {
+        panic!("expected COMMAND_INT, got {:?}", b.ap.seen[1])
+    };
+    assert_eq!(rep.command, MavCmd::MAV_CMD_DO_REPOSITION);
+    assert_eq!(rep.param2, 1.0);
+    let (lat, lon, _) = b.d.config().home.to_global(dest);
+    assert_eq!(
+        (rep.x, rep.y),
+        ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32)
+    );
+    let cfg = config();
+    b.feed(position(&cfg, Enu::new(10.0, 10.0, 0.0)));
+    assert!(b.report(1).is_none(), "not there yet");
+    b.feed(position(&cfg, Enu::new(29.0, 38.5, 0.0)));
+    let r = b.report(1).expect("report");
+    assert_eq!(r.status, ReportStatus::Nominal);
+    assert!(r.state.is_empty());
+}
+
+#[test]
+fn stopped_move_is_interrupted_with_the_reached_position_and_holds() {
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(100.0, 0.0, 0.0)));
+    let cfg = config();
+    b.feed(position(&cfg, Enu::new(42.0, 1.0, 0.0)));
+    b.d.stop(1, b.now).expect("running");
+    b.settle();
+    let r = b.report(1).expect("report");
+    assert_eq!(r.status, ReportStatus::Interrupted);
+    let StateValue::Position(p) = &r.state[0].1 else {
+        panic!("{:?}", r.state)
+    };
+    assert_eq!(r.state[0].0, "position");
+    assert!(
+        (p.east - 42.0).abs() < 0.1 && (p.north - 1.0).abs() < 0.1,
+        "{p:?}"
+    );
+    assert_eq!(b.ap.mode, 4, "HOLD after END");
+}
+
+#[test]
+fn move_fails_on_denied_reposition() {
+    let mut b = Bench::new();
+    b.ap.armed = true;
+    b.feed(b.ap.heartbeat());
+    b.ap.results
+        .push((MavCmd::MAV_CMD_DO_REPOSITION, MavResult::MAV_RESULT_DENIED));
+    b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
+    let r = b.report(1).expect("report");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(
+        r.reason.as_deref().unwrap_or("").contains("DENIED"),
+        "{:?}",
+        r.reason
+    );
+}
+
+#[test]
+fn move_fails_on_a_foreign_mode_change() {
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
+    b.feed(b.ap.heartbeat()); // GUIDED seen
+    assert!(b.report(1).is_none());
+    b.ap.mode = 0; // someone switched to MANUAL
+    b.feed(b.ap.heartbeat());
+    let r = b.report(1).expect("report");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(
+        r.reason
+            .as_deref()
+            .unwrap_or("")
+            .contains("foreign mode change"),
+        "{:?}",
+        r.reason
+    );
+}
+
+#[test]
+fn an_error_statustext_fails_the_running_action() {
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
+    let mut text = [0u8; 50];
+    text[..19].copy_from_slice(b"no map available!!!");
+    b.feed(MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+        severity: MavSeverity::MAV_SEVERITY_ERROR,
+        text: text.into(),
+        id: 0,
+        chunk_seq: 0,
+    }));
+    let r = b.report(1).expect("report");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(r
+        .reason
+        .as_deref()
+        .unwrap_or("")
+        .contains("no map available"));
+}
+
+#[test]
+fn command_without_ack_is_retried_with_confirmation_then_fails() {
+    let mut b = Bench::new();
+    b.ap.answer_commands = false;
+    b.start(1, "recharge", vec![]);
+    for _ in 0..5 {
+        b.tick(1000);
+    }
+    let confirmations: Vec<u8> =
+        b.ap.seen
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::COMMAND_LONG(c) => Some(c.confirmation),
+                _ => None,
+            })
+            .collect();
+    assert_eq!(confirmations, vec![0, 1, 2, 3]);
+    let r = b.report(1).expect("report");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(
+        r.reason.as_deref().unwrap_or("").contains("no COMMAND_ACK"),
+        "{:?}",
+        r.reason
+    );
+}
+
+#[test]
+fn survey_uploads_a_lawnmower_runs_auto_and_ends_on_the_last_item_reached() {
+    let mut b = Bench::new();
+    b.start(
+        3,
+        "survey",
+        vec![("area", Arg::location("Z1", Enu::new(50.0, 50.0, 0.0)))],
+    );
+    // 40 x 30 m at 10 m spacing: 4 rows of 2 points, plus item 0 for home.
+    assert_eq!(b.ap.mission.len(), 9);
+    let first = &b.ap.mission[1];
+    let (lat, lon, _) = b.d.config().home.to_global(Enu::new(30.0, 35.0, 0.0));
+    assert_eq!(
+        (first.x, first.y),
+        ((lat * 1e7).round() as i32, (lon * 1e7).round() as i32)
+    );
+    assert!(b.ap.seen.iter().any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT && c.param1 == 1.0)));
+    assert_eq!(b.ap.mode, 10, "AUTO");
+    b.feed(MavMessage::MISSION_ITEM_REACHED(
+        MISSION_ITEM_REACHED_DATA { seq: 7 },
+    ));
+    assert!(b.report(3).is_none());
+    b.feed(MavMessage::MISSION_ITEM_REACHED(
+        MISSION_ITEM_REACHED_DATA { seq: 8 },
+    ));
+    assert_eq!(b.report(3).expect("report").status, ReportStatus::Nominal);
+}
+
+#[test]
+fn take_picture_nominal_failed_on_capture_result_and_on_timeout() {
+    let mut b = Bench::new();
+    b.start(4, "take_picture", vec![]);
+    assert_eq!(b.report(4).expect("report").status, ReportStatus::Nominal);
+    // The capture triggers a STORAGE_INFORMATION request.
+    assert!(b.ap.seen.iter().any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_REQUEST_MESSAGE && c.param1 == 261.0)));
+
+    b.ap.capture = Some(false);
+    b.start(5, "take_picture", vec![]);
+    let r = b.report(5).expect("report");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(r
+        .reason
+        .as_deref()
+        .unwrap_or("")
+        .contains("capture_result 0"));
+
+    let mut b = Bench::new();
+    b.ap.capture = None;
+    b.start(6, "take_picture", vec![]);
+    b.tick(5000);
+    assert!(b.report(6).is_none());
+    b.tick(5001);
+    let r = b.report(6).expect("report");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(
+        r.reason.as_deref().unwrap_or("").contains("within"),
+        "{:?}",
+        r.reason
+    );
+}
+
+#[test]
+fn sample_runs_its_servo_sequence() {
+    let mut b = Bench::new();
+    b.start(7, "sample", vec![]);
+    let servo: Vec<(f32, f32)> =
+        b.ap.seen
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_DO_SET_SERVO => {
+                    Some((c.param1, c.param2))
+                }
+                _ => None,
+            })
+            .collect();
+    assert_eq!(servo, vec![(9.0, 1900.0)]);
+    b.tick(1999);
+    assert!(b.report(7).is_none());
+    b.tick(1);
+    assert!(b.report(7).is_none(), "second step holds");
+    b.tick(999);
+    assert!(b.report(7).is_none());
+    b.tick(1);
+    assert_eq!(b.report(7).expect("report").status, ReportStatus::Nominal);
+    let n = b.ap.seen.iter().filter(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_DO_SET_SERVO)).count();
+    assert_eq!(n, 2);
+}
+
+#[test]
+fn return_home_sets_rtl_and_ends_at_home() {
+    let mut b = Bench::new();
+    b.ap.armed = true;
+    b.feed(b.ap.heartbeat());
+    b.start(8, "return_home", vec![]);
+    assert_eq!(b.ap.mode, 11, "RTL");
+    let cfg = config();
+    b.feed(position(&cfg, Enu::new(20.0, 0.0, 0.0)));
+    assert!(b.report(8).is_none());
+    b.feed(position(&cfg, Enu::new(1.0, 1.0, 0.0)));
+    assert_eq!(b.report(8).expect("report").status, ReportStatus::Nominal);
+}
+
+#[test]
+fn recharge_holds_until_the_battery_level_and_reports_it() {
+    let mut b = Bench::new();
+    b.start(9, "recharge", vec![("level", Arg::Number(80.0))]);
+    assert_eq!(b.ap.mode, 4, "HOLD");
+    let battery = |pct| {
+        MavMessage::BATTERY_STATUS(BATTERY_STATUS_DATA {
+            battery_remaining: pct,
+            ..Default::default()
+        })
+    };
+    b.feed(battery(70));
+    assert!(b.report(9).is_none());
+    b.feed(battery(81));
+    let r = b.report(9).expect("report");
+    assert_eq!(r.status, ReportStatus::Nominal);
+    assert_eq!(r.resources[0].resource, "battery");
+    assert_eq!(r.resources[0].level, 81.0);
+}
+
+#[test]
+fn download_polls_storage_until_emptied_and_capacity_changes_are_reported() {
+    let mut b = Bench::new();
+    let storage = |used: f32, total: f32| {
+        MavMessage::STORAGE_INFORMATION(STORAGE_INFORMATION_DATA {
+            total_capacity: total,
+            used_capacity: used,
+            available_capacity: total - used,
+            ..Default::default()
+        })
+    };
+    b.feed(storage(300.0, 1000.0));
+    b.start(10, "download", vec![]);
+    assert!(b
+        .ap
+        .seen
+        .iter()
+        .any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_USER_1)));
+    b.tick(1000);
+    let polls = b.ap.seen.iter().filter(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_REQUEST_MESSAGE)).count();
+    assert!(polls >= 2, "polled {polls} times");
+    b.feed(storage(100.0, 800.0));
+    assert!(b.report(10).is_none());
+    assert!(b.events.iter().any(
+        |e| matches!(e, VehicleEvent::Capacity(c) if c.resource == "storage" && c.delta == -200.0)
+    ));
+    b.feed(storage(0.0, 800.0));
+    let r = b.report(10).expect("report");
+    assert_eq!(r.status, ReportStatus::Nominal);
+    assert!(r
+        .resources
+        .iter()
+        .any(|l| l.resource == "storage" && l.level == 800.0));
+}
+
+#[test]
+fn link_loss_by_heartbeat_timeout_then_recovery() {
+    let mut b = Bench::new();
+    b.tick(3000);
+    assert!(!b
+        .events
+        .iter()
+        .any(|e| matches!(e, VehicleEvent::Link(LinkStatus::Lost))));
+    b.tick(1);
+    assert!(b
+        .events
+        .iter()
+        .any(|e| matches!(e, VehicleEvent::Link(LinkStatus::Lost))));
+    b.feed(b.ap.heartbeat());
+    assert!(matches!(
+        b.events.last(),
+        Some(VehicleEvent::Link(LinkStatus::Recovered))
+    ));
+}
+
+#[test]
+fn unknown_task_and_bad_arguments_are_refused_at_start() {
+    let mut d = Driver::new(config());
+    let e = d
+        .start(
+            ActionStart {
+                id: 1,
+                task: "fly".into(),
+                args: vec![],
+            },
+            0,
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("no binding for task `fly`"));
+    let e = d
+        .start(
+            ActionStart {
+                id: 1,
+                task: "move".into(),
+                args: vec![],
+            },
+            0,
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("location argument `to`"), "{e}");
+}
