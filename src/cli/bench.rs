@@ -25,6 +25,8 @@ pub enum BenchWhat {
     Plan,
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
     Sim,
+    /// Goal-driven dispatch decision cost, Algorithm 2 vs the incremental marking, at 200 and 2,000 actions.
+    Dispatch,
     /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
     Link,
 }
@@ -35,6 +37,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         BenchWhat::Cycle => bench_cycle(args.json),
         BenchWhat::Plan => bench_plan(args.json),
         BenchWhat::Sim => bench_sim(args.json),
+        BenchWhat::Dispatch => bench_dispatch(args.json),
         BenchWhat::Link => bench_link(args.json),
     }
 }
@@ -82,15 +85,7 @@ fn bench_stn(json: bool) -> ExitCode {
         }
     };
     if json {
-        for f in &figures {
-            match serde_json::to_string(f) {
-                Ok(line) => println!("{line}"),
-                Err(e) => {
-                    eprintln!("bench stn: {e}");
-                    return ExitCode::FAILURE;
-                }
-            }
-        }
+        return print_json_lines("stn", &figures);
     } else {
         println!(
             "{:>7} {:>8} {:>10} {:>11} {:>13} {:>8} {:>10}",
@@ -113,6 +108,63 @@ fn bench_stn(json: bool) -> ExitCode {
                 fw,
                 sp
             );
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn bench_dispatch(json: bool) -> ExitCode {
+    let figures = match crate::dispatch::bench::run(&[200, 2_000], 20_000, 2026) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench dispatch: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if json {
+        return print_json_lines("dispatch", &figures);
+    }
+    let us = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.3}"));
+    println!(
+        "{:>7} {:>7} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>10} {:>8}",
+        "actions",
+        "form",
+        "mean µs",
+        "p50 µs",
+        "p99 µs",
+        "dispatched",
+        "upd mean µs",
+        "upd p50 µs",
+        "upd p99 µs",
+        "build ms"
+    );
+    for f in &figures {
+        println!(
+            "{:>7} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11} {:>10} {:>10} {:>8}",
+            f.actions,
+            f.form,
+            f.mean_us,
+            f.p50_us,
+            f.p99_us,
+            f.dispatched_share,
+            us(f.update_mean_us),
+            us(f.update_p50_us),
+            us(f.update_p99_us),
+            us(f.build_ms)
+        );
+    }
+    ExitCode::SUCCESS
+}
+
+/// One JSON object per line.
+fn print_json_lines<T: serde::Serialize>(what: &str, rows: &[T]) -> ExitCode {
+    for row in rows {
+        match serde_json::to_string(row) {
+            Ok(line) => println!("{line}"),
+            Err(e) => {
+                eprintln!("bench {what}: {e}");
+                return ExitCode::FAILURE;
+            }
         }
     }
     ExitCode::SUCCESS
@@ -145,7 +197,7 @@ fn bench_link(json: bool) -> ExitCode {
 }
 
 fn bench_plan(json: bool) -> ExitCode {
-    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 20_000) {
+    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 2_000) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("bench plan: {e}");

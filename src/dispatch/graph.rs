@@ -1,0 +1,328 @@
+//! The dispatcher's view of a plan's causal structure: actions, goals and the causal links between them
+//! (seed 2's tokens and causal links, Definition 4), and the plan-change notifications that keep a mirror of
+//! it up to date (the POCL equivalents of Europa's activate / merge / split / deactivate callbacks).
+//!
+//! The plan implements [`CausalView`] with a thin adapter, or feeds [`Change`]s into a [`CausalGraph`]
+//! (the owned mirror the incremental marking keeps, see [`super::marking`]).
+
+use std::collections::HashMap;
+
+use serde::Serialize;
+use thiserror::Error;
+
+use crate::model::GoalKind;
+
+macro_rules! key {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug, Serialize)]
+        pub struct $name(pub u32);
+    };
+}
+
+key!(
+    /// An action (task instance) of the plan, e.g. the plan's `ActionId.0`.
+    ActionKey
+);
+key!(
+    /// A goal of the plan (Φ_g = Φ_ge ∪ Φ_gi), e.g. the model's goal index.
+    GoalKey
+);
+key!(
+    /// A causal link of the plan, e.g. the plan's `LinkId.0`.
+    LinkKey
+);
+
+/// What a causal link supports: a condition of an action, or a goal.
+#[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug, Serialize)]
+pub enum Node {
+    Action(ActionKey),
+    Goal(GoalKey),
+}
+
+/// What establishes a causal link: an effect of an action, or the initial state / a predicted timed fact
+/// (never dispatched, so never marked).
+#[derive(Copy, Clone, Eq, PartialEq, Hash, Debug, Serialize)]
+pub enum Establisher {
+    Initial,
+    Action(ActionKey),
+}
+
+/// A causal link `from → to`: an effect of `from` supports a condition of `to` (or the goal `to`).
+#[derive(Copy, Clone, Eq, PartialEq, Hash, Debug, Serialize)]
+pub struct Link {
+    pub from: Establisher,
+    pub to: Node,
+}
+
+/// One structural change of the plan. Backtracking is either announced by the reverse changes (as the
+/// plan's change log does) or done with [`super::Marking::save`] / [`super::Marking::restore`].
+#[derive(Copy, Clone, Eq, PartialEq, Debug, Serialize)]
+pub enum Change {
+    ActionAdded(ActionKey),
+    /// Also removes the links still attached to the action (Europa's deactivate splits merged tokens).
+    ActionRemoved(ActionKey),
+    GoalAdded(GoalKey, GoalKind),
+    /// Also removes the links still supporting the goal.
+    GoalRemoved(GoalKey),
+    LinkAdded(LinkKey, Link),
+    LinkRemoved(LinkKey),
+}
+
+/// A change that does not fit the structure it is applied to (a bug of whoever sends it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum GraphError {
+    #[error("action {0:?} is already in the plan")]
+    DuplicateAction(ActionKey),
+    #[error("action {0:?} is not in the plan")]
+    UnknownAction(ActionKey),
+    #[error("goal {0:?} is already in the plan")]
+    DuplicateGoal(GoalKey),
+    #[error("goal {0:?} is not in the plan")]
+    UnknownGoal(GoalKey),
+    #[error("causal link {0:?} is already in the plan")]
+    DuplicateLink(LinkKey),
+    #[error("causal link {0:?} is not in the plan")]
+    UnknownLink(LinkKey),
+}
+
+/// Read access to a plan's causal structure, all that Algorithms 2 and 5–8 need.
+pub trait CausalView {
+    /// Calls `f` with every node a causal link from an effect of `a` supports (forward causal links).
+    fn for_each_supported(&self, a: ActionKey, f: &mut dyn FnMut(Node));
+    /// Calls `f` with every action whose effect supports a condition of `n` (reverse causal links; the
+    /// initial state is left out).
+    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionKey));
+    /// The kind of goal `g`, `None` if it is not in the plan.
+    fn goal_kind(&self, g: GoalKey) -> Option<GoalKind>;
+}
+
+#[derive(Clone, Debug, Default)]
+struct Adjacent {
+    /// Links from this node's effects (empty for goals).
+    out: Vec<LinkKey>,
+    /// Links into this node's conditions.
+    inc: Vec<LinkKey>,
+}
+
+/// An owned causal graph, kept up to date from [`Change`]s.
+#[derive(Clone, Debug, Default)]
+pub struct CausalGraph {
+    actions: HashMap<ActionKey, Adjacent>,
+    goals: HashMap<GoalKey, (GoalKind, Adjacent)>,
+    links: HashMap<LinkKey, Link>,
+}
+
+impl CausalGraph {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn contains_action(&self, a: ActionKey) -> bool {
+        self.actions.contains_key(&a)
+    }
+
+    pub fn actions(&self) -> impl Iterator<Item = ActionKey> + '_ {
+        self.actions.keys().copied()
+    }
+
+    pub fn goals(&self) -> impl Iterator<Item = (GoalKey, GoalKind)> + '_ {
+        self.goals.iter().map(|(g, (k, _))| (*g, *k))
+    }
+
+    pub fn links(&self) -> impl Iterator<Item = (LinkKey, Link)> + '_ {
+        self.links.iter().map(|(l, k)| (*l, *k))
+    }
+
+    pub fn link(&self, l: LinkKey) -> Option<Link> {
+        self.links.get(&l).copied()
+    }
+
+    pub fn num_actions(&self) -> usize {
+        self.actions.len()
+    }
+
+    /// The links attached to `n` (into it, and out of it for an action).
+    pub fn links_of(&self, n: Node) -> Vec<LinkKey> {
+        let adj = match n {
+            Node::Action(a) => self.actions.get(&a),
+            Node::Goal(g) => self.goals.get(&g).map(|(_, adj)| adj),
+        };
+        adj.map(|adj| adj.inc.iter().chain(&adj.out).copied().collect())
+            .unwrap_or_default()
+    }
+
+    /// Applies one change; on `Err` nothing changed. Removing an action or a goal removes its links first.
+    pub fn apply(&mut self, c: &Change) -> Result<(), GraphError> {
+        match *c {
+            Change::ActionAdded(a) => {
+                if self.actions.contains_key(&a) {
+                    return Err(GraphError::DuplicateAction(a));
+                }
+                self.actions.insert(a, Adjacent::default());
+            }
+            Change::ActionRemoved(a) => {
+                if !self.actions.contains_key(&a) {
+                    return Err(GraphError::UnknownAction(a));
+                }
+                for l in self.links_of(Node::Action(a)) {
+                    self.remove_link(l)?;
+                }
+                self.actions.remove(&a);
+            }
+            Change::GoalAdded(g, kind) => {
+                if self.goals.contains_key(&g) {
+                    return Err(GraphError::DuplicateGoal(g));
+                }
+                self.goals.insert(g, (kind, Adjacent::default()));
+            }
+            Change::GoalRemoved(g) => {
+                if !self.goals.contains_key(&g) {
+                    return Err(GraphError::UnknownGoal(g));
+                }
+                for l in self.links_of(Node::Goal(g)) {
+                    self.remove_link(l)?;
+                }
+                self.goals.remove(&g);
+            }
+            Change::LinkAdded(l, link) => self.add_link(l, link)?,
+            Change::LinkRemoved(l) => {
+                self.remove_link(l)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn add_link(&mut self, l: LinkKey, link: Link) -> Result<(), GraphError> {
+        if self.links.contains_key(&l) {
+            return Err(GraphError::DuplicateLink(l));
+        }
+        if let Establisher::Action(a) = link.from {
+            if !self.actions.contains_key(&a) {
+                return Err(GraphError::UnknownAction(a));
+            }
+        }
+        self.adjacent_mut(link.to)?.inc.push(l);
+        if let Establisher::Action(a) = link.from {
+            if let Some(adj) = self.actions.get_mut(&a) {
+                adj.out.push(l);
+            }
+        }
+        self.links.insert(l, link);
+        Ok(())
+    }
+
+    /// Removes link `l` and returns it.
+    pub(crate) fn remove_link(&mut self, l: LinkKey) -> Result<Link, GraphError> {
+        let link = self.links.remove(&l).ok_or(GraphError::UnknownLink(l))?;
+        if let Ok(adj) = self.adjacent_mut(link.to) {
+            adj.inc.retain(|x| *x != l);
+        }
+        if let Establisher::Action(a) = link.from {
+            if let Some(adj) = self.actions.get_mut(&a) {
+                adj.out.retain(|x| *x != l);
+            }
+        }
+        Ok(link)
+    }
+
+    fn adjacent_mut(&mut self, n: Node) -> Result<&mut Adjacent, GraphError> {
+        match n {
+            Node::Action(a) => self.actions.get_mut(&a).ok_or(GraphError::UnknownAction(a)),
+            Node::Goal(g) => self
+                .goals
+                .get_mut(&g)
+                .map(|(_, adj)| adj)
+                .ok_or(GraphError::UnknownGoal(g)),
+        }
+    }
+}
+
+impl CausalView for CausalGraph {
+    fn for_each_supported(&self, a: ActionKey, f: &mut dyn FnMut(Node)) {
+        if let Some(adj) = self.actions.get(&a) {
+            for l in &adj.out {
+                if let Some(link) = self.links.get(l) {
+                    f(link.to);
+                }
+            }
+        }
+    }
+
+    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionKey)) {
+        let adj = match n {
+            Node::Action(a) => self.actions.get(&a),
+            Node::Goal(g) => self.goals.get(&g).map(|(_, adj)| adj),
+        };
+        for l in adj.into_iter().flat_map(|adj| &adj.inc) {
+            if let Some(Link {
+                from: Establisher::Action(a),
+                ..
+            }) = self.links.get(l)
+            {
+                f(*a);
+            }
+        }
+    }
+
+    fn goal_kind(&self, g: GoalKey) -> Option<GoalKind> {
+        self.goals.get(&g).map(|(k, _)| *k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_changes_are_errors_and_change_nothing() {
+        let mut g = CausalGraph::new();
+        let a = ActionKey(1);
+        g.apply(&Change::ActionAdded(a)).unwrap();
+        assert_eq!(
+            g.apply(&Change::ActionAdded(a)),
+            Err(GraphError::DuplicateAction(a))
+        );
+        let to_missing_goal = Link {
+            from: Establisher::Action(a),
+            to: Node::Goal(GoalKey(9)),
+        };
+        assert_eq!(
+            g.apply(&Change::LinkAdded(LinkKey(0), to_missing_goal)),
+            Err(GraphError::UnknownGoal(GoalKey(9)))
+        );
+        assert_eq!(g.links().count(), 0);
+        assert!(g.links_of(Node::Action(a)).is_empty());
+        assert_eq!(
+            g.apply(&Change::LinkRemoved(LinkKey(0))),
+            Err(GraphError::UnknownLink(LinkKey(0)))
+        );
+        assert_eq!(
+            g.apply(&Change::GoalRemoved(GoalKey(0))),
+            Err(GraphError::UnknownGoal(GoalKey(0)))
+        );
+    }
+
+    #[test]
+    fn removing_an_action_removes_its_links() {
+        let mut g = CausalGraph::new();
+        let (a, b) = (ActionKey(0), ActionKey(1));
+        g.apply(&Change::ActionAdded(a)).unwrap();
+        g.apply(&Change::ActionAdded(b)).unwrap();
+        let ab = Link {
+            from: Establisher::Action(a),
+            to: Node::Action(b),
+        };
+        g.apply(&Change::LinkAdded(LinkKey(0), ab)).unwrap();
+        let init = Link {
+            from: Establisher::Initial,
+            to: Node::Action(a),
+        };
+        g.apply(&Change::LinkAdded(LinkKey(1), init)).unwrap();
+        g.apply(&Change::ActionRemoved(a)).unwrap();
+        assert_eq!(g.links().count(), 0);
+        let mut est = Vec::new();
+        g.for_each_establisher(Node::Action(b), &mut |x| est.push(x));
+        assert!(est.is_empty());
+    }
+}

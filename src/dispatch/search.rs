@@ -1,0 +1,102 @@
+//! Seed 2, Algorithm 2 (SearchForGoal): a forward search over causal links from an action's effects to an
+//! external goal (Φ_ge).
+//!
+//! The paper's pseudo-code `return`s inside its loops: it answers from the first effect of the first
+//! consuming action only (`return False` on an effect that is neither a goal nor a condition, `return
+//! SearchForGoal(E)` on the first condition), so an action whose first effect feeds an internal goal and whose
+//! second feeds an external one would be deferred. Its text says what is meant — "equivalent to a breadth
+//! first search along the planning structure … O(N + E)" — and that is what this is: a breadth-first search
+//! over all causal links with a visited set (plans are acyclic, but a visited set keeps shared sub-chains
+//! from being explored twice).
+
+use std::collections::{HashSet, VecDeque};
+
+use super::graph::{ActionKey, CausalView, Node};
+use crate::model::GoalKind;
+
+/// Algorithm 2 with reusable scratch space (one per dispatcher, so a decision allocates nothing once warm).
+#[derive(Clone, Debug, Default)]
+pub struct GoalSearch {
+    visited: HashSet<ActionKey>,
+    queue: VecDeque<ActionKey>,
+}
+
+impl GoalSearch {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Whether an external goal is reachable from `a` along causal links (`a` supports it).
+    pub fn supports_external_goal(&mut self, view: &dyn CausalView, a: ActionKey) -> bool {
+        self.visited.clear();
+        self.queue.clear();
+        self.visited.insert(a);
+        self.queue.push_back(a);
+        while let Some(x) = self.queue.pop_front() {
+            let mut found = false;
+            let (visited, queue) = (&mut self.visited, &mut self.queue);
+            view.for_each_supported(x, &mut |n| match n {
+                Node::Goal(g) => found |= view.goal_kind(g) == Some(GoalKind::External),
+                Node::Action(b) => {
+                    if visited.insert(b) {
+                        queue.push_back(b);
+                    }
+                }
+            });
+            if found {
+                return true;
+            }
+        }
+        false
+    }
+}
+
+/// One-shot Algorithm 2.
+pub fn search_for_goal(view: &dyn CausalView, a: ActionKey) -> bool {
+    GoalSearch::new().supports_external_goal(view, a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dispatch::graph::{CausalGraph, Change, Establisher, GoalKey, Link, LinkKey};
+
+    fn link(g: &mut CausalGraph, k: u32, from: u32, to: Node) {
+        let l = Link {
+            from: Establisher::Action(ActionKey(from)),
+            to,
+        };
+        g.apply(&Change::LinkAdded(LinkKey(k), l)).unwrap();
+    }
+
+    /// The case the paper's early `return` gets wrong: the first consumer leads to an internal goal only.
+    #[test]
+    fn every_effect_is_followed_not_only_the_first() {
+        let mut g = CausalGraph::new();
+        for a in 0..3 {
+            g.apply(&Change::ActionAdded(ActionKey(a))).unwrap();
+        }
+        g.apply(&Change::GoalAdded(GoalKey(0), GoalKind::Internal))
+            .unwrap();
+        g.apply(&Change::GoalAdded(GoalKey(1), GoalKind::External))
+            .unwrap();
+        link(&mut g, 0, 0, Node::Action(ActionKey(1)));
+        link(&mut g, 1, 1, Node::Goal(GoalKey(0)));
+        link(&mut g, 2, 0, Node::Action(ActionKey(2)));
+        link(&mut g, 3, 2, Node::Goal(GoalKey(1)));
+        assert!(search_for_goal(&g, ActionKey(0)));
+        assert!(!search_for_goal(&g, ActionKey(1)));
+        assert!(search_for_goal(&g, ActionKey(2)));
+    }
+
+    #[test]
+    fn cycles_terminate() {
+        let mut g = CausalGraph::new();
+        for a in 0..2 {
+            g.apply(&Change::ActionAdded(ActionKey(a))).unwrap();
+        }
+        link(&mut g, 0, 0, Node::Action(ActionKey(1)));
+        link(&mut g, 1, 1, Node::Action(ActionKey(0)));
+        assert!(!search_for_goal(&g, ActionKey(0)));
+    }
+}

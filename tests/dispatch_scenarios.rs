@@ -1,0 +1,400 @@
+//! Seed 2's scenarios, built by hand as causal graphs over an STN and run cycle by cycle with a manual clock
+//! under each dispatch policy: the shopping plan of Figs 3–5 and the AUV vents plan of Figs 1–2.
+//!
+//! The harness is a minimal executive: every timestep it asks the policy about each action whose causal
+//! and ordering predecessors have ended, with the start window read from the STN; a dispatched action runs
+//! for exactly its duration.
+
+use mavtempo::dispatch::{
+    ActionKey, CausalGraph, Change, Dispatcher, Establisher, GoalKey, Link, LinkKey, Marking, Node,
+    PolicyKind, StartWindow, SupportForm, Tick,
+};
+use mavtempo::model::GoalKind;
+use mavtempo::stn::{Stn, Time, Timepoint, INF};
+
+const MIN: Time = 60_000;
+const TS: Time = MIN;
+
+/// Clock time `h:m` relative to the 08:00 origin.
+fn hm(h: i64, m: i64) -> Time {
+    ((h - 8) * 60 + m) * MIN
+}
+
+fn clock(t: Time) -> String {
+    let m = t / MIN + 8 * 60;
+    format!("{:02}:{:02}", m / 60, m % 60)
+}
+
+struct Act {
+    name: &'static str,
+    st: Timepoint,
+    et: Timepoint,
+    dur: Time,
+    started: Option<Time>,
+    removed: bool,
+    /// Actions that must have ended before this one starts (causal links and threat resolutions).
+    after: Vec<usize>,
+}
+
+struct Sim {
+    stn: Stn,
+    acts: Vec<Act>,
+    marking: Marking,
+    /// An independent mirror fed the same changes, read by Algorithm 2 in the search form.
+    mirror: CausalGraph,
+    dispatcher: Dispatcher,
+    links: Vec<(LinkKey, Link)>,
+    next_link: u32,
+    now: Time,
+}
+
+impl Sim {
+    fn new(kind: PolicyKind) -> Self {
+        Sim {
+            stn: Stn::new(),
+            acts: Vec::new(),
+            marking: Marking::new(),
+            mirror: CausalGraph::new(),
+            dispatcher: Dispatcher::new(kind),
+            links: Vec::new(),
+            next_link: 0,
+            now: 0,
+        }
+    }
+
+    fn change(&mut self, c: Change) {
+        self.marking.apply(&c).unwrap();
+        self.mirror.apply(&c).unwrap();
+    }
+
+    fn action(&mut self, name: &'static str, dur: Time) -> usize {
+        let st = self.stn.add_timepoint();
+        let et = self.stn.add_timepoint();
+        self.stn.add_constraint(st, et, dur, dur).unwrap();
+        let i = self.acts.len();
+        self.acts.push(Act {
+            name,
+            st,
+            et,
+            dur,
+            started: None,
+            removed: false,
+            after: Vec::new(),
+        });
+        self.change(Change::ActionAdded(ActionKey(i as u32)));
+        i
+    }
+
+    fn goal(&mut self, g: u32, kind: GoalKind) {
+        self.change(Change::GoalAdded(GoalKey(g), kind));
+    }
+
+    /// A causal link from `from`'s effect (the initial state if `None`) to `to`; the establisher precedes
+    /// the consumer.
+    fn link(&mut self, from: Option<usize>, to: Node) {
+        let key = LinkKey(self.next_link);
+        self.next_link += 1;
+        let link = Link {
+            from: from.map_or(Establisher::Initial, |a| {
+                Establisher::Action(ActionKey(a as u32))
+            }),
+            to,
+        };
+        if let (Some(a), Node::Action(b)) = (from, to) {
+            self.order(a, b.0 as usize);
+        }
+        self.links.push((key, link));
+        self.change(Change::LinkAdded(key, link));
+    }
+
+    /// `a` ends before `b` starts.
+    fn order(&mut self, a: usize, b: usize) {
+        let (et, st) = (self.acts[a].et, self.acts[b].st);
+        self.stn.add_constraint(et, st, 0, INF).unwrap();
+        self.acts[b].after.push(a);
+    }
+
+    fn deadline(&mut self, a: usize, end_by: Time) {
+        let (o, et) = (self.stn.origin(), self.acts[a].et);
+        self.stn.add_constraint(o, et, 0, end_by).unwrap();
+    }
+
+    fn release(&mut self, a: usize, start_from: Time) {
+        let (o, st) = (self.stn.origin(), self.acts[a].st);
+        self.stn.add_constraint(o, st, start_from, INF).unwrap();
+    }
+
+    /// Plan repair removes action `a`: its causal links, then itself; its constraints are relaxed.
+    fn remove(&mut self, a: usize) {
+        let key = ActionKey(a as u32);
+        let mine: Vec<LinkKey> = self
+            .links
+            .iter()
+            .filter(|(_, l)| l.to == Node::Action(key) || l.from == Establisher::Action(key))
+            .map(|(k, _)| *k)
+            .collect();
+        for k in mine {
+            self.change(Change::LinkRemoved(k));
+            self.links.retain(|(x, _)| *x != k);
+        }
+        self.change(Change::ActionRemoved(key));
+        let (st, et) = (self.acts[a].st, self.acts[a].et);
+        self.stn.relax_timepoint(st);
+        self.stn.relax_timepoint(et);
+        self.acts[a].removed = true;
+        for act in &mut self.acts {
+            act.after.retain(|&p| p != a);
+        }
+    }
+
+    fn supports(&mut self, a: usize) -> bool {
+        self.dispatcher
+            .supports(ActionKey(a as u32), &self.mirror, &self.marking)
+    }
+
+    /// One cycle at `now`, then the clock moves one timestep.
+    fn step(&mut self) {
+        let tick = Tick::new(self.now, TS);
+        for i in 0..self.acts.len() {
+            let act = &self.acts[i];
+            let ready = act.after.iter().all(|&p| {
+                self.stn
+                    .executed_at(self.acts[p].et)
+                    .is_some_and(|t| t <= self.now)
+            });
+            if act.removed || act.started.is_some() || !ready {
+                continue;
+            }
+            let window = StartWindow {
+                lb: self.stn.lb(act.st).max(self.now),
+                ub: self.stn.ub(act.st),
+            };
+            let key = ActionKey(i as u32);
+            let decision = self
+                .dispatcher
+                .decide(key, window, tick, &self.mirror, &self.marking);
+            if let mavtempo::dispatch::Decision::Dispatch { at } = decision {
+                let (st, et, dur) = (act.st, act.et, act.dur);
+                self.stn.execute(st, at).unwrap();
+                self.stn.execute(et, at + dur).unwrap();
+                self.acts[i].started = Some(at);
+            }
+        }
+        self.now += TS;
+    }
+
+    fn run_until(&mut self, t: Time) {
+        while self.now < t {
+            self.step();
+        }
+    }
+
+    fn started(&self, a: usize) -> Option<String> {
+        self.acts[a].started.map(clock)
+    }
+
+    fn trace(&self) -> Vec<(&'static str, Option<Time>)> {
+        self.acts.iter().map(|a| (a.name, a.started)).collect()
+    }
+}
+
+// --- Shopping (seed 2 Figs 2–5) -------------------------------------------------------------------------
+
+const HAVE_APPLE: u32 = 0;
+const AT_HOME: u32 = 1;
+const HAVE_SHIRT: u32 = 2;
+const GO_H_C: usize = 0;
+const GO_C_G: usize = 1;
+const BUY_APPLE: usize = 2;
+const GO_G_H: usize = 3;
+const GO_H_ANY: usize = 4;
+
+/// Fig. 2: at home at 08:00, wants an apple before noon (external), must be home by 20:00 (internal); the
+/// grocery is reached through the clothing store; the plan model makes every `At` token be followed by a
+/// `Go`, hence the trailing `Go(home, ?)` after 20:00.
+fn shopping(kind: PolicyKind) -> Sim {
+    let mut s = Sim::new(kind);
+    s.goal(HAVE_APPLE, GoalKind::External);
+    s.goal(AT_HOME, GoalKind::Internal);
+    assert_eq!(s.action("Go(home, clothing)", 20 * MIN), GO_H_C);
+    assert_eq!(s.action("Go(clothing, grocery)", 10 * MIN), GO_C_G);
+    assert_eq!(s.action("Buy(apple)", 10 * MIN), BUY_APPLE);
+    assert_eq!(s.action("Go(grocery, home)", 25 * MIN), GO_G_H);
+    assert_eq!(s.action("Go(home, ?)", 20 * MIN), GO_H_ANY);
+    s.link(None, Node::Action(ActionKey(GO_H_C as u32)));
+    s.link(Some(GO_H_C), Node::Action(ActionKey(GO_C_G as u32)));
+    s.link(Some(GO_C_G), Node::Action(ActionKey(BUY_APPLE as u32)));
+    s.link(Some(GO_C_G), Node::Action(ActionKey(GO_G_H as u32)));
+    s.link(Some(BUY_APPLE), Node::Goal(GoalKey(HAVE_APPLE)));
+    s.link(Some(GO_G_H), Node::Goal(GoalKey(AT_HOME)));
+    s.link(Some(GO_G_H), Node::Action(ActionKey(GO_H_ANY as u32)));
+    // Buy(apple) holds At(grocery), which Go(grocery, home) changes: the threat is resolved by ordering.
+    s.order(BUY_APPLE, GO_G_H);
+    s.deadline(BUY_APPLE, hm(12, 0));
+    s.deadline(GO_G_H, hm(20, 0));
+    s.release(GO_H_ANY, hm(20, 0));
+    s
+}
+
+const GO_G_C: usize = 5;
+const BUY_SHIRT: usize = 6;
+const GO_C_H: usize = 7;
+
+/// Fig. 5: the 09:00 call asking for a shirt, integrated by repair: Go(grocery, home) gives way to
+/// Go(grocery, clothing), Buy(shirt), Go(clothing, home).
+fn shirt_request(s: &mut Sim) {
+    s.remove(GO_G_H);
+    s.goal(HAVE_SHIRT, GoalKind::External);
+    assert_eq!(s.action("Go(grocery, clothing)", 10 * MIN), GO_G_C);
+    assert_eq!(s.action("Buy(shirt)", 10 * MIN), BUY_SHIRT);
+    assert_eq!(s.action("Go(clothing, home)", 20 * MIN), GO_C_H);
+    s.link(Some(GO_C_G), Node::Action(ActionKey(GO_G_C as u32)));
+    s.link(Some(GO_G_C), Node::Action(ActionKey(BUY_SHIRT as u32)));
+    s.link(Some(GO_G_C), Node::Action(ActionKey(GO_C_H as u32)));
+    s.link(Some(BUY_SHIRT), Node::Goal(GoalKey(HAVE_SHIRT)));
+    s.link(Some(GO_C_H), Node::Goal(GoalKey(AT_HOME)));
+    s.link(Some(GO_C_H), Node::Action(ActionKey(GO_H_ANY as u32)));
+    s.order(BUY_APPLE, GO_G_C);
+    s.order(BUY_SHIRT, GO_C_H);
+    s.deadline(BUY_SHIRT, hm(12, 0));
+    s.deadline(GO_C_H, hm(20, 0));
+}
+
+const FORMS: [SupportForm; 2] = [SupportForm::Search, SupportForm::Marking];
+
+/// Fig. 3: blindly proactive, the agent is back home at 09:05 and stuck there; the trailing Go(home, ?)
+/// starts at 20:00.
+#[test]
+fn shopping_earliest_goes_home_at_once() {
+    let mut s = shopping(PolicyKind::Earliest);
+    s.run_until(hm(23, 59));
+    assert_eq!(s.started(GO_H_C).as_deref(), Some("08:00"));
+    assert_eq!(s.started(GO_C_G).as_deref(), Some("08:20"));
+    assert_eq!(s.started(BUY_APPLE).as_deref(), Some("08:30"));
+    assert_eq!(s.started(GO_G_H).as_deref(), Some("08:40"));
+    assert_eq!(
+        s.stn.executed_at(s.acts[GO_G_H].et).map(clock).as_deref(),
+        Some("09:05")
+    );
+    assert_eq!(s.started(GO_H_ANY).as_deref(), Some("20:00"));
+}
+
+/// Fig. 4: the path to the apple is proactive (starred), Go(grocery, home) deferred to its latest start,
+/// Go(home, ?) never dispatched (its start upper bound is +∞).
+#[test]
+fn shopping_goal_driven_buys_the_apple_at_once_and_stays_at_the_grocery() {
+    for form in FORMS {
+        let mut s = shopping(PolicyKind::GoalDriven(form));
+        for a in [GO_H_C, GO_C_G, BUY_APPLE] {
+            assert!(s.supports(a), "{form:?}: {} starred", s.acts[a].name);
+        }
+        for a in [GO_G_H, GO_H_ANY] {
+            assert!(!s.supports(a), "{form:?}: {} not starred", s.acts[a].name);
+        }
+        s.run_until(hm(23, 59));
+        assert_eq!(s.started(GO_H_C).as_deref(), Some("08:00"), "{form:?}");
+        assert_eq!(s.started(GO_C_G).as_deref(), Some("08:20"), "{form:?}");
+        assert_eq!(s.started(BUY_APPLE).as_deref(), Some("08:30"), "{form:?}");
+        assert_eq!(s.stn.ub(s.acts[GO_G_H].st), hm(19, 35));
+        assert_eq!(s.started(GO_G_H).as_deref(), Some("19:35"), "{form:?}");
+        assert_eq!(s.started(GO_H_ANY), None, "{form:?}");
+    }
+}
+
+/// Fig. 5: at 09:00, while waiting at the grocery, a call asks for a shirt. The path to the clothing store
+/// becomes proactive; Go(clothing, home) starts at its latest start, 19:40; Go(home, ?) never starts.
+#[test]
+fn shopping_goal_driven_serves_the_shirt_request_proactively() {
+    let mut traces = Vec::new();
+    for form in FORMS {
+        let mut s = shopping(PolicyKind::GoalDriven(form));
+        s.run_until(hm(9, 0));
+        assert_eq!(s.started(GO_G_H), None, "{form:?}: still at the grocery");
+        shirt_request(&mut s);
+        for a in [GO_G_C, BUY_SHIRT] {
+            assert!(s.supports(a), "{form:?}: {} starred", s.acts[a].name);
+        }
+        assert!(!s.supports(GO_C_H), "{form:?}");
+        s.run_until(hm(23, 59));
+        assert_eq!(s.started(GO_G_C).as_deref(), Some("09:00"), "{form:?}");
+        assert_eq!(s.started(BUY_SHIRT).as_deref(), Some("09:10"), "{form:?}");
+        assert_eq!(s.started(GO_C_H).as_deref(), Some("19:40"), "{form:?}");
+        assert_eq!(
+            s.stn.executed_at(s.acts[GO_C_H].et).map(clock).as_deref(),
+            Some("20:00")
+        );
+        assert_eq!(s.started(GO_H_ANY), None, "{form:?}");
+        assert_eq!(s.started(GO_G_H), None, "{form:?}");
+        traces.push(s.trace());
+    }
+    assert_eq!(traces[0], traces[1], "both forms dispatch alike");
+}
+
+/// Deferring everything keeps the agent home until the apple's deadline forces it out, and never starts
+/// the trailing Go(home, ?).
+#[test]
+fn shopping_latest_defers_even_the_operators_goal() {
+    let mut s = shopping(PolicyKind::Latest);
+    s.run_until(hm(23, 59));
+    assert_eq!(s.started(GO_H_C).as_deref(), Some("11:19"));
+    assert_eq!(s.started(BUY_APPLE).as_deref(), Some("11:49"));
+    assert_eq!(s.started(GO_G_H).as_deref(), Some("19:34"));
+    assert_eq!(s.started(GO_H_ANY), None);
+}
+
+// --- AUV vents (seed 2 Figs 1–2) ------------------------------------------------------------------------
+
+const SAMPLED: u32 = 0;
+const AT_SURFACE: u32 = 1;
+const GO_S_V1: usize = 0;
+const GO_V1_V2: usize = 1;
+const SAMPLE_V2: usize = 2;
+const GO_V2_S: usize = 3;
+
+/// Fig. 1c/2: at the surface at 08:00, the scientist wants vent 2 sampled (external); the AUV must be back
+/// at the surface by 20:00 (internal).
+fn vents(kind: PolicyKind) -> Sim {
+    let mut s = Sim::new(kind);
+    s.goal(SAMPLED, GoalKind::External);
+    s.goal(AT_SURFACE, GoalKind::Internal);
+    assert_eq!(s.action("Go(surface, vent1)", 30 * MIN), GO_S_V1);
+    assert_eq!(s.action("Go(vent1, vent2)", 5 * MIN), GO_V1_V2);
+    assert_eq!(s.action("Sample(vent2)", 10 * MIN), SAMPLE_V2);
+    assert_eq!(s.action("Go(vent2, surface)", 30 * MIN), GO_V2_S);
+    s.link(None, Node::Action(ActionKey(GO_S_V1 as u32)));
+    s.link(Some(GO_S_V1), Node::Action(ActionKey(GO_V1_V2 as u32)));
+    s.link(Some(GO_V1_V2), Node::Action(ActionKey(SAMPLE_V2 as u32)));
+    s.link(Some(GO_V1_V2), Node::Action(ActionKey(GO_V2_S as u32)));
+    s.link(Some(SAMPLE_V2), Node::Goal(GoalKey(SAMPLED)));
+    s.link(Some(GO_V2_S), Node::Goal(GoalKey(AT_SURFACE)));
+    s.order(SAMPLE_V2, GO_V2_S);
+    s.deadline(GO_V2_S, hm(20, 0));
+    s
+}
+
+#[test]
+fn vents_goal_driven_samples_at_once_and_surfaces_at_the_last_moment() {
+    let mut traces = Vec::new();
+    for form in FORMS {
+        let mut s = vents(PolicyKind::GoalDriven(form));
+        s.run_until(hm(21, 0));
+        assert_eq!(s.started(GO_S_V1).as_deref(), Some("08:00"), "{form:?}");
+        assert_eq!(s.started(GO_V1_V2).as_deref(), Some("08:30"), "{form:?}");
+        assert_eq!(s.started(SAMPLE_V2).as_deref(), Some("08:35"), "{form:?}");
+        assert_eq!(s.started(GO_V2_S).as_deref(), Some("19:30"), "{form:?}");
+        traces.push(s.trace());
+    }
+    assert_eq!(traces[0], traces[1]);
+}
+
+#[test]
+fn vents_earliest_surfaces_early_and_latest_samples_late() {
+    let mut s = vents(PolicyKind::Earliest);
+    s.run_until(hm(21, 0));
+    assert_eq!(s.started(SAMPLE_V2).as_deref(), Some("08:35"));
+    assert_eq!(s.started(GO_V2_S).as_deref(), Some("08:45"));
+    let mut s = vents(PolicyKind::Latest);
+    s.run_until(hm(21, 0));
+    assert_eq!(s.started(GO_S_V1).as_deref(), Some("18:44"));
+    assert_eq!(s.started(GO_V2_S).as_deref(), Some("19:29"));
+}
