@@ -117,26 +117,10 @@ async fn reposition_needs_command_int_and_the_mode_bit_outside_guided() {
         .await;
     assert_eq!(r, MavResult::MAV_RESULT_COMMAND_INT_ONLY);
     let target = waypoint(HOME, 20.0, 10.0);
-    let (r, _) = gcs
-        .command_int(
-            MavCmd::MAV_CMD_DO_REPOSITION,
-            [-1.0, 0.0, 0.0, 0.0],
-            target.x,
-            target.y,
-            0.0,
-        )
-        .await;
+    let (r, _) = gcs.reposition(&target, false, 0.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_DENIED);
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    let (r, _) = gcs
-        .command_int(
-            MavCmd::MAV_CMD_DO_REPOSITION,
-            [-1.0, 1.0, 0.0, 0.0],
-            target.x,
-            target.y,
-            0.0,
-        )
-        .await;
+    let (r, _) = gcs.reposition(&target, true, 0.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(sim.snapshot().mode, "GUIDED");
     let s = run_until(&sim, 60, |s| {
@@ -361,15 +345,7 @@ async fn the_auv_dives_to_a_guided_depth() {
     let mut gcs = Gcs::connect(sim.local_addr()).await;
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let wp = waypoint(HOME, 10.0, 0.0);
-    let (r, _) = gcs
-        .command_int(
-            MavCmd::MAV_CMD_DO_REPOSITION,
-            [-1.0, 1.0, 0.0, 0.0],
-            wp.x,
-            wp.y,
-            -5.0,
-        )
-        .await;
+    let (r, _) = gcs.reposition(&wp, true, -5.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     run_until(&sim, 60, |s| {
         (s.depth_m - 5.0).abs() < 0.01 && s.north_m > 9.0

@@ -34,15 +34,7 @@ fault = { kind = "command_fails", command = 192, result = "denied", count = 2 }
         MavResult::MAV_RESULT_DENIED,
         MavResult::MAV_RESULT_ACCEPTED,
     ] {
-        let (r, _) = gcs
-            .command_int(
-                MavCmd::MAV_CMD_DO_REPOSITION,
-                [-1.0, 0.0, 0.0, 0.0],
-                wp.x,
-                wp.y,
-                0.0,
-            )
-            .await;
+        let (r, _) = gcs.reposition(&wp, false, 0.0).await;
         assert_eq!(r, expected);
     }
     assert!(sim.snapshot().armed);
@@ -107,15 +99,7 @@ fault = { kind = "slow_zone", zone = { center_m = [30.0, 0.0], radius_m = 20.0, 
     .await;
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let wp = waypoint(HOME, 60.0, 0.0);
-    let (r, _) = gcs
-        .command_int(
-            MavCmd::MAV_CMD_DO_REPOSITION,
-            [-1.0, 1.0, 0.0, 0.0],
-            wp.x,
-            wp.y,
-            0.0,
-        )
-        .await;
+    let (r, _) = gcs.reposition(&wp, true, 0.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     let before = run_until(&sim, 30, |s| s.north_m > 5.0).await;
     assert!(
@@ -142,14 +126,7 @@ fault = { kind = "battery_drop", percent = 40.0 }
     assert!(still > 97.0);
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let wp = waypoint(HOME, 30.0, 0.0);
-    gcs.command_int(
-        MavCmd::MAV_CMD_DO_REPOSITION,
-        [-1.0, 1.0, 0.0, 0.0],
-        wp.x,
-        wp.y,
-        0.0,
-    )
-    .await;
+    gcs.reposition(&wp, true, 0.0).await;
     let s = run_until(&sim, 10, |s| s.speed_mps > 0.0).await;
     assert!(
         s.battery_pct < still - 39.0,

@@ -225,6 +225,25 @@ impl Gcs {
         self.ack_of(command).await
     }
 
+    /// `MAV_CMD_DO_REPOSITION` over COMMAND_INT to `wp` at altitude `z`; `switch_mode` sets param2 bit 1
+    /// (switch to GUIDED).
+    pub async fn reposition(
+        &mut self,
+        wp: &MISSION_ITEM_INT_DATA,
+        switch_mode: bool,
+        z: f32,
+    ) -> (MavResult, u8) {
+        let flags = if switch_mode { 1.0 } else { 0.0 };
+        self.command_int(
+            MavCmd::MAV_CMD_DO_REPOSITION,
+            [-1.0, flags, 0.0, 0.0],
+            wp.x,
+            wp.y,
+            z,
+        )
+        .await
+    }
+
     pub async fn ack_of(&mut self, command: MavCmd) -> (MavResult, u8) {
         self.expect("COMMAND_ACK", |m| match m {
             MavMessage::COMMAND_ACK(a) if a.command == command => Some((a.result, a.progress)),
