@@ -177,8 +177,8 @@ fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
         match *c {
             PlanChange::ActionAdded(a) => assert!(actions.insert(a)),
             PlanChange::ActionRemoved(a) => assert!(actions.remove(&a)),
-            PlanChange::LinkAdded(l) => assert!(links.insert(l)),
-            PlanChange::LinkRemoved(l) => assert!(links.remove(&l)),
+            PlanChange::LinkAdded(e) => assert!(links.insert(e.link)),
+            PlanChange::LinkRemoved(e) => assert!(links.remove(&e.link)),
             _ => {}
         }
     }

@@ -219,7 +219,8 @@ impl PartialPlan {
                 done: false,
             });
         }
-        self.changes.push(PlanChange::LinkAdded(l));
+        let ends = self.link_ends(l);
+        self.changes.push(PlanChange::LinkAdded(ends));
         Ok(l)
     }
 

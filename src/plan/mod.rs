@@ -37,7 +37,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 pub use bindings::{BindingConflict, Bindings, STerm, VarId};
-pub use changes::{ChangeCursor, PlanChange};
+pub use changes::{ChangeCursor, LinkEnds, PlanChange};
 pub use envelope::{reservoir_conflict, ReservoirConflict};
 pub use flaws::{Flaw, ThreatCheck};
 pub use numeric::{NLevel, NTerm, NVar, NumConflict, NumCons, Numeric};
@@ -80,7 +80,7 @@ plan_id!(
 );
 
 /// Who brings an event or a condition.
-#[derive(Copy, Clone, Eq, PartialEq, Hash, Debug)]
+#[derive(Copy, Clone, Eq, PartialEq, Hash, Debug, Serialize)]
 pub enum Owner {
     /// The initial state (events at the origin).
     Initial,
@@ -332,10 +332,11 @@ impl PartialPlan {
                 Entry::LinkActive(l, old) => {
                     self.links[l.index()].active = old;
                     if l.index() < level.links {
+                        let ends = self.link_ends(l);
                         self.changes.push(if old {
-                            PlanChange::LinkAdded(l)
+                            PlanChange::LinkAdded(ends)
                         } else {
-                            PlanChange::LinkRemoved(l)
+                            PlanChange::LinkRemoved(ends)
                         });
                     }
                 }
@@ -367,11 +368,11 @@ impl PartialPlan {
             }
         }
         for l in (level.links..self.links.len()).rev() {
-            let link = &self.links[l];
-            if link.active {
-                self.changes.push(PlanChange::LinkRemoved(LinkId(l as u32)));
+            if self.links[l].active {
+                let ends = self.link_ends(LinkId(l as u32));
+                self.changes.push(PlanChange::LinkRemoved(ends));
             }
-            let attr = self.conds[link.cond.index()].attr;
+            let attr = self.conds[self.links[l].cond.index()].attr;
             self.links_by_attr[attr.index()].pop();
         }
         self.links.truncate(level.links);
@@ -410,6 +411,17 @@ impl PartialPlan {
     /// The change log (plan-change notifications for the dispatcher), from `cursor` on.
     pub fn changes_since(&self, cursor: ChangeCursor) -> &[PlanChange] {
         self.changes.since(cursor)
+    }
+
+    /// The identity of this plan's change log (a clone of the plan gets a new one).
+    pub fn change_log_id(&self) -> u64 {
+        self.changes.id()
+    }
+
+    /// The changes after `cursor` of change log `log`: `None` unless `log` is this plan's log or that of a
+    /// plan this one was cloned from after `cursor` (then both logs agree up to `cursor`).
+    pub fn changes_continuing(&self, log: u64, cursor: ChangeCursor) -> Option<&[PlanChange]> {
+        self.changes.continuing(log, cursor)
     }
 
     /// The position after the last change (pass it to [`PartialPlan::changes_since`] later).
@@ -522,7 +534,8 @@ impl PartialPlan {
         if let Some(c) = prec {
             self.stn.remove_constraint(c);
         }
-        self.changes.push(PlanChange::LinkRemoved(l));
+        let ends = self.link_ends(l);
+        self.changes.push(PlanChange::LinkRemoved(ends));
     }
 
     /// Removes a (past) action from the plan: its conditions are no longer open conditions and its links
