@@ -108,6 +108,7 @@ fn cfg() -> ExecConfig {
         repair_share: 0.6,
         replan_slack_ms: 1_000,
         repair_max_steps: Some(50),
+        ..ExecConfig::default()
     }
 }
 

@@ -26,6 +26,7 @@ fn shopping_day_planned_then_executed_achieves_both_goals() {
         repair_share: 0.6,
         replan_slack_ms: 30_000,
         repair_max_steps: Some(200),
+        ..ExecConfig::default()
     };
     let mut ex = Executive::new(search.into_plan(), cfg);
     let mut v = MockVehicle::new();

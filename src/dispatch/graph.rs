@@ -84,6 +84,8 @@ pub enum GraphError {
     DuplicateLink(LinkKey),
     #[error("causal link {0:?} is not in the plan")]
     UnknownLink(LinkKey),
+    #[error("causal link {0:?} goes from a goal or to the initial state")]
+    MalformedLink(LinkKey),
 }
 
 /// Read access to a plan's causal structure, all that Algorithms 2 and 5–8 need.
@@ -142,14 +144,19 @@ impl CausalGraph {
         self.actions.len()
     }
 
-    /// The links attached to `n` (into it, and out of it for an action).
+    /// The links attached to `n` (into it, and out of it for an action), each once.
     pub fn links_of(&self, n: Node) -> Vec<LinkKey> {
         let adj = match n {
             Node::Action(a) => self.actions.get(&a),
             Node::Goal(g) => self.goals.get(&g).map(|(_, adj)| adj),
         };
-        adj.map(|adj| adj.inc.iter().chain(&adj.out).copied().collect())
-            .unwrap_or_default()
+        let mut links: Vec<LinkKey> = adj
+            .map(|adj| adj.inc.iter().chain(&adj.out).copied().collect())
+            .unwrap_or_default();
+        // A link from an action's effect to its own condition is both in and out.
+        links.sort_unstable();
+        links.dedup();
+        links
     }
 
     /// Applies one change; on `Err` nothing changed. Removing an action or a goal removes its links first.
@@ -324,5 +331,24 @@ mod tests {
         let mut est = Vec::new();
         g.for_each_establisher(Node::Action(b), &mut |x| est.push(x));
         assert!(est.is_empty());
+    }
+
+    /// An action's effect supporting its own condition (go's `AT = +oo` hold): removed once.
+    #[test]
+    fn removing_an_action_with_a_link_to_itself() {
+        let mut g = CausalGraph::new();
+        let a = ActionKey(0);
+        g.apply(&Change::ActionAdded(a)).unwrap();
+        let own = Link {
+            from: Establisher::Action(a),
+            to: Node::Action(a),
+        };
+        g.apply(&Change::LinkAdded(LinkKey(0), own)).unwrap();
+        assert_eq!(g.links_of(Node::Action(a)), vec![LinkKey(0)]);
+        assert_eq!(g.apply(&Change::ActionRemoved(a)), Ok(()));
+        let mut m = crate::dispatch::Marking::new();
+        m.apply(&Change::ActionAdded(a)).unwrap();
+        m.apply(&Change::LinkAdded(LinkKey(0), own)).unwrap();
+        assert_eq!(m.apply(&Change::ActionRemoved(a)), Ok(()));
     }
 }

@@ -76,6 +76,12 @@ impl Marking {
         self.marked.iter().copied()
     }
 
+    /// Drops the undo trail: nothing before this point will be restored (a reader of a change log that
+    /// announces backtracks itself, so the trail would only grow).
+    pub fn forget_trail(&mut self) {
+        self.trail.clear();
+    }
+
     pub fn save(&mut self) -> MarkLevel {
         MarkLevel(self.trail.len())
     }

@@ -4,6 +4,8 @@
 //!   notifications ([`Change`]) that keep an owned mirror ([`CausalGraph`]) up to date.
 //! - [`search`]: Algorithm 2 (SearchForGoal), forward search over causal links to an external goal.
 //! - [`marking`]: Algorithms 3–8, the incremental marking `List_goals`, with retraction on backtrack.
+//! - [`plan_adapter`]: the same over the project's plan: [`PlanView`] (Algorithm 2 on the plan) and
+//!   [`PlanMarking`] (the marking kept from the plan's change log across backtracks, repairs and replans).
 //! - [`policy`]: the [`DispatchPolicy`] trait and the `earliest`, `latest` and `goal-driven` (Algorithm 1)
 //!   policies, named in config and on the command line by [`PolicyKind`].
 //! - [`bench`]: decision and update cost of both algorithm forms (`mavtempo bench dispatch`).
@@ -11,6 +13,7 @@
 pub mod bench;
 pub mod graph;
 pub mod marking;
+pub mod plan_adapter;
 pub mod policy;
 pub mod search;
 
@@ -19,6 +22,7 @@ pub use graph::{
     Node,
 };
 pub use marking::{MarkLevel, Marking};
+pub use plan_adapter::{PlanMarking, PlanView};
 pub use policy::{
     Decision, DispatchPolicy, Dispatcher, Earliest, GoalDriven, Latest, PolicyKind, StartWindow,
     SupportForm, Tick, UnknownPolicy,

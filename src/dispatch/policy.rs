@@ -235,6 +235,13 @@ impl fmt::Display for PolicyKind {
     }
 }
 
+impl Default for PolicyKind {
+    /// IxTeT-eXeC's rule.
+    fn default() -> Self {
+        PolicyKind::Earliest
+    }
+}
+
 impl PolicyKind {
     pub fn policy(self) -> Box<dyn DispatchPolicy> {
         match self {

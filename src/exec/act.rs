@@ -9,7 +9,7 @@ use super::dispatch_policy::Candidate;
 use super::executable::{action_executable, flawed_actions, goal_achievable, timepoint_executable};
 use super::executive::{Executive, Fate};
 use super::p_t::classify;
-use super::t_exec::TpKind;
+use super::t_exec::{t_exec, TpKind};
 use super::trace::TraceEvent;
 use crate::model::{Preemption, Time};
 use crate::plan::ActionId;
@@ -41,7 +41,9 @@ impl Executive {
                     continue;
                 }
                 let c = self.candidate(st, TpKind::Start);
-                let te = self.policy.exec_time(&self.plan, &c, ts);
+                let Some(te) = self.policy.exec_time(&self.plan, Some(a), &c, ts) else {
+                    continue;
+                };
                 if te > now {
                     wake(te, &mut next);
                 } else if action_executable(&self.plan, a, now, &flawed) {
@@ -63,7 +65,7 @@ impl Executive {
                     wake(c.ub, &mut next);
                     continue;
                 }
-                let te = self.policy.exec_time(&self.plan, &c, ts);
+                let te = t_exec(c.kind, c.lb, c.ub, ts);
                 if te <= now {
                     self.stop(vehicle, a);
                 } else {
@@ -77,7 +79,7 @@ impl Executive {
                 }
                 if !self.plan.stn.is_executed(pg.st) {
                     let c = self.candidate(pg.st, TpKind::Goal);
-                    let te = self.policy.exec_time(&self.plan, &c, ts);
+                    let te = t_exec(c.kind, c.lb, c.ub, ts);
                     if te > now {
                         wake(te, &mut next);
                         continue;

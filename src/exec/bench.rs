@@ -97,6 +97,7 @@ pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, String> {
         repair_share: 0.6,
         replan_slack_ms: 1_000,
         repair_max_steps: Some(100),
+        ..ExecConfig::default()
     };
     let mut ex = Executive::new(plan, cfg);
     let mut v = MockVehicle::new();

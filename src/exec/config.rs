@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 
+use crate::dispatch::PolicyKind;
 use crate::model::Time;
 
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -21,6 +22,9 @@ pub struct ExecConfig {
     /// wall-clock time (μ·ts of steps per cycle).
     #[serde(default)]
     pub repair_max_steps: Option<u64>,
+    /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
+    #[serde(default)]
+    pub dispatch: PolicyKind,
 }
 
 fn default_ts() -> Time {
@@ -40,6 +44,7 @@ impl Default for ExecConfig {
             repair_share: default_mu(),
             replan_slack_ms: default_slack(),
             repair_max_steps: None,
+            dispatch: PolicyKind::default(),
         }
     }
 }

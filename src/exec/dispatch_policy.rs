@@ -1,13 +1,17 @@
-//! The dispatch decision: when to execute a controllable timepoint. The executive asks a [`DispatchPolicy`];
-//! the default, [`Earliest`], is IxTeT-eXeC's rule (seed 1 §3.5, [`super::t_exec`]). Other policies (latest,
-//! goal-driven, seed 2) plug in here (issue 8).
+//! The dispatch decision (seed 1 §3.5, seed 2): when to execute a controllable timepoint. Starts of actions
+//! go through the configured [`crate::dispatch::DispatchPolicy`] (`earliest`, IxTeT-eXeC's default;
+//! `latest`; `goal-driven`, seed 2's Algorithm 1 with Algorithm 2 or the marking of Algorithms 3–8); ends
+//! and goal timepoints keep seed 1's execution times ([`super::t_exec`]), whatever the policy.
 
 use super::t_exec::{t_exec, TpKind};
+use crate::dispatch::{
+    DispatchPolicy, GoalSearch, PlanMarking, PlanView, PolicyKind, StartWindow, SupportForm,
+};
 use crate::model::Time;
-use crate::plan::PartialPlan;
+use crate::plan::{ActionId, PartialPlan};
 use crate::stn::Timepoint;
 
-/// What the policy sees of one executable timepoint.
+/// What the executive sees of one timepoint it may execute.
 #[derive(Copy, Clone, Debug)]
 pub struct Candidate {
     pub tp: Timepoint,
@@ -16,24 +20,75 @@ pub struct Candidate {
     pub ub: Time,
 }
 
-pub trait DispatchPolicy {
-    /// The time at which `c` should be executed; the executive executes it in the cycle that contains it.
-    fn exec_time(&mut self, plan: &PartialPlan, c: &Candidate, ts: Time) -> Time;
-
-    fn name(&self) -> &'static str;
+/// The executive's dispatcher: the policy and, for `goal-driven`, how it learns an action's goal support.
+#[derive(Debug)]
+pub struct PlanDispatch {
+    kind: PolicyKind,
+    policy: Box<dyn DispatchPolicy>,
+    marking: PlanMarking,
+    search: GoalSearch,
 }
 
-/// Seed 1 §3.5: everything as early as possible, except the ends of late-preemptive actions (`ub − ts`) and
-/// of non-preemptive ones (`ub`, the report is awaited).
-#[derive(Copy, Clone, Debug, Default)]
-pub struct Earliest;
-
-impl DispatchPolicy for Earliest {
-    fn exec_time(&mut self, _plan: &PartialPlan, c: &Candidate, ts: Time) -> Time {
-        t_exec(c.kind, c.lb, c.ub, ts)
+impl PlanDispatch {
+    pub fn new(kind: PolicyKind) -> Self {
+        PlanDispatch {
+            kind,
+            policy: kind.policy(),
+            marking: PlanMarking::new(),
+            search: GoalSearch::new(),
+        }
     }
 
-    fn name(&self) -> &'static str {
-        "earliest"
+    pub fn kind(&self) -> PolicyKind {
+        self.kind
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.policy.name()
+    }
+
+    /// The execution time of `c` (`None`: not as things stand — `latest` and `goal-driven` never start an
+    /// action whose start has no upper bound unless it supports an external goal). `action` is the action
+    /// whose start `c` is, if it is one.
+    pub fn exec_time(
+        &mut self,
+        plan: &PartialPlan,
+        action: Option<ActionId>,
+        c: &Candidate,
+        ts: Time,
+    ) -> Option<Time> {
+        match (c.kind, action) {
+            (TpKind::Start, Some(a)) => {
+                let supports = self.policy.needs_goal_support() && self.supports(plan, a);
+                let window = StartWindow { lb: c.lb, ub: c.ub };
+                self.policy.t_exec(window, ts, supports)
+            }
+            _ => Some(t_exec(c.kind, c.lb, c.ub, ts)),
+        }
+    }
+
+    /// Whether `a` supports an external goal: Algorithm 2 on the plan, or the marking read from the plan's
+    /// change log (if the log does not fit, a bug, Algorithm 2 answers instead).
+    pub fn supports(&mut self, plan: &PartialPlan, a: ActionId) -> bool {
+        let view = PlanView(plan);
+        if self.kind == PolicyKind::GoalDriven(SupportForm::Marking) {
+            match self.marking.sync(plan) {
+                Ok(()) => return self.marking.supports_external_goal(a),
+                Err(e) => tracing::warn!("dispatch marking out of step with the plan: {e}"),
+            }
+        }
+        self.search
+            .supports_external_goal(&view, crate::dispatch::ActionKey(a.0))
+    }
+
+    /// The marking as last read (for tests and traces).
+    pub fn marking(&self) -> &PlanMarking {
+        &self.marking
+    }
+}
+
+impl Default for PlanDispatch {
+    fn default() -> Self {
+        PlanDispatch::new(PolicyKind::Earliest)
     }
 }

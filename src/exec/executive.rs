@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::abstraction::Hierarchy;
 use super::config::ExecConfig;
-use super::dispatch_policy::{DispatchPolicy, Earliest};
+use super::dispatch_policy::PlanDispatch;
 use super::p_t::State;
 use super::repair::Repair;
 use super::trace::{CycleRecord, TraceEvent};
@@ -46,7 +46,7 @@ pub struct Executive {
     /// *ExecutingPlan*.
     pub plan: PartialPlan,
     pub cfg: ExecConfig,
-    pub policy: Box<dyn DispatchPolicy>,
+    pub policy: PlanDispatch,
     pub hierarchy: Hierarchy,
     /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
     pub past: Vec<(f64, f64)>,
@@ -99,10 +99,11 @@ impl Executive {
             }
         }
         let hierarchy = Hierarchy::new(&plan.domain);
+        let policy = PlanDispatch::new(cfg.dispatch);
         Executive {
             plan,
             cfg,
-            policy: Box::new(Earliest),
+            policy,
             hierarchy,
             past,
             state: State::default(),
@@ -123,8 +124,9 @@ impl Executive {
         }
     }
 
-    pub fn with_policy(mut self, policy: Box<dyn DispatchPolicy>) -> Self {
-        self.policy = policy;
+    pub fn with_policy(mut self, kind: crate::dispatch::PolicyKind) -> Self {
+        self.cfg.dispatch = kind;
+        self.policy = PlanDispatch::new(kind);
         self
     }
 

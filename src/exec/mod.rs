@@ -12,7 +12,7 @@
 //! | §3.3 capacity alteration | [`capacity`] |
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
-//! | §3.5 the dispatch decision (policy trait, default: earliest) | [`dispatch_policy`] |
+//! | §3.5 the dispatch decision (src/dispatch policies; default earliest) | [`dispatch_policy`] |
 //! | §3.2 time injected: manual clock (tests) / vehicle clock (live) | [`clock`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
