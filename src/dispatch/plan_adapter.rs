@@ -26,7 +26,7 @@ fn action_key(a: ActionId) -> ActionKey {
 }
 
 fn goal_key(g: GoalId) -> GoalKey {
-    GoalKey(g.0 as u32)
+    GoalKey(g.0)
 }
 
 /// [`CausalView`] over the plan as it is: live actions, active goals and active links between them.
