@@ -82,7 +82,13 @@ fn time_limit_leaves_goals_pending_with_a_reason() {
         time_limit_ms: 10 * 60_000,
         ..MissionOptions::default()
     };
-    let report = run_mission(&mut ex, &mut v, &mut MockPacer::default(), &opts, &mut |_, _| {});
+    let report = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, _| {},
+    );
     assert_eq!(report.end, MissionEnd::TimeLimit);
     assert!(report
         .goals

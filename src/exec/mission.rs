@@ -16,10 +16,14 @@ use super::resource_bounds::level_bounds;
 use super::trace::{CycleRecord, TraceEvent};
 use crate::model::{ResourceId, Time};
 use crate::vehicle::goals::GoalBatch;
-use crate::vehicle::{ActionId as Vid, ActionStart, GoalRequest, Vehicle, VehicleError, VehicleEvent};
+use crate::vehicle::{
+    ActionId as Vid, ActionStart, GoalRequest, Vehicle, VehicleError, VehicleEvent,
+};
 
 /// How mission time passes: the executive's clock and its sleep between cycles.
 pub trait Pacer<V: Vehicle> {
+    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
+    fn origin_ms(&self) -> u64;
     /// The executive's time: ms since the plan's origin.
     fn now(&self, vehicle: &V) -> Time;
     /// Lets time pass until `until` (ms since origin) or until a message arrives, whichever comes first.
@@ -133,9 +137,7 @@ pub fn run_mission<V: Vehicle>(
         inner: vehicle,
         held: VecDeque::new(),
     };
-    // Report times are vehicle times: the plan's origin is the vehicle time the mission starts at.
-    let start = pacer.now(v.inner);
-    ex.vehicle_origin_ms = v.inner.now_ms().saturating_sub(start.max(0) as u64);
+    ex.vehicle_origin_ms = pacer.origin_ms();
     if !opts.initial_goals.is_empty() {
         v.held.push_back(VehicleEvent::Goals(GoalBatch::detached(
             opts.initial_goals.clone(),
@@ -241,9 +243,7 @@ impl Log {
         let Some(c) = ex.cycles.last() else { return };
         for e in &c.events {
             match e {
-                TraceEvent::RepairDone { .. } => {
-                    self.change(now, "repair", ex.plan.num_actions())
-                }
+                TraceEvent::RepairDone { .. } => self.change(now, "repair", ex.plan.num_actions()),
                 TraceEvent::GoalAccepted { .. } => {
                     self.change(now, "goal_added", ex.plan.num_actions())
                 }

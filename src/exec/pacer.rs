@@ -20,6 +20,9 @@ pub struct MockPacer {
 }
 
 impl Pacer<MockVehicle> for MockPacer {
+    fn origin_ms(&self) -> u64 {
+        self.origin_ms
+    }
     fn now(&self, v: &MockVehicle) -> Time {
         since(v.now_ms(), self.origin_ms)
     }
@@ -45,6 +48,9 @@ pub struct LivePacer {
 }
 
 impl<V: Vehicle> Pacer<V> for LivePacer {
+    fn origin_ms(&self) -> u64 {
+        self.origin_ms
+    }
     fn now(&self, v: &V) -> Time {
         since(v.now_ms(), self.origin_ms)
     }
@@ -55,21 +61,28 @@ impl<V: Vehicle> Pacer<V> for LivePacer {
     }
 }
 
-/// The in-process SITL on a manual clock: waiting steps the simulator, then lets the link deliver what the
-/// step produced (bounded by `settle`, wall time) before the next cycle. Deterministic up to the sockets.
+/// The in-process SITL on a manual clock: the executive's time is the simulator's; waiting steps the
+/// simulator, then lets the link deliver what the step produced (telemetry, reports) before the next cycle.
+/// Deterministic up to the sockets, and as fast as the machine goes.
 pub struct SitlStepPacer {
-    pub sim: sitl::SimHandle,
+    pub sim: std::sync::Arc<sitl::SimHandle>,
     pub runtime: tokio::runtime::Handle,
     pub origin_ms: u64,
-    /// Largest step, ms of sim time (events inside a step are seen at its end).
+    /// Largest step, ms of sim time (what happens inside a step is seen at its end).
     pub max_step_ms: u64,
+    /// The vehicle's clock comes from telemetry sent every this many ms of sim time.
+    pub telemetry_period_ms: u64,
     /// How long (wall) to wait for the vehicle's clock to catch up with the sim after a step.
     pub settle: Duration,
 }
 
 impl<V: Vehicle> Pacer<V> for SitlStepPacer {
-    fn now(&self, v: &V) -> Time {
-        since(v.now_ms(), self.origin_ms)
+    fn origin_ms(&self) -> u64 {
+        self.origin_ms
+    }
+
+    fn now(&self, _v: &V) -> Time {
+        since(self.sim.now_ms(), self.origin_ms)
     }
 
     fn wait(&mut self, v: &mut V, until: Time) -> Option<VehicleEvent> {
@@ -80,20 +93,23 @@ impl<V: Vehicle> Pacer<V> for SitlStepPacer {
         let dt = target
             .saturating_sub(self.sim.now_ms())
             .clamp(1, self.max_step_ms);
-        let sim_now = match self.runtime.block_on(self.sim.step(Duration::from_millis(dt))) {
+        let sim_now = match self
+            .runtime
+            .block_on(self.sim.step(Duration::from_millis(dt)))
+        {
             Ok(t) => t,
             Err(e) => {
                 tracing::warn!("sitl step: {e}");
                 return None;
             }
         };
-        // The vehicle's clock comes from telemetry: wait until it shows the stepped time (or settle passes).
         let deadline = Instant::now() + self.settle;
         loop {
             if let Some(e) = v.try_event() {
                 return Some(e);
             }
-            if v.now_ms() + self.max_step_ms >= sim_now || Instant::now() >= deadline {
+            let caught_up = v.now_ms() + self.telemetry_period_ms > sim_now;
+            if caught_up || Instant::now() >= deadline {
                 return v.wait_event(Duration::from_millis(1));
             }
             if let Some(e) = v.wait_event(Duration::from_millis(2)) {
