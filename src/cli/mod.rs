@@ -2,7 +2,9 @@
 
 mod bench;
 mod check;
+mod demo;
 mod goal;
+mod mission_out;
 mod plan;
 mod sim;
 
@@ -29,6 +31,8 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Plan a problem: print the flexible plan (--json, --dot), checked by the independent checker.
     Plan(plan::PlanArgs),
+    /// The Fig. 2 story of seed 1: the rover mission executed against the built-in SITL, with its faults.
+    Demo(demo::DemoArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
@@ -43,6 +47,7 @@ pub fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Check(args) => check::run(args),
         Command::Plan(args) => plan::run(args),
+        Command::Demo(args) => demo::run(args),
         Command::Goal(args) => goal::run(args),
         Command::Sim(args) => sim::run(args),
     }

@@ -22,6 +22,7 @@
 //! | §3.5 act: ExecTPs, launch / stop, postponement, timeouts | [`act`] |
 //! | §3.6 complete replanning: P_ti, T_end, slack d, goal rejection | [`replan`] |
 //! | the per-cycle trace (Fig. 6) | [`trace`] |
+//! | a mission run live: cycles, replanning, the report | [`mission`] (time: [`pacer`]) |
 
 pub mod abstraction;
 pub mod act;
@@ -34,7 +35,9 @@ pub mod dispatch_policy;
 pub mod executable;
 pub mod executive;
 pub mod goal_request;
+pub mod mission;
 pub mod p_t;
+pub mod pacer;
 pub mod repair;
 pub mod replan;
 pub mod report_timing;

@@ -212,6 +212,7 @@ impl Run {
                 let hold = ctx.cfg.modes.hold;
                 ctx.set_mode(id, hold);
             }
+            Binding::Timed { .. } => run.phase = Phase::Running,
             Binding::Download { command, .. } => {
                 let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) else {
                     return Err(format!("command {command} unknown to the dialect"));
@@ -466,6 +467,9 @@ impl Run {
                     self.servo(ctx, i + 1, s.servo, s.pwm);
                     None
                 }
+            }
+            (Binding::Timed { duration_ms }, Phase::Running) => {
+                (ctx.vnow.saturating_sub(self.started_ms) >= *duration_ms).then(End::nominal)
             }
             (Binding::Recharge { .. }, Phase::Running) => {
                 (ctx.tel.battery_percent? >= self.target_level).then(End::nominal)

@@ -226,6 +226,9 @@ pub enum Binding {
         #[serde(default = "d_poll")]
         poll_ms: u64,
     },
+    /// A task the autopilot has no counterpart for (e.g. turning a pan-and-tilt unit it does not drive, a
+    /// software initialisation): nothing is sent, the action ends `duration_ms` after its start.
+    Timed { duration_ms: u64 },
 }
 
 fn d_to() -> String {

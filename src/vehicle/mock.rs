@@ -157,6 +157,11 @@ impl MockVehicle {
         }
     }
 
+    /// The vehicle time of the next scripted event or report, if any (a pacer jumps to it).
+    pub fn next_due_ms(&self) -> Option<u64> {
+        self.due.keys().next().map(|k| k.0)
+    }
+
     pub fn advance(&mut self, ms: u64) {
         self.advance_to(self.now_ms + ms);
     }

@@ -1,0 +1,277 @@
+//! `mavtempo demo [--speedup N] [--report FILE]`: seed 1 §4's exploration rover (Fig. 2) executed by the
+//! executive against the built-in SITL, in process, over real sockets. The faults come from the SITL's
+//! scenario (sitl/scenarios/fig2.toml): e1 the first picture fails, e2 rough ground on the way to p2,
+//! e5 a slow download, e6 a battery drop on the third move; e3/e4, the new goals g6 and g7, are uploaded
+//! over MAVLink by a simulated ground station while the first download runs. Wiring and printing only.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Duration;
+
+use clap::Args;
+
+use super::mission_out::{initial_plan, print_cycle, print_summary, write_report};
+use crate::exec::config::ExecConfig;
+use crate::exec::executive::Executive;
+use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::pacer::{LivePacer, SitlStepPacer};
+use crate::exec::trace::{CycleRecord, TraceEvent};
+use crate::lang;
+use crate::model::Problem;
+use crate::vehicle::goal_client::{send_goals, GoalSendError, GoalSendReport};
+use crate::vehicle::goals::{KnownLocations, GOAL_ATTRIBUTES_CMD};
+use crate::vehicle::items::MissionItem;
+use crate::vehicle::link::{Decider, LinkOptions};
+use crate::vehicle::{Enu, MavlinkVehicle, Vehicle};
+
+const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
+const FIG2: &str = include_str!("../../domains/rover/problems/fig2.ixt");
+const SCENARIO: &str = include_str!("../../sitl/scenarios/fig2.toml");
+const CONFIG: &str = include_str!("../../config/demo-rover.toml");
+
+/// e3/e4: the ground station's new picture goals (local metres from home), uploaded during the download.
+const NEW_GOALS: [(f64, f64); 2] = [(30.0, -8.0), (46.0, 4.0)];
+
+#[derive(Args, Debug)]
+pub struct DemoArgs {
+    /// Run the simulator paced at N sim seconds per wall second; without it the simulator is stepped by the
+    /// executive's clock, as fast as the machine goes (deterministic).
+    #[arg(long)]
+    pub speedup: Option<f64>,
+    /// Write the mission report (cycles, events, plan changes, goals with fates and reasons, resource
+    /// levels vs bounds) as JSON.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// A rover problem instead of the built-in Fig. 2 (domains/rover/problems/fig2.ixt).
+    #[arg(long)]
+    pub problem: Option<PathBuf>,
+    /// Do not upload g6 and g7 during the download.
+    #[arg(long)]
+    pub no_upload: bool,
+    /// Print only the summary, not the per-cycle trace.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Planning steps for the initial plan.
+    #[arg(long, default_value_t = 200_000)]
+    pub max_steps: u64,
+}
+
+pub fn run(args: DemoArgs) -> ExitCode {
+    match demo(&args) {
+        Ok(report) => {
+            print_summary(&report);
+            if let Some(path) = &args.report {
+                if let Err(e) = write_report(path, &report) {
+                    eprintln!("mavtempo demo: {e}");
+                    return ExitCode::FAILURE;
+                }
+                println!("report written to {}", path.display());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("mavtempo demo: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
+    let domain =
+        Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
+    let (name, text) = match &args.problem {
+        Some(p) => (
+            p.display().to_string(),
+            std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?,
+        ),
+        None => (
+            "domains/rover/problems/fig2.ixt".to_string(),
+            FIG2.to_string(),
+        ),
+    };
+    let problem = lang::parse_problem(&name, &text, &domain).map_err(|e| e.to_string())?;
+    Ok((domain, Arc::new(problem)))
+}
+
+fn exec_config() -> ExecConfig {
+    ExecConfig {
+        // Seed 1 §4: ts = 1.3 s; μ = 0.6. Budgets in planning steps keep the run deterministic.
+        timestep_ms: 1_300,
+        repair_share: 0.6,
+        replan_slack_ms: 2_000,
+        repair_max_steps: Some(500),
+    }
+}
+
+fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
+    let (domain, problem) = load(args)?;
+    println!(
+        "planning {} ({} goals)...",
+        problem.name,
+        problem.goals.len()
+    );
+    let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
+    println!("initial plan: {} actions", plan.num_actions());
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(|e| format!("tokio runtime: {e}"))?;
+    let scenario =
+        sitl::Scenario::parse(SCENARIO, "sitl/scenarios/fig2.toml").map_err(|e| e.to_string())?;
+    let mut sim_cfg = sitl::SimConfig {
+        listen: "tcpin:127.0.0.1:0".into(),
+        scenario,
+        seed: 1,
+        ..sitl::SimConfig::for_tests()
+    };
+    if let Some(s) = args.speedup {
+        sim_cfg.clock = sitl::ClockMode::Paced;
+        sim_cfg.speedup = s;
+    }
+    sim_cfg.validate().map_err(|e| e.to_string())?;
+    let sim = Arc::new(
+        rt.block_on(sitl::spawn(sim_cfg))
+            .map_err(|e| e.to_string())?,
+    );
+    let cfg = crate::vehicle::config::VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
+        .map_err(|e| e.to_string())?;
+    let home = cfg.home;
+    let mut known = KnownLocations::new(home);
+    let geo_home = problem.home;
+    for o in &problem.objects {
+        if let Some((e, n, u)) = o.local(geo_home.as_ref()) {
+            known.objects.push((o.name.clone(), Enu::new(e, n, u)));
+        }
+    }
+    let opts = LinkOptions {
+        address: Some(sim.client_address().to_string()),
+        gcs: Some("tcpin:127.0.0.1:0".into()),
+        known: Some(known),
+        decider: Decider::Executive {
+            timeout: Duration::from_secs(60),
+        },
+        first_goal_number: 6,
+        ..LinkOptions::default()
+    };
+    let mut vehicle = rt
+        .block_on(MavlinkVehicle::connect(cfg, opts))
+        .map_err(|e| e.to_string())?;
+    let gcs = vehicle
+        .gcs_addr()
+        .ok_or("the ground-station endpoint has no address")?;
+    link_up(&rt, &sim, &vehicle, args.speedup.is_none())?;
+    let origin = if args.speedup.is_none() {
+        sim.now_ms()
+    } else {
+        vehicle.now_ms()
+    };
+    println!(
+        "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
+        sim.client_address()
+    );
+    let mut ex = Executive::new(plan, exec_config());
+    let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
+    let mut observe = |ex: &Executive, c: &CycleRecord| {
+        if !args.quiet {
+            print_cycle(ex, c);
+        }
+        let download = c.events.iter().any(
+            |e| matches!(e, TraceEvent::Launch { action, .. } if action.starts_with("download_images")),
+        );
+        if download && upload.is_none() && !args.no_upload {
+            if !args.quiet {
+                println!("             ground station: uploading g6, g7 (pictures of new targets)");
+            }
+            let items = new_goal_items(home);
+            let addr = format!("tcpout:{gcs}");
+            upload = Some(
+                rt.spawn(async move { send_goals(&addr, items, Duration::from_secs(60)).await }),
+            );
+        }
+    };
+    let opts = MissionOptions {
+        time_limit_ms: problem_horizon(&problem),
+        ..MissionOptions::default()
+    };
+    let report = match args.speedup {
+        None => {
+            let mut pacer = SitlStepPacer {
+                sim: sim.clone(),
+                runtime: rt.handle().clone(),
+                origin_ms: origin,
+                max_step_ms: 500,
+                telemetry_period_ms: 1_000,
+                settle: Duration::from_millis(500),
+            };
+            run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe)
+        }
+        Some(speedup) => {
+            let mut pacer = LivePacer {
+                origin_ms: origin,
+                speedup,
+            };
+            run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe)
+        }
+    };
+    if let Some(h) = upload {
+        match rt.block_on(h) {
+            Ok(Ok(r)) => println!(
+                "ground station: upload {}; {}",
+                r.failure.as_deref().unwrap_or("accepted"),
+                r.texts.join("; ")
+            ),
+            Ok(Err(e)) => println!("ground station: upload failed: {e}"),
+            Err(e) => println!("ground station: upload task: {e}"),
+        }
+    }
+    drop(vehicle);
+    Ok(report)
+}
+
+/// Steps (or waits for) the simulator until the vehicle's clock runs: the link is up.
+fn link_up(
+    rt: &tokio::runtime::Runtime,
+    sim: &sitl::SimHandle,
+    vehicle: &MavlinkVehicle,
+    stepped: bool,
+) -> Result<(), String> {
+    for _ in 0..200 {
+        if vehicle.now_ms() > 0 && vehicle.target().is_some() {
+            return Ok(());
+        }
+        if stepped {
+            rt.block_on(sim.step(Duration::from_millis(200)))
+                .map_err(|e| e.to_string())?;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    Err("no telemetry from the SITL rover".into())
+}
+
+fn problem_horizon(p: &Problem) -> crate::model::Time {
+    // A little past the horizon: goals still pending then are reported as such.
+    p.horizon + 60_000
+}
+
+/// g6, g7: goal attributes (priority 1, start window [0, 30 min], d_achiev 60 s) then a picture item.
+fn new_goal_items(home: crate::vehicle::geo::Home) -> Vec<MissionItem> {
+    let mut items = Vec::new();
+    for (east, north) in NEW_GOALS {
+        items.push(MissionItem {
+            command: GOAL_ATTRIBUTES_CMD,
+            frame: 2,
+            params: [1.0, 0.0, 1_800.0, 0.0],
+            x: 60.0,
+            y: 0.0,
+            z: 0.0,
+            autocontinue: true,
+        });
+        let (lat, lon, _) = home.to_global(Enu::new(east, north, 0.0));
+        let mut pic = MissionItem::waypoint(lat, lon, 0.0);
+        pic.command = 2000; // MAV_CMD_IMAGE_START_CAPTURE: a picture goal
+        items.push(pic);
+    }
+    items
+}

@@ -1,0 +1,78 @@
+//! What `run` and `demo` share: the initial plan, the per-cycle trace (like seed 1 Fig. 6), the final summary
+//! and the `--report` JSON.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use crate::exec::executive::{Executive, Fate};
+use crate::exec::mission::MissionReport;
+use crate::exec::trace::CycleRecord;
+use crate::model::{Domain, Problem};
+use crate::plan::PartialPlan;
+use crate::planner::{solve, Budget};
+
+/// The planner's plan for the initial problem.
+pub fn initial_plan(
+    domain: Arc<Domain>,
+    problem: Arc<Problem>,
+    max_steps: u64,
+) -> Result<PartialPlan, String> {
+    let name = problem.name.clone();
+    solve(domain, problem, Budget::steps(max_steps))
+        .map(|p| p.plan)
+        .map_err(|e| format!("no initial plan for {name}: {e}"))
+}
+
+/// One cycle of the trace: its time, phase times, and what happened (cycles where nothing happened are
+/// skipped).
+pub fn print_cycle(_ex: &Executive, c: &CycleRecord) {
+    if c.events.is_empty() {
+        return;
+    }
+    println!(
+        "[{:>8.1} s] cycle {} (sense {} µs, repair {} µs, act {} µs)",
+        c.time_ms as f64 / 1000.0,
+        c.index,
+        c.sense_us,
+        c.repair_us,
+        c.act_us
+    );
+    for e in &c.events {
+        println!("             {}", e.line());
+    }
+}
+
+pub fn print_summary(r: &MissionReport) {
+    println!();
+    println!(
+        "mission ended ({:?}) at {:.1} s after {} cycles",
+        r.end,
+        r.duration_ms as f64 / 1000.0,
+        r.cycles.len()
+    );
+    for g in &r.goals {
+        let fate = match g.fate {
+            Fate::Achieved => "achieved",
+            Fate::Rejected => "REJECTED",
+            Fate::Pending => "pending",
+        };
+        if g.reason.is_empty() {
+            println!("  {:<6} {fate}", g.name);
+        } else {
+            println!("  {:<6} {fate}: {}", g.name, g.reason);
+        }
+    }
+    println!(
+        "plan repairs: {} ({} repair steps), complete replannings: {}, actions launched: {}",
+        r.counters.repairs, r.counters.repair_steps, r.counters.replans, r.counters.launches
+    );
+    println!(
+        "cycle time (executive CPU): p50 {} µs, p99 {} µs, max {} µs over {} cycles",
+        r.cycle_times.p50_us, r.cycle_times.p99_us, r.cycle_times.max_us, r.cycle_times.count
+    );
+}
+
+pub fn write_report(path: &Path, r: &MissionReport) -> Result<(), String> {
+    let text = serde_json::to_string_pretty(r).map_err(|e| format!("report serialisation: {e}"))?;
+    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}

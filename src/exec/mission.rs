@@ -1,0 +1,319 @@
+//! A mission run live: the executive's cycles against a vehicle (seed 1 §3.2 wake-up rule), complete
+//! replanning on abort (§3.6), until every goal is settled, then a [`MissionReport`]. Used by `mavtempo run`,
+//! `mavtempo demo` and the dispatch experiment. How time passes is the [`Pacer`]'s business (wall clock of a
+//! live vehicle, an accelerated SITL, or a manual clock), so the same loop runs far faster than real time.
+
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use serde::Serialize;
+
+use super::cycle::CycleOutcome;
+use super::executive::{Counters, Executive, Fate, GoalFate};
+use super::p_t::classify;
+use super::replan::ReplanResult;
+use super::resource_bounds::level_bounds;
+use super::trace::{CycleRecord, TraceEvent};
+use crate::model::{ResourceId, Time};
+use crate::vehicle::goals::GoalBatch;
+use crate::vehicle::{
+    ActionId as Vid, ActionStart, GoalRequest, Vehicle, VehicleError, VehicleEvent,
+};
+
+/// How mission time passes: the executive's clock and its sleep between cycles.
+pub trait Pacer<V: Vehicle> {
+    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
+    fn origin_ms(&self) -> u64;
+    /// The executive's time: ms since the plan's origin.
+    fn now(&self, vehicle: &V) -> Time;
+    /// Lets time pass until `until` (ms since origin) or until a message arrives, whichever comes first.
+    /// A message received while waiting is returned (it is integrated by the next cycle).
+    fn wait(&mut self, vehicle: &mut V, until: Time) -> Option<VehicleEvent>;
+}
+
+/// What the loop needs besides the executive, the vehicle and the pacer.
+#[derive(Clone, Debug, Default)]
+pub struct MissionOptions {
+    /// The mission stops (goals left pending) at this time, ms since origin.
+    pub time_limit_ms: Time,
+    /// Goals requested at the start (e.g. `--goals FILE`), integrated by the first cycle like an upload.
+    pub initial_goals: Vec<GoalRequest>,
+}
+
+/// How the mission ended.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MissionEnd {
+    /// No action left and every goal settled.
+    Finished,
+    /// Complete replanning left no goal to pursue.
+    NoGoals,
+    /// The time limit passed with goals pending.
+    TimeLimit,
+    /// Complete replanning could not even extract a problem.
+    Error(String),
+}
+
+/// A change of *ExecutingPlan*.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PlanChange {
+    pub time_ms: Time,
+    /// `repair`, `replan` or `goal_added`.
+    pub cause: String,
+    /// Actions in the plan afterwards (running and future).
+    pub actions: usize,
+}
+
+/// `[RscL_lb, RscL_ub]` of a resource at a cycle, with the level the vehicle reported in it, if any.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ResourceSample {
+    pub time_ms: Time,
+    pub resource: String,
+    pub lb: f64,
+    pub ub: f64,
+    pub reported: Option<f64>,
+}
+
+/// Cycle times of the executive's CPU (sense + repair + act), µs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CycleTimes {
+    pub count: usize,
+    pub p50_us: u64,
+    pub p99_us: u64,
+    pub max_us: u64,
+    pub total_us: u64,
+}
+
+/// Everything a mission did: the `--report` JSON.
+#[derive(Clone, Debug, Serialize)]
+pub struct MissionReport {
+    pub end: MissionEnd,
+    /// Mission time at the end, ms since origin.
+    pub duration_ms: Time,
+    pub goals: Vec<GoalFate>,
+    pub counters: Counters,
+    pub cycle_times: CycleTimes,
+    pub plan_changes: Vec<PlanChange>,
+    pub resources: Vec<ResourceSample>,
+    pub cycles: Vec<CycleRecord>,
+}
+
+/// The vehicle as the cycle sees it: events the pacer received while waiting come out first.
+struct Held<'a, V: Vehicle> {
+    inner: &'a mut V,
+    held: VecDeque<VehicleEvent>,
+}
+
+impl<V: Vehicle> Vehicle for Held<'_, V> {
+    fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        self.inner.start(action)
+    }
+    fn stop(&mut self, id: Vid) -> Result<(), VehicleError> {
+        self.inner.stop(id)
+    }
+    fn try_event(&mut self) -> Option<VehicleEvent> {
+        self.held.pop_front().or_else(|| self.inner.try_event())
+    }
+    fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent> {
+        self.held
+            .pop_front()
+            .or_else(|| self.inner.wait_event(timeout))
+    }
+    fn now_ms(&self) -> u64 {
+        self.inner.now_ms()
+    }
+}
+
+/// Runs `ex` against `vehicle` until every goal is settled, no goal is left, or the time limit passes.
+/// `observe` sees each cycle as it ends (the CLI prints the trace from it).
+pub fn run_mission<V: Vehicle>(
+    ex: &mut Executive,
+    vehicle: &mut V,
+    pacer: &mut dyn Pacer<V>,
+    opts: &MissionOptions,
+    observe: &mut dyn FnMut(&Executive, &CycleRecord),
+) -> MissionReport {
+    let mut v = Held {
+        inner: vehicle,
+        held: VecDeque::new(),
+    };
+    ex.vehicle_origin_ms = pacer.origin_ms();
+    if !opts.initial_goals.is_empty() {
+        v.held.push_back(VehicleEvent::Goals(GoalBatch::detached(
+            opts.initial_goals.clone(),
+        )));
+    }
+    let mut log = Log::default();
+    let end = loop {
+        let now = pacer.now(v.inner);
+        let outcome = ex.cycle(&mut v, now);
+        log.after_cycle(ex, now);
+        if let Some(c) = ex.cycles.last() {
+            observe(ex, c);
+        }
+        let wake = match outcome {
+            CycleOutcome::Finished => break MissionEnd::Finished,
+            CycleOutcome::Aborted(_) => match replan(ex, &mut v, pacer) {
+                Ok(()) => {
+                    log.change(pacer.now(v.inner), "replan", ex.plan.num_actions());
+                    // The new plan's first cycle right away.
+                    continue;
+                }
+                Err(end) => break end,
+            },
+            CycleOutcome::Continue { next, repairing } => {
+                // §3.2: wake on a message, a due timepoint, or the next cycle while repairing; at the latest
+                // one timestep later (timeouts are checked every cycle).
+                let ts = ex.cfg.timestep_ms;
+                let stopped = ex.cycles.last().is_some_and(|c| {
+                    c.events
+                        .iter()
+                        .any(|e| matches!(e, TraceEvent::Stop { .. }))
+                });
+                if repairing || stopped {
+                    now + 1
+                } else {
+                    next.map_or(now + ts, |n| n.clamp(now + 1, now + ts))
+                }
+            }
+        };
+        if now >= opts.time_limit_ms {
+            break MissionEnd::TimeLimit;
+        }
+        if let Some(e) = pacer.wait(v.inner, wake.min(opts.time_limit_ms.max(now + 1))) {
+            v.held.push_back(e);
+        }
+    };
+    let duration_ms = pacer.now(v.inner);
+    log.report(ex, end, duration_ms)
+}
+
+/// §3.6: complete replanning at the current time; S_t refreshed from the vehicle between attempts (the
+/// paper's suggested improvement). Goals left pending by a failed replanning are rejected by it.
+fn replan<V: Vehicle>(
+    ex: &mut Executive,
+    v: &mut Held<'_, V>,
+    pacer: &mut dyn Pacer<V>,
+) -> Result<(), MissionEnd> {
+    let cell = std::cell::RefCell::new(v);
+    let now = || pacer.now(cell.borrow().inner);
+    let result = ex.replan(&now, &mut |ex: &mut Executive| {
+        let t = now();
+        let mut v = cell.borrow_mut();
+        while let Some(e) = v.try_event() {
+            if matches!(e, VehicleEvent::Resource(_) | VehicleEvent::Capacity(_)) {
+                ex.integrate(e, t);
+            } else {
+                // Reports and goals wait for the new plan's first cycle.
+                v.held.push_back(e);
+            }
+        }
+    });
+    match result {
+        ReplanResult::Plan(plan) => {
+            ex.adopt(plan);
+            Ok(())
+        }
+        ReplanResult::NoGoals(plan) => {
+            ex.adopt(plan);
+            Err(MissionEnd::NoGoals)
+        }
+        ReplanResult::Error(e) => Err(MissionEnd::Error(e)),
+    }
+}
+
+/// What the report collects beyond the executive's own trace.
+#[derive(Default)]
+struct Log {
+    changes: Vec<PlanChange>,
+    resources: Vec<ResourceSample>,
+    last_bounds: Vec<Option<(f64, f64)>>,
+}
+
+impl Log {
+    fn change(&mut self, time_ms: Time, cause: &str, actions: usize) {
+        self.changes.push(PlanChange {
+            time_ms,
+            cause: cause.into(),
+            actions,
+        });
+    }
+
+    fn after_cycle(&mut self, ex: &Executive, now: Time) {
+        let Some(c) = ex.cycles.last() else { return };
+        for e in &c.events {
+            match e {
+                TraceEvent::RepairDone { .. } => self.change(now, "repair", ex.plan.num_actions()),
+                TraceEvent::GoalAccepted { .. } => {
+                    self.change(now, "goal_added", ex.plan.num_actions())
+                }
+                _ => {}
+            }
+        }
+        let running = classify(&ex.plan, now).running;
+        let n = ex.plan.domain.resources.len();
+        self.last_bounds.resize(n, None);
+        for i in 0..n {
+            let r = ResourceId::from_index(i);
+            let name = &ex.plan.domain.resources[i].name;
+            let reported = c.events.iter().find_map(|e| match e {
+                TraceEvent::Level {
+                    resource, level, ..
+                } if resource == name => Some(*level),
+                _ => None,
+            });
+            let past = ex.past.get(i).copied().unwrap_or((0.0, 0.0));
+            let b = level_bounds(&ex.plan, r, now, &running, past);
+            // Only changes (and reports) make it into the report: a mission has thousands of cycles.
+            if reported.is_some() || self.last_bounds[i] != Some((b.lb, b.ub)) {
+                self.last_bounds[i] = Some((b.lb, b.ub));
+                self.resources.push(ResourceSample {
+                    time_ms: now,
+                    resource: name.clone(),
+                    lb: b.lb,
+                    ub: b.ub,
+                    reported,
+                });
+            }
+        }
+    }
+
+    fn report(self, ex: &Executive, end: MissionEnd, duration_ms: Time) -> MissionReport {
+        let mut goals = ex.goal_fates();
+        if end == MissionEnd::TimeLimit {
+            for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
+                g.reason = "mission time limit reached".into();
+            }
+        }
+        MissionReport {
+            end,
+            duration_ms,
+            goals,
+            counters: ex.counters.clone(),
+            cycle_times: cycle_times(&ex.cycles),
+            plan_changes: self.changes,
+            resources: self.resources,
+            cycles: ex.cycles.clone(),
+        }
+    }
+}
+
+/// p50 / p99 / max of the cycles' CPU time.
+pub fn cycle_times(cycles: &[CycleRecord]) -> CycleTimes {
+    let mut t: Vec<u64> = cycles
+        .iter()
+        .map(|c| c.sense_us + c.repair_us + c.act_us)
+        .collect();
+    if t.is_empty() {
+        return CycleTimes::default();
+    }
+    t.sort_unstable();
+    let q = |p: f64| t[((t.len() - 1) as f64 * p).round() as usize];
+    CycleTimes {
+        count: t.len(),
+        p50_us: q(0.5),
+        p99_us: q(0.99),
+        max_us: t[t.len() - 1],
+        total_us: t.iter().sum(),
+    }
+}

@@ -1,0 +1,97 @@
+//! `run_mission` against MockVehicle on its manual clock: the planner's shopping-day plan run to the end,
+//! the report's goals, plan changes, resource samples and cycle times.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions};
+use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::trace::TraceEvent;
+use mavtempo::lang::load_problem_and_domain;
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::mock::Outcome;
+use mavtempo::vehicle::MockVehicle;
+
+fn shopping_executive() -> Executive {
+    let (d, p) =
+        load_problem_and_domain(Path::new("domains/shopping/problems/day.ixt")).expect("day loads");
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
+    let cfg = ExecConfig {
+        timestep_ms: 30_000,
+        repair_share: 0.6,
+        replan_slack_ms: 30_000,
+        repair_max_steps: Some(200),
+    };
+    Executive::new(search.into_plan(), cfg)
+}
+
+#[test]
+fn shopping_day_runs_to_the_end_and_reports() {
+    let mut ex = shopping_executive();
+    let mut v = MockVehicle::new();
+    v.script("go", Outcome::nominal(16 * 60_000));
+    v.script("buy", Outcome::nominal(5 * 60_000));
+    let opts = MissionOptions {
+        time_limit_ms: 12 * 3_600_000,
+        ..MissionOptions::default()
+    };
+    let mut seen = 0;
+    let report = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, _| seen += 1,
+    );
+    assert_eq!(report.end, MissionEnd::Finished, "{:?}", report.goals);
+    assert_eq!(report.goals.len(), 2);
+    assert!(report.goals.iter().all(|g| g.fate == Fate::Achieved));
+    assert_eq!(seen, report.cycles.len());
+    assert_eq!(report.cycle_times.count, report.cycles.len());
+    assert!(report.cycle_times.p50_us <= report.cycle_times.p99_us);
+    // No cycle is more than ts after the previous one (the wake-up rule's upper bound).
+    assert!(report
+        .cycles
+        .windows(2)
+        .all(|w| w[1].time_ms - w[0].time_ms <= 30_000));
+    let launches = report
+        .cycles
+        .iter()
+        .flat_map(|c| &c.events)
+        .filter(|e| matches!(e, TraceEvent::Launch { .. }))
+        .count();
+    assert!(launches >= 3, "go, buy, go home at least");
+    // Each report arrives when the mock said: the mission ends after the last action's duration.
+    assert!(report.duration_ms >= 16 * 60_000 * 2 + 5 * 60_000);
+    let json = serde_json::to_value(&report).expect("serialises");
+    assert_eq!(json["goals"][0]["fate"], "achieved");
+}
+
+#[test]
+fn time_limit_leaves_goals_pending_with_a_reason() {
+    let mut ex = shopping_executive();
+    let mut v = MockVehicle::new();
+    v.script("go", Outcome::nominal(16 * 60_000));
+    v.script("buy", Outcome::nominal(5 * 60_000));
+    let opts = MissionOptions {
+        time_limit_ms: 10 * 60_000,
+        ..MissionOptions::default()
+    };
+    let report = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, _| {},
+    );
+    assert_eq!(report.end, MissionEnd::TimeLimit);
+    assert!(report
+        .goals
+        .iter()
+        .all(|g| g.fate == Fate::Pending && g.reason.contains("time limit")));
+}
