@@ -26,6 +26,7 @@ fn shopping_executive() -> Executive {
         repair_share: 0.6,
         replan_slack_ms: 30_000,
         repair_max_steps: Some(200),
+        ..ExecConfig::default()
     };
     Executive::new(search.into_plan(), cfg)
 }

@@ -101,6 +101,7 @@ fn exec_config() -> ExecConfig {
         repair_share: 0.6,
         replan_slack_ms: 2_000,
         repair_max_steps: Some(500),
+        ..ExecConfig::default()
     }
 }
 

@@ -137,34 +137,35 @@ impl DispatchPolicy for GoalDriven {
         true
     }
 
-    fn t_exec(&self, window: StartWindow, _ts: Time, supports_external_goal: bool) -> Option<Time> {
+    /// Algorithm 1 as an execution time: an action supporting an external goal at `lb`; any other when its
+    /// start upper bound falls within the current tick `[now, now + ts]`, i.e. from `ub − ts` on (never
+    /// before `lb`, never while `ub` is infinite).
+    fn t_exec(&self, window: StartWindow, ts: Time, supports_external_goal: bool) -> Option<Time> {
         if supports_external_goal {
             Some(window.lb)
         } else {
-            window.finite_ub()
+            window
+                .finite_ub()
+                .map(|ub| ub.saturating_sub(ts).max(window.lb))
         }
     }
 
-    /// Algorithm 1 (DispatchToken): dispatch if the token supports an external goal; otherwise only when its
-    /// start upper bound is at most the upper bound of the current tick (then at that upper bound, its
-    /// latest start). A start window still in the future (`lb` after the tick) waits for `lb` in both cases.
+    /// Algorithm 1 (DispatchToken) on the current tick: dispatch if the token supports an external goal;
+    /// otherwise only when its start upper bound is at most the upper bound of the tick. Dispatched tokens
+    /// start at the beginning of the tick, or when their start window opens within it.
     fn decide(&self, window: StartWindow, tick: Tick, supports_external_goal: bool) -> Decision {
-        if supports_external_goal {
-            if window.lb <= tick.end {
-                return Decision::Dispatch {
-                    at: window.lb.max(tick.now),
-                };
-            }
-            Decision::Defer {
-                t_exec: Some(window.lb),
-            }
-        } else if window.ub < INF && window.ub <= tick.end {
+        let due = if supports_external_goal {
+            window.lb <= tick.end
+        } else {
+            window.ub < INF && window.ub <= tick.end
+        };
+        if due {
             Decision::Dispatch {
-                at: window.ub.max(tick.now).max(window.lb),
+                at: window.lb.max(tick.now),
             }
         } else {
             Decision::Defer {
-                t_exec: window.finite_ub(),
+                t_exec: self.t_exec(window, tick.ts(), supports_external_goal),
             }
         }
     }
@@ -364,22 +365,22 @@ mod tests {
         assert_eq!(
             p.decide(w(0, 60_000), tick, false),
             Decision::Defer {
-                t_exec: Some(60_000)
+                t_exec: Some(59_000)
             }
         );
-        // Alg. 1's second branch: start ub within the current tick → dispatched, at the latest start.
+        // Alg. 1's second branch: start ub within the current tick → dispatched in this tick.
         assert_eq!(
             p.decide(w(0, 10_800), tick, false),
-            Decision::Dispatch { at: 10_800 }
+            Decision::Dispatch { at: 10_000 }
         );
         assert_eq!(
             p.decide(w(0, 11_000), tick, false),
-            Decision::Dispatch { at: 11_000 }
+            Decision::Dispatch { at: 10_000 }
         );
         assert_eq!(
             p.decide(w(0, 11_001), tick, false),
             Decision::Defer {
-                t_exec: Some(11_001)
+                t_exec: Some(10_001)
             }
         );
         assert_eq!(
@@ -393,33 +394,26 @@ mod tests {
                 t_exec: Some(20_000)
             }
         );
+        assert_eq!(
+            p.decide(w(10_500, 60_000), tick, true),
+            Decision::Dispatch { at: 10_500 }
+        );
     }
 
-    /// Algorithm 1 as written agrees with the generic seed 1 rule applied to the goal-driven `t_exec`.
+    /// Algorithm 1 on ticks and its execution time agree: for a start whose window is open (the executive
+    /// only asks about executable timepoints, Definition 2: `lb <= now`), the token is dispatched in the tick
+    /// exactly when `t_exec <= now` — the executive's rule, which wakes up at `t_exec`.
     #[test]
-    fn algorithm_1_agrees_with_the_t_exec_rule() {
-        struct Generic;
-        impl fmt::Debug for Generic {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("Generic")
-            }
-        }
-        impl DispatchPolicy for Generic {
-            fn name(&self) -> &'static str {
-                "generic"
-            }
-            fn t_exec(&self, window: StartWindow, ts: Time, s: bool) -> Option<Time> {
-                GoalDriven.t_exec(window, ts, s)
-            }
-        }
+    fn algorithm_1_agrees_with_its_execution_time() {
         for lb in (0..6).map(|i| i * 700) {
             for ub in [lb, lb + 300, lb + 1_000, lb + 5_000, INF] {
-                for now in (0..10).map(|i| i * 450) {
+                for now in (0..12).map(|i| i * 450).filter(|&n| n >= lb) {
                     for s in [false, true] {
                         let tick = Tick::new(now, TS);
+                        let te = GoalDriven.t_exec(w(lb, ub), TS, s);
                         assert_eq!(
-                            GoalDriven.decide(w(lb, ub), tick, s),
-                            Generic.decide(w(lb, ub), tick, s),
+                            GoalDriven.decide(w(lb, ub), tick, s).is_dispatch(),
+                            te.is_some_and(|t| t <= now),
                             "lb {lb} ub {ub} now {now} supports {s}"
                         );
                     }
