@@ -133,6 +133,29 @@ impl PartialPlan {
         Ok(cond)
     }
 
+    /// An observed fact (seed 1 §3.3, a state value from a report): `attr(args) = value` from `at` on, an
+    /// event of the initial state's kind on a timepoint fixed at `at`. Hook for the executive.
+    pub fn add_observation(
+        &mut self,
+        attr: crate::model::AttrId,
+        args: &[crate::model::ObjectId],
+        value: crate::model::Value,
+        at: crate::model::Time,
+    ) -> Result<EventId, PlanError> {
+        let origin = self.stn.origin();
+        let tp = self.stn.add_timepoint();
+        self.stn.add_constraint(origin, tp, at, at)?;
+        Ok(self.push_event(EventRec {
+            owner: Owner::Initial,
+            attr,
+            args: args.iter().map(|&o| STerm::Obj(o)).collect(),
+            cond: None,
+            to: value.into(),
+            at: tp,
+            primary: false,
+        }))
+    }
+
     fn push_event(&mut self, e: EventRec) -> EventId {
         let id = EventId(self.events.len() as u32);
         let attr = e.attr;
