@@ -55,6 +55,8 @@ pub struct DemoArgs {
     /// Planning steps for the initial plan.
     #[arg(long, default_value_t = 200_000)]
     pub max_steps: u64,
+    #[command(flatten)]
+    pub dispatch: super::dispatch_arg::DispatchArg,
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
@@ -172,7 +174,7 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
         "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         sim.client_address()
     );
-    let mut ex = Executive::new(plan, exec_config());
+    let mut ex = Executive::new(plan, exec_config()).with_policy(args.dispatch.dispatch);
     let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
     let mut observe = |ex: &Executive, c: &CycleRecord| {
         if !args.quiet {

@@ -3,6 +3,8 @@
 mod bench;
 mod check;
 mod demo;
+mod dispatch_arg;
+mod experiment;
 mod goal;
 mod mission_out;
 mod plan;
@@ -33,6 +35,8 @@ pub enum Command {
     Plan(plan::PlanArgs),
     /// The Fig. 2 story of seed 1: the rover mission executed against the built-in SITL, with its faults.
     Demo(demo::DemoArgs),
+    /// Experiments: `experiment dispatch` compares the dispatch policies under random goal arrivals.
+    Experiment(experiment::ExperimentArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
@@ -48,6 +52,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Plan(args) => plan::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Experiment(args) => experiment::run(args),
         Command::Goal(args) => goal::run(args),
         Command::Sim(args) => sim::run(args),
     }

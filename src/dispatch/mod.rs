@@ -11,6 +11,7 @@
 //! - [`bench`]: decision and update cost of both algorithm forms (`mavtempo bench dispatch`).
 
 pub mod bench;
+pub mod experiment;
 pub mod graph;
 pub mod marking;
 pub mod plan_adapter;

@@ -170,7 +170,10 @@ pub fn run_mission<V: Vehicle>(
                         .iter()
                         .any(|e| matches!(e, TraceEvent::Stop { .. }))
                 });
-                if repairing || stopped {
+                if repairing && ex.cfg.repair_max_steps.is_some() {
+                    // Deterministic runs: a repair slice of steps stands for μ·ts of mission time.
+                    now + ex.cfg.repair_budget_ms().max(1)
+                } else if repairing || stopped {
                     now + 1
                 } else {
                     next.map_or(now + ts, |n| n.clamp(now + 1, now + ts))

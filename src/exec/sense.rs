@@ -215,7 +215,7 @@ impl Executive {
             }
             crate::vehicle::GoalKind::BeAt | crate::vehicle::GoalKind::ReturnHome => {
                 let attr =
-                    find(&["AT_ROBOT", "at"]).ok_or("no position attribute in the domain")?;
+                    find(&["AT_ROBOT", "AUV_AT", "AT", "at"]).ok_or("no position attribute in the domain")?;
                 let l = loc.ok_or("position goal without a location")?;
                 (attr, vec![], Value::Obj(l))
             }
