@@ -9,6 +9,7 @@
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
 pub mod bench;
+pub mod hierarchy;
 pub mod resolvers;
 pub mod select;
 
@@ -82,13 +83,16 @@ pub struct Search {
     steps: u64,
     backtracks: u64,
     status: Status,
+    hierarchy: hierarchy::Hierarchy,
 }
 
 impl Search {
     /// A search whose root is `plan` (the incremental flaw detection is rebuilt from scratch).
     pub fn new(mut plan: PartialPlan) -> Self {
         plan.recompute_candidates();
+        let hierarchy = hierarchy::Hierarchy::new(&plan.domain);
         Search {
+            hierarchy,
             plan,
             stack: Vec::new(),
             steps: 0,
@@ -155,7 +159,7 @@ impl Search {
             Status::Running => {}
         }
         self.steps += 1;
-        match select::pick(&mut self.plan) {
+        match select::pick(&mut self.plan, &self.hierarchy) {
             None => {
                 self.status = Status::Solved;
                 tracing::debug!(steps = self.steps, "plan found");
