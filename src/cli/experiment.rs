@@ -33,6 +33,10 @@ pub struct DispatchArgs {
     /// Mean number of goals uploaded per hour (Poisson rate).
     #[arg(long, default_value_t = 0.4)]
     pub per_hour: f64,
+    /// The executive's deterministic planning budget n: μ·n plan-repair steps per cycle, 200·n steps per
+    /// complete-replanning attempt.
+    #[arg(long, default_value_t = 10)]
+    pub repair_steps: u64,
     /// Only these scenarios (auv, shopping); all by default.
     #[arg(long)]
     pub scenario: Vec<String>,
@@ -60,6 +64,7 @@ pub fn run(args: ExperimentArgs) -> ExitCode {
         first_seed: a.first_seed,
         scenarios: a.scenario.clone(),
         per_hour: a.per_hour,
+        repair_steps: a.repair_steps.max(1),
         ..ExperimentOptions::default()
     };
     if !a.policy.is_empty() {

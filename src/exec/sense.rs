@@ -214,8 +214,8 @@ impl Executive {
                 (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
             }
             crate::vehicle::GoalKind::BeAt | crate::vehicle::GoalKind::ReturnHome => {
-                let attr =
-                    find(&["AT_ROBOT", "AUV_AT", "AT", "at"]).ok_or("no position attribute in the domain")?;
+                let attr = find(&["AT_ROBOT", "AUV_AT", "AT", "at"])
+                    .ok_or("no position attribute in the domain")?;
                 let l = loc.ok_or("position goal without a location")?;
                 (attr, vec![], Value::Obj(l))
             }

@@ -57,7 +57,8 @@ pub fn arrivals(model: &ArrivalModel, targets: &[Target], rng: &mut ChaCha8Rng) 
         let at_ms = t as Time;
         let target = &targets[rng.gen_range(0..targets.len())];
         let open = at_ms + rng.gen_range(0..=model.max_delay_ms.max(0));
-        let close = (open + rng.gen_range(model.width_ms.0..=model.width_ms.1)).min(model.horizon_ms);
+        let close =
+            (open + rng.gen_range(model.width_ms.0..=model.width_ms.1)).min(model.horizon_ms);
         let s = |ms: Time| ms as f64 / 1000.0;
         out.push(Arrival {
             at_ms,

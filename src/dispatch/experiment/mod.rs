@@ -59,7 +59,10 @@ fn specs() -> Vec<Spec> {
     vec![
         Spec {
             name: "auv",
-            domain: ("domains/auv/auv.ixt", include_str!("../../../domains/auv/auv.ixt")),
+            domain: (
+                "domains/auv/auv.ixt",
+                include_str!("../../../domains/auv/auv.ixt"),
+            ),
             problem: (
                 "domains/auv/problems/vents.ixt",
                 include_str!("../../../domains/auv/problems/vents.ixt"),
@@ -69,8 +72,20 @@ fn specs() -> Vec<Spec> {
             // late-preemptive stop at ub − ts.
             times: vec![
                 ("go", TaskTime::Travel { lo: 1.3, hi: 1.45 }),
-                ("survey", TaskTime::Fixed { lo: 10 * MIN, hi: 10 * MIN }),
-                ("sample", TaskTime::Fixed { lo: 10 * MIN, hi: 10 * MIN }),
+                (
+                    "survey",
+                    TaskTime::Fixed {
+                        lo: 10 * MIN,
+                        hi: 10 * MIN,
+                    },
+                ),
+                (
+                    "sample",
+                    TaskTime::Fixed {
+                        lo: 10 * MIN,
+                        hi: 10 * MIN,
+                    },
+                ),
             ],
             targets: vec![
                 (GoalKind::SampleAt, "vent1"),
@@ -99,7 +114,13 @@ fn specs() -> Vec<Spec> {
             ],
             times: vec![
                 ("go", TaskTime::Travel { lo: 1.1, hi: 1.3 }),
-                ("buy", TaskTime::Fixed { lo: 5 * MIN, hi: 5 * MIN }),
+                (
+                    "buy",
+                    TaskTime::Fixed {
+                        lo: 5 * MIN,
+                        hi: 5 * MIN,
+                    },
+                ),
             ],
             targets: vec![
                 (GoalKind::BeAt, "home"),
@@ -131,7 +152,8 @@ fn prepare(spec: &Spec, per_hour: f64) -> Result<Prepared, ExperimentError> {
         scenario: spec.name.into(),
         reason,
     };
-    let domain = lang::parse_domain(spec.domain.0, spec.domain.1).map_err(|e| load(e.to_string()))?;
+    let domain =
+        lang::parse_domain(spec.domain.0, spec.domain.1).map_err(|e| load(e.to_string()))?;
     let mut problem: Problem = lang::parse_problem(spec.problem.0, spec.problem.1, &domain)
         .map_err(|e| load(e.to_string()))?;
     for &(name, east, north, up) in spec.positions {
@@ -250,12 +272,17 @@ fn idle(log: &[Done], end: Time) -> Time {
 /// Travel wasted: a leg `A → B` followed at once by `B → A`, nothing done at `B` in between.
 fn wasted(log: &[Done]) -> f64 {
     let mut w = 0.0;
-    for pair in log.windows(2) {
-        if let (Some((a, b, d1)), Some((b2, a2, d2))) = (&pair[0].leg, &pair[1].leg) {
+    let mut i = 0;
+    while i + 1 < log.len() {
+        if let (Some((a, b, d1)), Some((b2, a2, d2))) = (&log[i].leg, &log[i + 1].leg) {
             if a == a2 && b == b2 {
                 w += d1 + d2;
+                // A leg is wasted once, even inside a longer back-and-forth.
+                i += 2;
+                continue;
             }
         }
+        i += 1;
     }
     w
 }
@@ -285,7 +312,9 @@ fn outcome(
                     achieved_at.entry(goal.as_str()).or_insert(c.time_ms);
                 }
                 TraceEvent::GoalRejected { goal, reason } => {
-                    rejected_at_intake.entry(goal.as_str()).or_insert(reason.as_str());
+                    rejected_at_intake
+                        .entry(goal.as_str())
+                        .or_insert(reason.as_str());
                 }
                 _ => {}
             }
@@ -332,7 +361,7 @@ fn outcome(
 }
 
 /// One mission of `p` under `policy` with the goals and vehicle of `seed`.
-pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64) -> MissionOutcome {
+pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64, repair_steps: u64) -> MissionOutcome {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let uploads = arrivals(&p.model, &p.targets, &mut rng);
     let mut v = KinematicVehicle::new(ChaCha8Rng::seed_from_u64(seed ^ 0x5eed), p.times.clone());
@@ -341,14 +370,20 @@ pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64) -> MissionOutcome {
     }
     let cfg = ExecConfig {
         timestep_ms: MIN,
-        // Deterministic budgets: 6 repair steps per cycle, 2,000 per replanning attempt (the mission clock
+        // Deterministic budgets: μ·n repair steps per cycle, 200·n per replanning attempt (the mission clock
         // stands still while the planner runs, so these bound the experiment's cost).
-        repair_max_steps: Some(10),
+        repair_max_steps: Some(repair_steps),
         replan_slack_ms: MIN,
         dispatch: policy,
         ..ExecConfig::default()
     };
-    let problem_goals: Vec<String> = p.plan.problem.goals.iter().map(|g| g.name.clone()).collect();
+    let problem_goals: Vec<String> = p
+        .plan
+        .problem
+        .goals
+        .iter()
+        .map(|g| g.name.clone())
+        .collect();
     let mut ex = Executive::new(p.plan.clone(), cfg);
     let opts = MissionOptions {
         time_limit_ms: p.model.horizon_ms + MIN,
@@ -392,7 +427,10 @@ impl Row {
                 *reasons.entry(k.clone()).or_insert(0) += v;
             }
         }
-        let times: Vec<Time> = outcomes.iter().flat_map(|o| o.time_to_achieve_ms.clone()).collect();
+        let times: Vec<Time> = outcomes
+            .iter()
+            .flat_map(|o| o.time_to_achieve_ms.clone())
+            .collect();
         Row {
             scenario: scenario.into(),
             policy: policy.to_string(),
@@ -425,6 +463,8 @@ pub struct ExperimentOptions {
     pub scenarios: Vec<String>,
     /// Mean goals uploaded per hour.
     pub per_hour: f64,
+    /// The executive's deterministic planning budget n (ExecConfig::repair_max_steps).
+    pub repair_steps: u64,
 }
 
 impl Default for ExperimentOptions {
@@ -439,6 +479,7 @@ impl Default for ExperimentOptions {
             ],
             scenarios: Vec::new(),
             per_hour: 0.4,
+            repair_steps: 10,
         }
     }
 }
@@ -463,7 +504,7 @@ pub fn run(
         for &policy in &opts.policies {
             let mut outcomes = Vec::new();
             for seed in opts.first_seed..opts.first_seed + opts.seeds {
-                outcomes.push(run_one(p, policy, seed));
+                outcomes.push(run_one(p, policy, seed, opts.repair_steps));
                 done += 1;
                 progress(done, total);
             }
@@ -506,5 +547,7 @@ mod tests {
         assert_eq!(wasted(&[leg("h", "c", 5.0), leg("c", "h", 5.0)]), 10.0);
         assert_eq!(wasted(&[leg("h", "c", 5.0), buy, leg("c", "h", 5.0)]), 0.0);
         assert_eq!(wasted(&[leg("h", "c", 5.0), leg("c", "g", 5.0)]), 0.0);
+        let there_and_back_twice = [leg("h", "c", 5.0), leg("c", "h", 5.0), leg("h", "c", 5.0)];
+        assert_eq!(wasted(&there_and_back_twice), 10.0);
     }
 }

@@ -90,7 +90,12 @@ impl KinematicVehicle {
                 .filter(|(_, r)| r.end_ms <= self.now_ms)
                 .min_by_key(|(id, r)| (r.end_ms, **id))
                 .map(|(id, _)| *id);
-            let due_goal = self.goals.keys().next().copied().filter(|&g| g <= self.now_ms);
+            let due_goal = self
+                .goals
+                .keys()
+                .next()
+                .copied()
+                .filter(|&g| g <= self.now_ms);
             match (due_report, due_goal) {
                 (Some(id), g) if g.is_none_or(|g| self.running[&id].end_ms <= g) => {
                     self.finish(id, ReportStatus::Nominal)
