@@ -194,6 +194,8 @@ impl Executive {
     pub fn adopt(&mut self, plan: PartialPlan) {
         self.plan = plan;
         self.started.clear();
+        // Their late reports name actions of the old plan: ignored as unknown.
+        self.by_vid.clear();
         self.stop_sent.clear();
         self.repair = None;
         self.repair_requested = false;
