@@ -21,17 +21,29 @@ fn counts_add_up_and_runs_repeat() {
     for r in &rows {
         assert!(r.arrived > 0, "{r:?}");
         assert_eq!(r.arrived, r.achieved + r.rejected + r.pending, "{r:?}");
-        assert_eq!(r.rejected, r.rejected_reasons.values().sum::<u64>(), "{r:?}");
+        assert_eq!(
+            r.rejected,
+            r.rejected_reasons.values().sum::<u64>(),
+            "{r:?}"
+        );
         assert_eq!(r.mission_goals, 2 * 2, "two goals per mission file");
         assert!(r.distance_km > 0.0 && r.wasted_km <= r.distance_km, "{r:?}");
         let json = serde_json::to_value(r).expect("serialises");
-        for key in ["scenario", "policy", "arrived", "achieved", "rejected", "pending"] {
+        for key in [
+            "scenario", "policy", "arrived", "achieved", "rejected", "pending",
+        ] {
             assert!(json.get(key).is_some(), "{key}");
         }
     }
     let again = run(&opts, &mut |_, _| {}).expect("scenarios plan");
     let key = |r: &mavtempo::dispatch::experiment::Row| {
-        (r.arrived, r.achieved, r.rejected, r.pending, r.distance_km.to_bits())
+        (
+            r.arrived,
+            r.achieved,
+            r.rejected,
+            r.pending,
+            r.distance_km.to_bits(),
+        )
     };
     assert_eq!(
         rows.iter().map(key).collect::<Vec<_>>(),
@@ -40,5 +52,8 @@ fn counts_add_up_and_runs_repeat() {
     );
     // Dispatching differently moves the vehicle differently.
     let auv: Vec<_> = rows.iter().filter(|r| r.scenario == "auv").collect();
-    assert!(auv.windows(2).any(|w| w[0].idle_h != w[1].idle_h), "{auv:?}");
+    assert!(
+        auv.windows(2).any(|w| w[0].idle_h != w[1].idle_h),
+        "{auv:?}"
+    );
 }
