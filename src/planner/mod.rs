@@ -159,6 +159,16 @@ impl Search {
             Status::Running => {}
         }
         self.steps += 1;
+        if self.stack.is_empty() {
+            // The root's forced conflicts (later nodes propagate them when a resolver is applied).
+            if let Err(e) = select::propagate_forced(&mut self.plan) {
+                let r = FailReason::NoResolver {
+                    flaw: e.to_string(),
+                };
+                self.status = Status::Failed(r.clone());
+                return StepOutcome::Failed(r);
+            }
+        }
         match select::pick(&mut self.plan, &self.hierarchy) {
             None => {
                 self.status = Status::Solved;
@@ -193,7 +203,9 @@ impl Search {
                 let r = top.resolvers[top.next].clone();
                 top.next += 1;
                 self.plan.restore(level);
-                match resolvers::apply(&mut self.plan, &r) {
+                match resolvers::apply(&mut self.plan, &r)
+                    .and_then(|()| select::propagate_forced(&mut self.plan))
+                {
                     Ok(()) => {
                         if let Some(top) = self.stack.last_mut() {
                             top.applied_any = true;
