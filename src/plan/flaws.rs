@@ -134,6 +134,11 @@ impl PartialPlan {
             if !self.reservoir_dirty[r] || !wanted(id) {
                 continue;
             }
+            // Unary resources have their own pairwise conflicts.
+            if self.domain.resources[r].kind == ResourceKind::Unary {
+                self.set_reservoir_dirty(r, false);
+                continue;
+            }
             match reservoir_conflict(self, id) {
                 Some(c) => out.push(c),
                 None => self.set_reservoir_dirty(r, false),

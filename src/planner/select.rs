@@ -83,52 +83,120 @@ fn key(rank: u64, rs: &[Resolver], open: bool, kind: u8, urgency: i64, recency: 
 }
 
 /// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
+///
+/// Forced conflicts were mostly applied by [`propagate_forced`] at the end of the previous step, so only
+/// the flaws at the best rank present need their resolvers listed (listing them costs ordering queries);
+/// reservoirs that cannot reach that rank are not even checked this step.
 pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
+    let threats: Vec<(Flaw, u64)> = plan
+        .live_threats()
+        .into_iter()
+        .map(|(event, link)| {
+            let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
+            (Flaw::Threat { event, link }, rank)
+        })
+        .collect();
+    let unary: Vec<(Flaw, u64)> = plan
+        .live_unary_conflicts()
+        .into_iter()
+        .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
+        .collect();
+    let open: Vec<(Flaw, u64)> = plan
+        .open_conditions()
+        .map(|c| (Flaw::OpenCondition(c), rank_attr(h, plan.cond(c).attr)))
+        .collect();
+    let top = threats
+        .iter()
+        .chain(&unary)
+        .chain(&open)
+        .map(|&(_, r)| r)
+        .max()
+        .unwrap_or(0);
     let mut best: Option<(Key, Flaw, Vec<Resolver>)> = None;
     let mut consider = |key: Key, f: Flaw, rs: Vec<Resolver>| {
         if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
             best = Some((key, f, rs));
         }
     };
-    for (event, link) in plan.live_threats() {
-        let f = Flaw::Threat { event, link };
+    for (f, rank) in threats.into_iter().chain(unary) {
+        if rank < top {
+            continue;
+        }
+        let kind = if matches!(f, Flaw::Threat { .. }) {
+            0
+        } else {
+            1
+        };
         let rs = resolvers(plan, &f);
-        let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
-        consider(key(rank, &rs, false, 0, 0, 0), f, rs);
+        consider(key(rank, &rs, false, kind, 0, 0), f, rs);
     }
-    for (a, b) in plan.live_unary_conflicts() {
-        let f = Flaw::UnaryConflict { a, b };
-        let rs = resolvers(plan, &f);
-        consider(key(RANK_UNARY, &rs, false, 1, 0, 0), f, rs);
-    }
-    // Open conditions below the best rank present can only win as dead ends; their resolvers (the
-    // costliest to list) are computed only at the best rank, and reservoirs that cannot reach it are
-    // not checked this step.
-    let open: Vec<_> = plan.open_conditions().collect();
-    let top = open
-        .iter()
-        .map(|&c| rank_attr(h, plan.cond(c).attr))
-        .max()
-        .unwrap_or(0);
     for c in plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top) {
         let f = Flaw::Reservoir(c);
         let rs = resolvers(plan, &f);
         let rank = rank_reservoir(plan, h, &f);
         consider(key(rank, &rs, false, 2, 0, 0), f, rs);
     }
-    for c in open {
-        let cond = plan.cond(c);
-        let rank = rank_attr(h, cond.attr);
-        if rank < top {
-            continue;
-        }
-        let urgency = plan.stn.ub(cond.from);
-        let f = Flaw::OpenCondition(c);
+    // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
+    // recent); the scan stops at the first forced one (at most one resolver), which no later one can beat
+    // but by being a dead end — found at the next step anyway.
+    let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> = open
+        .into_iter()
+        .filter(|&(_, rank)| rank >= top)
+        .filter_map(|(f, rank)| match f {
+            Flaw::OpenCondition(c) => Some((
+                plan.stn.ub(plan.cond(c).from),
+                std::cmp::Reverse(c.0),
+                f,
+                rank,
+            )),
+            _ => None,
+        })
+        .collect();
+    candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+    for (urgency, std::cmp::Reverse(recency), f, rank) in candidates {
         let rs = resolvers(plan, &f);
-        consider(key(rank, &rs, true, 3, urgency, c.0), f, rs);
+        let forced = rs.len() <= 1;
+        consider(key(rank, &rs, true, 3, urgency, recency), f, rs);
+        if forced {
+            break;
+        }
     }
     best.map(|(_, f, mut rs)| {
         refine(plan, &f, &mut rs);
         (f, rs)
     })
+}
+
+/// Applies, within the current planning step, every conflict (threat, unary-resource conflict) that has
+/// exactly one resolver and that resolver only adds a constraint — a forced move, so no choice point is
+/// needed. A conflict left without any resolver makes the step fail (the caller
+/// restores the node and tries its next resolver). Without this each of the quadratically many forced
+/// orderings of a tour would be a planning step of its own, each re-examining the whole flaw set.
+pub fn propagate_forced(plan: &mut PartialPlan) -> Result<(), crate::plan::PlanError> {
+    // One pass: a conflict made forced by a constraint applied in this pass waits for the next step's
+    // pass (a full re-scan per application would cost more than it prunes).
+    let threats = plan.live_threats();
+    for (event, link) in threats {
+        if plan.check_threat(event, link) != crate::plan::ThreatCheck::Threat {
+            continue;
+        }
+        apply_if_forced(plan, &Flaw::Threat { event, link })?;
+    }
+    let conflicts = plan.live_unary_conflicts();
+    for (a, b) in conflicts {
+        if plan.check_unary(a, b) != Some(true) {
+            continue;
+        }
+        apply_if_forced(plan, &Flaw::UnaryConflict { a, b })?;
+    }
+    Ok(())
+}
+
+fn apply_if_forced(plan: &mut PartialPlan, f: &Flaw) -> Result<bool, crate::plan::PlanError> {
+    let rs = resolvers(plan, f);
+    match rs.as_slice() {
+        [] => Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(f))),
+        [r] if !r.inserts() => super::resolvers::apply(plan, r).map(|()| true),
+        _ => Ok(false),
+    }
 }
