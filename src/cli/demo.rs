@@ -172,6 +172,8 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
         sim.client_address()
     );
     let mut ex = Executive::new(plan, exec_config());
+    // The SITL reports the battery in whole percents.
+    ex.level_tolerance = 1.0;
     let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
     let mut observe = |ex: &Executive, c: &CycleRecord| {
         if !args.quiet {

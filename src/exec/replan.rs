@@ -164,9 +164,16 @@ impl Executive {
                 },
             });
             if solved {
-                let mut plan = search.into_plan();
+                let mut plan = search.plan().clone();
                 plan.set_time_floor(TimeFloor::None);
-                return ReplanResult::Plan(plan);
+                // T_end happens now: planning is over, the new plan's first timepoints may follow it.
+                if plan.stn.execute(t_end, now()).is_ok() {
+                    return ReplanResult::Plan(plan);
+                }
+                self.trace(TraceEvent::Replan {
+                    attempt: attempt as u32,
+                    outcome: "plan found too late (after T_end)".into(),
+                });
             }
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
