@@ -6,6 +6,7 @@ mod demo;
 mod goal;
 mod mission_out;
 mod plan;
+mod run;
 mod sim;
 
 use std::process::ExitCode;
@@ -35,6 +36,8 @@ pub enum Command {
     Demo(demo::DemoArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
+    /// Plan a problem and execute it live on a MAVLink vehicle (plan repair, replanning, goal uploads).
+    Run(run::RunArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
     Sim(sim::SimArgs),
 }
@@ -49,6 +52,7 @@ pub fn main() -> ExitCode {
         Command::Plan(args) => plan::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Goal(args) => goal::run(args),
+        Command::Run(args) => run::run(args),
         Command::Sim(args) => sim::run(args),
     }
 }
