@@ -170,7 +170,10 @@ pub fn run_mission<V: Vehicle>(
                         .iter()
                         .any(|e| matches!(e, TraceEvent::Stop { .. }))
                 });
-                if repairing || stopped {
+                if repairing {
+                    // The repair had its μ·ts this cycle; the next cycle goes on with it.
+                    now + ex.cfg.repair_budget_ms().max(1)
+                } else if stopped {
                     now + 1
                 } else {
                     next.map_or(now + ts, |n| n.clamp(now + 1, now + ts))
