@@ -207,7 +207,7 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
                 origin_ms: origin,
                 max_step_ms: 500,
                 telemetry_period_ms: 1_000,
-                settle: Duration::from_millis(500),
+                settle: Duration::from_secs(2),
             };
             run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe)
         }

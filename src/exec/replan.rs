@@ -119,7 +119,8 @@ impl Executive {
     ) -> ReplanResult {
         self.counters.replans += 1;
         let mut dropped: Vec<GoalId> = Vec::new();
-        let max_steps = self.cfg.repair_max_steps.map(|n| n * 200);
+        // Deterministic runs: an attempt gets the steps of 40 cycles (a manual clock does not move while planning).
+        let max_steps = self.cfg.repair_max_steps.map(|n| n * 40);
         for attempt in 1.. {
             let t = now();
             self.state.refresh(&self.plan, t);
