@@ -1,4 +1,5 @@
-//! Criterion: planning time on the shipped problems the planner solves (see `mavtempo bench plan` for all).
+//! Criterion: planning time on the shipped problems and a generated 10-target rover grid (see
+//! `mavtempo bench plan` for the 20- and 40-target grids).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -9,6 +10,8 @@ use mavtempo::planner::{solve, Budget};
 
 fn bench(c: &mut Criterion) {
     for path in [
+        "domains/rover/problems/fig2.ixt",
+        "domains/rover/problems/dala.ixt",
         "domains/auv/problems/vents.ixt",
         "domains/shopping/problems/day.ixt",
     ] {
@@ -22,9 +25,23 @@ fn bench(c: &mut Criterion) {
     }
 }
 
+fn grid(c: &mut Criterion) {
+    let Ok(d) = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")) else {
+        return;
+    };
+    let text = mavtempo::planner::bench::rover_grid_problem(10);
+    let Ok(p) = mavtempo::lang::parse_problem("grid10", &text, &d) else {
+        return;
+    };
+    let (d, p) = (Arc::new(d), Arc::new(p));
+    c.bench_function("plan rover/grid10", |b| {
+        b.iter(|| solve(d.clone(), p.clone(), Budget::steps(20_000)).is_ok())
+    });
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = bench
+    targets = bench, grid
 }
 criterion_main!(benches);

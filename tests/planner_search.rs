@@ -190,3 +190,42 @@ fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
     );
     assert!(search.executable(&[]));
 }
+
+/// `next_is_backtrack` (seed 1 §3.6's exception to the time limit) is true exactly when the next step
+/// backtracks, and asking does not change the search.
+#[test]
+fn next_is_backtrack_predicts_the_next_step() {
+    let (d, p) = mavtempo::lang::load_problem_and_domain(std::path::Path::new(
+        "domains/shopping/problems/day.ixt",
+    ))
+    .expect("shipped problem");
+    let root = mavtempo::plan::PartialPlan::new(std::sync::Arc::new(d), std::sync::Arc::new(p))
+        .expect("root plan");
+    let mut peeking = mavtempo::planner::Search::new(root.clone());
+    let mut plain = mavtempo::planner::Search::new(root);
+    let mut predictions = 0;
+    for _ in 0..2_000 {
+        let predicted = peeking.next_is_backtrack();
+        predictions += usize::from(predicted);
+        let before = peeking.backtracks();
+        let a = peeking.step();
+        let b = plain.step();
+        assert_eq!(a, b, "peeking changed the search");
+        assert_eq!(
+            predicted,
+            peeking.backtracks() > before,
+            "prediction {predicted} at step {}",
+            peeking.steps()
+        );
+        if a != mavtempo::planner::StepOutcome::Progress {
+            break;
+        }
+    }
+    assert_eq!(peeking.steps(), plain.steps());
+    assert_eq!(peeking.backtracks(), plain.backtracks());
+    assert!(
+        plain.backtracks() > 0,
+        "the problem should need backtracking"
+    );
+    assert!(predictions > 0, "no backtrack was predicted");
+}

@@ -118,6 +118,18 @@ fn check_against_oracle(stn: &Stn) -> Result<(), TestCaseError> {
                 a,
                 b
             );
+            // The threshold form, around the true value and at the ordering thresholds.
+            let d = apsp.distance(a, b);
+            for limit in [d.saturating_sub(1), d, d.saturating_add(1), -1, 0, 1] {
+                prop_assert_eq!(
+                    stn.distance_below(a, b, limit),
+                    d < limit,
+                    "distance_below {:?}->{:?} limit {}",
+                    a,
+                    b,
+                    limit
+                );
+            }
         }
     }
     Ok(())

@@ -197,7 +197,7 @@ fn bench_link(json: bool) -> ExitCode {
 }
 
 fn bench_plan(json: bool) -> ExitCode {
-    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 2_000) {
+    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 20_000) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("bench plan: {e}");

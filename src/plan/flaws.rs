@@ -119,12 +119,27 @@ impl PartialPlan {
 
     /// The reservoir conflicts (re-checks the reservoirs marked dirty, marks clean ones).
     pub fn reservoir_conflicts(&mut self) -> Vec<ReservoirConflict> {
+        self.reservoir_conflicts_of(|_| true)
+    }
+
+    /// The reservoir conflicts of the dirty reservoirs `wanted` selects (the planner skips those it would
+    /// not resolve now: the envelope costs a quadratic number of ordering queries).
+    pub fn reservoir_conflicts_of(
+        &mut self,
+        wanted: impl Fn(ResourceId) -> bool,
+    ) -> Vec<ReservoirConflict> {
         let mut out = Vec::new();
         for r in 0..self.reservoir_dirty.len() {
-            if !self.reservoir_dirty[r] {
+            let id = ResourceId::from_index(r);
+            if !self.reservoir_dirty[r] || !wanted(id) {
                 continue;
             }
-            match reservoir_conflict(self, ResourceId::from_index(r)) {
+            // Unary resources have their own pairwise conflicts.
+            if self.domain.resources[r].kind == ResourceKind::Unary {
+                self.set_reservoir_dirty(r, false);
+                continue;
+            }
+            match reservoir_conflict(self, id) {
                 Some(c) => out.push(c),
                 None => self.set_reservoir_dirty(r, false),
             }

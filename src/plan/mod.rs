@@ -234,6 +234,9 @@ pub enum PlanError {
     Numeric(#[from] NumConflict),
     #[error("{0}")]
     Invalid(String),
+    /// A flaw left without any resolver (found while propagating forced resolvers).
+    #[error("dead end: no resolver left for {0}")]
+    DeadEnd(String),
 }
 
 #[derive(Clone, Debug)]

@@ -14,7 +14,7 @@ pub fn necessarily_after(stn: &Stn, a: Timepoint, b: Timepoint, k: Time) -> bool
     if stn.ub(b).saturating_sub(stn.lb(a)) < k {
         return false;
     }
-    stn.distance(b, a) <= -k
+    stn.distance_below(b, a, 1 - k)
 }
 
 /// Whether `b − a ≥ k` is consistent with the network.
@@ -28,5 +28,5 @@ pub fn possibly_after(stn: &Stn, a: Timepoint, b: Timepoint, k: Time) -> bool {
     if stn.lb(b).saturating_sub(stn.ub(a)) >= k {
         return true;
     }
-    stn.distance(a, b) >= k
+    !stn.distance_below(a, b, k)
 }

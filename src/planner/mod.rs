@@ -9,6 +9,7 @@
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
 pub mod bench;
+pub mod hierarchy;
 pub mod resolvers;
 pub mod select;
 
@@ -82,13 +83,20 @@ pub struct Search {
     steps: u64,
     backtracks: u64,
     status: Status,
+    hierarchy: hierarchy::Hierarchy,
+    /// The flaw the next step resolves, when [`Search::next_is_backtrack`] already selected it (valid until
+    /// the plan changes).
+    peeked: Option<(Flaw, Vec<Resolver>)>,
 }
 
 impl Search {
     /// A search whose root is `plan` (the incremental flaw detection is rebuilt from scratch).
     pub fn new(mut plan: PartialPlan) -> Self {
         plan.recompute_candidates();
+        let hierarchy = hierarchy::Hierarchy::new(&plan.domain);
         Search {
+            hierarchy,
+            peeked: None,
             plan,
             stack: Vec::new(),
             steps: 0,
@@ -105,6 +113,7 @@ impl Search {
     /// The current plan, mutably (for queries that update the detection caches; changes made through it
     /// become part of the current node).
     pub fn plan_mut(&mut self) -> &mut PartialPlan {
+        self.peeked = None;
         &mut self.plan
     }
 
@@ -132,6 +141,52 @@ impl Search {
         self.plan.executable(running)
     }
 
+    /// Whether the next planning step is a backtrack: none of the resolvers of the flaw it will select
+    /// can be applied (seed 1 §3.6: when the time limit l is reached, planning is pursued if the next step is a backtrack
+    /// and it increases l). The selection is kept for that next step.
+    pub fn next_is_backtrack(&mut self) -> bool {
+        if self.status != Status::Running {
+            return false;
+        }
+        if self.peeked.is_none() {
+            match self.select() {
+                Ok(p) => self.peeked = p,
+                Err(_) => return false,
+            }
+        }
+        let Some((_, rs)) = &self.peeked else {
+            return false;
+        };
+        // A dead end shows only when each resolver is tried (the propagation of forced conflicts is part
+        // of a step): try them on the trail and undo.
+        for r in rs.clone() {
+            let level = self.plan.save();
+            let ok = resolvers::apply(&mut self.plan, &r)
+                .and_then(|()| select::propagate_forced(&mut self.plan))
+                .is_ok();
+            self.plan.restore(level);
+            if ok {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Selects the next flaw; at the root, first applies its forced conflicts (later nodes propagate them
+    /// when a resolver is applied). A root conflict without resolver fails the search.
+    fn select(&mut self) -> Result<Option<(Flaw, Vec<Resolver>)>, FailReason> {
+        if self.stack.is_empty() {
+            if let Err(e) = select::propagate_forced(&mut self.plan) {
+                let r = FailReason::NoResolver {
+                    flaw: e.to_string(),
+                };
+                self.status = Status::Failed(r.clone());
+                return Err(r);
+            }
+        }
+        Ok(select::pick(&mut self.plan, &self.hierarchy))
+    }
+
     /// Backs up the current branch to its deepest executable node (the root when none deeper is): the
     /// "last labelled node" of §3.2 on this branch. Returns whether an executable node was found.
     pub fn rewind_to_executable(&mut self, running: &[ActionId]) -> bool {
@@ -142,6 +197,7 @@ impl Search {
             let Some(top) = self.stack.pop() else {
                 return false;
             };
+            self.peeked = None;
             self.plan.restore(top.level);
             self.status = Status::Running;
         }
@@ -155,7 +211,14 @@ impl Search {
             Status::Running => {}
         }
         self.steps += 1;
-        match select::pick(&mut self.plan) {
+        let picked = match self.peeked.take() {
+            Some(p) => Some(p),
+            None => match self.select() {
+                Ok(p) => p,
+                Err(r) => return StepOutcome::Failed(r),
+            },
+        };
+        match picked {
             None => {
                 self.status = Status::Solved;
                 tracing::debug!(steps = self.steps, "plan found");
@@ -189,7 +252,9 @@ impl Search {
                 let r = top.resolvers[top.next].clone();
                 top.next += 1;
                 self.plan.restore(level);
-                match resolvers::apply(&mut self.plan, &r) {
+                match resolvers::apply(&mut self.plan, &r)
+                    .and_then(|()| select::propagate_forced(&mut self.plan))
+                {
                     Ok(()) => {
                         if let Some(top) = self.stack.last_mut() {
                             top.applied_any = true;

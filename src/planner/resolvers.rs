@@ -58,6 +58,16 @@ pub enum Resolver {
     },
 }
 
+impl Resolver {
+    /// Whether applying it inserts an action.
+    pub fn inserts(&self) -> bool {
+        matches!(
+            self,
+            Resolver::Insert { .. } | Resolver::InsertProducer { .. }
+        )
+    }
+}
+
 /// The resolvers of `flaw`, in the order the search tries them (filtered by a cheap feasibility test).
 pub fn resolvers(plan: &PartialPlan, flaw: &Flaw) -> Vec<Resolver> {
     match flaw {
@@ -73,7 +83,7 @@ fn possibly(plan: &PartialPlan, from: Timepoint, to: Timepoint, delay: Time) -> 
         return delay <= 0;
     }
     plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay
-        && plan.stn.distance(from, to) >= delay
+        && !plan.stn.distance_below(from, to, delay)
 }
 
 /// Whether a task's event value can match the condition's value.
@@ -133,6 +143,54 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
         }
     }
     out
+}
+
+/// Drops the resolvers a look-ahead proves useless (done only for the selected flaw: it costs ordering
+/// queries per event of the attribute).
+pub fn refine(plan: &PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
+    if let Flaw::OpenCondition(c) = flaw {
+        let own = match plan.cond(*c).kind {
+            CondKind::Before(e) => Some(e),
+            CondKind::Hold { .. } => None,
+        };
+        rs.retain(|r| match r {
+            Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
+            _ => true,
+        });
+    }
+}
+
+/// Look-ahead on a candidate causal link `e → c`: some other event necessarily changes the attribute
+/// instance to another value inside the protected interval (it can be neither before the establisher nor
+/// after the condition, nor separated or unified by bindings), so the link would create a threat without
+/// resolver. Rejecting it here saves the steps that would discover the dead end.
+fn link_doomed(
+    plan: &PartialPlan,
+    e: crate::plan::EventId,
+    c: CondId,
+    own: Option<crate::plan::EventId>,
+) -> bool {
+    let cond = plan.cond(c);
+    let b = &plan.bindings;
+    let te = plan.event(e).at;
+    plan.events_on(cond.attr).iter().any(|&e2| {
+        if e2 == e || Some(e2) == own {
+            return false;
+        }
+        let ev2 = plan.event(e2);
+        if let crate::plan::Owner::Action(a) = ev2.owner {
+            if plan.action(a).removed {
+                return false;
+            }
+        }
+        ev2.args
+            .iter()
+            .zip(&cond.args)
+            .all(|(&x, &y)| b.necessarily_equal(x, y))
+            && !b.possibly_equal(ev2.to, cond.value)
+            && !possibly(plan, ev2.at, te, 1)
+            && !possibly(plan, cond.to, ev2.at, cond.end_delay())
+    })
 }
 
 fn threat(plan: &PartialPlan, e: crate::plan::EventId, l: crate::plan::LinkId) -> Vec<Resolver> {

@@ -1,27 +1,62 @@
 //! Flaw selection: which flaw the next planning step resolves.
 //!
-//! Heuristic: *fewest resolvers first* over the whole flaw set (fail-first: a flaw without resolver ends the
-//! branch at once, a flaw with one resolver is a forced move). Ties go to threats, then unary-resource
-//! conflicts, then reservoir conflicts, then open conditions — conflicts first because they only add
-//! constraints and prune the branch early, while open conditions may add actions. Among open conditions
-//! with as many resolvers, the most urgent (smallest latest start of the condition) and then the most
-//! recent (depth-first completion of the newest action) is chosen.
-//!
-//! One exception, from the abstraction hierarchy (Knoblock's ordered monotonicity, seed 1 §3.3): open
-//! conditions on attributes that tasks change only as a *secondary* effect (`ROBOT_STATUS`) come after
-//! every other flaw (static attributes such as `CONNECTED`, which nothing changes, are not deferred: their
-//! resolvers are final). Their establishers are side effects of actions inserted for
-//! other reasons; linking them early (to the initial state, say) commits before those actions exist and
-//! makes the search incomplete in practice.
+//! 1. Flaws without any resolver first: the branch is dead, backtrack at once.
+//! 2. Conflicts (threats, resource conflicts) with exactly one resolver that only adds a constraint: a
+//!    forced move that prunes and propagates, never a commitment.
+//! 3. Everything else by the abstraction hierarchy ([`super::hierarchy`]): flaws on the most abstract
+//!    attributes first; a reservoir conflict just below the level of the most abstract action involved,
+//!    a unary conflict just above the secondary attributes. Within a level: forced flaws (one resolver), then open conditions, then
+//!    conflicts that can still be resolved in several ways — delaying those (as in DSep / ZLIFO) lets the
+//!    open conditions decide the order of actions (the tour of moves) before an arbitrary precedence does;
+//!    then fewest resolvers (fail-first); among open conditions the most urgent (smallest latest start of
+//!    the condition) and then the most recent (depth-first completion of the newest action).
 
 use std::cmp::Reverse;
 
-use super::resolvers::{resolvers, Resolver};
+use super::hierarchy::Hierarchy;
+use super::resolvers::{refine, resolvers, Resolver};
 use crate::plan::{Flaw, PartialPlan};
 
-/// Forced flaws (at most one resolver) first, then open conditions, then conflicts that can still be
-/// resolved in several ways — delaying those (as in DSep / ZLIFO) lets the open conditions decide the order
-/// of actions (e.g. the tour of moves) before an arbitrary precedence does.
+/// Rank of a flaw on an attribute in the hierarchy (higher first): attribute levels doubled, so that
+/// resource conflicts can sit between two levels.
+fn rank_attr(h: &Hierarchy, attr: crate::model::AttrId) -> u64 {
+    u64::from(h.level(attr)) * 2
+}
+
+/// Rank of a unary-resource conflict: just above the secondary attributes. It only ever needs an
+/// ordering, which the causal structure usually implies by then (two pictures at different places are
+/// ordered by the tour); resolving it earlier would fix an arbitrary order before the tour exists.
+const RANK_UNARY: u64 = 1;
+
+/// Rank of a reservoir conflict: just below the level of the most abstract action involved (the highest
+/// main attribute of its task; tasks without one, such as a download, count as the lowest established
+/// level). A picture's storage is settled right after the pictures exist, before the tour — it may need a
+/// download inserted, which constrains the tour — while a move's energy waits until the tour has bound
+/// its origin: before that its consumption spans every distance of the map and the envelope reports
+/// conflicts that are not there.
+fn rank_reservoir(plan: &PartialPlan, h: &Hierarchy, flaw: &Flaw) -> u64 {
+    let level = plan
+        .involved_actions(flaw)
+        .into_iter()
+        .flat_map(|a| plan.domain.task(plan.action(a).task).main_attributes())
+        .map(|attr| h.level(attr))
+        .filter(|&l| l != super::hierarchy::STATIC)
+        .max()
+        .unwrap_or(1)
+        .max(1);
+    u64::from(level) * 2 - 1
+}
+
+/// 0 = dead end, 1 = forced constraint, 2 = the rest.
+fn tier(rs: &[Resolver], open: bool) -> u8 {
+    match rs.len() {
+        0 => 0,
+        1 if !open && !rs[0].inserts() => 1,
+        _ => 2,
+    }
+}
+
+/// Within a level: forced flaws, then open conditions, then conflicts with a choice.
 fn class(n: usize, open: bool) -> u8 {
     match (n <= 1, open) {
         (true, _) => 0,
@@ -30,66 +65,122 @@ fn class(n: usize, open: bool) -> u8 {
     }
 }
 
+type Key = (u8, Reverse<u64>, u8, usize, u8, i64, Reverse<u32>);
+
+fn key(rank: u64, rs: &[Resolver], open: bool, kind: u8, urgency: i64, recency: u32) -> Key {
+    let t = tier(rs, open);
+    // Dead ends and forced constraints are taken whatever their level.
+    let rank = if t < 2 { 0 } else { rank };
+    (
+        t,
+        Reverse(rank),
+        class(rs.len(), open),
+        rs.len(),
+        kind,
+        urgency,
+        Reverse(recency),
+    )
+}
+
 /// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
-pub fn pick(plan: &mut PartialPlan) -> Option<(Flaw, Vec<Resolver>)> {
-    type Key = (bool, u8, usize, u8, i64, Reverse<u32>);
+///
+/// Forced conflicts were mostly applied by [`propagate_forced`] at the end of the previous step, so only
+/// the flaws at the best rank present need their resolvers listed (listing them costs ordering queries);
+/// reservoirs that cannot reach that rank are not even checked this step.
+pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
+    let threats: Vec<(Flaw, u64)> = plan
+        .live_threats()
+        .into_iter()
+        .map(|(event, link)| {
+            let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
+            (Flaw::Threat { event, link }, rank)
+        })
+        .collect();
+    let unary: Vec<(Flaw, u64)> = plan
+        .live_unary_conflicts()
+        .into_iter()
+        .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
+        .collect();
+    let open: Vec<(Flaw, u64)> = plan
+        .open_conditions()
+        .map(|c| (Flaw::OpenCondition(c), rank_attr(h, plan.cond(c).attr)))
+        .collect();
+    let top = threats
+        .iter()
+        .chain(&unary)
+        .chain(&open)
+        .map(|&(_, r)| r)
+        .max()
+        .unwrap_or(0);
     let mut best: Option<(Key, Flaw, Vec<Resolver>)> = None;
     let mut consider = |key: Key, f: Flaw, rs: Vec<Resolver>| {
         if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
             best = Some((key, f, rs));
         }
     };
-    for (event, link) in plan.live_threats() {
-        let f = Flaw::Threat { event, link };
+    for (f, rank) in threats.into_iter().chain(unary) {
+        if rank < top {
+            continue;
+        }
+        let kind = if matches!(f, Flaw::Threat { .. }) {
+            0
+        } else {
+            1
+        };
         let rs = resolvers(plan, &f);
-        consider(
-            (false, class(rs.len(), false), rs.len(), 0, 0, Reverse(0)),
-            f,
-            rs,
-        );
+        consider(key(rank, &rs, false, kind, 0, 0), f, rs);
     }
-    for (a, b) in plan.live_unary_conflicts() {
-        let f = Flaw::UnaryConflict { a, b };
-        let rs = resolvers(plan, &f);
-        consider(
-            (false, class(rs.len(), false), rs.len(), 1, 0, Reverse(0)),
-            f,
-            rs,
-        );
-    }
-    for c in plan.reservoir_conflicts() {
+    for c in plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top) {
         let f = Flaw::Reservoir(c);
         let rs = resolvers(plan, &f);
-        consider(
-            (false, class(rs.len(), false), rs.len(), 2, 0, Reverse(0)),
-            f,
-            rs,
-        );
+        let rank = rank_reservoir(plan, h, &f);
+        consider(key(rank, &rs, false, 2, 0, 0), f, rs);
     }
-    let open: Vec<_> = plan.open_conditions().collect();
-    for c in open {
-        let f = Flaw::OpenCondition(c);
+    for (f, rank) in open {
+        if rank < top {
+            continue;
+        }
+        let Flaw::OpenCondition(c) = f else { continue };
+        let urgency = plan.stn.ub(plan.cond(c).from);
         let rs = resolvers(plan, &f);
-        let cond = plan.cond(c);
-        let urgency = plan.stn.ub(cond.from);
-        let low_level = plan.domain.tasks_establishing(cond.attr).is_empty()
-            && plan
-                .domain
-                .tasks
-                .iter()
-                .any(|t| t.events.iter().any(|e| e.attr == cond.attr));
-        consider(
-            (
-                low_level,
-                class(rs.len(), true),
-                rs.len(),
-                3,
-                urgency,
-                Reverse(c.0),
-            ),
-            f,
-            rs,
-        );
+        consider(key(rank, &rs, true, 3, urgency, c.0), f, rs);
     }
-    best.map(|(_, f, rs)| (f, rs))
+    best.map(|(_, f, mut rs)| {
+        refine(plan, &f, &mut rs);
+        (f, rs)
+    })
+}
+
+/// Applies, within the current planning step, every conflict (threat, unary-resource conflict) that has
+/// exactly one resolver and that resolver only adds a constraint — a forced move, so no choice point is
+/// needed. A conflict left without any resolver makes the step fail (the caller
+/// restores the node and tries its next resolver). Without this each of the quadratically many forced
+/// orderings of a tour would be a planning step of its own, each re-examining the whole flaw set.
+pub fn propagate_forced(plan: &mut PartialPlan) -> Result<(), crate::plan::PlanError> {
+    // One pass: a conflict made forced by a constraint applied in this pass waits for the next step's
+    // pass (a full re-scan per application would cost more than it prunes).
+    let threats = plan.live_threats();
+    for (event, link) in threats {
+        if plan.check_threat(event, link) != crate::plan::ThreatCheck::Threat {
+            continue;
+        }
+        apply_if_forced(plan, &Flaw::Threat { event, link })?;
+    }
+    let conflicts = plan.live_unary_conflicts();
+    for (a, b) in conflicts {
+        if plan.check_unary(a, b) != Some(true) {
+            continue;
+        }
+        apply_if_forced(plan, &Flaw::UnaryConflict { a, b })?;
+    }
+    Ok(())
+}
+
+fn apply_if_forced(plan: &mut PartialPlan, f: &Flaw) -> Result<bool, crate::plan::PlanError> {
+    let rs = resolvers(plan, f);
+    match rs.as_slice() {
+        [] => Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(f))),
+        [r] if !r.inserts() => super::resolvers::apply(plan, r).map(|()| true),
+        _ => Ok(false),
+    }
 }

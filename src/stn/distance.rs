@@ -6,15 +6,43 @@
 //! the network, so `d(x, b) ≥ max(lb[b] − lb[x], ub[b] − ub[x])`, a consistent lower bound (the same
 //! potentials as the reduced-cost Dijkstra of the propagation). Nodes whose estimate reaches the bound found
 //! so far are never expanded: when b's bounds are tight the search stays tiny.
+//!
+//! Ordering questions ("can b − a ≥ k?") only need to know whether the distance is below a threshold:
+//! [`distance_below`] starts with the threshold as the bound, so a search that cannot beat it expands
+//! almost nothing. The per-node labels live in a thread-local dense array reset by an epoch counter, not
+//! in a hash map: the planner asks thousands of these per second.
 
+use std::cell::RefCell;
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use super::network::Stn;
 use super::{sat_add, Time, INF};
 
+#[derive(Default)]
+struct Scratch {
+    epoch: u32,
+    stamp: Vec<u32>,
+    dist: Vec<Time>,
+    heap: BinaryHeap<Reverse<(Time, u32)>>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
 /// Shortest path a→b (maximum possible `b − a`), `INF` if unbounded.
 pub(crate) fn distance(stn: &Stn, a: u32, b: u32) -> Time {
+    bounded(stn, a, b, INF)
+}
+
+/// Whether the shortest path a→b is shorter than `limit`.
+pub(crate) fn distance_below(stn: &Stn, a: u32, b: u32, limit: Time) -> bool {
+    bounded(stn, a, b, limit) < limit
+}
+
+/// The shortest path a→b if it is shorter than `limit`; otherwise some value `≥ limit`.
+fn bounded(stn: &Stn, a: u32, b: u32, limit: Time) -> Time {
     if a == b {
         return 0;
     }
@@ -33,34 +61,57 @@ pub(crate) fn distance(stn: &Stn, a: u32, b: u32) -> Time {
             by_lb
         }
     };
-    let mut best = via_origin;
-    let mut dist: HashMap<u32, Time> = HashMap::new();
-    let mut heap = BinaryHeap::new();
-    dist.insert(a, 0);
-    heap.push(Reverse((estimate(a), a)));
-    while let Some(Reverse((key, x))) = heap.pop() {
-        let dx = dist.get(&x).copied().unwrap_or(INF);
-        if key != sat_add(dx, estimate(x)) {
-            continue; // stale
-        }
-        if key >= best {
-            break;
-        }
-        if x == b {
-            best = dx;
-            break;
-        }
-        for &h in &stn.out[x as usize] {
-            let (_, y, w) = stn.half_edge(h);
-            if w >= INF || y == 0 {
-                continue;
-            }
-            let cand = sat_add(dx, w);
-            if dist.get(&y).is_none_or(|&dy| cand < dy) {
-                dist.insert(y, cand);
-                heap.push(Reverse((sat_add(cand, estimate(y)), y)));
-            }
-        }
+    let mut best = via_origin.min(limit);
+    if estimate(a) >= best {
+        return best;
     }
+    SCRATCH.with(|cell| {
+        let mut s = cell.borrow_mut();
+        let s = &mut *s;
+        let n = stn.lb.len();
+        if s.stamp.len() < n {
+            s.stamp.resize(n, 0);
+            s.dist.resize(n, INF);
+        }
+        s.epoch = s.epoch.wrapping_add(1);
+        if s.epoch == 0 {
+            s.stamp.iter_mut().for_each(|x| *x = 0);
+            s.epoch = 1;
+        }
+        let epoch = s.epoch;
+        s.heap.clear();
+        s.stamp[a as usize] = epoch;
+        s.dist[a as usize] = 0;
+        s.heap.push(Reverse((estimate(a), a)));
+        while let Some(Reverse((key, x))) = s.heap.pop() {
+            let dx = s.dist[x as usize];
+            if key != sat_add(dx, estimate(x)) {
+                continue; // stale
+            }
+            if key >= best {
+                break;
+            }
+            if x == b {
+                best = dx;
+                break;
+            }
+            for &h in &stn.out[x as usize] {
+                let (_, y, w) = stn.half_edge(h);
+                if w >= INF || y == 0 {
+                    continue;
+                }
+                let cand = sat_add(dx, w);
+                let yi = y as usize;
+                if s.stamp[yi] != epoch || cand < s.dist[yi] {
+                    s.stamp[yi] = epoch;
+                    s.dist[yi] = cand;
+                    let k = sat_add(cand, estimate(y));
+                    if k < best {
+                        s.heap.push(Reverse((k, y)));
+                    }
+                }
+            }
+        }
+    });
     best
 }

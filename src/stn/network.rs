@@ -321,6 +321,12 @@ impl Stn {
         super::distance::distance(self, a.0, b.0)
     }
 
+    /// Whether `distance(a, b) < limit`, answered without computing the distance when it is not
+    /// (the form ordering tests need: much cheaper than [`Stn::distance`]).
+    pub fn distance_below(&self, a: Timepoint, b: Timepoint, limit: Time) -> bool {
+        super::distance::distance_below(self, a.0, b.0, limit)
+    }
+
     /// Possible range of `b − a`: `[-distance(b, a), distance(a, b)]`.
     pub fn delay_bounds(&self, a: Timepoint, b: Timepoint) -> (Time, Time) {
         let back = self.distance(b, a);
