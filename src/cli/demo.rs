@@ -100,7 +100,7 @@ fn exec_config() -> ExecConfig {
         timestep_ms: 1_300,
         repair_share: 0.6,
         replan_slack_ms: 2_000,
-        repair_max_steps: Some(500),
+        repair_max_steps: Some(300),
     }
 }
 

@@ -203,7 +203,8 @@ fn replan<V: Vehicle>(
     let result = ex.replan(&now, &mut |ex: &mut Executive| {
         let t = now();
         let mut v = cell.borrow_mut();
-        while let Some(e) = v.try_event() {
+        // Only what the vehicle sent since: the held events stay held.
+        while let Some(e) = v.inner.try_event() {
             if matches!(e, VehicleEvent::Resource(_) | VehicleEvent::Capacity(_)) {
                 ex.integrate(e, t);
             } else {

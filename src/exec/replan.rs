@@ -202,6 +202,8 @@ impl Executive {
     pub fn adopt(&mut self, plan: PartialPlan) {
         self.plan = plan;
         self.started.clear();
+        // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
+        self.by_vid.clear();
         self.stop_sent.clear();
         self.repair = None;
         self.repair_requested = false;
