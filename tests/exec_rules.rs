@@ -13,7 +13,7 @@ use mavtempo::exec::goal_request::{request, Rejection};
 use mavtempo::exec::p_t::{classify, goals, remove_past, State};
 use mavtempo::exec::report_timing::{integrate, timing, Timing};
 use mavtempo::exec::resource_bounds::{fold_removed, level_bounds, LevelCase};
-use mavtempo::exec::resource_report::{integrate_level, LevelVerdict};
+use mavtempo::exec::resource_report::{integrate_level, LevelVerdict, EPS};
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::model::{Goal, GoalId, GoalKind, ResourceKind, TimeInterval, Value};
 use mavtempo::plan::{ActionId, EventId, PartialPlan, STerm};
@@ -134,12 +134,12 @@ fn section_3_3_levels_in_bounds_over_consumption_over_production() {
     plan.stn.execute(plan.action(p).end, 8_000).unwrap();
     let b = level_bounds(&plan, r, 9_000, &[], (3.0, 3.0));
     // In bounds, case (1): the level becomes exact.
-    let u = integrate_level(&b, 2.1, ResourceKind::Reservoir);
+    let u = integrate_level(&b, 2.1, ResourceKind::Reservoir, EPS);
     assert_eq!(u.verdict, LevelVerdict::Consistent);
     assert_eq!(u.past, (2.1, 2.1));
     assert!(!u.repair);
     // Over-consumption: c = RscL_lb − l_r, new level l_r, repair requested, plan still executable.
-    let u = integrate_level(&b, 1.5, ResourceKind::Reservoir);
+    let u = integrate_level(&b, 1.5, ResourceKind::Reservoir, EPS);
     match u.verdict {
         LevelVerdict::OverConsumption { c } => assert!((c - 0.5).abs() < 1e-9),
         v => panic!("{v:?}"),
@@ -147,7 +147,7 @@ fn section_3_3_levels_in_bounds_over_consumption_over_production() {
     assert_eq!(u.past, (1.5, 1.5));
     assert!(u.repair && !u.check_executable);
     // Over-production of a reservoir: p = l_r − RscL_ub, repair requested.
-    let u = integrate_level(&b, 2.5, ResourceKind::Reservoir);
+    let u = integrate_level(&b, 2.5, ResourceKind::Reservoir, EPS);
     match u.verdict {
         LevelVerdict::OverProduction { p } => assert!((p - 0.3).abs() < 1e-9),
         v => panic!("{v:?}"),
@@ -157,7 +157,7 @@ fn section_3_3_levels_in_bounds_over_consumption_over_production() {
     let q = picture(&mut plan, "p2");
     plan.stn.execute(plan.action(q).start, 9_000).unwrap();
     let b = level_bounds(&plan, r, 10_000, &[q], (3.0, 3.0));
-    let u = integrate_level(&b, b.lb - 0.4, ResourceKind::Reservoir);
+    let u = integrate_level(&b, b.lb - 0.4, ResourceKind::Reservoir, EPS);
     assert!(u.check_executable && u.repair);
     assert!((u.past.0 - (b.past_lb - 0.4)).abs() < 1e-9);
 }

@@ -436,16 +436,36 @@ fn survey_uploads_a_lawnmower_runs_auto_and_ends_on_the_last_item_reached() {
     assert_eq!(b.report(3).expect("report").status, ReportStatus::Nominal);
 }
 
+/// STORAGE_INFORMATION of a 3 MiB card with `used` MiB used.
+fn storage(used: f32) -> MavMessage {
+    MavMessage::STORAGE_INFORMATION(STORAGE_INFORMATION_DATA {
+        total_capacity: 3.0,
+        used_capacity: used,
+        available_capacity: 3.0 - used,
+        storage_count: 1,
+        storage_id: 1,
+        ..Default::default()
+    })
+}
+
 #[test]
 fn take_picture_nominal_failed_on_capture_result_and_on_timeout() {
     let mut b = Bench::new();
     b.start(4, "take_picture", vec![]);
-    assert_eq!(b.report(4).expect("report").status, ReportStatus::Nominal);
-    // The capture triggers a STORAGE_INFORMATION request.
+    // The capture triggers a STORAGE_INFORMATION request; the report waits for it, to carry the level.
     assert!(b.ap.seen.iter().any(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_REQUEST_MESSAGE && c.param1 == 261.0)));
+    assert!(b.report(4).is_none());
+    b.feed(storage(2.0));
+    let r = b.report(4).expect("report");
+    assert_eq!(r.status, ReportStatus::Nominal);
+    assert!(r
+        .resources
+        .iter()
+        .any(|l| l.resource == "storage" && (l.level - 1.0).abs() < 1e-9));
 
     b.ap.capture = Some(false);
     b.start(5, "take_picture", vec![]);
+    b.feed(storage(2.0));
     let r = b.report(5).expect("report");
     assert_eq!(r.status, ReportStatus::Failed);
     assert!(r

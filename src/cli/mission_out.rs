@@ -4,9 +4,9 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use crate::exec::executive::{Executive, Fate};
+use crate::exec::executive::Fate;
 use crate::exec::mission::MissionReport;
-use crate::exec::trace::CycleRecord;
+use crate::exec::trace::{CycleRecord, TraceEvent};
 use crate::model::{Domain, Problem};
 use crate::plan::PartialPlan;
 use crate::planner::{solve, Budget};
@@ -23,22 +23,47 @@ pub fn initial_plan(
         .map_err(|e| format!("no initial plan for {name}: {e}"))
 }
 
-/// One cycle of the trace: its time, phase times, and what happened (cycles where nothing happened are
-/// skipped).
-pub fn print_cycle(_ex: &Executive, c: &CycleRecord) {
-    if c.events.is_empty() {
-        return;
-    }
-    println!(
-        "[{:>8.1} s] cycle {} (sense {} µs, repair {} µs, act {} µs)",
-        c.time_ms as f64 / 1000.0,
-        c.index,
-        c.sense_us,
-        c.repair_us,
-        c.act_us
-    );
-    for e in &c.events {
-        println!("             {}", e.line());
+/// The per-cycle trace: a cycle is printed when something happened in it; a postponed action is printed
+/// when it starts being postponed, not again in every cycle that postpones it further.
+#[derive(Default)]
+pub struct TracePrinter {
+    postponed: Vec<String>,
+}
+
+impl TracePrinter {
+    pub fn cycle(&mut self, c: &CycleRecord) {
+        let now_postponed: Vec<String> = c
+            .events
+            .iter()
+            .filter_map(|e| match e {
+                TraceEvent::Postponed { action } => Some(action.clone()),
+                _ => None,
+            })
+            .collect();
+        let lines: Vec<String> = c
+            .events
+            .iter()
+            .filter(|e| match e {
+                TraceEvent::Postponed { action } => !self.postponed.contains(action),
+                _ => true,
+            })
+            .map(TraceEvent::line)
+            .collect();
+        self.postponed = now_postponed;
+        if lines.is_empty() {
+            return;
+        }
+        println!(
+            "[{:>8.1} s] cycle {} (sense {} µs, repair {} µs, act {} µs)",
+            c.time_ms as f64 / 1000.0,
+            c.index,
+            c.sense_us,
+            c.repair_us,
+            c.act_us
+        );
+        for l in lines {
+            println!("             {l}");
+        }
     }
 }
 

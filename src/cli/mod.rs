@@ -8,6 +8,7 @@ mod experiment;
 mod goal;
 mod mission_out;
 mod plan;
+mod run;
 mod sim;
 
 use std::process::ExitCode;
@@ -39,6 +40,8 @@ pub enum Command {
     Experiment(experiment::ExperimentArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
+    /// Plan a problem and execute it live on a MAVLink vehicle (plan repair, replanning, goal uploads).
+    Run(run::RunArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
     Sim(sim::SimArgs),
 }
@@ -54,6 +57,7 @@ pub fn main() -> ExitCode {
         Command::Demo(args) => demo::run(args),
         Command::Experiment(args) => experiment::run(args),
         Command::Goal(args) => goal::run(args),
+        Command::Run(args) => run::run(args),
         Command::Sim(args) => sim::run(args),
     }
 }

@@ -12,7 +12,7 @@ use super::p_t::classify;
 use super::t_exec::{t_exec, TpKind};
 use super::trace::TraceEvent;
 use crate::model::{Preemption, Time};
-use crate::plan::ActionId;
+use crate::plan::{ActionId, Owner};
 use crate::vehicle::Vehicle;
 
 impl Executive {
@@ -28,6 +28,7 @@ impl Executive {
         for a in std::mem::take(&mut self.interrupt) {
             self.stop(vehicle, a);
         }
+        self.execute_timed_facts(now, &mut next);
         let mut postponed: Vec<ActionId> = Vec::new();
         // A_t^f once per act part: executing timepoints only adds constraints, which can resolve flaws but
         // never create one, so this set stays a (conservative) superset while ExecTPs is recomputed.
@@ -154,6 +155,29 @@ impl Executive {
     }
 
     /// `END i_a` for a preemptive action (its end's time comes with the report).
+    /// The problem's predicted timed facts (e.g. a visibility window opening) happen by themselves: their
+    /// timepoints are executed when their time comes, so that the actions after them become executable.
+    fn execute_timed_facts(&mut self, now: Time, next: &mut Option<Time>) {
+        let tps: Vec<_> = self
+            .plan
+            .events
+            .iter()
+            .filter(|e| matches!(e.owner, Owner::Exogenous(_)))
+            .map(|e| e.at)
+            .filter(|&tp| !self.plan.stn.is_executed(tp))
+            .collect();
+        for tp in tps {
+            let at = self.plan.stn.lb(tp);
+            if at <= now {
+                if let Err(e) = self.plan.stn.execute(tp, at) {
+                    tracing::warn!("timed fact at {at} ms: {e}");
+                }
+            } else if next.is_none_or(|n| at < n) {
+                *next = Some(at);
+            }
+        }
+    }
+
     pub fn stop(&mut self, vehicle: &mut dyn Vehicle, a: ActionId) {
         let Some(&vid) = self.started.get(&a) else {
             return;

@@ -74,6 +74,9 @@ pub struct Executive {
     pub pending_trace: Vec<TraceEvent>,
     /// Something changed this cycle (message or timepoint executed): the repair search restarts (§3.2).
     pub changed: bool,
+    /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
+    /// resolution).
+    pub level_tolerance: f64,
 }
 
 impl Executive {
@@ -121,6 +124,7 @@ impl Executive {
             counters: Counters::default(),
             pending_trace: Vec::new(),
             changed: false,
+            level_tolerance: super::resource_report::EPS,
         }
     }
 

@@ -170,10 +170,10 @@ pub fn run_mission<V: Vehicle>(
                         .iter()
                         .any(|e| matches!(e, TraceEvent::Stop { .. }))
                 });
-                if repairing && ex.cfg.repair_max_steps.is_some() {
-                    // Deterministic runs: a repair slice of steps stands for μ·ts of mission time.
+                if repairing {
+                    // The repair had its μ·ts this cycle; the next cycle goes on with it.
                     now + ex.cfg.repair_budget_ms().max(1)
-                } else if repairing || stopped {
+                } else if stopped {
                     now + 1
                 } else {
                     next.map_or(now + ts, |n| n.clamp(now + 1, now + ts))
@@ -203,7 +203,7 @@ fn replan<V: Vehicle>(
     let result = ex.replan(&now, &mut |ex: &mut Executive| {
         let t = now();
         let mut v = cell.borrow_mut();
-        // From the vehicle only: what is held already waits, and taking it out would put it back forever.
+        // Only what the vehicle sent since: the held events stay held.
         while let Some(e) = v.inner.try_event() {
             if matches!(e, VehicleEvent::Resource(_) | VehicleEvent::Capacity(_)) {
                 ex.integrate(e, t);

@@ -36,6 +36,28 @@ pub enum RepairOutcome {
     Failed(String),
 }
 
+/// Timepoints not executed yet cannot happen before `now`: the search must not move them into the past
+/// (e.g. a goal supported again by an effect that was executed before now).
+fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Inconsistent> {
+    let origin = plan.stn.origin();
+    let mut tps: Vec<_> = plan
+        .live_actions()
+        .flat_map(|a| plan.action(a).tps.clone())
+        .collect();
+    tps.extend(
+        plan.goals
+            .iter()
+            .filter(|g| g.active)
+            .flat_map(|g| [g.st, g.et]),
+    );
+    for tp in tps {
+        if !plan.stn.is_executed(tp) && plan.stn.lb(tp) < now {
+            plan.stn.add_constraint(origin, tp, now, crate::stn::INF)?;
+        }
+    }
+    Ok(())
+}
+
 impl Executive {
     /// The plan repair part of a cycle at `now`.
     pub fn repair_phase(&mut self, now: Time) -> RepairOutcome {
@@ -47,6 +69,11 @@ impl Executive {
         if self.repair.is_none() || self.changed {
             // A new tree rooted at ExecutingPlan; new timepoints after the end of this cycle.
             let mut root = self.plan.clone();
+            if let Err(e) = not_before(&mut root, now + 1) {
+                let reason = format!("plan not executable at {now} ms: {e}");
+                self.abort = Some(reason.clone());
+                return RepairOutcome::Failed(reason);
+            }
             root.set_time_floor(TimeFloor::At(self.cycle_end(now)));
             self.repair = Some(Repair {
                 search: Search::new(root),

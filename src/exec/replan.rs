@@ -119,7 +119,8 @@ impl Executive {
     ) -> ReplanResult {
         self.counters.replans += 1;
         let mut dropped: Vec<GoalId> = Vec::new();
-        let max_steps = self.cfg.repair_max_steps.map(|n| n * 200);
+        // Deterministic runs: an attempt gets the steps of 40 cycles (a manual clock does not move while planning).
+        let max_steps = self.cfg.repair_max_steps.map(|n| n * 40);
         for attempt in 1.. {
             let t = now();
             self.state.refresh(&self.plan, t);
@@ -164,9 +165,16 @@ impl Executive {
                 },
             });
             if solved {
-                let mut plan = search.into_plan();
+                let mut plan = search.plan().clone();
                 plan.set_time_floor(TimeFloor::None);
-                return ReplanResult::Plan(plan);
+                // T_end happens now: planning is over, the new plan's first timepoints may follow it.
+                if plan.stn.execute(t_end, now()).is_ok() {
+                    return ReplanResult::Plan(plan);
+                }
+                self.trace(TraceEvent::Replan {
+                    attempt: attempt as u32,
+                    outcome: "plan found too late (after T_end)".into(),
+                });
             }
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
@@ -194,7 +202,7 @@ impl Executive {
     pub fn adopt(&mut self, plan: PartialPlan) {
         self.plan = plan;
         self.started.clear();
-        // Their late reports name actions of the old plan: ignored as unknown.
+        // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
         self.by_vid.clear();
         self.stop_sent.clear();
         self.repair = None;

@@ -36,12 +36,14 @@ pub struct LevelUpdate {
     pub repair: bool,
 }
 
-/// Numeric tolerance on levels (reports are rounded by the vehicle).
+/// Default numeric tolerance on levels.
 pub const EPS: f64 = 1e-6;
 
-pub fn integrate_level(b: &LevelBounds, l_r: f64, kind: ResourceKind) -> LevelUpdate {
+/// `tol`: the vehicle's resolution (e.g. a battery reported in whole percents): a level within `tol` of
+/// the bounds is in them.
+pub fn integrate_level(b: &LevelBounds, l_r: f64, kind: ResourceKind, tol: f64) -> LevelUpdate {
     let exact = b.case == LevelCase::Exact;
-    if l_r < b.lb - EPS {
+    if l_r < b.lb - tol {
         let c = b.lb - l_r;
         // Case (1): RscL_t = RscL_lb then minus c, i.e. l_r. Case (2): L^past = lev_lb^past, minus c.
         let lvl = if exact { l_r } else { b.past_lb - c };
@@ -51,7 +53,7 @@ pub fn integrate_level(b: &LevelBounds, l_r: f64, kind: ResourceKind) -> LevelUp
             check_executable: !exact,
             repair: true,
         }
-    } else if l_r > b.ub + EPS {
+    } else if l_r > b.ub + tol {
         let p = l_r - b.ub;
         let lvl = if exact { l_r } else { b.past_ub + p };
         LevelUpdate {

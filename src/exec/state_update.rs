@@ -14,7 +14,7 @@ use super::executive::Executive;
 use super::p_t::classify;
 use super::trace::TraceEvent;
 use crate::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
-use crate::plan::{ActionId, CondKind, LinkId, STerm};
+use crate::plan::{ActionId, CondKind, EventId, LinkId, STerm};
 use crate::vehicle::{ActionReport, Enu, StateValue};
 
 /// Distance under which a reported position names a known location, m.
@@ -115,8 +115,27 @@ fn threatened(
         .collect()
 }
 
+/// `attr(args) = from` of an event whose arguments and previous value are known.
+fn before_value(ex: &Executive, e: EventId) -> Option<(AttrId, Vec<ObjectId>, Value)> {
+    let ev = ex.plan.event(e);
+    let from = ex.plan.cond(ev.cond?).value;
+    let value = ex.plan.bindings.value(from)?;
+    let args = ev
+        .args
+        .iter()
+        .map(|&x| match ex.plan.bindings.value(x) {
+            Some(Value::Obj(o)) => Some(o),
+            _ => None,
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some((ev.attr, args, value))
+}
+
 pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Time) {
     let mut broken: Vec<LinkId> = Vec::new();
+    // Values that enter the plan as observed facts just after t, when the action ended, so that the effect
+    // they replace cannot support anything later (§3.3: the state values are inserted).
+    let mut observed: Vec<(AttrId, Vec<ObjectId>, Value)> = Vec::new();
     let reported: Vec<(AttrId, Vec<ObjectId>, Value)> = r
         .state
         .iter()
@@ -148,6 +167,13 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
         if happened {
             continue;
         }
+        // The value did not change: the value before the event holds on (when it is known).
+        if report.is_none() {
+            if let Some((attr, args, value)) = before_value(ex, e) {
+                ex.state.set((attr, args.clone()), t, value);
+                observed.push((attr, args, value));
+            }
+        }
         for &l in ex.plan.links_on(attr) {
             if ex.plan.link(l).event == e && ex.plan.link(l).active {
                 broken.push(l);
@@ -175,6 +201,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
             continue;
         }
         ex.state.set((attr, args.clone()), t, value);
+        observed.push((attr, args.clone(), value));
         // Links that protect another value of this attribute instance across t.
         for &l in ex.plan.links_on(attr) {
             let link = ex.plan.link(l);
@@ -209,6 +236,11 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     broken.dedup();
     for &l in &broken {
         ex.plan.remove_link(l);
+    }
+    for (attr, args, value) in observed {
+        if let Err(e) = ex.plan.add_observation(attr, &args, value, t + 1) {
+            tracing::warn!("observed value not inserted: {e}");
+        }
     }
     // Causal-link removal via the abstraction hierarchy.
     ex.plan.recompute_candidates();

@@ -134,7 +134,7 @@ impl PartialPlan {
     }
 
     /// An observed fact (seed 1 §3.3, a state value from a report): `attr(args) = value` from `at` on, an
-    /// event of the initial state's kind on a timepoint fixed at `at`. Hook for the executive.
+    /// event of the initial state's kind on a timepoint executed at `at`. Hook for the executive.
     pub fn add_observation(
         &mut self,
         attr: crate::model::AttrId,
@@ -142,9 +142,8 @@ impl PartialPlan {
         value: crate::model::Value,
         at: crate::model::Time,
     ) -> Result<EventId, PlanError> {
-        let origin = self.stn.origin();
         let tp = self.stn.add_timepoint();
-        self.stn.add_constraint(origin, tp, at, at)?;
+        self.stn.execute(tp, at)?;
         Ok(self.push_event(EventRec {
             owner: Owner::Initial,
             attr,

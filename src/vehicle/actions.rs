@@ -92,6 +92,9 @@ enum Phase {
     Holding(usize, u64),
     /// Sampler: waiting for the ACK of step i.
     Servo(usize),
+    /// Picture: captured (or not) at the given time; waiting for the storage level it left, so that the
+    /// report carries it.
+    Stored(u64),
 }
 
 /// One running action instance.
@@ -110,7 +113,12 @@ pub struct Run {
     expect_mode: Option<u32>,
     mode_seen: bool,
     last_poll: u64,
+    /// The end of a capture waiting for its storage level.
+    pending: Option<End>,
 }
+
+/// How long (vehicle ms) a picture's report waits for STORAGE_INFORMATION.
+const STORAGE_WAIT_MS: u64 = 2_000;
 
 fn lawnmower(center: Enu, width: f64, height: f64, spacing: f64) -> Vec<Enu> {
     let rows = (height / spacing).floor() as usize + 1;
@@ -148,6 +156,7 @@ impl Run {
             expect_mode: None,
             mode_seen: false,
             last_poll: ctx.vnow,
+            pending: None,
         };
         let id = start.id;
         match binding {
@@ -413,14 +422,19 @@ impl Run {
                 if matches!(self.binding, Binding::TakePicture { .. }) =>
             {
                 ctx.request_storage();
-                if c.capture_result.bits() == 1 {
-                    Some(End::nominal())
+                self.pending = Some(if c.capture_result.bits() == 1 {
+                    End::nominal()
                 } else {
-                    Some(self.failed(
+                    self.failed(
                         ctx,
                         format!("image {} not captured (capture_result 0)", c.image_index),
-                    ))
-                }
+                    )
+                });
+                self.phase = Phase::Stored(ctx.vnow);
+                None
+            }
+            MavMessage::STORAGE_INFORMATION(_) if matches!(self.phase, Phase::Stored(_)) => {
+                self.pending.take()
             }
             MavMessage::MISSION_ITEM_REACHED(r)
                 if matches!(self.binding, Binding::Survey { .. }) =>
@@ -451,6 +465,13 @@ impl Run {
                 let (p, g) = (ctx.tel.position?, self.goal?);
                 (p.horizontal_distance(&g) <= *acceptance_radius_m).then(End::nominal)
             }
+            // No storage information after the capture: report with the level known.
+            (Binding::TakePicture { .. }, Phase::Stored(at))
+                if ctx.vnow.saturating_sub(at) > STORAGE_WAIT_MS =>
+            {
+                self.pending.take()
+            }
+            (Binding::TakePicture { .. }, Phase::Stored(_)) => None,
             (Binding::TakePicture { timeout_ms, .. }, _)
                 if ctx.vnow.saturating_sub(self.started_ms) > *timeout_ms =>
             {

@@ -1,0 +1,196 @@
+//! `mavtempo run --config FILE DOMAIN PROBLEM [--vehicle ADDR] [--goals FILE] [--gcs ADDR] [--tlog FILE]
+//! [--report FILE]`: plans the problem, then executes it live against a MAVLink vehicle, with goal uploads
+//! from ground stations decided by the executive. Wiring and printing only.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+
+use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
+use crate::exec::config::ExecConfig;
+use crate::exec::executive::Executive;
+use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::pacer::LivePacer;
+use crate::exec::trace::CycleRecord;
+use crate::lang;
+use crate::model::Problem;
+use crate::vehicle::config::VehicleConfig;
+use crate::vehicle::goal_files;
+use crate::vehicle::goals::{items_to_goals, KnownLocations};
+use crate::vehicle::link::{Decider, LinkOptions};
+use crate::vehicle::{Enu, GoalRequest, MavlinkVehicle, Vehicle};
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// Vehicle configuration (TOML: link, home, modes, resources, action bindings; optional [exec] table
+    /// with timestep_ms, repair_share, replan_slack_ms).
+    #[arg(long)]
+    pub config: PathBuf,
+    /// The domain file (e.g. domains/rover/rover.ixt).
+    pub domain: PathBuf,
+    /// The problem file (e.g. domains/rover/problems/fig2.ixt).
+    pub problem: PathBuf,
+    /// The vehicle's address, overriding the config's link.address (e.g. tcpout:127.0.0.1:5760).
+    #[arg(long)]
+    pub vehicle: Option<String>,
+    /// Goals requested at the start, from a QGroundControl .plan or .waypoints file.
+    #[arg(long)]
+    pub goals: Option<PathBuf>,
+    /// Where ground stations connect to upload goals (e.g. udpin:0.0.0.0:14551).
+    #[arg(long)]
+    pub gcs: Option<String>,
+    /// Record every MAVLink frame to this .tlog.
+    #[arg(long)]
+    pub tlog: Option<PathBuf>,
+    /// Write the mission report as JSON.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Planning steps for the initial plan.
+    #[arg(long, default_value_t = 200_000)]
+    pub max_steps: u64,
+    /// Wall seconds to wait for the vehicle's first heartbeat and clock.
+    #[arg(long, default_value_t = 30)]
+    pub link_timeout: u64,
+    /// How fast the vehicle's clock runs (a SITL at N× real time): the executive sleeps 1/N of a wall
+    /// second per vehicle second.
+    #[arg(long, default_value_t = 1.0)]
+    pub speedup: f64,
+    /// Print only the summary, not the per-cycle trace.
+    #[arg(long)]
+    pub quiet: bool,
+    /// When actions start: earliest, latest or goal-driven[:search|:marking] (overrides [exec] dispatch).
+    #[arg(long, value_name = "POLICY")]
+    pub dispatch: Option<crate::dispatch::PolicyKind>,
+}
+
+pub fn run(args: RunArgs) -> ExitCode {
+    match mission(&args) {
+        Ok(report) => {
+            print_summary(&report);
+            if let Some(path) = &args.report {
+                if let Err(e) = write_report(path, &report) {
+                    eprintln!("mavtempo run: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("mavtempo run: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The vehicle configuration and the optional `[exec]` table of the same file.
+pub fn load_config(path: &Path) -> Result<(VehicleConfig, ExecConfig), String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut table: toml::Table =
+        toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let exec = match table.remove("exec") {
+        Some(v) => v
+            .try_into::<ExecConfig>()
+            .map_err(|e| format!("{}: [exec]: {e}", path.display()))?,
+        None => ExecConfig::default(),
+    };
+    exec.validate()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let rest = toml::to_string(&table).map_err(|e| format!("{}: {e}", path.display()))?;
+    let vehicle =
+        VehicleConfig::parse(&rest, &path.display().to_string()).map_err(|e| e.to_string())?;
+    Ok((vehicle, exec))
+}
+
+fn load_problem(args: &RunArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
+    let domain = Arc::new(lang::load_domain(&args.domain).map_err(|e| e.to_string())?);
+    let problem = lang::load_problem(&args.problem, &domain).map_err(|e| e.to_string())?;
+    Ok((domain, Arc::new(problem)))
+}
+
+/// The problem's located objects, so that uploaded positions name them.
+fn known_locations(cfg: &VehicleConfig, problem: &Problem) -> KnownLocations {
+    let mut known = KnownLocations::new(cfg.home);
+    for o in &problem.objects {
+        if let Some((e, n, u)) = o.local(problem.home.as_ref()) {
+            known.objects.push((o.name.clone(), Enu::new(e, n, u)));
+        }
+    }
+    known
+}
+
+fn initial_goals(
+    path: &Path,
+    known: &KnownLocations,
+    first: u32,
+) -> Result<Vec<GoalRequest>, String> {
+    let file = goal_files::load(path).map_err(|e| e.to_string())?;
+    items_to_goals(&file.items, known, first).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn mission(args: &RunArgs) -> Result<MissionReport, String> {
+    if !(args.speedup.is_finite() && args.speedup > 0.0) {
+        return Err(format!("--speedup must be > 0, got {}", args.speedup));
+    }
+    let (cfg, mut exec_cfg) = load_config(&args.config)?;
+    exec_cfg.dispatch = args.dispatch.unwrap_or(exec_cfg.dispatch);
+    let (domain, problem) = load_problem(args)?;
+    let known = known_locations(&cfg, &problem);
+    let first = problem.goals.len() as u32 + 1;
+    let goals = match &args.goals {
+        Some(p) => initial_goals(p, &known, first)?,
+        None => Vec::new(),
+    };
+    println!(
+        "planning {} ({} goals)...",
+        problem.name,
+        problem.goals.len()
+    );
+    let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
+    println!("initial plan: {} actions", plan.num_actions());
+    let opts = LinkOptions {
+        address: args.vehicle.clone(),
+        tlog: args.tlog.clone(),
+        gcs: args.gcs.clone(),
+        known: Some(known),
+        decider: Decider::Executive {
+            timeout: Duration::from_secs(10),
+        },
+        first_goal_number: first + goals.len() as u32,
+    };
+    let mut vehicle = MavlinkVehicle::connect_blocking(cfg, opts).map_err(|e| e.to_string())?;
+    let deadline = Instant::now() + Duration::from_secs(args.link_timeout);
+    while vehicle.target().is_none() || vehicle.now_ms() == 0 {
+        if Instant::now() >= deadline {
+            return Err(format!(
+                "no heartbeat and clock from the vehicle within {} s",
+                args.link_timeout
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let origin = vehicle.now_ms();
+    println!("vehicle up; mission starts at vehicle time {origin} ms");
+    let mut ex = Executive::new(plan, exec_cfg);
+    let mut printer = TracePrinter::default();
+    let quiet = args.quiet;
+    let mut observe = |_: &Executive, c: &CycleRecord| {
+        if !quiet {
+            printer.cycle(c);
+        }
+    };
+    let opts = MissionOptions {
+        time_limit_ms: problem.horizon + 60_000,
+        initial_goals: goals,
+    };
+    let mut pacer = LivePacer {
+        origin_ms: origin,
+        speedup: args.speedup,
+    };
+    let report = run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe);
+    vehicle.flush_tlog();
+    Ok(report)
+}

@@ -1,0 +1,86 @@
+//! `mavtempo demo` end to end, as a user runs it: the executive against the in-process SITL over real
+//! sockets (stepped clock), on Fig. 2's world with goals g1 and g2; the report's fates and the SITL's faults
+//! (e1 the first picture fails → plan repair; e2 rough ground around p2 → the move is stopped and the rover
+//! moves on from a new location) checked from the `--report` JSON.
+
+use std::process::Command;
+
+fn temp_path(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("mavtempo-cli-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    dir.join(name)
+}
+
+fn events(report: &serde_json::Value) -> Vec<serde_json::Value> {
+    report["cycles"]
+        .as_array()
+        .expect("cycles")
+        .iter()
+        .flat_map(|c| c["events"].as_array().cloned().unwrap_or_default())
+        .collect()
+}
+
+#[test]
+fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
+    let report_path = temp_path("report.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .args(["demo", "--quiet", "--no-upload", "--problem"])
+        .arg("tests/fixtures/exec/rover_two.ixt")
+        .arg("--report")
+        .arg(&report_path)
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("mission ended (Finished)"), "{stdout}");
+    let text = std::fs::read_to_string(&report_path).expect("report written");
+    let report: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let goals = report["goals"].as_array().expect("goals array");
+    for name in ["g1", "g2"] {
+        let g = goals
+            .iter()
+            .find(|g| g["name"] == name)
+            .unwrap_or_else(|| panic!("{name} in {goals:?}"));
+        assert_eq!(g["fate"], "achieved", "{g}");
+        assert!(g["reason"].is_string());
+    }
+    let ev = events(&report);
+    let kind = |k: &str| ev.iter().filter(|e| e["kind"] == k).count();
+    // e1: the SITL fails the first picture; plan repair takes it again.
+    assert!(
+        ev.iter().any(|e| e["kind"] == "report"
+            && e["status"] == "failed"
+            && e["action"]
+                .as_str()
+                .is_some_and(|a| a.starts_with("take_picture"))),
+        "{ev:?}"
+    );
+    assert!(kind("repair_done") >= 1);
+    // e2: the move into the rough ground is stopped (END) and the rover moves on from a new location.
+    assert!(kind("stop") >= 1, "{ev:?}");
+    assert!(ev.iter().any(|e| e["kind"] == "launch"
+        && e["action"]
+            .as_str()
+            .is_some_and(|a| a.starts_with("move(L"))));
+    // Resource levels against their bounds, and cycle times, are in the report.
+    assert!(!report["resources"]
+        .as_array()
+        .expect("resources")
+        .is_empty());
+    assert!(report["cycle_times"]["count"].as_u64().unwrap_or(0) > 0);
+    let _ = std::fs::remove_file(&report_path);
+}
+
+#[test]
+fn demo_refuses_a_missing_problem_file() {
+    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .args(["demo", "--problem", "no/such/problem.ixt"])
+        .output()
+        .expect("runs");
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read no/such/problem.ixt"));
+}

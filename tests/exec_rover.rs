@@ -1,0 +1,347 @@
+//! The executive's reactions of seed 1 Fig. 2 on the rover, planned by the planner and executed by
+//! `run_mission` against MockVehicle on its manual clock (deterministic): e1 a picture fails → plan repair
+//! with a new picture; e2 a move too slow is stopped late-preemptively → the rover is at a new location
+//! and plan repair moves it on from there; e3/e4 new goals requested during the mission → one accepted,
+//! added by plan repair and achieved, one rejected by the acceptance test; e6 the battery drops while moving → a recharge enters the plan before the next
+//! move. Problem: tests/fixtures/exec/rover_two.ixt (Fig. 2's world, goals g1 and g2).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport, Pacer};
+use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::trace::TraceEvent;
+use mavtempo::lang::{load_domain, load_problem};
+use mavtempo::model::Time;
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::mock::{Outcome, Scripted};
+use mavtempo::vehicle::{
+    Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ResourceLevel, StateValue, VehicleEvent,
+};
+
+fn executive() -> Executive {
+    let d = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover loads");
+    let p =
+        load_problem(Path::new("tests/fixtures/exec/rover_two.ixt"), &d).expect("fixture loads");
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
+    let cfg = ExecConfig {
+        timestep_ms: 1_300,
+        repair_share: 0.6,
+        replan_slack_ms: 2_000,
+        repair_max_steps: Some(500),
+        ..ExecConfig::default()
+    };
+    Executive::new(search.into_plan(), cfg)
+}
+
+/// A rover that does what the domain says: moves at 0.45 m/s using 0.5 % of battery per metre (levels
+/// scripted in `levels`), PTU turns in 3 s, pictures in 8 s of about 0.9 slot.
+fn rover() -> MockVehicle {
+    let mut v = MockVehicle::new();
+    v.set_level("BATTERY", 90.0).set_level("STORAGE", 3.0);
+    v.script("move_ptu", Outcome::nominal(3_000));
+    v
+}
+
+/// Reacts to what the executive starts, as the world would: the `rules` see each new START line of the
+/// mock's log (`"<ms> START <task> <id>"`) and may schedule events.
+struct World<F: FnMut(&mut MockVehicle, u64, &str)> {
+    inner: MockPacer,
+    seen: usize,
+    rule: F,
+}
+
+impl<F: FnMut(&mut MockVehicle, u64, &str)> Pacer<MockVehicle> for World<F> {
+    fn origin_ms(&self) -> u64 {
+        0
+    }
+    fn now(&self, v: &MockVehicle) -> Time {
+        self.inner.now(v)
+    }
+    fn wait(&mut self, v: &mut MockVehicle, until: Time) -> Option<VehicleEvent> {
+        while self.seen < v.log.len() {
+            let line = v.log[self.seen].clone();
+            self.seen += 1;
+            let mut parts = line.split(' ');
+            let at: u64 = parts.next().and_then(|s| s.parse().ok()).unwrap_or(0);
+            if parts.next() == Some("START") {
+                let task = parts.next().unwrap_or("").to_string();
+                (self.rule)(v, at, &task);
+            }
+        }
+        self.inner.wait(v, until)
+    }
+}
+
+fn run(
+    ex: &mut Executive,
+    v: &mut MockVehicle,
+    rule: impl FnMut(&mut MockVehicle, u64, &str),
+) -> MissionReport {
+    let mut world = World {
+        inner: MockPacer::default(),
+        seen: 0,
+        rule,
+    };
+    let opts = MissionOptions {
+        time_limit_ms: 30 * 60_000,
+        ..MissionOptions::default()
+    };
+    run_mission(ex, v, &mut world, &opts, &mut |_, _| {})
+}
+
+fn events(r: &MissionReport) -> Vec<(Time, TraceEvent)> {
+    r.cycles
+        .iter()
+        .flat_map(|c| c.events.iter().map(move |e| (c.time_ms, e.clone())))
+        .collect()
+}
+
+fn launches(r: &MissionReport) -> Vec<String> {
+    events(r)
+        .into_iter()
+        .filter_map(|(_, e)| match e {
+            TraceEvent::Launch { action, .. } => Some(action),
+            _ => None,
+        })
+        .collect()
+}
+
+fn fate(r: &MissionReport, name: &str) -> Fate {
+    r.goals
+        .iter()
+        .find(|g| g.name == name)
+        .map(|g| g.fate.clone())
+        .unwrap_or(Fate::Pending)
+}
+
+fn nominal_moves(v: &mut MockVehicle) {
+    // base → p2 (19 m) then p2 → p1 (12.8 m) at 0.45 m/s.
+    v.script("move", Outcome::nominal(42_000).with_level("BATTERY", 80.5));
+    v.script("move", Outcome::nominal(28_500).with_level("BATTERY", 74.1));
+}
+
+#[test]
+fn nominal_mission_achieves_both_goals_without_repair() {
+    let mut ex = executive();
+    let mut v = rover();
+    nominal_moves(&mut v);
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    let r = run(&mut ex, &mut v, |_, _, _| {});
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    assert_eq!(
+        (fate(&r, "g1"), fate(&r, "g2")),
+        (Fate::Achieved, Fate::Achieved)
+    );
+    assert_eq!(r.counters.replans, 0);
+    assert_eq!(launches(&r).len(), 7, "{:?}", launches(&r));
+}
+
+#[test]
+fn e1_failed_picture_is_repaired_with_a_new_picture() {
+    let mut ex = executive();
+    let mut v = rover();
+    nominal_moves(&mut v);
+    v.script("take_picture", Outcome::failed(8_000, "image not captured"));
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    let r = run(&mut ex, &mut v, |_, _, _| {});
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    let ev = events(&r);
+    let failed_at = ev
+        .iter()
+        .find(|(_, e)| matches!(e, TraceEvent::Report { status, .. } if status == "failed"))
+        .map(|(t, _)| *t)
+        .expect("the failure is reported");
+    // Plan repair (not replanning) puts a second picture of the same target in the plan.
+    assert!(ev
+        .iter()
+        .any(|(t, e)| *t >= failed_at && matches!(e, TraceEvent::RepairDone { .. })));
+    assert_eq!(r.counters.replans, 0);
+    let pictures: Vec<_> = launches(&r)
+        .into_iter()
+        .filter(|a| a.starts_with("take_picture"))
+        .collect();
+    assert_eq!(pictures.len(), 3, "{pictures:?}");
+    assert_eq!(
+        pictures[0], pictures[1],
+        "the failed picture is taken again"
+    );
+    assert_eq!(
+        (fate(&r, "g1"), fate(&r, "g2")),
+        (Fate::Achieved, Fate::Achieved)
+    );
+}
+
+#[test]
+fn e2_slow_move_is_stopped_and_the_rover_moves_on_from_a_new_location() {
+    let mut ex = executive();
+    let mut v = rover();
+    // The first move never arrives on its own (rough ground): stopped where it is, 6 m short of p2.
+    v.script("move", Outcome::nominal(600_000));
+    v.script("move", Outcome::nominal(14_000).with_level("BATTERY", 80.5));
+    v.script("move", Outcome::nominal(28_500).with_level("BATTERY", 74.1));
+    v.on_stop(
+        "move",
+        vec![(
+            "position".into(),
+            StateValue::Position(Enu::new(13.0, -3.0, 0.0)),
+        )],
+    );
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    let r = run(&mut ex, &mut v, |_, _, _| {});
+    let ev = events(&r);
+    // Late-preemptive: END at ub − ts, before any timeout.
+    let stop = ev
+        .iter()
+        .find_map(|(t, e)| match e {
+            TraceEvent::Stop { action, .. } => Some((*t, action.clone())),
+            _ => None,
+        })
+        .expect("the slow move is stopped");
+    assert_eq!(stop.1, "move(base, p2)");
+    assert!(!ev
+        .iter()
+        .any(|(_, e)| matches!(e, TraceEvent::Timeout { .. })));
+    // The next move starts from the new location object where the rover stopped.
+    let l = launches(&r);
+    let from_new = l
+        .iter()
+        .find(|a| a.starts_with("move(L"))
+        .expect("a move from the new location");
+    assert!(from_new.ends_with(", p2)"), "{from_new}");
+    assert_eq!(r.counters.replans, 0);
+    assert_eq!(
+        (fate(&r, "g1"), fate(&r, "g2")),
+        (Fate::Achieved, Fate::Achieved)
+    );
+}
+
+#[test]
+fn e3_e4_new_goals_accepted_and_achieved_or_rejected_by_the_acceptance_test() {
+    let mut ex = executive();
+    let mut v = rover();
+    nominal_moves(&mut v);
+    v.script("move", Outcome::nominal(25_000).with_level("BATTERY", 68.0));
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    let goal = |name: &str, kind: GoalKind, place: &str, at: Enu, window_s: f64| GoalRequest {
+        name: name.into(),
+        kind,
+        proposition: format!("{}({place})", kind.predicate()),
+        location: Some(GoalLocation {
+            name: place.into(),
+            new: false,
+            at,
+            lat: 0.0,
+            lon: 0.0,
+        }),
+        priority: 1,
+        start_window_s: (0.0, window_s),
+        duration_s: (0.0, f64::INFINITY),
+        d_achiev_s: 60.0,
+    };
+    // g6: be back at the base at the end (a return the repair adds); g7: a picture of a new target that
+    // must start within the first minute but needs 60 s: rejected by the acceptance test.
+    let goals = vec![
+        goal("g6", GoalKind::BeAt, "base", Enu::default(), 1_800.0),
+        goal(
+            "g7",
+            GoalKind::PictureOf,
+            "t7",
+            Enu::new(30.0, -8.0, 0.0),
+            60.0,
+        ),
+    ];
+    let mut sent = false;
+    let r = run(&mut ex, &mut v, move |v, at, task| {
+        // During the first picture, about 47 s into the mission.
+        if task == "take_picture" && !sent {
+            sent = true;
+            v.at(at + 2_000, Scripted::Goals(goals.clone()));
+        }
+    });
+    let ev = events(&r);
+    assert!(ev
+        .iter()
+        .any(|(_, e)| matches!(e, TraceEvent::GoalAccepted { goal } if goal == "g6")));
+    assert!(ev
+        .iter()
+        .any(|(_, e)| matches!(e, TraceEvent::GoalRejected { goal, reason } if goal == "g7" && reason.contains("d_achiev"))));
+    assert_eq!(fate(&r, "g6"), Fate::Achieved, "{:?}", r.goals);
+    assert!(r.plan_changes.iter().any(|c| c.cause == "goal_added"));
+    assert!(
+        launches(&r)
+            .iter()
+            .any(|a| a.starts_with("move(") && a.ends_with(", base)")),
+        "{:?}",
+        launches(&r)
+    );
+    assert_eq!(
+        (fate(&r, "g1"), fate(&r, "g2")),
+        (Fate::Achieved, Fate::Achieved)
+    );
+}
+
+#[test]
+fn e6_battery_drop_while_moving_brings_a_recharge_before_the_next_move() {
+    let mut ex = executive();
+    let mut v = rover();
+    nominal_moves(&mut v);
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    v.script(
+        "recharge_battery",
+        Outcome::nominal(120_000).with_level("BATTERY", 14.0),
+    );
+    let mut first = true;
+    let r = run(&mut ex, &mut v, move |v, at, task| {
+        // 20 s into the first move the battery falls to 3 %: not enough for the second (6.4 %).
+        if task == "move" && first {
+            first = false;
+            v.at(
+                at + 20_000,
+                Scripted::Resource(ResourceLevel {
+                    resource: "BATTERY".into(),
+                    level: 3.0,
+                }),
+            );
+        }
+    });
+    let ev = events(&r);
+    assert!(ev.iter().any(|(_, e)| matches!(
+        e,
+        TraceEvent::Level { resource, verdict, .. } if resource == "BATTERY" && verdict.starts_with("OverConsumption")
+    )));
+    let l = launches(&r);
+    let recharge = l
+        .iter()
+        .position(|a| a.starts_with("recharge_battery"))
+        .unwrap_or_else(|| panic!("a recharge is launched: {l:?}"));
+    let second_move = l
+        .iter()
+        .rposition(|a| a.starts_with("move("))
+        .expect("moves");
+    assert!(recharge < second_move, "{l:?}");
+    assert_eq!(
+        (fate(&r, "g1"), fate(&r, "g2")),
+        (Fate::Achieved, Fate::Achieved)
+    );
+}
