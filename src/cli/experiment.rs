@@ -33,7 +33,7 @@ pub struct DispatchArgs {
     /// Mean number of goals uploaded per hour (Poisson rate).
     #[arg(long, default_value_t = 0.4)]
     pub per_hour: f64,
-    /// The executive's deterministic planning budget n: μ·n plan-repair steps per cycle, 200·n steps per
+    /// The executive's deterministic planning budget n: μ·n plan-repair steps per cycle, 40·n steps per
     /// complete-replanning attempt.
     #[arg(long, default_value_t = 10)]
     pub repair_steps: u64,

@@ -370,7 +370,7 @@ pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64, repair_steps: u64) -
     }
     let cfg = ExecConfig {
         timestep_ms: MIN,
-        // Deterministic budgets: μ·n repair steps per cycle, 200·n per replanning attempt (the mission clock
+        // Deterministic budgets: μ·n repair steps per cycle, 40·n per replanning attempt (the mission clock
         // stands still while the planner runs, so these bound the experiment's cost).
         repair_max_steps: Some(repair_steps),
         replan_slack_ms: MIN,
