@@ -35,7 +35,8 @@ fn check_solved(
 #[test]
 fn auv_vents_is_solved_and_checked() {
     let n = solve_and_check("domains/auv/problems/vents.ixt");
-    assert!(n >= 4, "go, survey, sample, go back: {n} actions");
+    // surface -> vent1 -> vent2, survey, sample, vent2 -> vent1 -> surface: no detour.
+    assert_eq!(n, 6, "{n} actions");
 }
 
 #[test]
@@ -82,4 +83,25 @@ fn generated_rover_grid_is_solved_and_checked() {
     let n = check_solved("grid8", Arc::new(d), Arc::new(p));
     // 8 pictures, 8 moves, a pan-and-tilt move down and back up per picture at most.
     assert!((16..=32).contains(&n), "{n} actions");
+}
+
+#[test]
+fn rover_fig2_with_a_low_battery_inserts_a_recharge() {
+    let d = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")).expect("domain");
+    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt")
+        .expect("shipped problem")
+        .replace(
+            "resource BATTERY: level 90, capacity 100;",
+            "resource BATTERY: level 20, capacity 100;",
+        );
+    let p = mavtempo::lang::parse_problem("fig2-low-battery", &text, &d).expect("problem parses");
+    let (d, p) = (Arc::new(d), Arc::new(p));
+    check_solved("fig2-low-battery", d.clone(), p.clone());
+    let planned = solve(d.clone(), p, Budget::steps(5_000)).expect("plan");
+    let recharges = planned
+        .plan
+        .live_actions()
+        .filter(|&a| d.task(planned.plan.action(a).task).name == "recharge_battery")
+        .count();
+    assert!(recharges >= 1, "no recharge in the plan");
 }

@@ -147,17 +147,70 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
 
 /// Drops the resolvers a look-ahead proves useless (done only for the selected flaw: it costs ordering
 /// queries per event of the attribute).
-pub fn refine(plan: &PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
-    if let Flaw::OpenCondition(c) = flaw {
-        let own = match plan.cond(*c).kind {
-            CondKind::Before(e) => Some(e),
-            CondKind::Hold { .. } => None,
-        };
-        rs.retain(|r| match r {
-            Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
-            _ => true,
-        });
+pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
+    let Flaw::OpenCondition(c) = flaw else {
+        return;
+    };
+    let own = own_event(plan, *c);
+    rs.retain(|r| match r {
+        Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
+        _ => true,
+    });
+    order_links_by_support(plan, *c, rs);
+}
+
+fn own_event(plan: &PartialPlan, c: CondId) -> Option<crate::plan::EventId> {
+    match plan.cond(c).kind {
+        CondKind::Before(e) => Some(e),
+        CondKind::Hold { .. } => None,
     }
+}
+
+/// When several links can support a condition of an action and they bind its variables differently,
+/// tries the one leaving the fewest other conditions of the action without an existing (not doomed)
+/// establisher first: e.g. `go(?from, vent1)` needs `CONNECTED(?from, vent1)`, and linking it to
+/// `CONNECTED(vent2, vent1)` lets `AUV_AT = vent2` be supported where the vehicle already is, while
+/// `CONNECTED(surface, vent1)` would need yet another trip. (Ties keep the earliest-first order.)
+fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut [Resolver]) {
+    let crate::plan::Owner::Action(a) = plan.cond(c).owner else {
+        return;
+    };
+    let links = rs
+        .iter()
+        .take_while(|r| matches!(r, Resolver::Link { .. }))
+        .count();
+    if links < 2 {
+        return;
+    }
+    let siblings: Vec<CondId> = plan
+        .open_conditions()
+        .filter(|&o| o != c && plan.cond(o).owner == crate::plan::Owner::Action(a))
+        .collect();
+    if siblings.is_empty() {
+        return;
+    }
+    let mut cost: Vec<(usize, usize)> = Vec::with_capacity(links);
+    for (i, r) in rs[..links].iter().enumerate() {
+        let level = plan.save();
+        let unsupported = match apply(plan, r) {
+            Ok(()) => siblings
+                .iter()
+                .filter(|&&o| {
+                    let own = own_event(plan, o);
+                    !open_condition(plan, o).iter().any(|x| match x {
+                        Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
+                        _ => false,
+                    })
+                })
+                .count(),
+            Err(_) => usize::MAX,
+        };
+        plan.restore(level);
+        cost.push((unsupported, i));
+    }
+    cost.sort();
+    let reordered: Vec<Resolver> = cost.iter().map(|&(_, i)| rs[i].clone()).collect();
+    rs[..links].clone_from_slice(&reordered);
 }
 
 /// Look-ahead on a candidate causal link `e → c`: some other event necessarily changes the attribute

@@ -136,14 +136,30 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver
         let rank = rank_reservoir(plan, h, &f);
         consider(key(rank, &rs, false, 2, 0, 0), f, rs);
     }
-    for (f, rank) in open {
-        if rank < top {
-            continue;
-        }
-        let Flaw::OpenCondition(c) = f else { continue };
-        let urgency = plan.stn.ub(plan.cond(c).from);
+    // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
+    // recent); the scan stops at the first forced one (at most one resolver), which no later one can beat
+    // but by being a dead end — found at the next step anyway.
+    let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> = open
+        .into_iter()
+        .filter(|&(_, rank)| rank >= top)
+        .filter_map(|(f, rank)| match f {
+            Flaw::OpenCondition(c) => Some((
+                plan.stn.ub(plan.cond(c).from),
+                std::cmp::Reverse(c.0),
+                f,
+                rank,
+            )),
+            _ => None,
+        })
+        .collect();
+    candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+    for (urgency, std::cmp::Reverse(recency), f, rank) in candidates {
         let rs = resolvers(plan, &f);
-        consider(key(rank, &rs, true, 3, urgency, c.0), f, rs);
+        let forced = rs.len() <= 1;
+        consider(key(rank, &rs, true, 3, urgency, recency), f, rs);
+        if forced {
+            break;
+        }
     }
     best.map(|(_, f, mut rs)| {
         refine(plan, &f, &mut rs);
