@@ -1,7 +1,7 @@
 //! `mavtempo demo` end to end, as a user runs it: the executive against the in-process SITL over real
 //! sockets (stepped clock), on Fig. 2's world with goals g1 and g2; the report's fates and the SITL's faults
 //! (e1 the first picture fails → plan repair; e2 rough ground around p2 → the move is stopped and the rover
-//! moves on from a new location) checked from the `--report` JSON.
+//! moves on from a new location) checked from the `--report` JSON; then the built-in Fig. 2 story.
 
 use std::process::Command;
 
@@ -72,6 +72,70 @@ fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
         .expect("resources")
         .is_empty());
     assert!(report["cycle_times"]["count"].as_u64().unwrap_or(0) > 0);
+    let _ = std::fs::remove_file(&report_path);
+}
+
+#[test]
+fn demo_fig2_story_every_goal_settled() {
+    let report_path = temp_path("fig2.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .args(["demo", "--quiet", "--report"])
+        .arg(&report_path)
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).expect("report"))
+            .expect("JSON");
+    let goals = report["goals"].as_array().expect("goals array");
+    let names: Vec<&str> = goals.iter().filter_map(|g| g["name"].as_str()).collect();
+    assert_eq!(
+        names,
+        ["g1", "g2", "g3", "g4", "g5", "g6", "g7"],
+        "{goals:?}"
+    );
+    for g in goals {
+        match g["fate"].as_str() {
+            Some("achieved") => {}
+            Some("rejected") => assert!(!g["reason"].as_str().unwrap_or("").is_empty(), "{g}"),
+            other => panic!("{} left {other:?}", g["name"]),
+        }
+    }
+    // g3, the strict deadline with the highest priority, is never the one given up.
+    assert_eq!(goals[2]["fate"], "achieved");
+    let ev = events(&report);
+    let any = |f: &dyn Fn(&serde_json::Value) -> bool| ev.iter().any(f);
+    let action = |e: &serde_json::Value, prefix: &str| {
+        e["action"].as_str().is_some_and(|a| a.starts_with(prefix))
+    };
+    // e1: a failed picture.
+    assert!(any(&|e| e["kind"] == "report"
+        && e["status"] == "failed"
+        && action(e, "take_picture")));
+    // e2: a move stopped in the rough ground, the rover moves on from a new location.
+    assert!(any(&|e| e["kind"] == "stop" && action(e, "move(")));
+    assert!(any(&|e| e["kind"] == "launch" && action(e, "move(L")));
+    // e3/e4: g6 and g7 uploaded over MAVLink during the download and accepted.
+    assert!(any(
+        &|e| e["kind"] == "launch" && action(e, "download_images")
+    ));
+    for g in ["g6", "g7"] {
+        assert!(
+            any(&|e| e["kind"] == "goal_accepted" && e["goal"] == g),
+            "{g}"
+        );
+    }
+    // e6: the battery drop is an over-consumption; a recharge is launched.
+    assert!(any(&|e| e["kind"] == "level"
+        && e["resource"] == "BATTERY"
+        && e["verdict"]
+            .as_str()
+            .is_some_and(|v| v.starts_with("OverConsumption"))));
+    assert!(any(
+        &|e| e["kind"] == "launch" && action(e, "recharge_battery")
+    ));
+    assert!(report["counters"]["repairs"].as_u64().unwrap_or(0) >= 1);
     let _ = std::fs::remove_file(&report_path);
 }
 
