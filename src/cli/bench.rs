@@ -21,6 +21,8 @@ pub enum BenchWhat {
     Stn,
     /// Executive cycle time (p50/p99) on plans of 200 and 2,000 actions.
     Cycle,
+    /// Plan repair vs complete replanning on each Fig. 2 event kind (rover, mock vehicle).
+    Repair,
     /// Planning time and steps on the shipped and generated problems.
     Plan,
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
@@ -36,6 +38,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         BenchWhat::Stn => bench_stn(args.json),
         BenchWhat::Cycle => bench_cycle(args.json),
         BenchWhat::Plan => bench_plan(args.json),
+        BenchWhat::Repair => bench_repair(args.json),
         BenchWhat::Sim => bench_sim(args.json),
         BenchWhat::Dispatch => bench_dispatch(args.json),
         BenchWhat::Link => bench_link(args.json),
@@ -249,6 +252,44 @@ fn bench_cycle(json: bool) -> ExitCode {
                 eprintln!("bench cycle: {e}");
                 return ExitCode::FAILURE;
             }
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn bench_repair(json: bool) -> ExitCode {
+    let figures = match crate::exec::bench_repair::run() {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench repair: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    for f in figures {
+        if json {
+            match serde_json::to_string(&f) {
+                Ok(line) => println!("{line}"),
+                Err(e) => {
+                    eprintln!("bench repair: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        } else {
+            let repair = f
+                .repair_ms
+                .map_or("no repair (replanned)".to_string(), |ms| {
+                    format!("{ms:.2} ms")
+                });
+            println!(
+                "{:<16} repair {repair}, complete replanning {:.2} ms ({})",
+                f.event,
+                f.replan_ms,
+                if f.replan_found {
+                    "plan found"
+                } else {
+                    "no plan"
+                }
+            );
         }
     }
     ExitCode::SUCCESS

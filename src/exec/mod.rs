@@ -27,6 +27,7 @@
 pub mod abstraction;
 pub mod act;
 pub mod bench;
+pub mod bench_repair;
 pub mod capacity;
 pub mod clock;
 pub mod config;
