@@ -134,6 +134,7 @@ fn cfg() -> ExecConfig {
         repair_share: 0.6,
         replan_slack_ms: 2_000,
         repair_max_steps: Some(25),
+        ..ExecConfig::default()
     }
 }
 
