@@ -235,3 +235,32 @@ fn next_is_backtrack_predicts_the_next_step() {
     );
     assert!(predictions > 0, "no backtrack was predicted");
 }
+
+/// A `from` condition nothing can support (the rover's position is unknown) must not be "supported" by an
+/// endless chain of moves, each needing the previous one: the regression bound makes the search fail for
+/// good, quickly, instead of running into the step budget.
+#[test]
+fn unsupportable_from_condition_fails_instead_of_regressing_forever() {
+    let d = mavtempo::lang::load_domain(std::path::Path::new("domains/rover/rover.ixt"))
+        .expect("shipped domain");
+    // Fig. 2 up to its first goal, without the rover's position.
+    let full = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("shipped problem");
+    let text =
+        full[..full.find("goal g2").expect("g2 in fig2")].replace("    AT_ROBOT() = base;\n", "");
+    let p = mavtempo::lang::parse_problem("fig2-lost", &text, &d).expect("problem parses");
+    let root = mavtempo::plan::PartialPlan::new(std::sync::Arc::new(d), std::sync::Arc::new(p))
+        .expect("root plan");
+    let mut search = mavtempo::planner::Search::new(root);
+    let outcome = search.run(mavtempo::planner::Budget::steps(5_000));
+    match outcome {
+        mavtempo::planner::StepOutcome::Failed(
+            mavtempo::planner::FailReason::Exhausted { .. }
+            | mavtempo::planner::FailReason::NoResolver { .. },
+        ) => {}
+        other => panic!("expected a definitive failure, got {other:?}"),
+    }
+    assert!(
+        search.plan().num_actions() < 50,
+        "the plan grew without bound"
+    );
+}

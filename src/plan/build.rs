@@ -380,6 +380,7 @@ impl PartialPlan {
             usages: Vec::new(),
             num_cons,
             removed: false,
+            regress: 0,
         });
         let owner = Owner::Action(id);
         // Events first (with their `from` conditions), then holds.

@@ -117,6 +117,9 @@ pub struct Action {
     pub num_cons: Vec<NumCons>,
     /// Removed from the plan by the executive (past action) — its effects stay as events.
     pub removed: bool,
+    /// How many insertions of the same task, each made for the `from` condition of the previous one, lead
+    /// to this action (0 when it was inserted for anything else): the planner bounds such regressions.
+    pub regress: u32,
 }
 
 /// An event `attr(args): (from, to)` at `at`.

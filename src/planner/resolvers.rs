@@ -97,6 +97,24 @@ fn value_compatible(plan: &PartialPlan, to: &Term, value: STerm) -> bool {
     }
 }
 
+/// The longest chain of same-task insertions made for `from` conditions (move ← move ← move ...). A
+/// `from` condition that no existing event can support would otherwise be "supported" by inserting
+/// another instance whose own `from` condition is just as open, without end until the horizon runs out
+/// (e.g. after the vehicle stopped at a place no variable's domain names). Three hops cover the detours
+/// of the shipped domains (the AUV's surface → vent1 → vent2).
+const MAX_REGRESS: u32 = 3;
+
+/// The regression depth an instance of `task` inserted for `c` would have.
+fn regress_depth(plan: &PartialPlan, c: CondId, task: TaskId) -> u32 {
+    let cond = plan.cond(c);
+    match (cond.kind, cond.owner) {
+        (CondKind::Before(_), crate::plan::Owner::Action(o)) if plan.action(o).task == task => {
+            plan.action(o).regress + 1
+        }
+        _ => 0,
+    }
+}
+
 fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
     let cond = plan.cond(c);
     let b = &plan.bindings;
@@ -132,6 +150,9 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
         })
         .collect();
     for task in plan.domain.tasks_establishing(cond.attr) {
+        if regress_depth(plan, c, task) > MAX_REGRESS {
+            continue;
+        }
         for (k, ev) in plan.domain.task(task).events.iter().enumerate() {
             if ev.primary && ev.attr == cond.attr && value_compatible(plan, &ev.to, cond.value) {
                 out.push(Resolver::Insert {
@@ -398,7 +419,9 @@ pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
     match *r {
         Resolver::Link { cond, event } => plan.add_link(event, cond).map(|_| ()),
         Resolver::Insert { cond, task, event } => {
+            let depth = regress_depth(plan, cond, task);
             let a = plan.insert_action(task)?;
+            plan.actions[a.index()].regress = depth;
             let e = *plan
                 .action(a)
                 .events

@@ -9,7 +9,8 @@
 //!
 //! Ordering questions ("can b − a ≥ k?") only need to know whether the distance is below a threshold:
 //! [`distance_below`] starts with the threshold as the bound, so a search that cannot beat it expands
-//! almost nothing. The per-node labels live in a thread-local dense array reset by an epoch counter, not
+//! almost nothing; it also stops at the first fixed timepoint it reaches (whose distance to b is exact).
+//! The per-node labels live in a thread-local dense array reset by an epoch counter, not
 //! in a hash map: the planner asks thousands of these per second.
 
 use std::cell::RefCell;
@@ -93,6 +94,12 @@ fn bounded(stn: &Stn, a: u32, b: u32, limit: Time) -> Time {
             }
             if x == b {
                 best = dx;
+                break;
+            }
+            // A fixed timepoint (executed, or pinned by its bounds) reaches b through the origin at exactly
+            // its estimate, so no path beats `key` any more: the executive's networks are full of them.
+            if lb[x as usize] == ub[x as usize] && ub_b < INF {
+                best = key;
                 break;
             }
             for &h in &stn.out[x as usize] {
