@@ -1,6 +1,8 @@
 //! Every shipped problem is solved and the independent checker accepts the plan; so is a generated rover
 //! grid problem (the benchmark's generator).
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
@@ -87,14 +89,8 @@ fn generated_rover_grid_is_solved_and_checked() {
 
 #[test]
 fn rover_fig2_with_a_low_battery_inserts_a_recharge() {
-    let d = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")).expect("domain");
-    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt")
-        .expect("shipped problem")
-        .replace(
-            "resource BATTERY: level 90, capacity 100;",
-            "resource BATTERY: level 20, capacity 100;",
-        );
-    let p = mavtempo::lang::parse_problem("fig2-low-battery", &text, &d).expect("problem parses");
+    let d = common::rover();
+    let p = common::fig2_low_battery(&d);
     let (d, p) = (Arc::new(d), Arc::new(p));
     check_solved("fig2-low-battery", d.clone(), p.clone());
     let planned = solve(d.clone(), p, Budget::steps(5_000)).expect("plan");

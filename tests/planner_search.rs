@@ -1,6 +1,8 @@
 //! The planner on small problems of a camera domain: flexible plans, resource conflicts solved by ordering
 //! and by inserting a producer, typed failure reasons, step-wise search with plan-change notifications.
 
+mod common;
+
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -195,16 +197,8 @@ fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
 /// backtracks, and asking does not change the search.
 #[test]
 fn next_is_backtrack_predicts_the_next_step() {
-    // Fig. 2 with a battery at 20 %: recharges are needed and the search backtracks a few times.
-    let d = mavtempo::lang::load_domain(std::path::Path::new("domains/rover/rover.ixt"))
-        .expect("shipped domain");
-    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt")
-        .expect("shipped problem")
-        .replace(
-            "resource BATTERY: level 90, capacity 100;",
-            "resource BATTERY: level 20, capacity 100;",
-        );
-    let p = mavtempo::lang::parse_problem("fig2-low-battery", &text, &d).expect("problem parses");
+    let d = common::rover();
+    let p = common::fig2_low_battery(&d);
     let root = mavtempo::plan::PartialPlan::new(std::sync::Arc::new(d), std::sync::Arc::new(p))
         .expect("root plan");
     let mut peeking = mavtempo::planner::Search::new(root.clone());

@@ -343,27 +343,39 @@ fn unary(plan: &PartialPlan, a: crate::plan::UsageId, b: crate::plan::UsageId) -
     out
 }
 
+/// The ordering resolvers of a reservoir conflict: each usage of `before` moved before the checkpoint,
+/// then each of `after` pushed after it (whichever the network still allows).
+fn order_around(
+    plan: &PartialPlan,
+    c: &ReservoirConflict,
+    before: &[(crate::plan::UsageId, Timepoint)],
+    after: &[(crate::plan::UsageId, Timepoint)],
+    out: &mut Vec<Resolver>,
+) {
+    for &(_, t) in before {
+        if possibly(plan, t, c.point, 1) {
+            out.push(Resolver::Order {
+                from: t,
+                to: c.point,
+                delay: 1,
+            });
+        }
+    }
+    for &(_, t) in after {
+        if possibly(plan, c.point, t, 1) {
+            out.push(Resolver::Order {
+                from: c.point,
+                to: t,
+                delay: 1,
+            });
+        }
+    }
+}
+
 fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
     let mut out = Vec::new();
     if c.overflow {
-        for &(_, t) in &c.open_decreases {
-            if possibly(plan, t, c.point, 1) {
-                out.push(Resolver::Order {
-                    from: t,
-                    to: c.point,
-                    delay: 1,
-                });
-            }
-        }
-        for &(_, t) in &c.open_increases {
-            if possibly(plan, c.point, t, 1) {
-                out.push(Resolver::Order {
-                    from: c.point,
-                    to: t,
-                    delay: 1,
-                });
-            }
-        }
+        order_around(plan, c, &c.open_decreases, &c.open_increases, &mut out);
         let u = plan.usage(c.at);
         if let NTerm::Var(v) = u.quantity {
             let (lo, hi) = plan.numeric.bounds(v);
@@ -377,24 +389,7 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
             }
         }
     } else {
-        for &(_, t) in &c.open_increases {
-            if possibly(plan, t, c.point, 1) {
-                out.push(Resolver::Order {
-                    from: t,
-                    to: c.point,
-                    delay: 1,
-                });
-            }
-        }
-        for &(_, t) in &c.open_decreases {
-            if possibly(plan, c.point, t, 1) {
-                out.push(Resolver::Order {
-                    from: c.point,
-                    to: t,
-                    delay: 1,
-                });
-            }
-        }
+        order_around(plan, c, &c.open_increases, &c.open_decreases, &mut out);
         for task in plan.domain.tasks_producing(c.resource) {
             for (k, u) in plan.domain.task(task).usages.iter().enumerate() {
                 if u.resource == c.resource
