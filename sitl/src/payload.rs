@@ -37,6 +37,8 @@ pub struct Camera {
     next_index: i32,
     /// Injected failures still to apply.
     pub fail_next: u32,
+    /// Injected hangs still to apply: the capture is dropped without an outcome.
+    pub hang_next: u32,
 }
 
 impl Camera {
@@ -47,6 +49,7 @@ impl Camera {
             pending: Vec::new(),
             next_index: 0,
             fail_next: 0,
+            hang_next: 0,
         }
     }
 
@@ -83,7 +86,10 @@ impl Camera {
             let size = self
                 .rng
                 .gen_range(self.params.size_min_mib..=self.params.size_max_mib);
-            if self.fail_next > 0 {
+            if self.hang_next > 0 {
+                self.hang_next -= 1;
+                tracing::debug!(index, "camera: capture hangs");
+            } else if self.fail_next > 0 {
                 self.fail_next -= 1;
                 out.push(CaptureOutcome::Failed {
                     index,

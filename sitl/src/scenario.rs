@@ -217,6 +217,12 @@ pub enum Fault {
         #[serde(default = "one")]
         count: u32,
     },
+    /// The next `count` captures hang: the camera accepts the trigger but never stores an image nor
+    /// answers (no CAMERA_IMAGE_CAPTURED), so the companion sees a timeout.
+    PictureHangs {
+        #[serde(default = "one")]
+        count: u32,
+    },
     /// A slow zone appears.
     SlowZone { zone: Zone },
     /// The battery level drops by `percent` points.

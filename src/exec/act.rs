@@ -135,6 +135,10 @@ impl Executive {
         if !timepoint_executable(&self.plan.stn, st, now) {
             return false;
         }
+        if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
+            self.abort = Some(format!("cannot start {}: {e}", self.action_text(a)));
+            return false;
+        }
         let vid = self.next_vid;
         self.next_vid += 1;
         let cmd = self.start_command(a, vid);

@@ -36,6 +36,7 @@ pub mod dispatch_policy;
 pub mod executable;
 pub mod executive;
 pub mod goal_request;
+pub mod instantiate;
 pub mod mission;
 pub mod p_t;
 pub mod pacer;

@@ -499,11 +499,16 @@ impl Run {
                 Binding::Download {
                     until_used,
                     poll_ms,
+                    max_ms,
                     ..
                 },
                 Phase::Running,
             ) => {
                 if ctx.tel.storage_used.is_some_and(|u| u <= *until_used) {
+                    return Some(End::nominal());
+                }
+                if max_ms.is_some_and(|m| ctx.vnow.saturating_sub(self.started_ms) >= m) {
+                    self.stop_downlink(ctx);
                     return Some(End::nominal());
                 }
                 if ctx.vnow.saturating_sub(self.last_poll) >= *poll_ms {
@@ -513,6 +518,20 @@ impl Run {
                 None
             }
             _ => None,
+        }
+    }
+
+    /// A downlink is stopped by its command with p1 = 0 (nothing for other bindings).
+    fn stop_downlink(&self, ctx: &mut Ctx) {
+        if let Binding::Download { command, .. } = self.binding {
+            if let Some(cmd) = num_traits::FromPrimitive::from_u16(command) {
+                ctx.cmds.send(
+                    u64::MAX,
+                    Command::long(cmd, ctx.target, [0.0; 7]),
+                    ctx.now,
+                    ctx.out,
+                );
+            }
         }
     }
 
@@ -530,16 +549,7 @@ impl Run {
     /// The report is `Interrupted` with the state.
     pub fn stop(&mut self, ctx: &mut Ctx) -> End {
         ctx.cmds.cancel(self.id);
-        if let Binding::Download { command, .. } = self.binding {
-            if let Some(cmd) = num_traits::FromPrimitive::from_u16(command) {
-                ctx.cmds.send(
-                    u64::MAX,
-                    Command::long(cmd, ctx.target, [0.0; 7]),
-                    ctx.now,
-                    ctx.out,
-                );
-            }
-        }
+        self.stop_downlink(ctx);
         if matches!(
             self.binding,
             Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. }

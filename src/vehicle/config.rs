@@ -218,11 +218,14 @@ pub enum Binding {
         level_arg: String,
     },
     /// The vehicle's downlink command (COMMAND_LONG `command`); done when used storage falls to
-    /// `until_used` (STORAGE_INFORMATION polled every `poll_ms`).
+    /// `until_used` (STORAGE_INFORMATION polled every `poll_ms`), or after `max_ms` (the slot on the link is
+    /// over: the downlink is stopped and what was sent is freed, maybe less than planned).
     Download {
         command: u16,
         #[serde(default)]
         until_used: f64,
+        #[serde(default)]
+        max_ms: Option<u64>,
         #[serde(default = "d_poll")]
         poll_ms: u64,
     },

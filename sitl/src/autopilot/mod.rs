@@ -372,6 +372,7 @@ impl Autopilot {
                 self.command_failures.push((command, r, count));
             }
             Fault::PictureFails { count } => self.camera.fail_next += count,
+            Fault::PictureHangs { count } => self.camera.hang_next += count,
             Fault::SlowZone { zone } => self.world.slow.push(Disc::from_zone(&zone, &self.frame)),
             Fault::BatteryDrop { percent } => {
                 self.battery.drop_by(percent);
