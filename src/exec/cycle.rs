@@ -24,7 +24,6 @@ pub enum CycleOutcome {
 
 impl Executive {
     pub fn cycle(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> CycleOutcome {
-        self.changed = false;
         let t0 = Instant::now();
         while let Some(ev) = vehicle.try_event() {
             self.integrate(ev, now);

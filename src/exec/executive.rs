@@ -72,7 +72,8 @@ pub struct Executive {
     pub counters: Counters,
     /// Events of the current cycle.
     pub pending_trace: Vec<TraceEvent>,
-    /// Something changed this cycle (message or timepoint executed): the repair search restarts (§3.2).
+    /// Something changed since the repair tree was last developed (message or timepoint executed): the
+    /// repair search restarts (§3.2).
     pub changed: bool,
     /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
     /// resolution).

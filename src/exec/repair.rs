@@ -66,7 +66,10 @@ impl Executive {
             return RepairOutcome::Idle;
         }
         self.repair_requested = false;
-        if self.repair.is_none() || self.changed {
+        // `changed` covers everything since the tree was last developed, the previous cycle's act part
+        // included (a timepoint it executed is not in the tree's nodes).
+        let changed = std::mem::take(&mut self.changed);
+        if self.repair.is_none() || changed {
             // A new tree rooted at ExecutingPlan; new timepoints after the end of this cycle.
             let mut root = self.plan.clone();
             if let Err(e) = not_before(&mut root, now + 1) {

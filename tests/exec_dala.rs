@@ -1,0 +1,230 @@
+//! The Dala run of seed 1 §5 (Figs. 5-6): the two plan repairs, on domains/rover/problems/dala.ixt planned by
+//! the planner and executed by `run_mission` against MockVehicle on its manual clock (deterministic), with
+//! the paper's ts = 2 s and μ = 60 %. Plan repair is budgeted at 12 planning steps per cycle, about the
+//! paper's rate (50 steps in 4 cycles), so that repairs span several cycles as in Fig. 6.
+//! (a) the slow move(l0, l1) is stopped late-preemptively at ub − ts, well before W1; plan repair moves the
+//!     rover on from where it stopped; the communication in W1 still happens and every goal is achieved.
+//! (b) a picture ends too early: a new end timepoint at the report's time, plan repair (its smaller image is
+//!     an over-production of STORAGE), and the PTU move that follows is launched 1 ms later (the next
+//!     cycle), never postponed.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
+use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::trace::TraceEvent;
+use mavtempo::lang::load_problem_and_domain;
+use mavtempo::model::Time;
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::mock::Outcome;
+use mavtempo::vehicle::{Enu, MockVehicle, StateValue};
+
+const TS: Time = 2_000;
+/// W1 as dala.ixt predicts it: from 150 s to 330 s.
+const W1: (Time, Time) = (150_000, 330_000);
+
+fn executive() -> Executive {
+    let (d, p) = load_problem_and_domain(Path::new("domains/rover/problems/dala.ixt"))
+        .expect("shipped problem");
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
+    let cfg = ExecConfig {
+        timestep_ms: TS,
+        repair_share: 0.6,
+        replan_slack_ms: TS,
+        repair_max_steps: Some(20),
+        ..ExecConfig::default()
+    };
+    Executive::new(search.into_plan(), cfg)
+}
+
+/// Dala as the domain describes it: PTU turns in 3 s, pictures in 8 s of 0.9 slot (the storage level is
+/// measured after each picture and after the download, as in Fig. 8), moves at 0.45 m/s.
+/// `first_picture` is the first picture's outcome; `moves` the durations of the moves, in order.
+fn dala(first_picture: Outcome, moves: &[u64]) -> MockVehicle {
+    let mut v = MockVehicle::new();
+    v.set_level("STORAGE", 3.0);
+    v.script("move_ptu", Outcome::nominal(3_000));
+    v.script("take_picture", first_picture);
+    for level in [1.2, 0.3, 1.6] {
+        v.script(
+            "take_picture",
+            Outcome::nominal(8_000).with_level("STORAGE", level),
+        );
+    }
+    v.script(
+        "download_images",
+        Outcome::nominal(20_000).with_level("STORAGE", 2.5),
+    );
+    v.script("communicate", Outcome::nominal(40_000));
+    for &ms in moves {
+        v.script("move", Outcome::nominal(ms));
+    }
+    v
+}
+
+fn run(v: &mut MockVehicle) -> MissionReport {
+    let mut ex = executive();
+    let opts = MissionOptions {
+        time_limit_ms: 30 * 60_000,
+        ..MissionOptions::default()
+    };
+    run_mission(&mut ex, v, &mut MockPacer::default(), &opts, &mut |_, _| {})
+}
+
+/// Every trace event with its cycle's index and time.
+fn events(r: &MissionReport) -> Vec<(u64, Time, TraceEvent)> {
+    r.cycles
+        .iter()
+        .flat_map(|c| {
+            c.events
+                .iter()
+                .map(move |e| (c.index, c.time_ms, e.clone()))
+        })
+        .collect()
+}
+
+/// Launches: (cycle, time, action).
+fn launches(r: &MissionReport) -> Vec<(u64, Time, String)> {
+    events(r)
+        .into_iter()
+        .filter_map(|(i, t, e)| match e {
+            TraceEvent::Launch { action, .. } => Some((i, t, action)),
+            _ => None,
+        })
+        .collect()
+}
+
+fn all_achieved(r: &MissionReport) {
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    assert_eq!(r.goals.len(), 7);
+    for g in &r.goals {
+        assert_eq!(g.fate, Fate::Achieved, "{g:?}");
+    }
+}
+
+#[test]
+fn slow_move_is_stopped_before_w1_and_the_rover_moves_on_after_repair() {
+    // The first move never arrives on its own (obstacles): stopped where it is, 4 m short of l1 = (9, 0).
+    // The moves after it take what 0.45 m/s gives.
+    let mut v = dala(
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+        &[600_000, 9_200, 11_300, 21_000, 23_200],
+    );
+    v.on_stop(
+        "move",
+        vec![(
+            "position".into(),
+            StateValue::Position(Enu::new(5.0, 1.0, 0.0)),
+        )],
+    );
+    let r = run(&mut v);
+    let ev = events(&r);
+    let l = launches(&r);
+    let (_, started, _) = l
+        .iter()
+        .find(|(_, _, a)| a == "move(l0, l1)")
+        .cloned()
+        .expect("the first move is launched");
+    // Late-preemptive: END at ub − ts, ub being the slowest 9 m (0.3 m/s: 30 s) — before W1, no timeout.
+    let (stop_cycle, stopped) = ev
+        .iter()
+        .find_map(|(i, t, e)| match e {
+            TraceEvent::Stop { action, .. } if action == "move(l0, l1)" => Some((*i, *t)),
+            _ => None,
+        })
+        .expect("the slow move is stopped");
+    assert_eq!(stopped, started + 30_000 - TS);
+    assert!(stopped < W1.0);
+    assert!(!ev
+        .iter()
+        .any(|(_, _, e)| matches!(e, TraceEvent::Timeout { .. })));
+    assert!(ev.iter().any(|(i, _, e)| *i > stop_cycle
+        && matches!(e, TraceEvent::Report { action, status, .. }
+            if action == "move(l0, l1)" && status == "interrupted")));
+    // Plan repair, not replanning, spread over several cycles: a move from the new location where the rover
+    // stopped to l1, launched once (from the last executable node, before the repair's end at the latest).
+    assert_eq!(r.counters.replans, 0);
+    let repaired = ev
+        .iter()
+        .find_map(|(i, _, e)| matches!(e, TraceEvent::RepairDone { .. }).then_some(*i))
+        .expect("the plan is repaired");
+    let steps: Vec<u64> = ev
+        .iter()
+        .filter(|(i, _, _)| *i > stop_cycle && *i < repaired)
+        .filter_map(|(_, _, e)| match e {
+            TraceEvent::RepairStep { steps, .. } => Some(*steps),
+            _ => None,
+        })
+        .collect();
+    assert!(steps.len() >= 2, "repair steps: {steps:?}");
+    let new_moves: Vec<_> = l
+        .iter()
+        .filter(|(_, _, a)| a.starts_with("move(") && !a.starts_with("move(l"))
+        .collect();
+    assert_eq!(new_moves.len(), 1, "{l:?}");
+    let (move_cycle, _, new_move) = new_moves[0];
+    assert!(new_move.starts_with("move(L") && new_move.ends_with(", l1)"));
+    assert!(*move_cycle > stop_cycle && *move_cycle <= repaired + 1);
+    // The communication still happens in W1.
+    let comm = l
+        .iter()
+        .find(|(_, _, a)| a == "communicate(W1)")
+        .expect("communicate(W1) launched");
+    assert!(comm.1 >= W1.0 && comm.1 + 40_000 <= W1.1, "{comm:?}");
+    all_achieved(&r);
+}
+
+#[test]
+fn early_picture_end_gets_a_new_end_timepoint_and_the_ptu_move_starts_at_once() {
+    // The first picture ends after 3 s instead of 5 to 20, its image smaller than planned (0.7 slot instead
+    // of 0.8 to 1): an over-production of STORAGE, so plan repair is requested.
+    let mut v = dala(
+        Outcome::nominal(3_000).with_level("STORAGE", 2.3),
+        &[20_000, 11_300, 21_000, 23_200],
+    );
+    let r = run(&mut v);
+    let ev = events(&r);
+    let l = launches(&r);
+    let (_, shot, _) = l
+        .iter()
+        .find(|(_, _, a)| a == "take_picture(l0)")
+        .cloned()
+        .expect("the first picture is launched");
+    let (report_cycle, reported) = ev
+        .iter()
+        .find_map(|(i, t, e)| match e {
+            TraceEvent::Report { action, timing, .. }
+                if action == "take_picture(l0)" && timing == "TooEarly" =>
+            {
+                Some((*i, *t))
+            }
+            _ => None,
+        })
+        .expect("the picture's report is too early");
+    assert_eq!(reported, shot + 3_000);
+    assert!(ev.iter().any(|(i, _, e)| *i == report_cycle
+        && matches!(e, TraceEvent::Level { resource, verdict, .. }
+            if resource == "STORAGE" && verdict.starts_with("OverProduction"))));
+    // Repaired, not replanned.
+    assert!(ev
+        .iter()
+        .any(|(i, _, e)| *i >= report_cycle && matches!(e, TraceEvent::RepairDone { .. })));
+    assert_eq!(r.counters.replans, 0);
+    // The new end timepoint is at the report's time; the PTU move that follows starts as soon as the
+    // repaired plan allows: its root keeps unexecuted timepoints after the report's cycle (repair.rs,
+    // `not_before(now + 1)`), so 1 ms later, in the very next cycle, and it is never postponed.
+    let ptu = l
+        .iter()
+        .find(|(_, t, a)| a == "move_ptu(DOWN, FORWARD)" && *t >= reported)
+        .expect("the PTU turns back");
+    assert_eq!((ptu.0, ptu.1), (report_cycle + 1, reported + 1), "{l:?}");
+    assert!(!ev.iter().any(|(_, t, e)| *t <= reported
+        && matches!(e, TraceEvent::Postponed { action } if action == "move_ptu(DOWN, FORWARD)")));
+    all_achieved(&r);
+}
