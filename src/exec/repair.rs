@@ -127,6 +127,11 @@ impl Executive {
             }
             Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
                 self.repair = None;
+                let flaws: Vec<String> = {
+                    let plan = &mut self.plan;
+                    plan.flaws().iter().map(|f| plan.flaw_text(f)).collect()
+                };
+                tracing::debug!(?flaws, "plan repair failed on the executing plan's flaws");
                 let reason = format!("plan repair failed: {r}");
                 self.abort = Some(reason.clone());
                 RepairOutcome::Failed(reason)

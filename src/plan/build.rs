@@ -52,15 +52,7 @@ impl PartialPlan {
         let origin = plan.stn.origin();
         let problem = plan.problem.clone();
         for f in &problem.initial {
-            plan.push_event(EventRec {
-                owner: Owner::Initial,
-                attr: f.attr,
-                args: f.args.iter().map(|&o| STerm::Obj(o)).collect(),
-                cond: None,
-                to: f.value.into(),
-                at: origin,
-                primary: true,
-            });
+            plan.push_initial(f);
         }
         for (i, tf) in problem.exogenous.iter().enumerate() {
             let at = plan.stn.add_timepoint();
@@ -79,6 +71,20 @@ impl PartialPlan {
             plan.add_goal(GoalId::from_index(g))?;
         }
         Ok(plan)
+    }
+
+    /// An initial fact as an event at the origin.
+    pub(super) fn push_initial(&mut self, f: &crate::model::Fact) {
+        let origin = self.stn.origin();
+        self.push_event(EventRec {
+            owner: Owner::Initial,
+            attr: f.attr,
+            args: f.args.iter().map(|&o| STerm::Obj(o)).collect(),
+            cond: None,
+            to: f.value.into(),
+            at: origin,
+            primary: true,
+        });
     }
 
     /// A new timepoint before the horizon and after the current [`TimeFloor`].

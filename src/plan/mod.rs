@@ -570,7 +570,13 @@ impl PartialPlan {
     }
 
     /// Replaces the problem (e.g. a new location object discovered at run time; ids must be preserved).
+    /// Initial facts the new problem appends (a new object's wildcard defaults, e.g. `PICTURE(new) =
+    /// false`) become initial events at the origin, so that the new object can be planned for.
     pub fn set_problem(&mut self, problem: Arc<Problem>) {
+        let known = self.problem.initial.len();
+        for f in problem.initial.iter().skip(known) {
+            self.push_initial(f);
+        }
         self.problem = problem;
     }
 }

@@ -489,6 +489,16 @@ impl Run {
                     None
                 }
             }
+            // The link slot is over, whether the downlink's final ACK came or not.
+            (
+                Binding::Download {
+                    max_ms: Some(m), ..
+                },
+                _,
+            ) if ctx.vnow.saturating_sub(self.started_ms) >= *m => {
+                self.stop_downlink(ctx);
+                Some(End::nominal())
+            }
             (Binding::Timed { duration_ms }, Phase::Running) => {
                 (ctx.vnow.saturating_sub(self.started_ms) >= *duration_ms).then(End::nominal)
             }
@@ -499,7 +509,6 @@ impl Run {
                 Binding::Download {
                     until_used,
                     poll_ms,
-                    max_ms,
                     ..
                 },
                 Phase::Running,
@@ -507,10 +516,7 @@ impl Run {
                 if ctx.tel.storage_used.is_some_and(|u| u <= *until_used) {
                     return Some(End::nominal());
                 }
-                if max_ms.is_some_and(|m| ctx.vnow.saturating_sub(self.started_ms) >= m) {
-                    self.stop_downlink(ctx);
-                    return Some(End::nominal());
-                }
+
                 if ctx.vnow.saturating_sub(self.last_poll) >= *poll_ms {
                     self.last_poll = ctx.vnow;
                     ctx.request_storage();
