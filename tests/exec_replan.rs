@@ -21,14 +21,14 @@ fn fig2() -> Executive {
 fn rejection_order_lowest_priority_then_least_flexibility() {
     let ex = fig2();
     let mut plan = ex.plan.clone();
-    // g3 has priority 3; among the others (priority 1, same window) the least st_ub − d_achiev is g5's
-    // (d_achiev 80 s), then g4 (65 s), g2 (40 s), g1 (25 s).
+    // g3 has priority 3; among the others (priority 1) the least st_ub − d_achiev is g2's (window 4 min,
+    // d_achiev 55 s), then, with the same 30 min window, g5 (d_achiev 80 s), g4 (65 s), g1 (25 s).
     let mut order = Vec::new();
     while let Some(g) = goal_to_reject(&plan) {
         order.push(plan.problem.goals[g.index()].name.clone());
         plan.remove_goal(g);
     }
-    assert_eq!(order, ["g5", "g4", "g2", "g1", "g3"]);
+    assert_eq!(order, ["g2", "g5", "g4", "g1", "g3"]);
 }
 
 #[test]
@@ -53,8 +53,8 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
         .expect("AT_ROBOT in the initial state");
     assert_eq!(init.value, Value::Obj(p1));
     assert!((ext.plan.problem.resources[storage.index()].level - 1.2).abs() < 1e-9);
-    // g3 (st ≤ 8 min) is no longer coherent with 9 min; g1 is done; g2, g4, g5 remain.
-    assert_eq!(ext.incoherent, vec![GoalId(2)]);
+    // g2 (st ≤ 4 min) and g3 (st ≤ 8 min) are no longer coherent with 9 min; g1 is done; g4, g5 remain.
+    assert_eq!(ext.incoherent, vec![GoalId(1), GoalId(2)]);
     let active: Vec<u32> = ext
         .plan
         .goals
@@ -62,7 +62,7 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
         .filter(|g| g.active)
         .map(|g| g.goal.0)
         .collect();
-    assert_eq!(active, vec![1, 3, 4]);
+    assert_eq!(active, vec![3, 4]);
     // T_end after now; each goal after T_end; new timepoints after T_end.
     assert!(ext.plan.stn.lb(ext.t_end) >= now);
     for g in ext.plan.goals.iter().filter(|g| g.active) {
@@ -73,8 +73,9 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
     assert!(plan.stn.necessarily_before(ext.t_end, tp));
     // Inserting actions lowers T_end's upper bound ("planning to plan").
     let before = plan.stn.ub(ext.t_end);
+    let g4 = plan.goals.iter().find(|g| g.active).expect("g4 active").st;
     plan.stn
-        .add_constraint(tp, plan.goals[1].st, 600_000, mavtempo::stn::INF)
+        .add_constraint(tp, g4, 600_000, mavtempo::stn::INF)
         .unwrap();
     assert!(plan.stn.ub(ext.t_end) < before);
 }

@@ -182,9 +182,14 @@ fn fig2_goals_follow_the_paper() {
     let top = p.goals.iter().map(|g| g.priority).max();
     assert_eq!(Some(g3.priority), top);
     assert!(p.goals.iter().filter(|g| g.priority == g3.priority).count() == 1);
-    // g3's strict deadline is the tightest start window.
+    // g3's strict deadline (8 min) is tighter than every window but g2's (4 min: the demo's e2 makes it
+    // unreachable, see the problem file).
     let ub = |g: &mavtempo::model::Goal| g.start_window.max_ms().unwrap_or(i64::MAX);
-    assert!(p.goals.iter().all(|g| g.name == "g3" || ub(g) > ub(g3)));
+    assert!(p
+        .goals
+        .iter()
+        .all(|g| ["g2", "g3"].contains(&g.name.as_str()) || ub(g) > ub(g3)));
+    assert!(ub(&p.goals[1]) < ub(g3));
     assert!(p
         .goals
         .iter()
