@@ -314,3 +314,33 @@ fn section_3_3_causal_link_removal_by_the_abstraction_hierarchy() {
     assert_eq!(links_to_break(&plan, &att, &[]), vec![l]);
     assert!(links_to_break(&plan, &[id("COMMUNICATED")], &[]).is_empty());
 }
+
+#[test]
+fn a_location_added_at_run_time_gets_its_wildcard_initial_facts_in_the_executing_plan() {
+    // A goal from the ground on a new target (e3/e4) adds a location object; `PICTURE(*) = false` must hold
+    // for it in the executing plan too, or the picture's condition `PICTURE(new) = false` is unsupportable.
+    let mut plan = fig2();
+    let picture = plan.domain.attr_id("PICTURE").expect("PICTURE");
+    let ty = plan.domain.type_id("location").expect("location");
+    let mut problem = (*plan.problem).clone();
+    let new = problem.add_object_with_defaults(
+        &plan.domain,
+        mavtempo::model::Object {
+            name: "g6_loc".into(),
+            ty,
+            position: None,
+        },
+    );
+    let initial_of_new = |plan: &PartialPlan| {
+        plan.events_on(picture)
+            .iter()
+            .filter(|&&e| plan.event(e).args == [STerm::Obj(new)])
+            .count()
+    };
+    assert_eq!(initial_of_new(&plan), 0);
+    plan.set_problem(Arc::new(problem));
+    assert_eq!(initial_of_new(&plan), 1);
+    let e = plan.events_on(picture)[plan.events_on(picture).len() - 1];
+    assert_eq!(plan.event(e).to, STerm::Obj(mavtempo::model::Domain::FALSE));
+    assert_eq!(plan.event(e).at, plan.stn.origin());
+}

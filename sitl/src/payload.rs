@@ -226,6 +226,23 @@ mod tests {
     }
 
     #[test]
+    fn a_hung_capture_stores_nothing_and_answers_nothing() {
+        let p = CameraParams::default();
+        let mut cam = Camera::new(&p, ChaCha8Rng::seed_from_u64(3));
+        let mut st = Storage {
+            capacity_mib: p.storage_capacity_mib,
+            used_mib: 0.0,
+        };
+        cam.hang_next = 1;
+        cam.start(0, 2, 1.0);
+        let out = cam.step(100_000, &mut st);
+        // The first capture vanished; the second one is stored as usual.
+        assert_eq!(out.len(), 1, "{out:?}");
+        assert!(matches!(out[0], CaptureOutcome::Stored { index: 1, .. }));
+        assert_eq!(cam.hang_next, 0);
+    }
+
+    #[test]
     fn a_hostile_picture_count_is_capped() {
         let mut cam = Camera::new(&CameraParams::default(), ChaCha8Rng::seed_from_u64(1));
         let n = cam.start(u64::MAX - 5, u32::MAX, f64::MAX).len();
