@@ -110,6 +110,12 @@ fn check_against_oracle(stn: &Stn) -> Result<(), TestCaseError> {
         );
     }
     for a in stn.timepoints() {
+        // The one-search forms: every distance from a, and to a.
+        let (from, to) = (stn.distances_from(a), stn.distances_to(a));
+        for b in stn.timepoints() {
+            prop_assert_eq!(from[b.index()], apsp.distance(a, b), "distances_from {:?}->{:?}", a, b);
+            prop_assert_eq!(to[b.index()], apsp.distance(b, a), "distances_to {:?}->{:?}", b, a);
+        }
         for b in stn.timepoints() {
             prop_assert_eq!(
                 stn.distance(a, b),

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use super::changes::ChangeLog;
 use super::{
-    Action, ActionId, Candidate, CausalLink, CondId, CondKind, Condition, EventId, EventRec,
+    Action, ActionId, CausalLink, CondId, CondKind, Condition, EventId, EventRec,
     LinkId, NTerm, NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm, TimeFloor,
     Usage, UsageId, UsageKind,
 };
@@ -41,8 +41,8 @@ impl PartialPlan {
             events_by_attr: vec![Vec::new(); n_attrs],
             links_by_attr: vec![Vec::new(); n_attrs],
             usages_by_res: vec![Vec::new(); n_res],
-            threats: Vec::new(),
-            unary: Vec::new(),
+            threats: super::candidates::CandidateSet::new(),
+            unary: super::candidates::CandidateSet::new(),
             reservoir_dirty: vec![true; n_res],
             trail: Vec::new(),
             changes: ChangeLog::default(),
@@ -168,11 +168,7 @@ impl PartialPlan {
         self.events_by_attr[attr.index()].push(id);
         for i in 0..self.links_by_attr[attr.index()].len() {
             let l = self.links_by_attr[attr.index()][i];
-            self.threats.push(Candidate {
-                a: id,
-                b: l,
-                done: false,
-            });
+            self.threats.push(id, l);
         }
         id
     }
@@ -190,11 +186,7 @@ impl PartialPlan {
         if unary {
             for i in 0..self.usages_by_res[r.index()].len() {
                 let other = self.usages_by_res[r.index()][i];
-                self.unary.push(Candidate {
-                    a: other,
-                    b: id,
-                    done: false,
-                });
+                self.unary.push(other, id);
             }
         } else {
             self.set_reservoir_dirty(r.index(), true);
@@ -241,11 +233,7 @@ impl PartialPlan {
         self.conds[cond.index()].link = Some(l);
         for i in 0..self.events_by_attr[attr.index()].len() {
             let ev = self.events_by_attr[attr.index()][i];
-            self.threats.push(Candidate {
-                a: ev,
-                b: l,
-                done: false,
-            });
+            self.threats.push(ev, l);
         }
         let ends = self.link_ends(l);
         self.changes.push(PlanChange::LinkAdded(ends));

@@ -7,11 +7,14 @@
 //! *relaxes* constraints, [`PartialPlan::recompute_candidates`] starts over.
 
 use super::envelope::{reservoir_conflict, ReservoirConflict};
-use super::order::necessarily_after;
+use std::collections::BTreeMap;
+
+use super::order::{necessarily_after, necessarily_after_by_bounds};
 use super::{
     ActionId, Candidate, CondId, EventId, LinkId, Owner, PartialPlan, STerm, UsageId, UsageKind,
 };
 use crate::model::{ResourceId, ResourceKind, Value};
+use crate::stn::{Time, Timepoint};
 
 /// A flaw of the partial plan.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,6 +27,20 @@ pub enum Flaw {
     UnaryConflict { a: UsageId, b: UsageId },
     /// A reservoir's level may leave `[0, capacity]`.
     Reservoir(ReservoirConflict),
+}
+
+/// A threat candidate's events at or above this many undecided by the bounds are decided by one pair of
+/// shortest-path searches from the event rather than one search each.
+const BATCH: usize = 16;
+
+/// The timepoints whose order decides a threat candidate: the threatening event's, the link's
+/// establisher's, and the end of the protected condition (with its delay).
+#[derive(Copy, Clone, Debug)]
+struct ThreatWindow {
+    event: Timepoint,
+    establisher: Timepoint,
+    cond_end: Timepoint,
+    end_delay: Time,
 }
 
 /// Whether a threat candidate is (still) a threat.
@@ -40,13 +57,30 @@ impl PartialPlan {
     /// Whether `e` threatens `l`: same attribute instance possibly, a value possibly different from the
     /// protected one, and possibly inside `[establisher, end of the condition]`.
     pub fn check_threat(&self, e: EventId, l: LinkId) -> ThreatCheck {
+        match self.threat_window(e, l) {
+            Err(check) => check,
+            Ok(w) => {
+                if necessarily_after(&self.stn, w.event, w.establisher, 1)
+                    || necessarily_after(&self.stn, w.cond_end, w.event, w.end_delay)
+                {
+                    ThreatCheck::Resolved
+                } else {
+                    ThreatCheck::Threat
+                }
+            }
+        }
+    }
+
+    /// The non-temporal part of [`Self::check_threat`]: `Err` with the answer when it decides, otherwise the
+    /// timepoints whose order decides.
+    fn threat_window(&self, e: EventId, l: LinkId) -> Result<ThreatWindow, ThreatCheck> {
         let link = self.link(l);
         if !link.active || !self.cond_live(link.cond) || e == link.event {
-            return ThreatCheck::Inactive;
+            return Err(ThreatCheck::Inactive);
         }
         let cond = self.cond(link.cond);
         if cond.kind == super::CondKind::Before(e) {
-            return ThreatCheck::Inactive;
+            return Err(ThreatCheck::Inactive);
         }
         let ev = self.event(e);
         let b = &self.bindings;
@@ -57,15 +91,14 @@ impl PartialPlan {
             .any(|(&x, &y)| !b.possibly_equal(x, y))
             || b.necessarily_equal(ev.to, cond.value)
         {
-            return ThreatCheck::Resolved;
+            return Err(ThreatCheck::Resolved);
         }
-        let est = self.event(link.event).at;
-        if necessarily_after(&self.stn, ev.at, est, 1)
-            || necessarily_after(&self.stn, cond.to, ev.at, cond.end_delay())
-        {
-            return ThreatCheck::Resolved;
-        }
-        ThreatCheck::Threat
+        Ok(ThreatWindow {
+            event: ev.at,
+            establisher: self.event(link.event).at,
+            cond_end: cond.to,
+            end_delay: cond.end_delay(),
+        })
     }
 
     /// Whether two borrowings of a unary resource may overlap (`Some(true)`), are ordered for good
@@ -84,15 +117,64 @@ impl PartialPlan {
     }
 
     /// The live threats (marks resolved candidates done).
+    ///
+    /// Candidates the bounds cannot decide are answered by shortest paths; when one event has many of them
+    /// (a plan just built, or candidates recomputed by the executive: ~n per event), two searches from that
+    /// event answer them all instead of one search per candidate. The answers are the same.
     pub fn live_threats(&mut self) -> Vec<(EventId, LinkId)> {
-        let mut out = Vec::new();
-        for i in 0..self.threats.len() {
-            let Candidate { a, b, done } = self.threats[i];
-            if done {
+        let pending = self.threats.pending();
+        let mut verdicts: Vec<(usize, ThreatCheck)> = Vec::with_capacity(pending.len());
+        let mut by_event: BTreeMap<EventId, Vec<(usize, ThreatWindow)>> = BTreeMap::new();
+        for i in pending {
+            let c = self.threats.get(i);
+            let w = match self.threat_window(c.a, c.b) {
+                Err(check) => {
+                    verdicts.push((i, check));
+                    continue;
+                }
+                Ok(w) => w,
+            };
+            let stn = &self.stn;
+            let first = necessarily_after_by_bounds(stn, w.event, w.establisher, 1);
+            let second = necessarily_after_by_bounds(stn, w.cond_end, w.event, w.end_delay);
+            match (first, second) {
+                (Some(true), _) | (_, Some(true)) => verdicts.push((i, ThreatCheck::Resolved)),
+                (Some(false), Some(false)) => verdicts.push((i, ThreatCheck::Threat)),
+                _ => by_event.entry(c.a).or_default().push((i, w)),
+            }
+        }
+        for group in by_event.into_values() {
+            if group.len() < BATCH {
+                for (i, _) in group {
+                    let c = self.threats.get(i);
+                    verdicts.push((i, self.check_threat(c.a, c.b)));
+                }
                 continue;
             }
-            match self.check_threat(a, b) {
-                ThreatCheck::Threat => out.push((a, b)),
+            // d(x, event) and d(event, x) for every x: the event is necessarily before the establisher iff
+            // d(establisher, event) < 0, and after the condition's end (by end_delay) iff
+            // d(event, cond_end) < 1 − end_delay (see `necessarily_after`).
+            let at = group[0].1.event;
+            let (to, from) = (self.stn.distances_to(at), self.stn.distances_from(at));
+            for (i, w) in group {
+                let resolved = to[w.establisher.index()] < 0
+                    || from[w.cond_end.index()] < 1 - w.end_delay;
+                verdicts.push((
+                    i,
+                    if resolved {
+                        ThreatCheck::Resolved
+                    } else {
+                        ThreatCheck::Threat
+                    },
+                ));
+            }
+        }
+        verdicts.sort_unstable_by_key(|&(i, _)| i);
+        let mut out = Vec::new();
+        for (i, check) in verdicts {
+            let c = self.threats.get(i);
+            match check {
+                ThreatCheck::Threat => out.push((c.a, c.b)),
                 ThreatCheck::Resolved => self.mark_threat_done(i),
                 ThreatCheck::Inactive => {}
             }
@@ -103,11 +185,8 @@ impl PartialPlan {
     /// The live unary-resource conflicts (marks resolved candidates done).
     pub fn live_unary_conflicts(&mut self) -> Vec<(UsageId, UsageId)> {
         let mut out = Vec::new();
-        for i in 0..self.unary.len() {
-            let Candidate { a, b, done } = self.unary[i];
-            if done {
-                continue;
-            }
+        for i in self.unary.pending() {
+            let Candidate { a, b, .. } = self.unary.get(i);
             match self.check_unary(a, b) {
                 Some(true) => out.push((a, b)),
                 Some(false) => self.mark_unary_done(i),
@@ -211,11 +290,7 @@ impl PartialPlan {
         for attr in 0..self.events_by_attr.len() {
             for &e in &self.events_by_attr[attr] {
                 for &l in &self.links_by_attr[attr] {
-                    self.threats.push(Candidate {
-                        a: e,
-                        b: l,
-                        done: false,
-                    });
+                    self.threats.push(e, l);
                 }
             }
         }
@@ -225,11 +300,7 @@ impl PartialPlan {
                 let us = &self.usages_by_res[r];
                 for i in 0..us.len() {
                     for j in i + 1..us.len() {
-                        self.unary.push(Candidate {
-                            a: us[i],
-                            b: us[j],
-                            done: false,
-                        });
+                        self.unary.push(us[i], us[j]);
                     }
                 }
             }

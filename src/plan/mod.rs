@@ -23,6 +23,7 @@
 
 mod bindings;
 mod build;
+mod candidates;
 mod changes;
 mod envelope;
 mod export;
@@ -303,8 +304,8 @@ pub struct PartialPlan {
     links_by_attr: Vec<Vec<LinkId>>,
     /// Usages per resource.
     usages_by_res: Vec<Vec<UsageId>>,
-    pub(crate) threats: Vec<Candidate<EventId, LinkId>>,
-    pub(crate) unary: Vec<Candidate<UsageId, UsageId>>,
+    pub(crate) threats: candidates::CandidateSet<EventId, LinkId>,
+    pub(crate) unary: candidates::CandidateSet<UsageId, UsageId>,
     /// Reservoirs to re-check (a usage was added since their envelope was last found clean).
     pub(crate) reservoir_dirty: Vec<bool>,
     trail: Vec<Entry>,
@@ -367,8 +368,8 @@ impl PartialPlan {
                         });
                     }
                 }
-                Entry::ThreatDone(i) => self.threats[i].done = false,
-                Entry::UnaryDone(i) => self.unary[i].done = false,
+                Entry::ThreatDone(i) => self.threats.reopen(i),
+                Entry::UnaryDone(i) => self.unary.reopen(i),
                 Entry::ReservoirDirty(r, old) => self.reservoir_dirty[r] = old,
                 Entry::Floor(old) => self.floor = old,
             }
@@ -507,12 +508,12 @@ impl PartialPlan {
     }
 
     pub(crate) fn mark_threat_done(&mut self, i: usize) {
-        self.threats[i].done = true;
+        self.threats.set_done(i);
         self.trail.push(Entry::ThreatDone(i));
     }
 
     pub(crate) fn mark_unary_done(&mut self, i: usize) {
-        self.unary[i].done = true;
+        self.unary.set_done(i);
         self.trail.push(Entry::UnaryDone(i));
     }
 

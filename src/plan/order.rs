@@ -5,16 +5,21 @@ use crate::stn::{Stn, Time, Timepoint};
 
 /// Whether `b − a ≥ k` holds in every solution (`k` = 0: a ≤ b, 1: a < b).
 pub fn necessarily_after(stn: &Stn, a: Timepoint, b: Timepoint, k: Time) -> bool {
+    necessarily_after_by_bounds(stn, a, b, k).unwrap_or_else(|| stn.distance_below(b, a, 1 - k))
+}
+
+/// [`necessarily_after`] where the bounds decide it; `None` when only the distance `d(b, a) < 1 − k` can.
+pub fn necessarily_after_by_bounds(stn: &Stn, a: Timepoint, b: Timepoint, k: Time) -> Option<bool> {
     if a == b {
-        return k <= 0;
+        return Some(k <= 0);
     }
     if stn.lb(b).saturating_sub(stn.ub(a)) >= k {
-        return true;
+        return Some(true);
     }
     if stn.ub(b).saturating_sub(stn.lb(a)) < k {
-        return false;
+        return Some(false);
     }
-    stn.distance_below(b, a, 1 - k)
+    None
 }
 
 /// Whether `b − a ≥ k` is consistent with the network.

@@ -122,3 +122,66 @@ fn bounded(stn: &Stn, a: u32, b: u32, limit: Time) -> Time {
     });
     best
 }
+
+/// Exact shortest paths from `a` to every timepoint (`forward`), or from every timepoint to `a`, `INF` where
+/// unbounded: one Dijkstra for many ordering questions about the same timepoint (a flaw pass over ~n
+/// candidates sharing an event). Reduced costs `w + lb[tail] − lb[head]` are ≥ 0 because the earliest times
+/// are a solution; as in [`bounded`], the origin is never expanded and paths through it are priced by the
+/// bounds (`ub[head] − lb[tail]`), which are exact distances to and from the origin.
+pub(crate) fn all_distances(stn: &Stn, a: u32, forward: bool) -> Vec<Time> {
+    let (lb, ub) = (&stn.lb, &stn.ub);
+    let n = lb.len();
+    let ai = a as usize;
+    let mut out: Vec<Time> = (0..n)
+        .map(|y| {
+            if forward {
+                sat_add(ub[y], -lb[ai])
+            } else {
+                sat_add(ub[ai], -lb[y])
+            }
+        })
+        .collect();
+    out[ai] = 0;
+    if a == 0 {
+        return out;
+    }
+    // Reduced distances from a (in the reversed graph when !forward).
+    let mut reduced = vec![INF; n];
+    let mut heap = BinaryHeap::new();
+    reduced[ai] = 0;
+    heap.push(Reverse((0, a)));
+    while let Some(Reverse((dx, x))) = heap.pop() {
+        if dx != reduced[x as usize] {
+            continue; // stale
+        }
+        let halves = if forward {
+            &stn.out[x as usize]
+        } else {
+            &stn.inc[x as usize]
+        };
+        for &h in halves {
+            let (tail, head, w) = stn.half_edge(h);
+            let y = if forward { head } else { tail };
+            if w >= INF || y == 0 {
+                continue;
+            }
+            let cand = dx + w + lb[tail as usize] - lb[head as usize];
+            if cand < reduced[y as usize] {
+                reduced[y as usize] = cand;
+                heap.push(Reverse((cand, y)));
+            }
+        }
+    }
+    for (y, &r) in reduced.iter().enumerate() {
+        if r < INF {
+            // Undo the potentials: forward a→y adds lb[y] − lb[a], backward y→a adds lb[a] − lb[y].
+            let d = if forward {
+                r + lb[y] - lb[ai]
+            } else {
+                r + lb[ai] - lb[y]
+            };
+            out[y] = out[y].min(d);
+        }
+    }
+    out
+}

@@ -327,6 +327,16 @@ impl Stn {
         super::distance::distance_below(self, a.0, b.0, limit)
     }
 
+    /// `distance(a, x)` for every timepoint x (index = timepoint), in one search.
+    pub fn distances_from(&self, a: Timepoint) -> Vec<Time> {
+        super::distance::all_distances(self, a.0, true)
+    }
+
+    /// `distance(x, a)` for every timepoint x (index = timepoint), in one search.
+    pub fn distances_to(&self, a: Timepoint) -> Vec<Time> {
+        super::distance::all_distances(self, a.0, false)
+    }
+
     /// Possible range of `b − a`: `[-distance(b, a), distance(a, b)]`.
     pub fn delay_bounds(&self, a: Timepoint, b: Timepoint) -> (Time, Time) {
         let back = self.distance(b, a);
