@@ -113,8 +113,20 @@ fn check_against_oracle(stn: &Stn) -> Result<(), TestCaseError> {
         // The one-search forms: every distance from a, and to a.
         let (from, to) = (stn.distances_from(a), stn.distances_to(a));
         for b in stn.timepoints() {
-            prop_assert_eq!(from[b.index()], apsp.distance(a, b), "distances_from {:?}->{:?}", a, b);
-            prop_assert_eq!(to[b.index()], apsp.distance(b, a), "distances_to {:?}->{:?}", b, a);
+            prop_assert_eq!(
+                from[b.index()],
+                apsp.distance(a, b),
+                "distances_from {:?}->{:?}",
+                a,
+                b
+            );
+            prop_assert_eq!(
+                to[b.index()],
+                apsp.distance(b, a),
+                "distances_to {:?}->{:?}",
+                b,
+                a
+            );
         }
         for b in stn.timepoints() {
             prop_assert_eq!(

@@ -31,6 +31,8 @@ pub enum BenchWhat {
     Dispatch,
     /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
     Link,
+    /// Executive CPU over a Dala-length mission (1,285 s) against the in-process SITL.
+    Cpu,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
@@ -42,6 +44,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         BenchWhat::Sim => bench_sim(args.json),
         BenchWhat::Dispatch => bench_dispatch(args.json),
         BenchWhat::Link => bench_link(args.json),
+        BenchWhat::Cpu => super::bench_cpu::run(args.json),
     }
 }
 

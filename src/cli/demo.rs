@@ -12,23 +12,22 @@ use std::time::Duration;
 use clap::Args;
 
 use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
+use super::sitl_session::{SitlSession, LEVEL_TOLERANCE};
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
-use crate::exec::pacer::{LivePacer, SitlStepPacer};
+use crate::exec::pacer::LivePacer;
 use crate::exec::trace::{CycleRecord, TraceEvent};
 use crate::lang;
 use crate::model::Problem;
 use crate::vehicle::goal_client::{send_goals, GoalSendError, GoalSendReport};
-use crate::vehicle::goals::{KnownLocations, GOAL_ATTRIBUTES_CMD};
+use crate::vehicle::goals::GOAL_ATTRIBUTES_CMD;
 use crate::vehicle::items::MissionItem;
-use crate::vehicle::link::{Decider, LinkOptions};
-use crate::vehicle::{Enu, MavlinkVehicle, Vehicle};
+use crate::vehicle::Enu;
 
 const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
 const FIG2: &str = include_str!("../../domains/rover/problems/fig2.ixt");
 const SCENARIO: &str = include_str!("../../sitl/scenarios/fig2.toml");
-const CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
 /// e3/e4: the ground station's new picture goals (local metres from home), uploaded during the download.
 const NEW_GOALS: [(f64, f64); 2] = [(30.0, -8.0), (46.0, 4.0)];
@@ -96,7 +95,7 @@ fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), St
     Ok((domain, Arc::new(problem)))
 }
 
-fn exec_config() -> ExecConfig {
+pub(super) fn exec_config() -> ExecConfig {
     ExecConfig {
         // Seed 1 §4: ts = 1.3 s; μ = 0.6. Budgets in planning steps keep the run deterministic.
         timestep_ms: 1_300,
@@ -116,68 +115,20 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
     );
     let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
     println!("initial plan: {} actions", plan.num_actions());
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .map_err(|e| format!("tokio runtime: {e}"))?;
-    let scenario =
-        sitl::Scenario::parse(SCENARIO, "sitl/scenarios/fig2.toml").map_err(|e| e.to_string())?;
-    let mut sim_cfg = sitl::SimConfig {
-        listen: "tcpin:127.0.0.1:0".into(),
-        scenario,
-        seed: 1,
-        ..sitl::SimConfig::for_tests()
-    };
-    if let Some(s) = args.speedup {
-        sim_cfg.clock = sitl::ClockMode::Paced;
-        sim_cfg.speedup = s;
-    }
-    sim_cfg.validate().map_err(|e| e.to_string())?;
-    let sim = Arc::new(
-        rt.block_on(sitl::spawn(sim_cfg))
-            .map_err(|e| e.to_string())?,
-    );
-    let cfg = crate::vehicle::config::VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
-        .map_err(|e| e.to_string())?;
-    let home = cfg.home;
-    let mut known = KnownLocations::new(home);
-    let geo_home = problem.home;
-    for o in &problem.objects {
-        if let Some((e, n, u)) = o.local(geo_home.as_ref()) {
-            known.objects.push((o.name.clone(), Enu::new(e, n, u)));
-        }
-    }
-    let opts = LinkOptions {
-        address: Some(sim.client_address().to_string()),
-        gcs: Some("tcpin:127.0.0.1:0".into()),
-        known: Some(known),
-        decider: Decider::Executive {
-            timeout: Duration::from_secs(60),
-        },
-        first_goal_number: 6,
-        ..LinkOptions::default()
-    };
-    let mut vehicle = rt
-        .block_on(MavlinkVehicle::connect(cfg, opts))
-        .map_err(|e| e.to_string())?;
-    let gcs = vehicle
-        .gcs_addr()
-        .ok_or("the ground-station endpoint has no address")?;
-    link_up(&rt, &sim, &vehicle, args.speedup.is_none())?;
-    let origin = if args.speedup.is_none() {
-        sim.now_ms()
-    } else {
-        vehicle.now_ms()
-    };
+    let mut session = SitlSession::start(
+        &problem,
+        SCENARIO,
+        "sitl/scenarios/fig2.toml",
+        args.speedup,
+        6,
+    )?;
+    let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
     println!(
         "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
-        sim.client_address()
+        session.sim.client_address()
     );
     let mut ex = Executive::new(plan, exec_config()).with_policy(args.dispatch.dispatch);
-    // The SITL reports the battery in whole percents, and the rover stops within its acceptance radius
-    // (1.5 m, 0.75 % of battery short of the planned distance).
-    ex.level_tolerance = 2.0;
+    ex.level_tolerance = LEVEL_TOLERANCE;
     let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
     let mut printer = TracePrinter::default();
     let mut observe = |_: &Executive, c: &CycleRecord| {
@@ -204,22 +155,27 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
     };
     let report = match args.speedup {
         None => {
-            let mut pacer = SitlStepPacer {
-                sim: sim.clone(),
-                runtime: rt.handle().clone(),
-                origin_ms: origin,
-                max_step_ms: 500,
-                telemetry_period_ms: 1_000,
-                settle: Duration::from_secs(2),
-            };
-            run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe)
+            let mut pacer = session.step_pacer();
+            run_mission(
+                &mut ex,
+                &mut session.vehicle,
+                &mut pacer,
+                &opts,
+                &mut observe,
+            )
         }
         Some(speedup) => {
             let mut pacer = LivePacer {
                 origin_ms: origin,
                 speedup,
             };
-            run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe)
+            run_mission(
+                &mut ex,
+                &mut session.vehicle,
+                &mut pacer,
+                &opts,
+                &mut observe,
+            )
         }
     };
     if let Some(h) = upload {
@@ -233,28 +189,8 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
             Err(e) => println!("ground station: upload task: {e}"),
         }
     }
-    drop(vehicle);
+    drop(session);
     Ok(report)
-}
-
-/// Steps (or waits for) the simulator until the vehicle's clock runs: the link is up.
-fn link_up(
-    rt: &tokio::runtime::Runtime,
-    sim: &sitl::SimHandle,
-    vehicle: &MavlinkVehicle,
-    stepped: bool,
-) -> Result<(), String> {
-    for _ in 0..200 {
-        if vehicle.now_ms() > 0 && vehicle.target().is_some() {
-            return Ok(());
-        }
-        if stepped {
-            rt.block_on(sim.step(Duration::from_millis(200)))
-                .map_err(|e| e.to_string())?;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    Err("no telemetry from the SITL rover".into())
 }
 
 fn problem_horizon(p: &Problem) -> crate::model::Time {

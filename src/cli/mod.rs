@@ -1,6 +1,7 @@
 //! Command line: clap subcommands, wiring only. Each subcommand lives in its own file.
 
 mod bench;
+mod bench_cpu;
 mod check;
 mod demo;
 mod dispatch_arg;
@@ -10,6 +11,7 @@ mod mission_out;
 mod plan;
 mod run;
 mod sim;
+mod sitl_session;
 
 use std::process::ExitCode;
 

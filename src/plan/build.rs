@@ -6,9 +6,9 @@ use std::sync::Arc;
 
 use super::changes::ChangeLog;
 use super::{
-    Action, ActionId, CausalLink, CondId, CondKind, Condition, EventId, EventRec,
-    LinkId, NTerm, NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm, TimeFloor,
-    Usage, UsageId, UsageKind,
+    Action, ActionId, CausalLink, CondId, CondKind, Condition, EventId, EventRec, LinkId, NTerm,
+    NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm, TimeFloor, Usage, UsageId,
+    UsageKind,
 };
 use crate::model::{
     Binding, Domain, GoalId, NumConstraint, NumTerm, Problem, ResourceKind, TaskId, Term,

@@ -157,8 +157,8 @@ impl PartialPlan {
             let at = group[0].1.event;
             let (to, from) = (self.stn.distances_to(at), self.stn.distances_from(at));
             for (i, w) in group {
-                let resolved = to[w.establisher.index()] < 0
-                    || from[w.cond_end.index()] < 1 - w.end_delay;
+                let resolved =
+                    to[w.establisher.index()] < 0 || from[w.cond_end.index()] < 1 - w.end_delay;
                 verdicts.push((
                     i,
                     if resolved {

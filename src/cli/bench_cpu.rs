@@ -1,0 +1,186 @@
+//! `mavtempo bench cpu [--json]`: the executive's CPU over a Dala-length mission (seed 1 §5: the run lasted
+//! 1,285 s; IxTeT-eXeC used 541 s of CPU on Dala's computer). domains/rover/problems/dala.ixt is executed
+//! against the in-process SITL on sitl/scenarios/dala.toml, stepped by the executive's clock, for 1,285 s of
+//! mission time (less if the mission ends first); the executive's time is divided by the mission's.
+
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use super::demo::exec_config;
+use super::mission_out::initial_plan;
+use super::sitl_session::{SitlSession, LEVEL_TOLERANCE};
+use crate::exec::executive::Executive;
+use crate::exec::mission::{run_mission, MissionOptions};
+use crate::lang;
+use crate::model::Time;
+
+const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
+const DALA: &str = include_str!("../../domains/rover/problems/dala.ixt");
+const SCENARIO: &str = include_str!("../../sitl/scenarios/dala.toml");
+
+/// Seed 1 §5: the length of the Dala run.
+pub const DALA_MISSION_MS: Time = 1_285_000;
+
+#[derive(Clone, Debug, Serialize)]
+pub struct CpuFigures {
+    pub problem: String,
+    /// How the mission ended (`finished`, `time_limit`, ...).
+    pub end: String,
+    /// Simulated mission time, s.
+    pub mission_s: f64,
+    pub cycles: usize,
+    /// The cycle's configuration: timestep ts and repair share μ.
+    pub timestep_ms: Time,
+    pub repair_share: f64,
+    /// Sum of the cycles' sense + repair + act times (measured around each part), s.
+    pub cycle_cpu_s: f64,
+    /// `cycle_cpu_s` over the mission time, in percent of one core (target < 1 %).
+    pub cpu_percent_of_core: f64,
+    /// CPU of the thread running the executive (cycles, complete replanning, and the pacer's polling of
+    /// the link), s; from /proc/thread-self/schedstat where available.
+    pub thread_cpu_s: Option<f64>,
+    /// CPU of the whole process, the SITL and the MAVLink link tasks included, s.
+    pub process_cpu_s: Option<f64>,
+    pub repairs: u64,
+    pub replans: u64,
+    /// Wall time of the run, s.
+    pub wall_s: f64,
+}
+
+/// Runs the Dala mission for at most `limit_ms` of mission time and measures it.
+pub fn measure(limit_ms: Time) -> Result<CpuFigures, String> {
+    let domain =
+        Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
+    let problem = Arc::new(
+        lang::parse_problem("domains/rover/problems/dala.ixt", DALA, &domain)
+            .map_err(|e| e.to_string())?,
+    );
+    let plan = initial_plan(domain, problem.clone(), 200_000)?;
+    let mut session = SitlSession::start(&problem, SCENARIO, "sitl/scenarios/dala.toml", None, 1)?;
+    let cfg = exec_config();
+    let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
+    let mut ex = Executive::new(plan, cfg);
+    ex.level_tolerance = LEVEL_TOLERANCE;
+    let opts = MissionOptions {
+        time_limit_ms: limit_ms,
+        ..MissionOptions::default()
+    };
+    let mut pacer = session.step_pacer();
+    let (thread0, process0) = (thread_cpu_ns(), process_cpu_ns());
+    let wall = std::time::Instant::now();
+    let report = run_mission(
+        &mut ex,
+        &mut session.vehicle,
+        &mut pacer,
+        &opts,
+        &mut |_, _| {},
+    );
+    let wall_s = wall.elapsed().as_secs_f64();
+    let thread = thread_cpu_ns().zip(thread0).map(|(b, a)| b - a);
+    let process = process_cpu_ns().zip(process0).map(|(b, a)| b - a);
+    drop(session);
+    let mission_s = report.duration_ms as f64 / 1_000.0;
+    if mission_s <= 0.0 {
+        return Err("the mission did not run".into());
+    }
+    let cycle_cpu_s = report.cycle_times.total_us as f64 / 1e6;
+    Ok(CpuFigures {
+        problem: problem.name.clone(),
+        end: serde_json::to_value(&report.end)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_else(|| format!("{:?}", report.end)),
+        mission_s,
+        cycles: report.cycle_times.count,
+        timestep_ms,
+        repair_share,
+        cycle_cpu_s,
+        cpu_percent_of_core: 100.0 * cycle_cpu_s / mission_s,
+        thread_cpu_s: thread.map(|ns| ns as f64 / 1e9),
+        process_cpu_s: process.map(|ns| ns as f64 / 1e9),
+        repairs: report.counters.repairs,
+        replans: report.counters.replans,
+        wall_s,
+    })
+}
+
+/// Nanoseconds on CPU of the calling thread (Linux schedstat).
+fn thread_cpu_ns() -> Option<u64> {
+    schedstat_ns("/proc/thread-self/schedstat")
+}
+
+/// Nanoseconds on CPU of every thread of the process (Linux schedstat).
+fn process_cpu_ns() -> Option<u64> {
+    let tasks = std::fs::read_dir("/proc/self/task").ok()?;
+    let mut total = 0;
+    for t in tasks.flatten() {
+        // A thread that ended meanwhile is simply not counted.
+        total += schedstat_ns(t.path().join("schedstat")).unwrap_or(0);
+    }
+    Some(total)
+}
+
+fn schedstat_ns(path: impl AsRef<std::path::Path>) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    text.split_whitespace().next()?.parse().ok()
+}
+
+pub fn run(json: bool) -> ExitCode {
+    let f = match measure(DALA_MISSION_MS) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("bench cpu: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if json {
+        match serde_json::to_string(&f) {
+            Ok(line) => println!("{line}"),
+            Err(e) => {
+                eprintln!("bench cpu: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+        return ExitCode::SUCCESS;
+    }
+    let s = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3} s"));
+    println!(
+        "{}: {:.1} s of mission ({}), {} cycles at ts {} ms, μ {}: executive {:.3} s = {:.3} % of a core \
+         (thread {}, process with SITL {}), {} repairs, {} replans, {:.1} s wall",
+        f.problem,
+        f.mission_s,
+        f.end,
+        f.cycles,
+        f.timestep_ms,
+        f.repair_share,
+        f.cycle_cpu_s,
+        f.cpu_percent_of_core,
+        s(f.thread_cpu_s),
+        s(f.process_cpu_s),
+        f.repairs,
+        f.replans,
+        f.wall_s
+    );
+    ExitCode::SUCCESS
+}
+
+#[cfg(test)]
+mod tests {
+    /// A minute of the Dala mission: the figures are there and consistent (no timing asserted).
+    #[test]
+    fn a_short_dala_run_reports_its_figures() {
+        let f = super::measure(60_000).expect("the Dala mission runs on the SITL");
+        assert!(f.mission_s > 0.0 && f.mission_s <= 61.0, "{f:?}");
+        assert!(f.cycles > 0, "{f:?}");
+        assert!(
+            (f.cpu_percent_of_core - 100.0 * f.cycle_cpu_s / f.mission_s).abs() < 1e-9,
+            "{f:?}"
+        );
+        let v = serde_json::to_value(&f).expect("serialises");
+        for key in ["cpu_percent_of_core", "mission_s", "cycles", "timestep_ms"] {
+            assert!(v.get(key).is_some(), "{key} missing in {v}");
+        }
+    }
+}
