@@ -39,6 +39,8 @@ pub struct Camera {
     pub fail_next: u32,
     /// Injected hangs still to apply: the capture is dropped without an outcome.
     pub hang_next: u32,
+    /// Injected capture times still to apply, in order.
+    pub duration_next: Vec<f64>,
 }
 
 impl Camera {
@@ -50,12 +52,18 @@ impl Camera {
             next_index: 0,
             fail_next: 0,
             hang_next: 0,
+            duration_next: Vec::new(),
         }
     }
 
     /// Schedules `count` pictures `interval_s` apart; returns their image indices.
     pub fn start(&mut self, now_ms: u64, count: u32, interval_s: f64) -> Vec<i32> {
-        let capture_ms = secs_to_ms(self.params.capture_time_s);
+        let capture_s = if self.duration_next.is_empty() {
+            self.params.capture_time_s
+        } else {
+            self.duration_next.remove(0)
+        };
+        let capture_ms = secs_to_ms(capture_s);
         let step_ms = secs_to_ms(interval_s);
         (0..count.clamp(1, MAX_PICTURES_PER_REQUEST))
             .map(|i| {

@@ -223,6 +223,13 @@ pub enum Fault {
         #[serde(default = "one")]
         count: u32,
     },
+    /// The next `count` captures take `capture_time_s` instead of the camera's capture time (a picture
+    /// that ends earlier, or later, than the plan expects).
+    PictureDuration {
+        capture_time_s: f64,
+        #[serde(default = "one")]
+        count: u32,
+    },
     /// A slow zone appears.
     SlowZone { zone: Zone },
     /// The battery level drops by `percent` points.
@@ -340,6 +347,11 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
     let prob = |p: f64| (0.0..=1.0).contains(&p);
     match &f.fault {
         Fault::SlowZone { zone } => check_zone(zone),
+        Fault::PictureDuration { capture_time_s, .. }
+            if !(capture_time_s.is_finite() && *capture_time_s >= 0.0 && *capture_time_s < 86_400.0) =>
+        {
+            Err("picture_duration: capture_time_s must be in [0, 86400[".into())
+        }
         Fault::BatteryDrop { percent } if !(0.0..=100.0).contains(percent) => {
             Err("battery_drop: percent must be in [0, 100]".into())
         }

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use super::demo::exec_config;
 use super::mission_out::initial_plan;
-use super::sitl_session::{SitlSession, LEVEL_TOLERANCE};
+use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions};
 use crate::lang;
@@ -58,7 +58,8 @@ pub fn measure(limit_ms: Time) -> Result<CpuFigures, String> {
             .map_err(|e| e.to_string())?,
     );
     let plan = initial_plan(domain, problem.clone(), 200_000)?;
-    let mut session = SitlSession::start(&problem, SCENARIO, "sitl/scenarios/dala.toml", None, 1)?;
+    let spec = SessionSpec::demo_rover(SCENARIO, "sitl/scenarios/dala.toml")?;
+    let mut session = SitlSession::start(&problem, spec)?;
     let cfg = exec_config();
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
     let mut ex = Executive::new(plan, cfg);

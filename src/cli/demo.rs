@@ -12,7 +12,7 @@ use std::time::Duration;
 use clap::Args;
 
 use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
-use super::sitl_session::{SitlSession, LEVEL_TOLERANCE};
+use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
@@ -42,10 +42,23 @@ pub struct DemoArgs {
     /// levels vs bounds) as JSON.
     #[arg(long)]
     pub report: Option<PathBuf>,
-    /// A rover problem instead of the built-in Fig. 2 (domains/rover/problems/fig2.ixt).
+    /// A problem instead of the built-in Fig. 2 (domains/rover/problems/fig2.ixt).
     #[arg(long)]
     pub problem: Option<PathBuf>,
-    /// Do not upload g6 and g7 during the download.
+    /// The problem's domain (default: the built-in rover domain, domains/rover/rover.ixt).
+    #[arg(long)]
+    pub domain: Option<PathBuf>,
+    /// The vehicle configuration (default: the built-in config/demo-rover.toml).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// The SITL scenario (faults, world). Default: Fig. 2's for the built-in problem; for `--problem
+    /// P.ixt`, sitl/scenarios/P.toml when it exists, else a nominal world.
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// The simulated vehicle: rover or auv.
+    #[arg(long, default_value = "rover")]
+    pub vehicle: sitl::VehicleKind,
+    /// Do not upload g6 and g7 during the download (only the built-in Fig. 2 story uploads them).
     #[arg(long)]
     pub no_upload: bool,
     /// Print only the summary, not the per-cycle trace.
@@ -78,14 +91,18 @@ pub fn run(args: DemoArgs) -> ExitCode {
     }
 }
 
+fn read(path: &std::path::Path) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+}
+
 fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
-    let domain =
-        Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
+    let domain = match &args.domain {
+        Some(p) => lang::load_domain(p).map_err(|e| e.to_string())?,
+        None => lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?,
+    };
+    let domain = Arc::new(domain);
     let (name, text) = match &args.problem {
-        Some(p) => (
-            p.display().to_string(),
-            std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?,
-        ),
+        Some(p) => (p.display().to_string(), read(p)?),
         None => (
             "domains/rover/problems/fig2.ixt".to_string(),
             FIG2.to_string(),
@@ -93,6 +110,33 @@ fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), St
     };
     let problem = lang::parse_problem(&name, &text, &domain).map_err(|e| e.to_string())?;
     Ok((domain, Arc::new(problem)))
+}
+
+/// The session's configuration and scenario from the arguments (see [`DemoArgs::scenario`]).
+fn session_spec(args: &DemoArgs, problem: &Problem) -> Result<SessionSpec, String> {
+    let (scenario, scenario_name) = match (&args.scenario, &args.problem) {
+        (Some(p), _) => (read(p)?, p.display().to_string()),
+        (None, None) => (SCENARIO.to_string(), "sitl/scenarios/fig2.toml".to_string()),
+        (None, Some(problem)) => {
+            let beside = problem
+                .file_stem()
+                .map(|s| PathBuf::from("sitl/scenarios").join(s).with_extension("toml"));
+            match beside.filter(|p| p.is_file()) {
+                Some(p) => (read(&p)?, p.display().to_string()),
+                None => (String::new(), "(nominal world)".to_string()),
+            }
+        }
+    };
+    let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
+    if let Some(p) = &args.config {
+        spec.config = crate::vehicle::config::VehicleConfig::parse(&read(p)?, &p.display().to_string())
+            .map_err(|e| e.to_string())?;
+    }
+    spec.vehicle = args.vehicle;
+    spec.speedup = args.speedup;
+    spec.first_goal_number = problem.goals.len() as u32 + 1;
+    println!("SITL scenario: {scenario_name}");
+    Ok(spec)
 }
 
 pub(super) fn exec_config() -> ExecConfig {
@@ -115,13 +159,7 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
     );
     let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
     println!("initial plan: {} actions", plan.num_actions());
-    let mut session = SitlSession::start(
-        &problem,
-        SCENARIO,
-        "sitl/scenarios/fig2.toml",
-        args.speedup,
-        6,
-    )?;
+    let mut session = SitlSession::start(&problem, session_spec(args, &problem)?)?;
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
     println!(
         "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
@@ -138,7 +176,7 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
         let download = c.events.iter().any(
             |e| matches!(e, TraceEvent::Launch { action, .. } if action.starts_with("download_images")),
         );
-        if download && upload.is_none() && !args.no_upload {
+        if download && upload.is_none() && !args.no_upload && args.problem.is_none() {
             if !args.quiet {
                 println!("             ground station: uploading g6, g7 (pictures of new targets)");
             }

@@ -10,9 +10,10 @@ use crate::model::Problem;
 use crate::vehicle::geo::Home;
 use crate::vehicle::goals::KnownLocations;
 use crate::vehicle::link::{Decider, LinkOptions};
+use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::{Enu, MavlinkVehicle, Vehicle};
 
-const CONFIG: &str = include_str!("../../config/demo-rover.toml");
+const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
 /// The executive's `level_tolerance` against this SITL: it reports the battery in whole percents, and the
 /// rover stops within its acceptance radius (1.5 m, 0.75 % of battery short of the planned distance).
@@ -23,7 +24,7 @@ pub const LEVEL_TOLERANCE: f64 = 2.0;
 pub struct SitlSession {
     pub vehicle: MavlinkVehicle,
     pub sim: Arc<sitl::SimHandle>,
-    /// Home of the vehicle configuration (config/demo-rover.toml).
+    /// Home of the mission (the problem's, else the configuration's).
     pub home: Home,
     /// Where ground stations connect (tcp).
     pub gcs: String,
@@ -32,30 +33,73 @@ pub struct SitlSession {
     pub rt: tokio::runtime::Runtime,
 }
 
+/// What a session runs: the vehicle's configuration, the simulator's scenario and vehicle kind.
+pub struct SessionSpec {
+    pub config: VehicleConfig,
+    pub scenario: sitl::Scenario,
+    pub vehicle: sitl::VehicleKind,
+    /// Paced at this speed-up; stepped by the executive's clock when `None`.
+    pub speedup: Option<f64>,
+    /// Goals uploaded by ground stations are numbered from here.
+    pub first_goal_number: u32,
+    /// Seeds the simulator's picture sizes and link faults.
+    pub seed: u64,
+}
+
+impl SessionSpec {
+    /// The demo's rover: config/demo-rover.toml with `scenario` (TOML text, `scenario_name` for messages).
+    pub fn demo_rover(scenario: &str, scenario_name: &str) -> Result<SessionSpec, String> {
+        Ok(SessionSpec {
+            config: VehicleConfig::parse(DEMO_CONFIG, "config/demo-rover.toml")
+                .map_err(|e| e.to_string())?,
+            scenario: sitl::Scenario::parse(scenario, scenario_name).map_err(|e| e.to_string())?,
+            vehicle: sitl::VehicleKind::Rover,
+            speedup: None,
+            first_goal_number: 1,
+            seed: 1,
+        })
+    }
+}
+
+/// The home local coordinates are relative to: the problem's when it has one (its locations are given
+/// relative to it), else the configuration's.
+pub fn effective_home(problem: &Problem, cfg: &VehicleConfig) -> Home {
+    match problem.home {
+        Some(h) => Home {
+            lat: h.lat,
+            lon: h.lon,
+            alt: h.alt,
+        },
+        None => cfg.home,
+    }
+}
+
 impl SitlSession {
-    /// Spawns the SITL on `scenario` (TOML text, `scenario_name` for messages), paced at `speedup` or
-    /// stepped, and links the vehicle; goals uploaded by ground stations are numbered from
-    /// `first_goal_number`.
-    pub fn start(
-        problem: &Problem,
-        scenario: &str,
-        scenario_name: &str,
-        speedup: Option<f64>,
-        first_goal_number: u32,
-    ) -> Result<SitlSession, String> {
+    /// Spawns the SITL of `spec` at the problem's home and links the vehicle to it over real sockets.
+    pub fn start(problem: &Problem, spec: SessionSpec) -> Result<SitlSession, String> {
         let rt = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
             .enable_all()
             .build()
             .map_err(|e| format!("tokio runtime: {e}"))?;
-        let scenario = sitl::Scenario::parse(scenario, scenario_name).map_err(|e| e.to_string())?;
+        let mut cfg = spec.config;
+        let home = effective_home(problem, &cfg);
+        cfg.home = home;
+        // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock
+        // timeouts must not take a long planning for a lost link.
+        cfg.link.heartbeat_timeout_ms = cfg.link.heartbeat_timeout_ms.max(60_000);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
-            scenario,
-            seed: 1,
+            scenario: spec.scenario,
+            seed: spec.seed,
+            vehicle: spec.vehicle,
+            home: sitl::GeoPoint {
+                lat: home.lat,
+                lon: home.lon,
+            },
             ..sitl::SimConfig::for_tests()
         };
-        if let Some(s) = speedup {
+        if let Some(s) = spec.speedup {
             sim_cfg.clock = sitl::ClockMode::Paced;
             sim_cfg.speedup = s;
         }
@@ -64,13 +108,9 @@ impl SitlSession {
             rt.block_on(sitl::spawn(sim_cfg))
                 .map_err(|e| e.to_string())?,
         );
-        let cfg = crate::vehicle::config::VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
-            .map_err(|e| e.to_string())?;
-        let home = cfg.home;
         let mut known = KnownLocations::new(home);
-        let geo_home = problem.home;
         for o in &problem.objects {
-            if let Some((e, n, u)) = o.local(geo_home.as_ref()) {
+            if let Some((e, n, u)) = o.local(problem.home.as_ref()) {
                 known.objects.push((o.name.clone(), Enu::new(e, n, u)));
             }
         }
@@ -81,7 +121,7 @@ impl SitlSession {
             decider: Decider::Executive {
                 timeout: Duration::from_secs(60),
             },
-            first_goal_number,
+            first_goal_number: spec.first_goal_number,
             ..LinkOptions::default()
         };
         let vehicle = rt
@@ -91,7 +131,7 @@ impl SitlSession {
             .gcs_addr()
             .ok_or("the ground-station endpoint has no address")?
             .to_string();
-        let stepped = speedup.is_none();
+        let stepped = spec.speedup.is_none();
         link_up(&rt, &sim, &vehicle, stepped)?;
         let origin_ms = if stepped {
             sim.now_ms()

@@ -136,7 +136,13 @@ impl Executive {
             return false;
         }
         if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
-            self.abort = Some(format!("cannot start {}: {e}", self.action_text(a)));
+            self.action_failed(a, &format!("cannot be instantiated ({e})"), now);
+            let text = format!("cannot start {}: {e}", self.action_text(a));
+            self.abort.get_or_insert(text);
+            return false;
+        }
+        if let Some(reason) = self.launch_banned(a) {
+            self.abort.get_or_insert(reason);
             return false;
         }
         let vid = self.next_vid;
@@ -144,7 +150,9 @@ impl Executive {
         let cmd = self.start_command(a, vid);
         let action = self.action_text(a);
         if let Err(e) = vehicle.start(cmd) {
-            self.abort = Some(format!("cannot start {action}: {e}"));
+            self.action_failed(a, &format!("refused by the vehicle ({e})"), now);
+            self.abort
+                .get_or_insert_with(|| format!("cannot start {action}: {e}"));
             return false;
         }
         if let Err(e) = self.plan.stn.execute(st, now) {
@@ -204,14 +212,22 @@ impl Executive {
     fn detect_timeouts(&mut self, now: Time) {
         let stn = &self.plan.stn;
         let mut late: Option<String> = None;
+        let mut no_report: Vec<ActionId> = Vec::new();
         for a in self.plan.live_actions() {
             let act = self.plan.action(a);
             for (tp, what) in [(act.start, "start"), (act.end, "end")] {
                 if !stn.is_executed(tp) && stn.ub(tp) < now {
                     late = Some(format!("{what} of {}", self.action_text(a)));
+                    if what == "end" && self.started.contains_key(&a) {
+                        no_report.push(a);
+                    }
                 }
             }
         }
+        for a in no_report {
+            self.action_failed(a, "sent no report by its latest end", now);
+        }
+        let stn = &self.plan.stn;
         for pg in self.plan.goals.iter().filter(|g| g.active) {
             if !stn.is_executed(pg.st) && stn.ub(pg.st) < now {
                 late = Some(format!(

@@ -25,6 +25,14 @@ pub struct ExecConfig {
     /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
     #[serde(default)]
     pub dispatch: PolicyKind,
+    /// k: an action instance failing the same way this many times in a row is banned and the goals that
+    /// depend on it are rejected (src/exec/failures.rs).
+    #[serde(default = "default_same_failures")]
+    pub same_failure_limit: u32,
+    /// Plan repairs plus complete replannings allowed within any minute of mission time; past it a goal is
+    /// rejected with the count as the reason.
+    #[serde(default = "default_changes_per_min")]
+    pub max_plan_changes_per_min: u32,
 }
 
 fn default_ts() -> Time {
@@ -36,6 +44,12 @@ fn default_mu() -> f64 {
 fn default_slack() -> Time {
     2_000
 }
+fn default_same_failures() -> u32 {
+    3
+}
+fn default_changes_per_min() -> u32 {
+    12
+}
 
 impl Default for ExecConfig {
     fn default() -> Self {
@@ -45,6 +59,8 @@ impl Default for ExecConfig {
             replan_slack_ms: default_slack(),
             repair_max_steps: None,
             dispatch: PolicyKind::default(),
+            same_failure_limit: default_same_failures(),
+            max_plan_changes_per_min: default_changes_per_min(),
         }
     }
 }
@@ -58,6 +74,8 @@ pub enum ConfigError {
     Share(f64),
     #[error("exec.replan_slack_ms must be >= 0, got {0}")]
     Slack(Time),
+    #[error("exec.{0} must be at least 1")]
+    Positive(&'static str),
 }
 
 impl ExecConfig {
@@ -70,6 +88,12 @@ impl ExecConfig {
         }
         if self.replan_slack_ms < 0 {
             return Err(ConfigError::Slack(self.replan_slack_ms));
+        }
+        if self.same_failure_limit == 0 {
+            return Err(ConfigError::Positive("same_failure_limit"));
+        }
+        if self.max_plan_changes_per_min == 0 {
+            return Err(ConfigError::Positive("max_plan_changes_per_min"));
         }
         Ok(())
     }

@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use super::executive::{Executive, Fate};
+use super::failures::PlanChangeKind;
 use super::repair::RepairOutcome;
 use super::trace::{CycleRecord, TraceEvent};
 use crate::model::Time;
@@ -31,7 +32,11 @@ impl Executive {
         let t1 = Instant::now();
         let mut repairing = false;
         if self.abort.is_none() {
-            repairing = self.repair_phase(now) == RepairOutcome::InProgress;
+            match self.repair_phase(now) {
+                RepairOutcome::InProgress => repairing = true,
+                RepairOutcome::Solved => self.plan_changed(now, PlanChangeKind::Repair),
+                _ => {}
+            }
         }
         let t2 = Instant::now();
         let next = if self.abort.is_none() {

@@ -9,6 +9,7 @@ use serde::Serialize;
 use super::abstraction::Hierarchy;
 use super::config::ExecConfig;
 use super::dispatch_policy::PlanDispatch;
+use super::failures::FailureMemory;
 use super::p_t::State;
 use super::repair::Repair;
 use super::trace::{CycleRecord, TraceEvent};
@@ -78,6 +79,8 @@ pub struct Executive {
     /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
     /// resolution).
     pub level_tolerance: f64,
+    /// Failures and plan changes of this mission: what repair cannot fix is settled (src/exec/failures.rs).
+    pub failures: FailureMemory,
 }
 
 impl Executive {
@@ -104,6 +107,7 @@ impl Executive {
         }
         let hierarchy = Hierarchy::new(&plan.domain);
         let policy = PlanDispatch::new(cfg.dispatch);
+        let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
         Executive {
             plan,
             cfg,
@@ -126,6 +130,7 @@ impl Executive {
             pending_trace: Vec::new(),
             changed: false,
             level_tolerance: super::resource_report::EPS,
+            failures,
         }
     }
 
@@ -142,11 +147,16 @@ impl Executive {
 
     /// The action's name with its grounded parameters, e.g. `move(base, p1)`.
     pub fn action_text(&self, a: ActionId) -> String {
-        let act = self.plan.action(a);
-        let task = self.plan.domain.task(act.task);
+        self.action_text_in(&self.plan, a)
+    }
+
+    /// [`Self::action_text`] of an action of another plan (e.g. a replanning's).
+    pub fn action_text_in(&self, plan: &PartialPlan, a: ActionId) -> String {
+        let act = plan.action(a);
+        let task = plan.domain.task(act.task);
         let args: Vec<String> = act.vars[..task.n_params]
             .iter()
-            .map(|&v| self.plan.term_name(crate::plan::STerm::Var(v)))
+            .map(|&v| plan.term_name(crate::plan::STerm::Var(v)))
             .collect();
         format!("{}({})", task.name, args.join(", "))
     }

@@ -216,6 +216,8 @@ fn replan<V: Vehicle>(
     match result {
         ReplanResult::Plan(plan) => {
             ex.adopt(plan);
+            let t = pacer.now(cell.borrow().inner);
+            ex.plan_changed(t, super::failures::PlanChangeKind::Replan);
             Ok(())
         }
         ReplanResult::NoGoals(plan) => {

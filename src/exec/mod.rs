@@ -21,6 +21,7 @@
 //! | §3.2, §3.4 plan repair across cycles | [`repair`] |
 //! | §3.5 act: ExecTPs, launch / stop, postponement, timeouts | [`act`] |
 //! | §3.6 complete replanning: P_ti, T_end, slack d, goal rejection | [`replan`] |
+//! | (not in the papers) nothing loops: repeated failures banned, plan changes per minute bounded | [`failures`], [`settle`] |
 //! | the per-cycle trace (Fig. 6) | [`trace`] |
 //! | a mission run live: cycles, replanning, the report | [`mission`] (time: [`pacer`]) |
 
@@ -35,6 +36,7 @@ pub mod cycle;
 pub mod dispatch_policy;
 pub mod executable;
 pub mod executive;
+pub mod failures;
 pub mod goal_request;
 pub mod instantiate;
 pub mod mission;
@@ -46,6 +48,7 @@ pub mod report_timing;
 pub mod resource_bounds;
 pub mod resource_report;
 pub mod sense;
+pub mod settle;
 pub mod state_update;
 pub mod t_exec;
 pub mod trace;

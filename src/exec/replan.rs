@@ -123,13 +123,27 @@ impl Executive {
         let max_steps = self.cfg.repair_max_steps.map(|n| n * 40);
         for attempt in 1.. {
             let t = now();
+            if t >= self.plan.horizon {
+                // Nothing can be planned past the mission's end: what is left is settled here.
+                let pending: Vec<GoalId> = self
+                    .fates
+                    .iter()
+                    .filter(|(_, f)| f.fate == Fate::Pending)
+                    .map(|(&g, _)| g)
+                    .collect();
+                for g in pending {
+                    self.reject_goal(g, "the mission's horizon has passed");
+                }
+                let plan = self.plan.clone();
+                return ReplanResult::NoGoals(plan);
+            }
             self.state.refresh(&self.plan, t);
             let ext = match extract(self, t, &dropped) {
                 Ok(e) => e,
                 Err(e) => return ReplanResult::Error(e.to_string()),
             };
             for g in &ext.incoherent {
-                self.reject(*g, "its window is no longer reachable at the current time");
+                self.reject_goal(*g, "its window is no longer reachable at the current time");
             }
             dropped.extend(ext.incoherent.iter().copied());
             let t_end = ext.t_end;
@@ -164,8 +178,27 @@ impl Executive {
                     format!("no plan after {} steps", search.steps())
                 },
             });
-            if solved {
-                let mut plan = search.plan().clone();
+            let mut solution = solved.then(|| search.plan().clone());
+            if let Some(b) = solution.as_mut().and_then(|p| self.banned_in_plan(p)) {
+                let what = self.action_text_in(search.plan(), b.action);
+                self.trace(TraceEvent::Replan {
+                    attempt: attempt as u32,
+                    outcome: format!("plan not adopted: it needs {what} ({})", b.reason),
+                });
+                let reason = format!("no plan without {what}: {}", b.reason);
+                let goals = if b.goals.is_empty() {
+                    goal_to_reject(search.plan()).into_iter().collect()
+                } else {
+                    b.goals
+                };
+                for g in goals {
+                    self.reject_goal(g, &reason);
+                    dropped.push(g);
+                }
+                refresh(self);
+                continue;
+            }
+            if let Some(mut plan) = solution {
                 plan.set_time_floor(TimeFloor::None);
                 // T_end happens now: planning is over, the new plan's first timepoints may follow it.
                 if plan.stn.execute(t_end, now()).is_ok() {
@@ -179,7 +212,7 @@ impl Executive {
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
             };
-            self.reject(
+            self.reject_goal(
                 g,
                 "abandoned by complete replanning (lowest priority, least flexibility)",
             );
@@ -187,15 +220,6 @@ impl Executive {
             refresh(self);
         }
         ReplanResult::Error("unreachable".into())
-    }
-
-    fn reject(&mut self, g: GoalId, reason: &str) {
-        let name = self.plan.problem.goals[g.index()].name.clone();
-        self.set_fate(g, Fate::Rejected, reason);
-        self.trace(TraceEvent::GoalRejected {
-            goal: name,
-            reason: reason.into(),
-        });
     }
 
     /// Adopts a plan from complete replanning: running actions are forgotten (P_ts has none).

@@ -74,6 +74,14 @@ impl Executive {
             status: r.status.to_string(),
             timing: format!("{when:?}"),
         });
+        match r.status {
+            ReportStatus::Failed => {
+                let why = r.reason.as_deref().unwrap_or("no reason given");
+                self.action_failed(a, &format!("failed ({why})"), t);
+            }
+            ReportStatus::Nominal => self.action_succeeded(a),
+            ReportStatus::Interrupted => {}
+        }
         match integrate(&mut self.plan, a, t) {
             Ok(true) => {}
             Ok(false) => {

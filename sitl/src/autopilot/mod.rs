@@ -373,6 +373,13 @@ impl Autopilot {
             }
             Fault::PictureFails { count } => self.camera.fail_next += count,
             Fault::PictureHangs { count } => self.camera.hang_next += count,
+            Fault::PictureDuration {
+                capture_time_s,
+                count,
+            } => {
+                let n = count.min(crate::payload::MAX_PICTURES_PER_REQUEST) as usize;
+                self.camera.duration_next.extend(std::iter::repeat_n(capture_time_s, n));
+            }
             Fault::SlowZone { zone } => self.world.slow.push(Disc::from_zone(&zone, &self.frame)),
             Fault::BatteryDrop { percent } => {
                 self.battery.drop_by(percent);
