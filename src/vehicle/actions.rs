@@ -451,11 +451,17 @@ impl Run {
             (
                 Binding::Move {
                     acceptance_radius_m,
+                    vertical_acceptance_m,
                     ..
                 },
                 Phase::Running,
-            )
-            | (
+            ) => {
+                let (p, g) = (ctx.tel.position?, self.goal?);
+                let vertical_ok = vertical_acceptance_m.is_none_or(|v| (p.up - g.up).abs() <= v);
+                (p.horizontal_distance(&g) <= *acceptance_radius_m && vertical_ok)
+                    .then(End::nominal)
+            }
+            (
                 Binding::ReturnHome {
                     acceptance_radius_m,
                     ..

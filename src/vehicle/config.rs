@@ -183,6 +183,10 @@ pub enum Binding {
         speed_m_s: f64,
         #[serde(default = "d_position")]
         position_variable: String,
+        /// When set, the move is also done only within this vertical distance (an AUV reaching a depth);
+        /// unset, only the horizontal distance counts (a ground vehicle does not control its altitude).
+        #[serde(default)]
+        vertical_acceptance_m: Option<f64>,
     },
     /// A lawnmower mission over a rectangle centred on the location argument `area`, run in AUTO;
     /// done on the last MISSION_ITEM_REACHED.
@@ -305,6 +309,12 @@ impl VehicleConfig {
                     ..
                 } if acceptance_radius_m.is_nan() || *acceptance_radius_m <= 0.0 => {
                     return Err(invalid(key("acceptance_radius_m"), "must be > 0"));
+                }
+                Binding::Move {
+                    vertical_acceptance_m: Some(v),
+                    ..
+                } if !(v.is_finite() && *v > 0.0) => {
+                    return Err(invalid(key("vertical_acceptance_m"), "must be > 0"));
                 }
                 Binding::Survey {
                     spacing_m,
