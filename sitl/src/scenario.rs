@@ -348,7 +348,9 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
     match &f.fault {
         Fault::SlowZone { zone } => check_zone(zone),
         Fault::PictureDuration { capture_time_s, .. }
-            if !(capture_time_s.is_finite() && *capture_time_s >= 0.0 && *capture_time_s < 86_400.0) =>
+            if !(capture_time_s.is_finite()
+                && *capture_time_s >= 0.0
+                && *capture_time_s < 86_400.0) =>
         {
             Err("picture_duration: capture_time_s must be in [0, 86400[".into())
         }

@@ -118,9 +118,11 @@ fn session_spec(args: &DemoArgs, problem: &Problem) -> Result<SessionSpec, Strin
         (Some(p), _) => (read(p)?, p.display().to_string()),
         (None, None) => (SCENARIO.to_string(), "sitl/scenarios/fig2.toml".to_string()),
         (None, Some(problem)) => {
-            let beside = problem
-                .file_stem()
-                .map(|s| PathBuf::from("sitl/scenarios").join(s).with_extension("toml"));
+            let beside = problem.file_stem().map(|s| {
+                PathBuf::from("sitl/scenarios")
+                    .join(s)
+                    .with_extension("toml")
+            });
             match beside.filter(|p| p.is_file()) {
                 Some(p) => (read(&p)?, p.display().to_string()),
                 None => (String::new(), "(nominal world)".to_string()),
@@ -129,8 +131,9 @@ fn session_spec(args: &DemoArgs, problem: &Problem) -> Result<SessionSpec, Strin
     };
     let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
     if let Some(p) = &args.config {
-        spec.config = crate::vehicle::config::VehicleConfig::parse(&read(p)?, &p.display().to_string())
-            .map_err(|e| e.to_string())?;
+        spec.config =
+            crate::vehicle::config::VehicleConfig::parse(&read(p)?, &p.display().to_string())
+                .map_err(|e| e.to_string())?;
     }
     spec.vehicle = args.vehicle;
     spec.speedup = args.speedup;

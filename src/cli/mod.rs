@@ -12,6 +12,7 @@ mod plan;
 mod run;
 mod sim;
 mod sitl_session;
+mod soak;
 
 use std::process::ExitCode;
 
@@ -46,6 +47,8 @@ pub enum Command {
     Run(run::RunArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
     Sim(sim::SimArgs),
+    /// Random missions with random faults through the whole stack on the built-in SITL; invariants checked.
+    Soak(soak::SoakArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
@@ -61,6 +64,7 @@ pub fn main() -> ExitCode {
         Command::Goal(args) => goal::run(args),
         Command::Run(args) => run::run(args),
         Command::Sim(args) => sim::run(args),
+        Command::Soak(args) => soak::run(args),
     }
 }
 

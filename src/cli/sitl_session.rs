@@ -7,10 +7,10 @@ use std::time::Duration;
 
 use crate::exec::pacer::SitlStepPacer;
 use crate::model::Problem;
+use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::geo::Home;
 use crate::vehicle::goals::KnownLocations;
 use crate::vehicle::link::{Decider, LinkOptions};
-use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::{Enu, MavlinkVehicle, Vehicle};
 
 const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");

@@ -71,7 +71,11 @@ impl FailureKind {
     pub fn new(text: &str) -> Self {
         let mut s = String::with_capacity(text.len());
         for c in text.chars() {
-            let c = if c.is_ascii_digit() || c == '.' { '#' } else { c };
+            let c = if c.is_ascii_digit() || c == '.' {
+                '#'
+            } else {
+                c
+            };
             if !(c == '#' && s.ends_with('#')) {
                 s.push(c);
             }
@@ -277,9 +281,11 @@ mod tests {
         assert_eq!(m.failed(&d, "failed: not visible at 120 s", 0), None);
         assert_eq!(m.failed(&d, "failed: not visible at 121 s", 1), None);
         let r = m.failed(&d, "failed: not visible at 130 s", 2);
-        assert!(r.as_deref().is_some_and(|r| r.contains("download_images(W1)")
-            && r.contains("not visible")
-            && r.contains("3 times")));
+        assert!(r
+            .as_deref()
+            .is_some_and(|r| r.contains("download_images(W1)")
+                && r.contains("not visible")
+                && r.contains("3 times")));
         assert!(m.ban_of(&d).is_some());
         // Another instance of the same task is not banned.
         assert!(m.ban_of(&inst("download_images", &["W2"])).is_none());

@@ -378,7 +378,9 @@ impl Autopilot {
                 count,
             } => {
                 let n = count.min(crate::payload::MAX_PICTURES_PER_REQUEST) as usize;
-                self.camera.duration_next.extend(std::iter::repeat_n(capture_time_s, n));
+                self.camera
+                    .duration_next
+                    .extend(std::iter::repeat_n(capture_time_s, n));
             }
             Fault::SlowZone { zone } => self.world.slow.push(Disc::from_zone(&zone, &self.frame)),
             Fault::BatteryDrop { percent } => {

@@ -1,0 +1,100 @@
+//! What every soak mission must satisfy, checked on its report.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::exec::executive::Fate;
+use crate::exec::mission::{MissionEnd, MissionReport};
+use crate::exec::trace::TraceEvent;
+
+/// The most times one action instance may be launched in a mission.
+pub const MAX_STARTS: usize = 3;
+/// How long past its horizon a mission may run, ms.
+pub const END_MARGIN_MS: i64 = 60_000;
+
+/// One invariant broken by one mission.
+#[derive(Clone, Debug, Serialize)]
+pub struct Violation {
+    pub invariant: &'static str,
+    pub seed: u64,
+    pub detail: String,
+}
+
+/// The invariants of a finished mission (`horizon_ms`: its problem's horizon).
+pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violation> {
+    let mut out = Vec::new();
+    let mut v = |invariant, detail: String| {
+        out.push(Violation {
+            invariant,
+            seed,
+            detail,
+        })
+    };
+    if let MissionEnd::Error(e) = &report.end {
+        v("no_error_exit", e.clone());
+    }
+    for g in &report.goals {
+        match g.fate {
+            Fate::Pending => v(
+                "goal_settled",
+                format!("{} still pending at the end ({:?})", g.name, report.end),
+            ),
+            Fate::Rejected if g.reason.trim().is_empty() => v(
+                "rejected_with_reason",
+                format!("{} rejected without a reason", g.name),
+            ),
+            _ => {}
+        }
+    }
+    let mut starts: BTreeMap<&str, usize> = BTreeMap::new();
+    for c in &report.cycles {
+        for e in &c.events {
+            match e {
+                TraceEvent::Launch { action, .. } => *starts.entry(action).or_default() += 1,
+                TraceEvent::GoalRejected { goal, reason } if reason.trim().is_empty() => v(
+                    "rejected_with_reason",
+                    format!("{goal} rejected without a reason"),
+                ),
+                _ => {}
+            }
+        }
+    }
+    for (action, n) in starts {
+        if n > MAX_STARTS {
+            v("max_starts", format!("{action} started {n} times"));
+        }
+    }
+    if report.duration_ms > horizon_ms + END_MARGIN_MS || report.end == MissionEnd::TimeLimit {
+        v(
+            "ends_in_time",
+            format!(
+                "ended ({:?}) at {} s, horizon {} s",
+                report.end,
+                report.duration_ms / 1000,
+                horizon_ms / 1000
+            ),
+        );
+    }
+    out
+}
+
+/// The class of a rejection reason, for the summary's counts.
+pub fn reason_class(reason: &str) -> &'static str {
+    let r = reason.to_ascii_lowercase();
+    if r.contains("times in a row") || r.contains("no plan without") {
+        "repeated_failure"
+    } else if r.contains("within a minute") {
+        "plan_change_bound"
+    } else if r.contains("window is no longer reachable") {
+        "window_passed"
+    } else if r.contains("horizon") {
+        "horizon"
+    } else if r.contains("abandoned by complete replanning") {
+        "replanning"
+    } else if r.contains("no initial plan") {
+        "no_initial_plan"
+    } else {
+        "other"
+    }
+}

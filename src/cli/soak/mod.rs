@@ -1,0 +1,391 @@
+//! `mavtempo soak --missions N [--seed S] [--domain rover|auv|all] [--json] [--trace]`: random missions (see
+//! [`generate`]) each run through the whole stack — planner, executive, MAVLink link, the built-in SITL in
+//! process, stepped, over real sockets — with the SITL's random faults and goals uploaded over MAVLink during
+//! the run; every mission's report is checked against the [`invariants`]. Mission i uses seed S + i; a
+//! violation names its seed, and `--missions 1 --seed <it> --trace` reruns that mission with its trace.
+
+mod generate;
+mod invariants;
+
+use std::collections::BTreeMap;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use serde::Serialize;
+
+use self::generate::{Mission, SoakDomain, Upload};
+use self::invariants::{reason_class, Violation, END_MARGIN_MS};
+use super::demo::exec_config;
+use super::mission_out::{initial_plan, TracePrinter};
+use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use crate::exec::executive::{Executive, Fate};
+use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::trace::CycleRecord;
+use crate::lang;
+use crate::vehicle::goal_client::{send_goals, GoalSendError, GoalSendReport};
+use crate::vehicle::goals::GOAL_ATTRIBUTES_CMD;
+use crate::vehicle::items::MissionItem;
+use crate::vehicle::Enu;
+
+const ROVER: &str = include_str!("../../../domains/rover/rover.ixt");
+const AUV: &str = include_str!("../../../domains/auv/auv.ixt");
+const AUV_CONFIG: &str = include_str!("../../../config/sitl-auv.toml");
+
+#[derive(Args, Debug)]
+pub struct SoakArgs {
+    /// How many missions.
+    #[arg(long, default_value_t = 20)]
+    pub missions: u64,
+    /// Mission i uses seed S + i.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[arg(long, value_enum, default_value = "all")]
+    pub domain: SoakDomain,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Print each mission's per-cycle trace (with --missions 1 to rerun one seed).
+    #[arg(long)]
+    pub trace: bool,
+    /// Print each mission's generated problem and scenario.
+    #[arg(long)]
+    pub show: bool,
+}
+
+/// What one mission gave.
+struct Outcome {
+    report: Option<MissionReport>,
+    /// Goals with their fates (all rejected when there was no initial plan).
+    goals: Vec<(String, Fate, String)>,
+    violations: Vec<Violation>,
+}
+
+/// Goals achieved among those of missions with a given fault (or none).
+#[derive(Clone, Debug, Default, Serialize)]
+struct Share {
+    missions: u64,
+    goals: u64,
+    achieved: u64,
+    share: f64,
+}
+
+#[derive(Debug, Default, Serialize)]
+struct Summary {
+    missions: u64,
+    first_seed: u64,
+    domain: String,
+    rover_missions: u64,
+    auv_missions: u64,
+    goals: u64,
+    achieved: u64,
+    rejected: BTreeMap<String, u64>,
+    /// Missions the planner could not plan at all (their goals are rejected with its reason).
+    unplanned: u64,
+    by_fault: BTreeMap<String, Share>,
+    violations_by_invariant: BTreeMap<String, u64>,
+    violations: Vec<Violation>,
+    repairs: u64,
+    replans: u64,
+    wall_s: f64,
+}
+
+pub fn run(args: SoakArgs) -> ExitCode {
+    let wall = Instant::now();
+    let bar = (!args.trace && !args.show).then(|| {
+        let bar = indicatif::ProgressBar::new(args.missions);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "soak [{bar:30}] {pos}/{len} missions, {msg} ({elapsed}, eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let mut sum = Summary {
+        missions: args.missions,
+        first_seed: args.seed,
+        domain: format!("{:?}", args.domain).to_lowercase(),
+        ..Summary::default()
+    };
+    for i in 0..args.missions {
+        let m = generate::mission(args.seed + i, args.domain);
+        if args.show {
+            println!(
+                "== mission seed {} ==\n{}\n-- scenario --\n{}",
+                m.seed, m.problem, m.scenario
+            );
+        }
+        let outcome =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(&m, args.trace)))
+                .unwrap_or_else(|p| {
+                    let what = p
+                        .downcast_ref::<String>()
+                        .cloned()
+                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                        .unwrap_or_default();
+                    failed(&m, "no_panic", format!("panicked: {what}"))
+                });
+        tally(&mut sum, &m, &outcome);
+        if let Some(bar) = &bar {
+            bar.set_message(format!(
+                "{} of {} goals achieved, {} violations",
+                sum.achieved,
+                sum.goals,
+                sum.violations.len()
+            ));
+            bar.inc(1);
+        }
+    }
+    if let Some(bar) = bar {
+        bar.finish();
+    }
+    for s in sum.by_fault.values_mut() {
+        s.share = if s.goals == 0 {
+            1.0
+        } else {
+            s.achieved as f64 / s.goals as f64
+        };
+    }
+    sum.wall_s = wall.elapsed().as_secs_f64();
+    if args.json {
+        match serde_json::to_string_pretty(&sum) {
+            Ok(j) => println!("{j}"),
+            Err(e) => {
+                eprintln!("mavtempo soak: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+    } else {
+        print_summary(&sum);
+    }
+    if sum.violations.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+fn failed(m: &Mission, invariant: &'static str, detail: String) -> Outcome {
+    Outcome {
+        report: None,
+        goals: Vec::new(),
+        violations: vec![Violation {
+            invariant,
+            seed: m.seed,
+            detail,
+        }],
+    }
+}
+
+fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
+    match m.domain {
+        SoakDomain::Auv => sum.auv_missions += 1,
+        _ => sum.rover_missions += 1,
+    }
+    let achieved = o.goals.iter().filter(|g| g.1 == Fate::Achieved).count() as u64;
+    let total = o.goals.len() as u64;
+    sum.goals += total;
+    sum.achieved += achieved;
+    for (_, fate, reason) in &o.goals {
+        if *fate == Fate::Rejected {
+            *sum.rejected.entry(reason_class(reason).into()).or_default() += 1;
+            if reason_class(reason) == "no_initial_plan" {
+                // Counted once per mission below.
+            }
+        }
+    }
+    if o.report.is_none() && o.violations.is_empty() {
+        sum.unplanned += 1;
+    }
+    let classes: Vec<&str> = if m.faults.is_empty() {
+        vec!["none"]
+    } else {
+        m.faults.clone()
+    };
+    for f in classes {
+        let s = sum.by_fault.entry(f.into()).or_default();
+        s.missions += 1;
+        s.goals += total;
+        s.achieved += achieved;
+    }
+    if let Some(r) = &o.report {
+        sum.repairs += r.counters.repairs;
+        sum.replans += r.counters.replans;
+    }
+    for v in &o.violations {
+        *sum.violations_by_invariant
+            .entry(v.invariant.into())
+            .or_default() += 1;
+        sum.violations.push(v.clone());
+    }
+}
+
+fn print_summary(s: &Summary) {
+    println!(
+        "soak: {} missions ({} rover, {} auv) from seed {}, {:.0} s",
+        s.missions, s.rover_missions, s.auv_missions, s.first_seed, s.wall_s
+    );
+    println!(
+        "goals: {} of {} achieved; rejected by class: {:?}; unplanned missions: {}",
+        s.achieved, s.goals, s.rejected, s.unplanned
+    );
+    println!(
+        "plan repairs {}, complete replannings {}",
+        s.repairs, s.replans
+    );
+    for (f, sh) in &s.by_fault {
+        println!(
+            "  fault {f:<14} {:>4} missions, {:>4} of {:>4} goals achieved ({:.0} %)",
+            sh.missions,
+            sh.achieved,
+            sh.goals,
+            sh.share * 100.0
+        );
+    }
+    if s.violations.is_empty() {
+        println!("invariants: no violation");
+    } else {
+        println!("invariants: {} violations", s.violations.len());
+        for v in &s.violations {
+            println!(
+                "  {} (seed {}): {}  — rerun: mavtempo soak --missions 1 --seed {} --trace",
+                v.invariant, v.seed, v.detail, v.seed
+            );
+        }
+    }
+}
+
+/// Runs one mission through the whole stack.
+fn run_one(m: &Mission, trace: bool) -> Outcome {
+    let (domain_text, domain_name) = match m.domain {
+        SoakDomain::Auv => (AUV, "domains/auv/auv.ixt"),
+        _ => (ROVER, "domains/rover/rover.ixt"),
+    };
+    let name = format!("soak seed {}", m.seed);
+    let domain = match lang::parse_domain(domain_name, domain_text) {
+        Ok(d) => Arc::new(d),
+        Err(e) => return failed(m, "no_error_exit", e.to_string()),
+    };
+    let problem = match lang::parse_problem(&name, &m.problem, &domain) {
+        Ok(p) => Arc::new(p),
+        Err(e) => return failed(m, "no_error_exit", format!("generated problem: {e}")),
+    };
+    let plan = match initial_plan(domain, problem.clone(), 50_000) {
+        Ok(p) => p,
+        Err(e) => {
+            // Not the executive's failure: the mission's goals are all rejected with the planner's reason.
+            return Outcome {
+                report: None,
+                goals: problem
+                    .goals
+                    .iter()
+                    .map(|g| (g.name.clone(), Fate::Rejected, e.clone()))
+                    .collect(),
+                violations: Vec::new(),
+            };
+        }
+    };
+    let spec = match session_spec(m, problem.goals.len() as u32 + 1) {
+        Ok(s) => s,
+        Err(e) => return failed(m, "no_error_exit", e),
+    };
+    let mut session = match SitlSession::start(&problem, spec) {
+        Ok(s) => s,
+        Err(e) => return failed(m, "no_error_exit", format!("SITL session: {e}")),
+    };
+    let mut ex = Executive::new(plan, exec_config());
+    ex.level_tolerance = LEVEL_TOLERANCE;
+    let (home, gcs) = (session.home, session.gcs.clone());
+    let rt = session.rt.handle().clone();
+    let mut pending: Vec<&Upload> = m.uploads.iter().collect();
+    let mut sent: Vec<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = Vec::new();
+    let mut printer = TracePrinter::default();
+    let mut observe = |_: &Executive, c: &CycleRecord| {
+        if trace {
+            printer.cycle(c);
+        }
+        let due: Vec<&Upload> = pending
+            .iter()
+            .copied()
+            .filter(|u| (u.at_s * 1000.0) as i64 <= c.time_ms)
+            .collect();
+        if due.is_empty() {
+            return;
+        }
+        pending.retain(|u| (u.at_s * 1000.0) as i64 > c.time_ms);
+        let items = upload_items(home, &due);
+        let addr = format!("tcpout:{gcs}");
+        sent.push(rt.spawn(async move { send_goals(&addr, items, Duration::from_secs(30)).await }));
+    };
+    let horizon_ms = problem.horizon;
+    let opts = MissionOptions {
+        time_limit_ms: horizon_ms + END_MARGIN_MS,
+        ..MissionOptions::default()
+    };
+    let mut pacer = session.step_pacer();
+    let report = run_mission(
+        &mut ex,
+        &mut session.vehicle,
+        &mut pacer,
+        &opts,
+        &mut observe,
+    );
+    for h in sent {
+        // An upload still in flight when the mission ended is not an error of the mission.
+        let _ = session
+            .rt
+            .block_on(async { tokio::time::timeout(Duration::from_secs(5), h).await });
+    }
+    if trace {
+        super::mission_out::print_summary(&report);
+    }
+    let goals = report
+        .goals
+        .iter()
+        .map(|g| (g.name.clone(), g.fate.clone(), g.reason.clone()))
+        .collect();
+    let violations = invariants::check(m.seed, &report, horizon_ms);
+    drop(session);
+    Outcome {
+        report: Some(report),
+        goals,
+        violations,
+    }
+}
+
+fn session_spec(m: &Mission, first_goal_number: u32) -> Result<SessionSpec, String> {
+    let mut spec = SessionSpec::demo_rover(&m.scenario, "soak scenario")?;
+    if m.domain == SoakDomain::Auv {
+        spec.config =
+            crate::vehicle::config::VehicleConfig::parse(AUV_CONFIG, "config/sitl-auv.toml")
+                .map_err(|e| e.to_string())?;
+        spec.vehicle = sitl::VehicleKind::Auv;
+    }
+    spec.seed = m.seed;
+    spec.first_goal_number = first_goal_number;
+    Ok(spec)
+}
+
+/// The ground station's items: each goal's attributes (priority, start window, d_achiev 30 s), then the
+/// goal item at its position.
+fn upload_items(home: crate::vehicle::geo::Home, uploads: &[&Upload]) -> Vec<MissionItem> {
+    let mut items = Vec::new();
+    for u in uploads {
+        items.push(MissionItem {
+            command: GOAL_ATTRIBUTES_CMD,
+            frame: 2,
+            params: [u.priority as f32, 0.0, u.window_end_s as f32, 0.0],
+            x: 30.0,
+            y: 0.0,
+            z: 0.0,
+            autocontinue: true,
+        });
+        let (lat, lon, alt) = home.to_global(Enu::new(u.east, u.north, u.up));
+        let mut it = MissionItem::waypoint(lat, lon, alt as f32);
+        it.command = u.command;
+        items.push(it);
+    }
+    items
+}
