@@ -1,0 +1,130 @@
+//! Nothing loops (src/exec/failures.rs, settle.rs): an action failing the same way again and again, or a
+//! task the vehicle refuses, is settled — its goals rejected with the true reason — instead of being
+//! repaired or replanned for ever.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
+use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::trace::TraceEvent;
+use mavtempo::lang::load_problem_and_domain;
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::mock::Outcome;
+use mavtempo::vehicle::MockVehicle;
+
+fn shopping(k: u32) -> Executive {
+    let (d, p) =
+        load_problem_and_domain(Path::new("domains/shopping/problems/day.ixt")).expect("day loads");
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
+    let cfg = ExecConfig {
+        timestep_ms: 30_000,
+        repair_share: 0.6,
+        replan_slack_ms: 30_000,
+        repair_max_steps: Some(200),
+        same_failure_limit: k,
+        ..ExecConfig::default()
+    };
+    Executive::new(search.into_plan(), cfg)
+}
+
+fn run(ex: &mut Executive, v: &mut MockVehicle) -> MissionReport {
+    let opts = MissionOptions {
+        time_limit_ms: 13 * 3_600_000,
+        ..MissionOptions::default()
+    };
+    run_mission(ex, v, &mut MockPacer::default(), &opts, &mut |_, _| {})
+}
+
+fn launches(r: &MissionReport) -> BTreeMap<String, usize> {
+    let mut n = BTreeMap::new();
+    for e in r.cycles.iter().flat_map(|c| &c.events) {
+        if let TraceEvent::Launch { action, .. } = e {
+            *n.entry(action.clone()).or_default() += 1;
+        }
+    }
+    n
+}
+
+fn fate<'a>(r: &'a MissionReport, goal: &str) -> &'a mavtempo::exec::executive::GoalFate {
+    r.goals
+        .iter()
+        .find(|g| g.name == goal)
+        .unwrap_or_else(|| panic!("goal {goal} in the report"))
+}
+
+#[test]
+fn an_action_failing_the_same_way_k_times_rejects_its_goal_with_that_failure() {
+    for k in [2, 3] {
+        let mut ex = shopping(k);
+        let mut v = MockVehicle::new();
+        v.script("go", Outcome::nominal(16 * 60_000));
+        v.script("buy", Outcome::failed(60_000, "till closed"));
+        let r = run(&mut ex, &mut v);
+        assert_eq!(r.end, MissionEnd::Finished, "k={k}: {:?}", r.goals);
+        let apple = fate(&r, "have_apple");
+        assert_eq!(apple.fate, Fate::Rejected, "k={k}");
+        assert!(
+            apple.reason.contains("buy(apple, grocery)")
+                && apple.reason.contains("till closed")
+                && apple.reason.contains(&format!("{k} times in a row")),
+            "k={k}: {}",
+            apple.reason
+        );
+        assert_eq!(launches(&r).get("buy(apple, grocery)"), Some(&(k as usize)));
+        // The goal that did not need it is still achieved.
+        assert_eq!(fate(&r, "at_home").fate, Fate::Achieved, "k={k}");
+    }
+}
+
+#[test]
+fn a_task_the_vehicle_refuses_is_not_replanned_for_ever() {
+    let mut ex = shopping(3);
+    let mut v = MockVehicle::new();
+    // No script for `buy`: the vehicle refuses to start it (as a config without its binding would).
+    v.script("go", Outcome::nominal(16 * 60_000));
+    let r = run(&mut ex, &mut v);
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    let apple = fate(&r, "have_apple");
+    assert_eq!(apple.fate, Fate::Rejected);
+    assert!(
+        apple.reason.contains("refused by the vehicle"),
+        "{}",
+        apple.reason
+    );
+    assert!(
+        r.counters.replans <= 4,
+        "{} replannings",
+        r.counters.replans
+    );
+    assert!(launches(&r).values().all(|&n| n <= 3), "{:?}", launches(&r));
+}
+
+#[test]
+fn a_failure_that_changes_is_bounded_by_the_plan_change_rate() {
+    let mut ex = shopping(100);
+    ex.failures.max_changes_per_min = 1;
+    let mut v = MockVehicle::new();
+    v.script("go", Outcome::nominal(16 * 60_000));
+    // A different failure each time: no streak, but the plan keeps changing.
+    for i in 0..50 {
+        v.script(
+            "buy",
+            Outcome::failed(1_000, &format!("error code {}", "x".repeat(i))),
+        );
+    }
+    let r = run(&mut ex, &mut v);
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    let apple = fate(&r, "have_apple");
+    assert_eq!(apple.fate, Fate::Rejected);
+    assert!(apple.reason.contains("within a minute"), "{}", apple.reason);
+    assert!(launches(&r)
+        .get("buy(apple, grocery)")
+        .is_some_and(|&n| n < 10));
+}
