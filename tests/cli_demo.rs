@@ -26,6 +26,7 @@ fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
     let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
         .args(["demo", "--quiet", "--no-upload", "--problem"])
         .arg("tests/fixtures/exec/rover_two.ixt")
+        .args(["--scenario", "sitl/scenarios/fig2.toml"])
         .arg("--report")
         .arg(&report_path)
         .output()
