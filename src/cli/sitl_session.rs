@@ -6,11 +6,11 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use crate::exec::pacer::SitlStepPacer;
-use crate::model::Problem;
+use crate::exec::DomainMapping;
+use crate::model::{Domain, Problem};
 use crate::vehicle::geo::Home;
-use crate::vehicle::goals::KnownLocations;
 use crate::vehicle::link::{Decider, LinkOptions};
-use crate::vehicle::{Enu, MavlinkVehicle, Vehicle};
+use crate::vehicle::{MavlinkVehicle, Vehicle};
 
 const CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
@@ -23,8 +23,10 @@ pub const LEVEL_TOLERANCE: f64 = 2.0;
 pub struct SitlSession {
     pub vehicle: MavlinkVehicle,
     pub sim: Arc<sitl::SimHandle>,
-    /// Home of the vehicle configuration (config/demo-rover.toml).
+    /// The effective home (the problem's, else config/demo-rover.toml's).
     pub home: Home,
+    /// config/demo-rover.toml's `[mapping]`, resolved against the domain and problem.
+    pub mapping: DomainMapping,
     /// Where ground stations connect (tcp).
     pub gcs: String,
     /// The vehicle time (ms) of the plan's origin.
@@ -33,16 +35,20 @@ pub struct SitlSession {
 }
 
 impl SitlSession {
-    /// Spawns the SITL on `scenario` (TOML text, `scenario_name` for messages), paced at `speedup` or
-    /// stepped, and links the vehicle; goals uploaded by ground stations are numbered from
-    /// `first_goal_number`.
+    /// Checks config/demo-rover.toml against `domain` and `problem`, spawns the SITL on `scenario` (TOML
+    /// text, `scenario_name` for messages), paced at `speedup` or stepped, and links the vehicle; goals
+    /// uploaded by ground stations are numbered from `first_goal_number`.
     pub fn start(
+        domain: &Domain,
         problem: &Problem,
         scenario: &str,
         scenario_name: &str,
         speedup: Option<f64>,
         first_goal_number: u32,
     ) -> Result<SitlSession, String> {
+        let cfg = crate::vehicle::config::VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
+            .map_err(|e| e.to_string())?;
+        let checked = super::check::checked_config(&cfg, domain, Some(problem))?;
         let rt = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
             .enable_all()
@@ -64,16 +70,8 @@ impl SitlSession {
             rt.block_on(sitl::spawn(sim_cfg))
                 .map_err(|e| e.to_string())?,
         );
-        let cfg = crate::vehicle::config::VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
-            .map_err(|e| e.to_string())?;
-        let home = cfg.home;
-        let mut known = KnownLocations::new(home);
-        let geo_home = problem.home;
-        for o in &problem.objects {
-            if let Some((e, n, u)) = o.local(geo_home.as_ref()) {
-                known.objects.push((o.name.clone(), Enu::new(e, n, u)));
-            }
-        }
+        let home = checked.home;
+        let known = super::run::known_locations(home, problem);
         let opts = LinkOptions {
             address: Some(sim.client_address().to_string()),
             gcs: Some("tcpin:127.0.0.1:0".into()),
@@ -85,7 +83,7 @@ impl SitlSession {
             ..LinkOptions::default()
         };
         let vehicle = rt
-            .block_on(MavlinkVehicle::connect(cfg, opts))
+            .block_on(MavlinkVehicle::connect(checked.vehicle, opts))
             .map_err(|e| e.to_string())?;
         let gcs = vehicle
             .gcs_addr()
@@ -102,6 +100,7 @@ impl SitlSession {
             vehicle,
             sim,
             home,
+            mapping: checked.mapping,
             gcs,
             origin_ms,
             rt,

@@ -78,6 +78,9 @@ pub struct Executive {
     /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
     /// resolution).
     pub level_tolerance: f64,
+    /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
+    /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
+    pub mapping: super::mapping::DomainMapping,
 }
 
 impl Executive {
@@ -126,7 +129,15 @@ impl Executive {
             pending_trace: Vec::new(),
             changed: false,
             level_tolerance: super::resource_report::EPS,
+            mapping: super::mapping::DomainMapping::default(),
         }
+    }
+
+    /// The vehicle configuration's `[mapping]`, resolved against this plan's domain
+    /// ([`crate::vehicle::config_check::check`]).
+    pub fn with_mapping(mut self, mapping: super::mapping::DomainMapping) -> Self {
+        self.mapping = mapping;
+        self
     }
 
     pub fn with_policy(mut self, kind: crate::dispatch::PolicyKind) -> Self {

@@ -14,6 +14,8 @@ use super::types::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict};
 pub const GOAL_ATTRIBUTES_CMD: u16 = 31011;
 /// `MAV_CMD_SPATIAL_USER_1`: take a sample at the item's position.
 pub const SAMPLE_GOAL_CMD: u16 = 31005;
+/// `MAV_CMD_SPATIAL_USER_2`: survey the item's position.
+pub const SURVEY_GOAL_CMD: u16 = 31006;
 
 /// Objects of the problem that have a position, so an uploaded position can be recognised as one of them.
 #[derive(Debug, Clone)]
@@ -131,6 +133,7 @@ pub fn items_to_goals(
             }
             c if c == MavCmd::MAV_CMD_IMAGE_START_CAPTURE as u16 => GoalKind::PictureOf,
             SAMPLE_GOAL_CMD => GoalKind::SampleAt,
+            SURVEY_GOAL_CMD => GoalKind::SurveyOf,
             c if c == MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16 => GoalKind::ReturnHome,
             other => {
                 return Err(err(
