@@ -188,6 +188,17 @@ impl Executive {
         }
     }
 
+    /// The object a goal location names when the intake recognised it (`new` false) and it is of the location
+    /// type.
+    fn known_location(&self, l: &crate::vehicle::GoalLocation) -> Option<crate::model::ObjectId> {
+        if l.new {
+            return None;
+        }
+        let o = self.plan.problem.object_id(&l.name)?;
+        let ty = self.plan.problem.object(o)?.ty;
+        (Some(ty) == self.mapping.location_type).then_some(o)
+    }
+
     /// The domain goal for a request, as the config's `[mapping.goals]` says: `attr(L) = true` or
     /// `attr() = L`; a new location object when the request names a place no object is at.
     fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, String> {
@@ -202,7 +213,11 @@ impl Executive {
                 .mapping
                 .home_object
                 .ok_or("no home object in the config's [mapping] for return-home items")?,
-            (Some(l), _) => super::state_update::location_object(self, &l.name, l.at)?,
+            // A place the intake already named (a known object of the location type) is that object.
+            (Some(l), _) => match self.known_location(l) {
+                Some(o) => o,
+                None => super::state_update::location_object(self, &l.name, l.at)?,
+            },
             (None, _) => return Err(format!("{what} goal without a location")),
         };
         let (attr, args, value) = match target.shape {
