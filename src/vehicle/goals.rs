@@ -264,3 +264,46 @@ pub fn verdict_text(goal: &GoalRequest, verdict: &GoalVerdict) -> String {
 pub fn ack_code(r: MavMissionResult) -> u8 {
     r.to_u8().unwrap_or(u8::MAX)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each goal item command becomes its kind, the key the config's `[mapping.goals]` maps.
+    #[test]
+    fn item_commands_become_goal_kinds() {
+        let home = Home {
+            lat: 43.5,
+            lon: 1.4,
+            alt: 0.0,
+        };
+        let at = |cmd: u16| {
+            let mut it = MissionItem::waypoint(43.5001, 1.4001, 0.0);
+            it.command = cmd;
+            it
+        };
+        let items = vec![
+            at(MavCmd::MAV_CMD_NAV_WAYPOINT as u16),
+            at(MavCmd::MAV_CMD_IMAGE_START_CAPTURE as u16),
+            at(SAMPLE_GOAL_CMD),
+            at(SURVEY_GOAL_CMD),
+            at(MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16),
+        ];
+        let goals = items_to_goals(&items, &KnownLocations::new(home), 1).expect("goals");
+        let kinds: Vec<(&str, bool)> = goals
+            .iter()
+            .map(|g| (g.kind.key(), g.location.is_some()))
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                ("waypoint", true),
+                ("picture", true),
+                ("sample", true),
+                ("survey", true),
+                ("return_home", false),
+            ]
+        );
+        assert_eq!(goals[3].proposition, "surveyed(g4_loc)");
+    }
+}
