@@ -188,7 +188,10 @@ fn check_config_passes_the_shipped_auv_config_and_names_a_mismatch() {
         "domains/auv/problems/vents.ixt",
     ]);
     assert!(ok, "{stderr}");
-    assert!(stdout.contains("config/sitl-auv.toml: ok against"), "{stdout}");
+    assert!(
+        stdout.contains("config/sitl-auv.toml: ok against"),
+        "{stdout}"
+    );
     assert!(stdout.contains("from the problem"), "{stdout}");
 
     let broken = broken_auv_config();
@@ -210,7 +213,10 @@ fn check_config_passes_the_shipped_auv_config_and_names_a_mismatch() {
         stderr.contains("actions.go: task `go` has no binding") && stderr.contains("auv.ixt:15"),
         "{stderr}"
     );
-    assert!(stderr.contains("does not match domain `auv`: 2 error(s)"), "{stderr}");
+    assert!(
+        stderr.contains("does not match domain `auv`: 2 error(s)"),
+        "{stderr}"
+    );
 }
 
 #[test]

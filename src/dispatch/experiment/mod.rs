@@ -99,8 +99,10 @@ fn specs() -> Vec<Spec> {
                 (GoalKind::BeAt, "vent2"),
                 (GoalKind::BeAt, "surface"),
             ],
+            // No `position`: a walk stopped short (late-preemptive stop at ub - ts) counts as arrived, as
+            // the route graph has no place between two places to plan from (a mid-route place would be
+            // CONNECTED to nothing and end the mission).
             mapping: r#"
-                position = "AUV_AT"
                 location_type = "location"
                 goals.waypoint = { attribute = "AUV_AT" }
                 goals.sample = { attribute = "SAMPLED" }
@@ -138,8 +140,8 @@ fn specs() -> Vec<Spec> {
                 (GoalKind::BeAt, "clothing"),
                 (GoalKind::BeAt, "grocery"),
             ],
+            // No `position`, as for the AUV.
             mapping: r#"
-                position = "AT"
                 location_type = "place"
                 goals.waypoint = { attribute = "AT" }
             "#,
@@ -389,6 +391,9 @@ pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64, repair_steps: u64) -
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let uploads = arrivals(&p.model, &p.targets, &mut rng);
     let mut v = KinematicVehicle::new(ChaCha8Rng::seed_from_u64(seed ^ 0x5eed), p.times.clone());
+    if p.mapping.position.is_none() {
+        v = v.without_positions();
+    }
     for up in &uploads {
         v.goals_at(up.at_ms.max(0) as u64, vec![up.goal.clone()]);
     }
