@@ -152,3 +152,87 @@ fn unreadable_and_unknown_files_fail_cleanly() {
         "{stderr}"
     );
 }
+
+fn mavtempo(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .current_dir(root())
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run mavtempo: {e}"));
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The AUV config as it was shipped before the check: bindings named after no task of the AUV domain.
+fn broken_auv_config() -> PathBuf {
+    let text = std::fs::read_to_string(root().join("config/sitl-auv.toml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .replace("[actions.go]", "[actions.move]");
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_check_config");
+    std::fs::create_dir_all(&tmp).unwrap_or_else(|e| panic!("{e}"));
+    let path = tmp.join("auv.toml");
+    std::fs::write(&path, text).unwrap_or_else(|e| panic!("{e}"));
+    path
+}
+
+#[test]
+fn check_config_passes_the_shipped_auv_config_and_names_a_mismatch() {
+    let (ok, stdout, stderr) = mavtempo(&[
+        "check",
+        "--config",
+        "config/sitl-auv.toml",
+        "domains/auv/auv.ixt",
+        "domains/auv/problems/vents.ixt",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("config/sitl-auv.toml: ok against"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("from the problem"), "{stdout}");
+
+    let broken = broken_auv_config();
+    let b = broken.display().to_string();
+    let (ok, _, stderr) = mavtempo(&["check", "--config", &b, "domains/auv/auv.ixt"]);
+    assert!(!ok);
+    let text = std::fs::read_to_string(&broken).unwrap_or_default();
+    let line = text
+        .lines()
+        .position(|l| l == "[actions.move]")
+        .map_or(0, |i| i + 1);
+    assert!(
+        stderr.contains(&format!(
+            "{b}:{line}: actions.move: the domain has no task `move`"
+        )),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("actions.go: task `go` has no binding") && stderr.contains("auv.ixt:15"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("does not match domain `auv`: 2 error(s)"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn run_refuses_a_mismatched_config_before_planning_or_connecting() {
+    let broken = broken_auv_config();
+    let (ok, stdout, stderr) = mavtempo(&[
+        "run",
+        "--config",
+        &broken.display().to_string(),
+        "--link-timeout",
+        "1",
+        "domains/auv/auv.ixt",
+        "domains/auv/problems/vents.ixt",
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("does not match domain `auv`"), "{stderr}");
+    assert!(!stdout.contains("planning"), "{stdout}");
+    assert!(!stderr.contains("heartbeat"), "{stderr}");
+}

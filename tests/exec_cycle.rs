@@ -1,6 +1,9 @@
 //! The executive's cycle against MockVehicle with the manual clock (deterministic): launches, reports in
 //! bounds / early / late, late-preemptive stops, postponement, goal requests, capacity alteration.
 
+#[path = "common/mapping.rs"]
+mod mapping;
+
 use std::path::Path;
 use std::sync::Arc;
 
@@ -28,6 +31,12 @@ fn world(goal_loc: &str) -> PartialPlan {
     g.kind = GoalKind::External;
     p.goals = vec![g];
     PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan")
+}
+
+/// An executive over `plan` with the rover's mapping (config/demo-rover.toml).
+fn executive(plan: PartialPlan) -> Executive {
+    let mapping = mapping::rover(&plan);
+    Executive::new(plan, cfg()).with_mapping(mapping)
 }
 
 fn insert(plan: &mut PartialPlan, task: &str, args: &[&str]) -> ActionId {
@@ -141,7 +150,7 @@ fn launch_time(ex: &Executive, prefix: &str) -> Option<Time> {
 
 #[test]
 fn nominal_run_launches_in_order_and_achieves_the_goal() {
-    let mut ex = Executive::new(picture_plan(), cfg());
+    let mut ex = executive(picture_plan());
     let mut v = MockVehicle::new();
     v.script("move_ptu", Outcome::nominal(3_000));
     v.script(
@@ -166,7 +175,7 @@ fn nominal_run_launches_in_order_and_achieves_the_goal() {
 
 #[test]
 fn report_too_early_creates_a_new_end_and_the_goal_is_still_achieved() {
-    let mut ex = Executive::new(picture_plan(), cfg());
+    let mut ex = executive(picture_plan());
     let mut v = MockVehicle::new();
     v.script("move_ptu", Outcome::nominal(3_000));
     // take_picture lasts at least 5 s; the report comes after 2 s.
@@ -184,7 +193,7 @@ fn report_too_early_creates_a_new_end_and_the_goal_is_still_achieved() {
 
 #[test]
 fn missing_report_of_a_non_preemptive_action_times_out() {
-    let mut ex = Executive::new(picture_plan(), cfg());
+    let mut ex = executive(picture_plan());
     let mut v = MockVehicle::new();
     v.script("move_ptu", Outcome::nominal(3_000));
     v.script("take_picture", Outcome::nominal(60_000));
@@ -200,7 +209,7 @@ fn missing_report_of_a_non_preemptive_action_times_out() {
 
 #[test]
 fn over_consumption_reported_is_integrated_and_repair_requested() {
-    let mut ex = Executive::new(picture_plan(), cfg());
+    let mut ex = executive(picture_plan());
     let mut v = MockVehicle::new();
     v.script("move_ptu", Outcome::nominal(3_000));
     // The picture used 1.5 slots: below RscL_lb = 2.
@@ -223,7 +232,7 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
     let _ = m;
     let mut ex = {
         // No picture: only the move; its goal stays pending, the test looks at the stop.
-        Executive::new(plan, cfg())
+        executive(plan)
     };
     let mut v = MockVehicle::new();
     // Far slower than the model (obstacles): the move would last 100 s.
@@ -259,7 +268,7 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
 
 #[test]
 fn goal_requests_accepted_and_rejected_through_the_vehicle() {
-    let mut ex = Executive::new(picture_plan(), cfg());
+    let mut ex = executive(picture_plan());
     let mut v = MockVehicle::new();
     v.script("move_ptu", Outcome::nominal(3_000));
     v.script(
@@ -301,7 +310,7 @@ fn goal_requests_accepted_and_rejected_through_the_vehicle() {
 
 #[test]
 fn capacity_drop_during_a_running_picture_aborts() {
-    let mut ex = Executive::new(picture_plan(), cfg());
+    let mut ex = executive(picture_plan());
     let mut v = MockVehicle::new();
     v.script("move_ptu", Outcome::nominal(3_000));
     v.script("take_picture", Outcome::nominal(8_000));

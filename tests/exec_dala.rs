@@ -8,6 +8,9 @@
 //!     an over-production of STORAGE), and the PTU move that follows is launched 1 ms later (the next
 //!     cycle), never postponed.
 
+#[path = "common/mapping.rs"]
+mod mapping;
+
 use std::path::Path;
 use std::sync::Arc;
 
@@ -40,7 +43,9 @@ fn executive() -> Executive {
         repair_max_steps: Some(20),
         ..ExecConfig::default()
     };
-    Executive::new(search.into_plan(), cfg)
+    let plan = search.into_plan();
+    let mapping = mapping::rover(&plan);
+    Executive::new(plan, cfg).with_mapping(mapping)
 }
 
 /// Dala as the domain describes it: PTU turns in 3 s, pictures in 8 s of 0.9 slot (the storage level is

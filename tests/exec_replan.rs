@@ -1,5 +1,8 @@
 //! Complete replanning (seed 1 §3.6): P_ti extraction, T_end, goal rejection order.
 
+#[path = "common/mapping.rs"]
+mod mapping;
+
 use std::path::Path;
 use std::sync::Arc;
 
@@ -14,7 +17,8 @@ fn fig2() -> Executive {
     let (d, p) =
         load_problem_and_domain(Path::new("domains/rover/problems/fig2.ixt")).expect("fig2 loads");
     let plan = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
-    Executive::new(plan, ExecConfig::default())
+    let mapping = mapping::rover(&plan);
+    Executive::new(plan, ExecConfig::default()).with_mapping(mapping)
 }
 
 #[test]

@@ -5,6 +5,9 @@
 //! added by plan repair and achieved, one rejected by the acceptance test; e6 the battery drops while moving → a recharge enters the plan before the next
 //! move. Problem: tests/fixtures/exec/rover_two.ixt (Fig. 2's world, goals g1 and g2).
 
+#[path = "common/mapping.rs"]
+mod mapping;
+
 use std::path::Path;
 use std::sync::Arc;
 
@@ -36,7 +39,9 @@ fn executive() -> Executive {
         repair_max_steps: Some(500),
         ..ExecConfig::default()
     };
-    Executive::new(search.into_plan(), cfg)
+    let plan = search.into_plan();
+    let mapping = mapping::rover(&plan);
+    Executive::new(plan, cfg).with_mapping(mapping)
 }
 
 /// A rover that does what the domain says: moves at 0.45 m/s using 0.5 % of battery per metre (levels

@@ -1,5 +1,5 @@
-//! Every action binding of config/sitl-rover.toml, driven in memory (no sockets, manual clock) against a
-//! scripted autopilot that answers like ArduPilot Rover; each report kind is checked.
+//! Every action binding of tests/fixtures/vehicle/bindings.toml, driven in memory (no sockets, manual clock)
+//! against a scripted autopilot that answers like ArduPilot Rover; each report kind is checked.
 
 // ArduPilot asks for items with the legacy MISSION_REQUEST: the scripted autopilot does too.
 #![allow(deprecated)]
@@ -13,7 +13,10 @@ use mavtempo::vehicle::{
 };
 
 fn config() -> VehicleConfig {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/sitl-rover.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/vehicle/bindings.toml"
+    );
     VehicleConfig::load(std::path::Path::new(path)).expect("shipped config parses")
 }
 

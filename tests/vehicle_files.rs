@@ -184,9 +184,19 @@ fn shipped(name: &str) -> String {
         .expect("shipped config")
 }
 
+/// The test configuration with one binding of every kind.
+fn all_bindings() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/vehicle/bindings.toml"
+    ))
+    .expect("fixture")
+}
+
 #[test]
 fn shipped_configs_parse_and_px4_modes_follow_px4_numbering() {
     for name in [
+        "demo-rover.toml",
         "sitl-rover.toml",
         "ardupilot-rover.toml",
         "px4-rover.toml",
@@ -204,7 +214,7 @@ fn shipped_configs_parse_and_px4_modes_follow_px4_numbering() {
 
 #[test]
 fn malformed_configs_name_the_key() {
-    let base = shipped("sitl-rover.toml");
+    let base = all_bindings();
     let err = VehicleConfig::parse(
         &base.replace(
             "acceptance_radius_m = 3.0\n\n[actions.survey]",

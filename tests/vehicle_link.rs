@@ -25,7 +25,7 @@ const KEY_HEX: &str = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1
 fn config(extra_link: &str) -> VehicleConfig {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/config/sitl-rover.toml"
+        "/tests/fixtures/vehicle/bindings.toml"
     ))
     .expect("config");
     let text = text

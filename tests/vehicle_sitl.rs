@@ -14,10 +14,10 @@ use sitl::{Fault, SimConfig, SimHandle};
 fn config(address: &str) -> VehicleConfig {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/config/sitl-rover.toml"
+        "/tests/fixtures/vehicle/bindings.toml"
     ))
     .expect("config");
-    let mut cfg = VehicleConfig::parse(&text, "sitl-rover.toml").expect("parses");
+    let mut cfg = VehicleConfig::parse(&text, "bindings.toml").expect("parses");
     cfg.link.address = address.to_string();
     cfg
 }

@@ -62,12 +62,12 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
         lang::parse_problem("domains/rover/problems/dala.ixt", DALA, &domain)
             .map_err(|e| e.to_string())?,
     );
-    let plan = initial_plan(domain, problem.clone(), 200_000)?;
+    let plan = initial_plan(domain.clone(), problem.clone(), 200_000)?;
     let spec = SessionSpec::demo_rover(SCENARIO, "sitl/scenarios/dala.toml")?;
-    let mut session = SitlSession::start(&problem, spec)?;
+    let mut session = SitlSession::start(&domain, &problem, spec)?;
     let cfg = exec_config();
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
-    let mut ex = Executive::new(plan, cfg);
+    let mut ex = Executive::new(plan, cfg).with_mapping(session.mapping.clone());
     ex.level_tolerance = LEVEL_TOLERANCE;
     let opts = MissionOptions {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),

@@ -1,5 +1,7 @@
 //! `mavtempo check FILE...`: validates domain and problem files. A problem is checked against the domain of
 //! the same name given on the command line, else the one its `domain NAME;` header names beside it.
+//! `mavtempo check --config FILE DOMAIN [PROBLEM]`: checks a vehicle configuration against its domain (and
+//! problem), printing every mismatch ([`crate::vehicle::config_check`]).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -8,16 +10,31 @@ use std::process::ExitCode;
 use clap::Args;
 
 use crate::lang::{self, Diagnostics, FileKind};
-use crate::model::Domain;
+use crate::model::{Domain, Problem};
+use crate::vehicle::config::VehicleConfig;
+use crate::vehicle::config_check::{self, CheckedConfig, HomeSource};
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
+    /// A vehicle configuration (config/*.toml) to check against the domain and, if given, the problem:
+    /// then FILES are `DOMAIN [PROBLEM]`.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
     /// Domain and problem files (e.g. `domains/*/*.ixt domains/*/problems/*`).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
 }
 
 pub fn run(args: CheckArgs) -> ExitCode {
+    if let Some(config) = &args.config {
+        return match check_config(config, &args.files) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("{e}");
+                ExitCode::FAILURE
+            }
+        };
+    }
     let mut failed = false;
     let mut kinds = Vec::new();
     for path in &args.files {
@@ -110,4 +127,75 @@ fn header(path: &Path) -> Result<FileKind, Diagnostics> {
     let bytes = std::fs::read(path)
         .map_err(|e| Diagnostics::file_error(&name, format!("cannot read: {e}")))?;
     lang::peek_header(&name, lang::decode(&name, &bytes)?)
+}
+
+/// `check --config FILE DOMAIN [PROBLEM]`.
+fn check_config(config: &Path, files: &[PathBuf]) -> Result<(), String> {
+    let (domain_path, problem_path) = match files {
+        [d] => (d, None),
+        [d, p] => (d, Some(p)),
+        _ => {
+            return Err(format!(
+                "check --config {}: give the domain and optionally the problem, got {} files",
+                config.display(),
+                files.len()
+            ))
+        }
+    };
+    let domain = lang::load_domain(domain_path).map_err(|e| e.to_string())?;
+    let problem = match problem_path {
+        Some(p) => Some(lang::load_problem(p, &domain).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    let (cfg, _) = super::run::load_config(config)?;
+    let checked = checked_config(&cfg, &domain, problem.as_ref())?;
+    let against = match problem_path {
+        Some(p) => format!("{} and {}", domain_path.display(), p.display()),
+        None => domain_path.display().to_string(),
+    };
+    println!(
+        "{}: ok against {against} ({} bindings; home {:.6}, {:.6} from the {})",
+        config.display(),
+        cfg.actions.len(),
+        checked.home.lat,
+        checked.home.lon,
+        match checked.home_from {
+            HomeSource::Problem => "problem",
+            HomeSource::Config => "config",
+        }
+    );
+    Ok(())
+}
+
+/// The configuration checked against the domain (and problem): warnings printed, every mismatch in the
+/// error. What `check --config`, `run` and `demo` share.
+pub fn checked_config(
+    cfg: &VehicleConfig,
+    domain: &Domain,
+    problem: Option<&Problem>,
+) -> Result<CheckedConfig, String> {
+    match config_check::check(cfg, domain, problem) {
+        Ok(c) => {
+            for w in &c.warnings {
+                eprintln!("{w}");
+            }
+            Ok(c)
+        }
+        Err(issues) => {
+            let origin = cfg
+                .source
+                .as_ref()
+                .map_or("the configuration", |s| s.origin.as_str());
+            let lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
+            let errors = issues
+                .iter()
+                .filter(|i| i.severity == config_check::Severity::Error)
+                .count();
+            Err(format!(
+                "{}\n{origin} does not match domain `{}`: {errors} error(s)",
+                lines.join("\n"),
+                domain.name
+            ))
+        }
+    }
 }

@@ -160,15 +160,17 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
         problem.name,
         problem.goals.len()
     );
-    let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
+    let plan = initial_plan(domain.clone(), problem.clone(), args.max_steps)?;
     println!("initial plan: {} actions", plan.num_actions());
-    let mut session = SitlSession::start(&problem, session_spec(args, &problem)?)?;
+    let mut session = SitlSession::start(&domain, &problem, session_spec(args, &problem)?)?;
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
     println!(
         "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         session.sim.client_address()
     );
-    let mut ex = Executive::new(plan, exec_config()).with_policy(args.dispatch.dispatch);
+    let mut ex = Executive::new(plan, exec_config())
+        .with_policy(args.dispatch.dispatch)
+        .with_mapping(session.mapping.clone());
     ex.level_tolerance = LEVEL_TOLERANCE;
     let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
     let mut printer = TracePrinter::default();

@@ -70,7 +70,10 @@ pub fn main() -> ExitCode {
 
 fn init_tracing() {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
-        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn"));
+        // The config check's warnings are printed by the subcommands themselves (check, run, demo).
+        .unwrap_or_else(|_| {
+            tracing_subscriber::EnvFilter::new("warn,mavtempo::vehicle::config_check=error")
+        });
     // A second init (tests calling main twice) is harmless: ignore the error.
     let _ = tracing_subscriber::fmt()
         .with_env_filter(filter)

@@ -18,6 +18,7 @@ use crate::exec::trace::CycleRecord;
 use crate::lang;
 use crate::model::Problem;
 use crate::vehicle::config::VehicleConfig;
+use crate::vehicle::geo::Home;
 use crate::vehicle::goal_files;
 use crate::vehicle::goals::{items_to_goals, KnownLocations};
 use crate::vehicle::link::{Decider, LinkOptions};
@@ -85,23 +86,25 @@ pub fn run(args: RunArgs) -> ExitCode {
     }
 }
 
-/// The vehicle configuration and the optional `[exec]` table of the same file.
+/// The vehicle configuration and the optional `[exec]` table of the same file (parsed once, so that errors
+/// keep their lines).
 pub fn load_config(path: &Path) -> Result<(VehicleConfig, ExecConfig), String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let mut table: toml::Table =
-        toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let exec = match table.remove("exec") {
-        Some(v) => v
-            .try_into::<ExecConfig>()
-            .map_err(|e| format!("{}: [exec]: {e}", path.display()))?,
+    let mut vehicle = VehicleConfig::load(path).map_err(|e| e.to_string())?;
+    let exec = match vehicle.exec.take() {
+        Some(table) => {
+            let at = vehicle
+                .source
+                .as_ref()
+                .and_then(|s| s.line_of("exec"))
+                .map_or(String::new(), |l| format!(":{l}"));
+            toml::Value::Table(table)
+                .try_into::<ExecConfig>()
+                .map_err(|e| format!("{}{at}: [exec]: {e}", path.display()))?
+        }
         None => ExecConfig::default(),
     };
     exec.validate()
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    let rest = toml::to_string(&table).map_err(|e| format!("{}: {e}", path.display()))?;
-    let vehicle =
-        VehicleConfig::parse(&rest, &path.display().to_string()).map_err(|e| e.to_string())?;
     Ok((vehicle, exec))
 }
 
@@ -111,9 +114,9 @@ fn load_problem(args: &RunArgs) -> Result<(Arc<crate::model::Domain>, Arc<Proble
     Ok((domain, Arc::new(problem)))
 }
 
-/// The problem's located objects, so that uploaded positions name them.
-fn known_locations(cfg: &VehicleConfig, problem: &Problem) -> KnownLocations {
-    let mut known = KnownLocations::new(cfg.home);
+/// The problem's located objects, so that uploaded positions name them; `home` is the effective home.
+pub fn known_locations(home: Home, problem: &Problem) -> KnownLocations {
+    let mut known = KnownLocations::new(home);
     for o in &problem.objects {
         if let Some((e, n, u)) = o.local(problem.home.as_ref()) {
             known.objects.push((o.name.clone(), Enu::new(e, n, u)));
@@ -138,7 +141,9 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
     let (cfg, mut exec_cfg) = load_config(&args.config)?;
     exec_cfg.dispatch = args.dispatch.unwrap_or(exec_cfg.dispatch);
     let (domain, problem) = load_problem(args)?;
-    let known = known_locations(&cfg, &problem);
+    // Before anything moves: a configuration that does not fit the domain is refused here.
+    let checked = super::check::checked_config(&cfg, &domain, Some(&problem))?;
+    let known = known_locations(checked.home, &problem);
     let first = problem.goals.len() as u32 + 1;
     let goals = match &args.goals {
         Some(p) => initial_goals(p, &known, first)?,
@@ -161,7 +166,8 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
         },
         first_goal_number: first + goals.len() as u32,
     };
-    let mut vehicle = MavlinkVehicle::connect_blocking(cfg, opts).map_err(|e| e.to_string())?;
+    let mut vehicle =
+        MavlinkVehicle::connect_blocking(checked.vehicle, opts).map_err(|e| e.to_string())?;
     let deadline = Instant::now() + Duration::from_secs(args.link_timeout);
     while vehicle.target().is_none() || vehicle.now_ms() == 0 {
         if Instant::now() >= deadline {
@@ -174,7 +180,7 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
     }
     let origin = vehicle.now_ms();
     println!("vehicle up; mission starts at vehicle time {origin} ms");
-    let mut ex = Executive::new(plan, exec_cfg);
+    let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
     let mut printer = TracePrinter::default();
     let quiet = args.quiet;
     let mut observe = |_: &Executive, c: &CycleRecord| {

@@ -6,12 +6,12 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use crate::exec::pacer::SitlStepPacer;
-use crate::model::Problem;
+use crate::exec::DomainMapping;
+use crate::model::{Domain, Problem};
 use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::geo::Home;
-use crate::vehicle::goals::KnownLocations;
 use crate::vehicle::link::{Decider, LinkOptions};
-use crate::vehicle::{Enu, MavlinkVehicle, Vehicle};
+use crate::vehicle::{MavlinkVehicle, Vehicle};
 
 const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
@@ -24,8 +24,10 @@ pub const LEVEL_TOLERANCE: f64 = 2.0;
 pub struct SitlSession {
     pub vehicle: MavlinkVehicle,
     pub sim: Arc<sitl::SimHandle>,
-    /// Home of the mission (the problem's, else the configuration's).
+    /// The effective home (the problem's, else the configuration's).
     pub home: Home,
+    /// The configuration's `[mapping]`, resolved against the domain and problem.
+    pub mapping: DomainMapping,
     /// Where ground stations connect (tcp).
     pub gcs: String,
     /// The vehicle time (ms) of the plan's origin.
@@ -61,30 +63,18 @@ impl SessionSpec {
     }
 }
 
-/// The home local coordinates are relative to: the problem's when it has one (its locations are given
-/// relative to it), else the configuration's.
-pub fn effective_home(problem: &Problem, cfg: &VehicleConfig) -> Home {
-    match problem.home {
-        Some(h) => Home {
-            lat: h.lat,
-            lon: h.lon,
-            alt: h.alt,
-        },
-        None => cfg.home,
-    }
-}
-
 impl SitlSession {
-    /// Spawns the SITL of `spec` at the problem's home and links the vehicle to it over real sockets.
-    pub fn start(problem: &Problem, spec: SessionSpec) -> Result<SitlSession, String> {
+    /// Checks `spec`'s configuration against `domain` and `problem` (the home is the problem's when it
+    /// has one), spawns the SITL there, paced or stepped, and links the vehicle to it over real sockets.
+    pub fn start(domain: &Domain, problem: &Problem, spec: SessionSpec) -> Result<SitlSession, String> {
+        let checked = super::check::checked_config(&spec.config, domain, Some(problem))?;
         let rt = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
             .enable_all()
             .build()
             .map_err(|e| format!("tokio runtime: {e}"))?;
-        let mut cfg = spec.config;
-        let home = effective_home(problem, &cfg);
-        cfg.home = home;
+        let home = checked.home;
+        let mut cfg = checked.vehicle;
         // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock
         // timeouts must not take a long planning for a lost link.
         cfg.link.heartbeat_timeout_ms = cfg.link.heartbeat_timeout_ms.max(60_000);
@@ -108,12 +98,7 @@ impl SitlSession {
             rt.block_on(sitl::spawn(sim_cfg))
                 .map_err(|e| e.to_string())?,
         );
-        let mut known = KnownLocations::new(home);
-        for o in &problem.objects {
-            if let Some((e, n, u)) = o.local(problem.home.as_ref()) {
-                known.objects.push((o.name.clone(), Enu::new(e, n, u)));
-            }
-        }
+        let known = super::run::known_locations(home, problem);
         let opts = LinkOptions {
             address: Some(sim.client_address().to_string()),
             gcs: Some("tcpin:127.0.0.1:0".into()),
@@ -142,6 +127,7 @@ impl SitlSession {
             vehicle,
             sim,
             home,
+            mapping: checked.mapping,
             gcs,
             origin_ms,
             rt,

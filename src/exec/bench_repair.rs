@@ -13,10 +13,13 @@ use serde::Serialize;
 use super::config::ExecConfig;
 use super::cycle::CycleOutcome;
 use super::executive::Executive;
+use super::mapping::DomainMapping;
 use super::trace::TraceEvent;
 use crate::lang::{parse_domain, parse_problem};
 use crate::plan::PartialPlan;
 use crate::planner::{Budget, Search, StepOutcome};
+use crate::vehicle::config::VehicleConfig;
+use crate::vehicle::config_check::resolve_mapping;
 use crate::vehicle::mock::{Outcome, Scripted};
 use crate::vehicle::{
     Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ResourceLevel, StateValue,
@@ -24,6 +27,8 @@ use crate::vehicle::{
 
 const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
 const PROBLEM: &str = include_str!("../../tests/fixtures/exec/rover_two.ixt");
+/// The rover's `[mapping]` (position, picture and be-at goals) comes from the demo's configuration.
+const CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
 /// Repair against replanning on one event kind.
 #[derive(Clone, Debug, Serialize)]
@@ -139,8 +144,13 @@ fn cfg() -> ExecConfig {
 }
 
 /// Runs the mission until the event, then repairs (`replan == false`) or replans; returns (ms, steps, ok).
-fn measure(plan: &PartialPlan, event: &str, replan: bool) -> (Option<f64>, u64, bool) {
-    let mut ex = Executive::new(plan.clone(), cfg());
+fn measure(
+    plan: &PartialPlan,
+    mapping: &DomainMapping,
+    event: &str,
+    replan: bool,
+) -> (Option<f64>, u64, bool) {
+    let mut ex = Executive::new(plan.clone(), cfg()).with_mapping(mapping.clone());
     let mut v = vehicle(event);
     let mut t = 0;
     let mut seen = false;
@@ -187,11 +197,22 @@ fn measure(plan: &PartialPlan, event: &str, replan: bool) -> (Option<f64>, u64, 
 /// Repair and replanning figures on each event kind.
 pub fn run() -> Result<Vec<RepairFigures>, String> {
     let plan = plan()?;
+    let cfg = VehicleConfig::parse(CONFIG, "config/demo-rover.toml").map_err(|e| e.to_string())?;
+    let mapping = resolve_mapping(
+        &cfg.mapping,
+        &plan.domain,
+        Some(&plan.problem),
+        cfg.source.as_ref(),
+    )
+    .map_err(|issues| {
+        let lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
+        lines.join("\n")
+    })?;
     Ok(EVENTS
         .iter()
         .map(|&event| {
-            let (repair_ms, repair_steps, _) = measure(&plan, event, false);
-            let (replan_ms, _, replan_found) = measure(&plan, event, true);
+            let (repair_ms, repair_steps, _) = measure(&plan, &mapping, event, false);
+            let (replan_ms, _, replan_found) = measure(&plan, &mapping, event, true);
             RepairFigures {
                 event: event.into(),
                 repair_ms,

@@ -81,6 +81,9 @@ pub struct Executive {
     pub level_tolerance: f64,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/exec/failures.rs).
     pub failures: FailureMemory,
+    /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
+    /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
+    pub mapping: super::mapping::DomainMapping,
 }
 
 impl Executive {
@@ -131,7 +134,15 @@ impl Executive {
             changed: false,
             level_tolerance: super::resource_report::EPS,
             failures,
+            mapping: super::mapping::DomainMapping::default(),
         }
+    }
+
+    /// The vehicle configuration's `[mapping]`, resolved against this plan's domain
+    /// ([`crate::vehicle::config_check::check`]).
+    pub fn with_mapping(mut self, mapping: super::mapping::DomainMapping) -> Self {
+        self.mapping = mapping;
+        self
     }
 
     pub fn with_policy(mut self, kind: crate::dispatch::PolicyKind) -> Self {

@@ -18,6 +18,7 @@
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
 //! | §3.3 message routing | [`sense`] |
 //! | §3.3 state values from non-nominal reports, new locations | [`state_update`] |
+//! | the domain's names given a vehicle meaning (position, locations, goals) | [`mapping`] |
 //! | §3.2, §3.4 plan repair across cycles | [`repair`] |
 //! | §3.5 act: ExecTPs, launch / stop, postponement, timeouts | [`act`] |
 //! | §3.6 complete replanning: P_ti, T_end, slack d, goal rejection | [`replan`] |
@@ -39,6 +40,7 @@ pub mod executive;
 pub mod failures;
 pub mod goal_request;
 pub mod instantiate;
+pub mod mapping;
 pub mod mission;
 pub mod p_t;
 pub mod pacer;
@@ -52,3 +54,5 @@ pub mod settle;
 pub mod state_update;
 pub mod t_exec;
 pub mod trace;
+
+pub use mapping::DomainMapping;

@@ -5,6 +5,7 @@ use super::capacity::{alter, CapacityOutcome};
 use super::executable::{flawed_actions, plan_executable};
 use super::executive::{Executive, Fate};
 use super::goal_request::request;
+use super::mapping::GoalShape;
 use super::p_t::{classify, remove_past};
 use super::report_timing::{integrate, timing};
 use super::resource_bounds::{fold_removed, level_bounds};
@@ -195,38 +196,45 @@ impl Executive {
         }
     }
 
-    /// The domain goal for a request: `picture_of(L)` → `PICTURE(L) = true`, `at(L)` → `AT_ROBOT() = L`
-    /// (the rover and AUV domains' attributes), a new location object when the request names one.
+    /// The object a goal location names when the intake recognised it (`new` false) and it is of the location
+    /// type.
+    fn known_location(&self, l: &crate::vehicle::GoalLocation) -> Option<crate::model::ObjectId> {
+        if l.new {
+            return None;
+        }
+        let o = self.plan.problem.object_id(&l.name)?;
+        let ty = self.plan.problem.object(o)?.ty;
+        (Some(ty) == self.mapping.location_type).then_some(o)
+    }
+
+    /// The domain goal for a request, as the config's `[mapping.goals]` says: `attr(L) = true` or
+    /// `attr() = L`; a new location object when the request names a place no object is at.
     fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, String> {
-        let d = self.plan.domain.clone();
-        let loc = match &g.location {
-            Some(l) => Some(super::state_update::location_object(self, &l.name, l.at)),
-            None => self
-                .plan
-                .problem
-                .object_id("home")
-                .or_else(|| self.plan.problem.object_id("base")),
+        let what = g.kind.key();
+        let target = *self
+            .mapping
+            .goals
+            .get(&g.kind)
+            .ok_or_else(|| format!("no goal mapping for {what} items in the config"))?;
+        let loc = match (&g.location, g.kind) {
+            (_, crate::vehicle::GoalKind::ReturnHome) => self
+                .mapping
+                .home_object
+                .ok_or("no home object in the config's [mapping] for return-home items")?,
+            // A place the intake already named (a known object of the location type) is that object.
+            (Some(l), _) => match self.known_location(l) {
+                Some(o) => o,
+                None => super::state_update::location_object(self, &l.name, l.at)?,
+            },
+            (None, _) => return Err(format!("{what} goal without a location")),
         };
-        let find = |names: &[&str]| names.iter().find_map(|n| d.attr_id(n));
-        let (attr, args, value) = match g.kind {
-            crate::vehicle::GoalKind::PictureOf => {
-                let attr =
-                    find(&["PICTURE", "picture_of"]).ok_or("no picture attribute in the domain")?;
-                let l = loc.ok_or("picture goal without a location")?;
-                (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
-            }
-            crate::vehicle::GoalKind::SampleAt => {
-                let attr =
-                    find(&["SAMPLED", "sampled"]).ok_or("no sample attribute in the domain")?;
-                let l = loc.ok_or("sample goal without a location")?;
-                (attr, vec![l], Value::Obj(crate::model::Domain::TRUE))
-            }
-            crate::vehicle::GoalKind::BeAt | crate::vehicle::GoalKind::ReturnHome => {
-                let attr = find(&["AT_ROBOT", "AUV_AT", "AT", "at"])
-                    .ok_or("no position attribute in the domain")?;
-                let l = loc.ok_or("position goal without a location")?;
-                (attr, vec![], Value::Obj(l))
-            }
+        let (attr, args, value) = match target.shape {
+            GoalShape::LocationIsTrue => (
+                target.attr,
+                vec![loc],
+                Value::Obj(crate::model::Domain::TRUE),
+            ),
+            GoalShape::ValueIsLocation => (target.attr, vec![], Value::Obj(loc)),
         };
         let ms = |s: f64| (s * 1000.0).round() as Time;
         let window_hi = if g.start_window_s.1.is_finite() {

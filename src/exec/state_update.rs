@@ -20,11 +20,16 @@ use crate::vehicle::{ActionReport, Enu, StateValue};
 /// Distance under which a reported position names a known location, m.
 pub const SAME_PLACE_M: f64 = 2.0;
 
-/// The location object at `at` (within [`SAME_PLACE_M`]), or a new one named `name`.
-pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> ObjectId {
+/// The location object at `at` (within [`SAME_PLACE_M`]), or a new one named `name` of the mapping's
+/// location type; without a location type there is no object to name a new place.
+pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> Result<ObjectId, String> {
     let home = ex.plan.problem.home;
+    let ty = ex.mapping.location_type;
     let mut best: Option<(f64, ObjectId)> = None;
     for (i, o) in ex.plan.problem.objects.iter().enumerate() {
+        if ty.is_some_and(|t| t != o.ty) {
+            continue;
+        }
         if let Some((e, n, _)) = o.local(home.as_ref()) {
             let d = (e - at.east).hypot(n - at.north);
             if d <= SAME_PLACE_M && best.is_none_or(|(bd, _)| d < bd) {
@@ -33,10 +38,13 @@ pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> ObjectId {
         }
     }
     if let Some((_, o)) = best {
-        return o;
+        return Ok(o);
     }
-    let Some(ty) = ex.plan.domain.type_id("location") else {
-        return ObjectId::from_index(0);
+    let Some(ty) = ty else {
+        return Err(format!(
+            "no location type in the config's [mapping] for a new location at ({:.1}, {:.1})",
+            at.east, at.north
+        ));
     };
     let mut problem = (*ex.plan.problem).clone();
     let mut unique = name.to_string();
@@ -58,31 +66,39 @@ pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> ObjectId {
         },
     );
     ex.plan.set_problem(Arc::new(problem));
-    id
+    Ok(id)
 }
 
-/// The attribute instance and value a report's state variable stands for.
+/// The attribute instance and value a report's state variable stands for, or why it has none.
 fn reported_value(
     ex: &mut Executive,
     var: &str,
     v: &StateValue,
-    a: ActionId,
-) -> Option<(AttrId, Vec<ObjectId>, Value)> {
-    let d = ex.plan.domain.clone();
+) -> Result<(AttrId, Vec<ObjectId>, Value), String> {
     match v {
         StateValue::Position(p) => {
-            let attr = ["AT_ROBOT", "at"].iter().find_map(|n| d.attr_id(n))?;
+            let attr = ex
+                .mapping
+                .position
+                .ok_or("no position attribute in the config's [mapping]")?;
             let name = format!("L{}", ex.plan.problem.objects.len());
-            let o = location_object(ex, &name, *p);
-            let _ = a;
-            Some((attr, vec![], Value::Obj(o)))
+            let o = location_object(ex, &name, *p)?;
+            Ok((attr, vec![], Value::Obj(o)))
         }
         StateValue::Symbol(s) => {
-            let attr = d.attr_id(var)?;
-            let o = ex.plan.problem.object_id(s).or_else(|| d.object_id(s))?;
-            Some((attr, vec![], Value::Obj(o)))
+            let d = &ex.plan.domain;
+            let attr = d
+                .attr_id(var)
+                .ok_or_else(|| format!("no attribute `{var}` in the domain"))?;
+            let o = ex
+                .plan
+                .problem
+                .object_id(s)
+                .or_else(|| d.object_id(s))
+                .ok_or_else(|| format!("no object `{s}` in the problem"))?;
+            Ok((attr, vec![], Value::Obj(o)))
         }
-        StateValue::Number(_) => None,
+        StateValue::Number(_) => Err("numbers are not state values of the domain".into()),
     }
 }
 
@@ -139,7 +155,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     let reported: Vec<(AttrId, Vec<ObjectId>, Value)> = r
         .state
         .iter()
-        .filter_map(|(var, v)| reported_value(ex, var, v, a))
+        .filter_map(|(var, v)| reported_value(ex, var, v).ok())
         .collect();
     // The action's end effects: a reported value replaces the expected one (links established by an
     // effect the report contradicts are broken); a failed action's unreported end effects did not happen;
@@ -181,9 +197,12 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
         }
     }
     for (var, v) in &r.state {
-        let Some((attr, args, value)) = reported_value(ex, var, v, a) else {
-            tracing::warn!(%var, "reported state variable not in the domain, ignored");
-            continue;
+        let (attr, args, value) = match reported_value(ex, var, v) {
+            Ok(x) => x,
+            Err(reason) => {
+                tracing::warn!(%var, "reported state value ignored: {reason}");
+                continue;
+            }
         };
         let threats = threatened(ex, attr, &args, value, t, a);
         if !threats.is_empty() {

@@ -113,6 +113,16 @@ impl<'a> Source<'a> {
         Source { file, text }
     }
 
+    /// The 1-based line of byte offset `pos` (clamped to the text).
+    pub fn line(&self, pos: usize) -> usize {
+        let pos = pos.min(self.text.len());
+        self.text.as_bytes()[..pos]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1
+    }
+
     /// A diagnostic at byte offset `pos` (clamped to the text and to a char boundary).
     pub fn error_at(&self, pos: usize, message: impl Into<String>) -> Diagnostic {
         let mut pos = pos.min(self.text.len());

@@ -135,6 +135,7 @@ pub fn geo(
 
 pub fn resolve(ctx: &mut Ctx<'_>, ast: &DomainAst) -> Domain {
     let mut d = Domain::new(ast.name.name.clone());
+    d.source = Some(ctx.src.file.to_string());
     let mut types = Names::default();
     let mut objects = Names::default();
     types.0.insert("bool".into(), Span::default());
@@ -153,6 +154,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, ast: &DomainAst) -> Domain {
                 TypeKind::Object
             };
             let t = d.add_type(&name.name, kind);
+            d.types[t.index()].line = Some(ctx.src.line(name.span.start));
             for m in members.iter().flatten() {
                 if objects.declare(ctx, m, "value") {
                     d.add_enum_member(t, &m.name);
@@ -218,6 +220,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, ast: &DomainAst) -> Domain {
                         name: name.name.clone(),
                         params: ps,
                         value_type: vt,
+                        line: Some(ctx.src.line(name.span.start)),
                     });
                 }
             }
@@ -263,6 +266,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, ast: &DomainAst) -> Domain {
                     name: name.name.clone(),
                     kind: kind_v,
                     capacity: cap,
+                    line: Some(ctx.src.line(name.span.start)),
                 });
             }
             _ => {}

@@ -262,6 +262,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &TaskAst) -> Option<Task
         bindings: Vec::new(),
         numeric: Vec::new(),
         preemption: Preemption::NonPreemptive,
+        line: Some(ctx.src.line(ast.name.span.start)),
     };
     // Implicit: start <= t <= end for every timepoint (kept explicit for the planner).
     let mut stn = TaskStn::new(s.tps.len());

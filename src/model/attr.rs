@@ -20,6 +20,8 @@ pub struct LogicalAttr {
     pub params: Vec<(String, TypeId)>,
     /// The type of its values (`+oo` is always allowed besides).
     pub value_type: TypeId,
+    /// Where it is declared in its domain file (1-based), for messages about it; `None` when built in code.
+    pub line: Option<usize>,
 }
 
 impl LogicalAttr {
@@ -46,4 +48,6 @@ pub struct ResourceAttr {
     pub kind: ResourceKind,
     /// Default capacity (1 for unary); a problem may override it or give a profile over time.
     pub capacity: f64,
+    /// Where it is declared in its domain file (1-based); `None` when built in code.
+    pub line: Option<usize>,
 }

@@ -13,6 +13,9 @@ use super::{
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Domain {
     pub name: String,
+    /// The file it was read from, as given to the loader (`domains/auv/auv.ixt`), so that messages about
+    /// its declarations can say `file:line`; `None` when built in code.
+    pub source: Option<String>,
     /// `types[0]` is the builtin `bool`.
     pub types: Vec<Type>,
     /// Domain-level constants: `false`, `true` (ids 0 and 1), enumeration members, then `constant`s.
@@ -45,6 +48,7 @@ impl Domain {
     pub fn new(name: impl Into<String>) -> Self {
         let mut d = Domain {
             name: name.into(),
+            source: None,
             types: Vec::new(),
             objects: Vec::new(),
             attrs: Vec::new(),
@@ -69,6 +73,7 @@ impl Domain {
             name: name.to_string(),
             kind,
             members: Vec::new(),
+            line: None,
         });
         self.type_index.insert(name.to_string(), id);
         id
@@ -162,6 +167,11 @@ impl Domain {
     /// The task `id`.
     pub fn task(&self, id: TaskId) -> &Task {
         &self.tasks[id.index()]
+    }
+
+    /// `file:line` of a declaration at `line` of this domain's file, when both are known.
+    pub fn location(&self, line: Option<usize>) -> Option<String> {
+        Some(format!("{}:{}", self.source.as_deref()?, line?))
     }
 
     /// Tasks with a primary event on `attr` (candidate establishers for an open condition on it).

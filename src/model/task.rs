@@ -165,6 +165,8 @@ pub struct Task {
     pub bindings: Vec<Binding>,
     pub numeric: Vec<NumConstraint>,
     pub preemption: Preemption,
+    /// Where it is declared in its domain file (1-based), for messages about it; `None` when built in code.
+    pub line: Option<usize>,
 }
 
 impl Task {

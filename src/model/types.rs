@@ -21,6 +21,8 @@ pub struct Type {
     pub kind: TypeKind,
     /// For enumerations: the constants in declaration order (for object types, see the problem's table).
     pub members: Vec<ObjectId>,
+    /// Where it is declared in its domain file (1-based); `None` for `bool` and types built in code.
+    pub line: Option<usize>,
 }
 
 /// A constant: an enumeration member or a problem object.

@@ -213,8 +213,9 @@ impl Run {
                 until_percent,
                 level_arg,
             } => {
-                run.target_level = start
-                    .arg(level_arg)
+                run.target_level = level_arg
+                    .as_deref()
+                    .and_then(|n| start.arg(n))
                     .and_then(|a| a.as_number())
                     .unwrap_or(*until_percent);
                 run.expect_mode = Some(ctx.cfg.modes.hold.custom_mode());

@@ -39,7 +39,7 @@ pub enum BenchError {
     Protocol(String),
 }
 
-const BENCH_CONFIG: &str = include_str!("../../config/sitl-rover.toml");
+const BENCH_CONFIG: &str = include_str!("../../tests/fixtures/vehicle/bindings.toml");
 
 pub fn run_link_bench(upload_runs: usize, telemetry_msgs: u64) -> Result<LinkBench, BenchError> {
     let rt = tokio::runtime::Builder::new_multi_thread()
@@ -161,7 +161,7 @@ fn telemetry_stream(n: u64) -> Vec<u8> {
 }
 
 async fn bench_telemetry(n: u64) -> Result<f64, BenchError> {
-    let mut cfg = VehicleConfig::parse(BENCH_CONFIG, "config/sitl-rover.toml")?;
+    let mut cfg = VehicleConfig::parse(BENCH_CONFIG, "tests/fixtures/vehicle/bindings.toml")?;
     cfg.link.address = "tcpin:127.0.0.1:0".into();
     let vehicle = MavlinkVehicle::connect(cfg, LinkOptions::default()).await?;
     let addr = vehicle

@@ -1,6 +1,8 @@
 //! Vehicle configuration (`config/*.toml`): link, identity, timeouts, flight modes and, for each domain task,
-//! its action binding — how the task is realised in MAVLink and how its end is recognised.
-//! Typed serde with unknown keys rejected; errors name the file, the key and the line.
+//! its action binding — how the task is realised in MAVLink and how its end is recognised — and the
+//! `[mapping]` of the domain's names the executive needs (the position attribute, the location type, what an
+//! uploaded goal item becomes). Typed serde with unknown keys rejected; errors name the file, the key and the
+//! line. Whether the names match a domain is [`super::config_check`]'s business.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -8,6 +10,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::geo::Home;
+use super::types::GoalKind;
 
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
@@ -36,9 +39,60 @@ pub struct VehicleConfig {
     pub modes: Modes,
     #[serde(default)]
     pub resources: ResourceNames,
+    #[serde(default)]
+    pub mapping: Mapping,
     /// Task name of the domain → binding.
     #[serde(default)]
     pub actions: BTreeMap<String, Binding>,
+    /// The executive's `[exec]` table, kept raw: the executive reads it (`crate::exec::config::ExecConfig`),
+    /// it is allowed here so that one file holds both and is parsed once (errors keep their lines).
+    #[serde(default)]
+    pub exec: Option<toml::Table>,
+    /// Where the configuration was read from (not a key of the file): for `file:line` in messages.
+    #[serde(skip)]
+    pub source: Option<ConfigSource>,
+}
+
+/// The text a configuration was parsed from and its name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigSource {
+    /// The file name (or any name given to [`VehicleConfig::parse`]).
+    pub origin: String,
+    pub text: String,
+}
+
+impl ConfigSource {
+    /// The 1-based line where the key path `key` (`actions.survey.area`) is written; when it is not written
+    /// (a default, a missing binding), the line of the closest written table or key above it, if any.
+    pub fn line_of(&self, key: &str) -> Option<usize> {
+        use toml_edit::{Item, Value};
+        let doc = toml_edit::ImDocument::parse(self.text.as_str()).ok()?;
+        let mut best = None;
+        let mut item: Option<&Item> = None;
+        for seg in key.split('.') {
+            let found = match item {
+                None => doc.as_table().get_key_value(seg),
+                Some(Item::Table(t)) => t.get_key_value(seg),
+                Some(Item::Value(Value::InlineTable(t))) => t.get_key_value(seg),
+                Some(_) => None,
+            };
+            let Some((k, v)) = found else { break };
+            // An implicit table (`actions` of `[actions.move]`) is written nowhere of its own.
+            let implicit = matches!(v, Item::Table(t) if t.is_implicit());
+            if let (false, Some(span)) = (implicit, k.span().or_else(|| v.span())) {
+                best = Some(span.start);
+            }
+            item = Some(v);
+        }
+        let pos = best?.min(self.text.len());
+        Some(
+            self.text.as_bytes()[..pos]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1,
+        )
+    }
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -133,30 +187,42 @@ pub struct Modes {
     pub manual: Option<Mode>,
 }
 
-/// Names of the resources as the domain calls them.
-#[derive(Debug, Clone, Deserialize)]
+/// The domain's reservoirs the vehicle's battery (percent) and storage levels are reported as; a level whose
+/// resource is not named is not reported.
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ResourceNames {
-    #[serde(default = "d_battery")]
-    pub battery: String,
-    #[serde(default = "d_storage")]
-    pub storage: String,
+    #[serde(default)]
+    pub battery: Option<String>,
+    #[serde(default)]
+    pub storage: Option<String>,
 }
 
-impl Default for ResourceNames {
-    fn default() -> Self {
-        Self {
-            battery: d_battery(),
-            storage: d_storage(),
-        }
-    }
+/// `[mapping]`: which of the domain's names the executive gives a vehicle meaning to.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mapping {
+    /// The attribute a reported position sets: no parameters, valued in `location_type`.
+    #[serde(default)]
+    pub position: Option<String>,
+    /// The type of located objects: a position that names no known object becomes a new object of it.
+    #[serde(default)]
+    pub location_type: Option<String>,
+    /// The problem's object a return-home item means.
+    #[serde(default)]
+    pub home_object: Option<String>,
+    /// Uploaded item kind (`waypoint`, `picture`, `sample`, `survey`, `return_home`) → its goal.
+    #[serde(default)]
+    pub goals: BTreeMap<GoalKind, GoalMapping>,
 }
 
-fn d_battery() -> String {
-    "battery".into()
-}
-fn d_storage() -> String {
-    "storage".into()
+/// The goal an uploaded item kind becomes, on `attribute`: `attribute() = L` when it has no parameters and
+/// is valued in the location type (be at L), `attribute(L) = true` when its one parameter is a location and
+/// it is boolean (a picture of L, L sampled).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GoalMapping {
+    pub attribute: String,
 }
 
 /// One servo step of a sampler sequence.
@@ -215,11 +281,11 @@ pub enum Binding {
         #[serde(default = "d_position")]
         position_variable: String,
     },
-    /// HOLD until the battery reaches `until_percent` (or the number argument `level` when given).
+    /// HOLD until the battery reaches `until_percent`, or the number argument `level_arg` when one is named.
     Recharge {
         until_percent: f64,
-        #[serde(default = "d_level")]
-        level_arg: String,
+        #[serde(default)]
+        level_arg: Option<String>,
     },
     /// The vehicle's downlink command (COMMAND_LONG `command`); done when used storage falls to
     /// `until_used` (STORAGE_INFORMATION polled every `poll_ms`), or after `max_ms` (the slot on the link is
@@ -243,9 +309,6 @@ fn d_to() -> String {
 }
 fn d_area() -> String {
     "area".into()
-}
-fn d_level() -> String {
-    "level".into()
 }
 fn d_position() -> String {
     "position".into()
@@ -274,11 +337,15 @@ impl VehicleConfig {
 
     /// Parses and validates; `origin` names the source in errors.
     pub fn parse(text: &str, origin: &str) -> Result<Self, ConfigError> {
-        let cfg: VehicleConfig = toml::from_str(text).map_err(|e| ConfigError::Parse {
+        let mut cfg: VehicleConfig = toml::from_str(text).map_err(|e| ConfigError::Parse {
             path: origin.to_string(),
             message: e.to_string().trim_end().to_string(),
         })?;
         cfg.validate(origin)?;
+        cfg.source = Some(ConfigSource {
+            origin: origin.to_string(),
+            text: text.to_string(),
+        });
         Ok(cfg)
     }
 

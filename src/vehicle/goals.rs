@@ -14,6 +14,8 @@ use super::types::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict};
 pub const GOAL_ATTRIBUTES_CMD: u16 = 31011;
 /// `MAV_CMD_SPATIAL_USER_1`: take a sample at the item's position.
 pub const SAMPLE_GOAL_CMD: u16 = 31005;
+/// `MAV_CMD_SPATIAL_USER_2`: survey the item's position.
+pub const SURVEY_GOAL_CMD: u16 = 31006;
 
 /// Objects of the problem that have a position, so an uploaded position can be recognised as one of them.
 #[derive(Debug, Clone)]
@@ -131,6 +133,7 @@ pub fn items_to_goals(
             }
             c if c == MavCmd::MAV_CMD_IMAGE_START_CAPTURE as u16 => GoalKind::PictureOf,
             SAMPLE_GOAL_CMD => GoalKind::SampleAt,
+            SURVEY_GOAL_CMD => GoalKind::SurveyOf,
             c if c == MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16 => GoalKind::ReturnHome,
             other => {
                 return Err(err(
@@ -260,4 +263,47 @@ pub fn verdict_text(goal: &GoalRequest, verdict: &GoalVerdict) -> String {
 /// The MAVLink value of a MISSION_ACK result (for messages and logs).
 pub fn ack_code(r: MavMissionResult) -> u8 {
     r.to_u8().unwrap_or(u8::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each goal item command becomes its kind, the key the config's `[mapping.goals]` maps.
+    #[test]
+    fn item_commands_become_goal_kinds() {
+        let home = Home {
+            lat: 43.5,
+            lon: 1.4,
+            alt: 0.0,
+        };
+        let at = |cmd: u16| {
+            let mut it = MissionItem::waypoint(43.5001, 1.4001, 0.0);
+            it.command = cmd;
+            it
+        };
+        let items = vec![
+            at(MavCmd::MAV_CMD_NAV_WAYPOINT as u16),
+            at(MavCmd::MAV_CMD_IMAGE_START_CAPTURE as u16),
+            at(SAMPLE_GOAL_CMD),
+            at(SURVEY_GOAL_CMD),
+            at(MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16),
+        ];
+        let goals = items_to_goals(&items, &KnownLocations::new(home), 1).expect("goals");
+        let kinds: Vec<(&str, bool)> = goals
+            .iter()
+            .map(|g| (g.kind.key(), g.location.is_some()))
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                ("waypoint", true),
+                ("picture", true),
+                ("sample", true),
+                ("survey", true),
+                ("return_home", false),
+            ]
+        );
+        assert_eq!(goals[3].proposition, "surveyed(g4_loc)");
+    }
 }

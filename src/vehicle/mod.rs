@@ -4,6 +4,7 @@
 //! - `frame`, `tlog`: bytes ↔ frames, signing, recording;
 //! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
 //! - `intake`, `goals`, `goal_files`: goal lists from a ground station or a file;
+//! - `config_check`: a configuration checked against its domain, the executive's mapping resolved;
 //! - `endpoint`, `link`: tokio transports and the tasks that pump bytes through the core.
 
 pub mod actions;
@@ -11,6 +12,7 @@ pub mod api;
 pub mod bench;
 pub mod commands;
 pub mod config;
+pub mod config_check;
 pub mod driver;
 pub mod endpoint;
 pub mod frame;

@@ -61,10 +61,10 @@ impl Telemetry {
             MavMessage::STORAGE_INFORMATION(s) => {
                 self.clock(u64::from(s.time_boot_ms));
                 let total = f64::from(s.total_capacity);
-                if let Some(old) = self.storage_total {
+                if let (Some(old), Some(name)) = (self.storage_total, &names.storage) {
                     if (old - total).abs() > 1e-6 {
                         events.push(VehicleEvent::Capacity(CapacityChange {
-                            resource: names.storage.clone(),
+                            resource: name.clone(),
                             capacity: total,
                             delta: total - old,
                         }));
@@ -75,10 +75,12 @@ impl Telemetry {
                 let avail = f64::from(s.available_capacity);
                 if self.storage_available != Some(avail) {
                     self.storage_available = Some(avail);
-                    events.push(VehicleEvent::Resource(ResourceLevel {
-                        resource: names.storage.clone(),
-                        level: avail,
-                    }));
+                    if let Some(name) = &names.storage {
+                        events.push(VehicleEvent::Resource(ResourceLevel {
+                            resource: name.clone(),
+                            level: avail,
+                        }));
+                    }
                 }
             }
             MavMessage::MISSION_CURRENT(m) => self.mission_current = Some((m.seq, m.total)),
@@ -96,25 +98,27 @@ impl Telemetry {
     fn battery(&mut self, level: f64, names: &ResourceNames, events: &mut Vec<VehicleEvent>) {
         if self.battery_percent != Some(level) {
             self.battery_percent = Some(level);
-            events.push(VehicleEvent::Resource(ResourceLevel {
-                resource: names.battery.clone(),
-                level,
-            }));
+            if let Some(name) = &names.battery {
+                events.push(VehicleEvent::Resource(ResourceLevel {
+                    resource: name.clone(),
+                    level,
+                }));
+            }
         }
     }
 
     /// The current levels of the known resources (the final levels a report carries).
     pub fn levels(&self, names: &ResourceNames) -> Vec<ResourceLevel> {
         let mut v = Vec::new();
-        if let Some(b) = self.battery_percent {
+        if let (Some(b), Some(name)) = (self.battery_percent, &names.battery) {
             v.push(ResourceLevel {
-                resource: names.battery.clone(),
+                resource: name.clone(),
                 level: b,
             });
         }
-        if let Some(s) = self.storage_available {
+        if let (Some(s), Some(name)) = (self.storage_available, &names.storage) {
             v.push(ResourceLevel {
-                resource: names.storage.clone(),
+                resource: name.clone(),
                 level: s,
             });
         }

@@ -163,22 +163,54 @@ pub struct GoalLocation {
     pub lon: f64,
 }
 
-/// What a goal asks for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What a goal asks for: the kind of the uploaded item it comes from. The config's `[mapping.goals]` says
+/// which attribute of the domain each kind becomes, under the names [`GoalKind::key`] gives.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Deserialize, serde::Serialize,
+)]
 pub enum GoalKind {
+    /// Be at a position (waypoint and loiter items).
+    #[serde(rename = "waypoint")]
     BeAt,
+    #[serde(rename = "picture")]
     PictureOf,
+    #[serde(rename = "sample")]
     SampleAt,
+    #[serde(rename = "survey")]
+    SurveyOf,
+    /// Be back home (return-to-launch items): the mapping's home object.
+    #[serde(rename = "return_home")]
     ReturnHome,
 }
 
 impl GoalKind {
+    pub const ALL: [GoalKind; 5] = [
+        GoalKind::BeAt,
+        GoalKind::PictureOf,
+        GoalKind::SampleAt,
+        GoalKind::SurveyOf,
+        GoalKind::ReturnHome,
+    ];
+
+    /// The proposition's name in texts to ground stations (`g7 accepted: picture_of(L7)`).
     pub fn predicate(&self) -> &'static str {
         match self {
             GoalKind::BeAt => "at",
             GoalKind::PictureOf => "picture_of",
             GoalKind::SampleAt => "sampled",
+            GoalKind::SurveyOf => "surveyed",
             GoalKind::ReturnHome => "at",
+        }
+    }
+
+    /// Its key in the config's `[mapping.goals]`.
+    pub fn key(&self) -> &'static str {
+        match self {
+            GoalKind::BeAt => "waypoint",
+            GoalKind::PictureOf => "picture",
+            GoalKind::SampleAt => "sample",
+            GoalKind::SurveyOf => "survey",
+            GoalKind::ReturnHome => "return_home",
         }
     }
 }

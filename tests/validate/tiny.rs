@@ -32,6 +32,7 @@ fn task(name: &str, sym_vars: Vec<SymVar>, n_params: usize) -> Task {
         bindings: vec![],
         numeric: vec![],
         preemption: Preemption::NonPreemptive,
+        line: None,
     }
 }
 
@@ -42,21 +43,25 @@ pub fn domain() -> Domain {
         name: "AT".into(),
         params: vec![],
         value_type: loc,
+        line: None,
     });
     let seen = d.add_attr(LogicalAttr {
         name: "SEEN".into(),
         params: vec![("l".into(), loc)],
         value_type: Domain::BOOL,
+        line: None,
     });
     let cam = d.add_resource(ResourceAttr {
         name: "CAM".into(),
         kind: ResourceKind::Unary,
         capacity: 1.0,
+        line: None,
     });
     let store = d.add_resource(ResourceAttr {
         name: "STORE".into(),
         kind: ResourceKind::Reservoir,
         capacity: 2.0,
+        line: None,
     });
     let var = |name: &str| SymVar {
         name: name.into(),

@@ -272,7 +272,7 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
         Ok(p) => Arc::new(p),
         Err(e) => return failed(m, "no_error_exit", format!("generated problem: {e}")),
     };
-    let plan = match initial_plan(domain, problem.clone(), 50_000) {
+    let plan = match initial_plan(domain.clone(), problem.clone(), 50_000) {
         Ok(p) => p,
         Err(e) => {
             // Not the executive's failure: the mission's goals are all rejected with the planner's reason.
@@ -291,11 +291,11 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
         Ok(s) => s,
         Err(e) => return failed(m, "no_error_exit", e),
     };
-    let mut session = match SitlSession::start(&problem, spec) {
+    let mut session = match SitlSession::start(&domain, &problem, spec) {
         Ok(s) => s,
         Err(e) => return failed(m, "no_error_exit", format!("SITL session: {e}")),
     };
-    let mut ex = Executive::new(plan, exec_config());
+    let mut ex = Executive::new(plan, exec_config()).with_mapping(session.mapping.clone());
     ex.level_tolerance = LEVEL_TOLERANCE;
     let (home, gcs) = (session.home, session.gcs.clone());
     let rt = session.rt.handle().clone();

@@ -25,10 +25,13 @@ use crate::exec::config::ExecConfig;
 use crate::exec::executive::{Executive, Fate};
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
 use crate::exec::trace::TraceEvent;
+use crate::exec::DomainMapping;
 use crate::lang;
 use crate::model::{Position, Problem, Time};
 use crate::plan::PartialPlan;
 use crate::planner::{Budget, Search, StepOutcome};
+use crate::vehicle::config::Mapping;
+use crate::vehicle::config_check::resolve_mapping;
 use crate::vehicle::{Enu, GoalKind};
 
 const MIN: Time = 60_000;
@@ -52,6 +55,8 @@ struct Spec {
     positions: &'static [(&'static str, f64, f64, f64)],
     times: Vec<(&'static str, TaskTime)>,
     targets: Vec<(GoalKind, &'static str)>,
+    /// The executive's `[mapping]` for this domain, as a vehicle configuration would give it.
+    mapping: &'static str,
     achieve_ms: Time,
 }
 
@@ -94,6 +99,14 @@ fn specs() -> Vec<Spec> {
                 (GoalKind::BeAt, "vent2"),
                 (GoalKind::BeAt, "surface"),
             ],
+            // No `position`: a walk stopped short (late-preemptive stop at ub - ts) counts as arrived, as
+            // the route graph has no place between two places to plan from (a mid-route place would be
+            // CONNECTED to nothing and end the mission).
+            mapping: r#"
+                location_type = "location"
+                goals.waypoint = { attribute = "AUV_AT" }
+                goals.sample = { attribute = "SAMPLED" }
+            "#,
             achieve_ms: 30 * MIN,
         },
         Spec {
@@ -127,6 +140,11 @@ fn specs() -> Vec<Spec> {
                 (GoalKind::BeAt, "clothing"),
                 (GoalKind::BeAt, "grocery"),
             ],
+            // No `position`, as for the AUV.
+            mapping: r#"
+                location_type = "place"
+                goals.waypoint = { attribute = "AT" }
+            "#,
             achieve_ms: 20 * MIN,
         },
     ]
@@ -142,6 +160,7 @@ pub fn scenario_names() -> Vec<&'static str> {
 pub struct Prepared {
     pub name: String,
     plan: PartialPlan,
+    mapping: DomainMapping,
     times: HashMap<String, TaskTime>,
     targets: Vec<Target>,
     model: ArrivalModel,
@@ -179,6 +198,12 @@ fn prepare(spec: &Spec, per_hour: f64) -> Result<Prepared, ExperimentError> {
         });
     }
     let horizon = problem.horizon;
+    let mapping: Mapping =
+        toml::from_str(spec.mapping).map_err(|e| load(format!("mapping: {e}")))?;
+    let mapping = resolve_mapping(&mapping, &domain, Some(&problem), None).map_err(|issues| {
+        let lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
+        load(lines.join("; "))
+    })?;
     let root =
         PartialPlan::new(Arc::new(domain), Arc::new(problem)).map_err(|e| load(e.to_string()))?;
     let mut search = Search::new(root);
@@ -194,6 +219,7 @@ fn prepare(spec: &Spec, per_hour: f64) -> Result<Prepared, ExperimentError> {
     Ok(Prepared {
         name: spec.name.into(),
         plan: search.into_plan(),
+        mapping,
         times: spec
             .times
             .iter()
@@ -365,6 +391,9 @@ pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64, repair_steps: u64) -
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let uploads = arrivals(&p.model, &p.targets, &mut rng);
     let mut v = KinematicVehicle::new(ChaCha8Rng::seed_from_u64(seed ^ 0x5eed), p.times.clone());
+    if p.mapping.position.is_none() {
+        v = v.without_positions();
+    }
     for up in &uploads {
         v.goals_at(up.at_ms.max(0) as u64, vec![up.goal.clone()]);
     }
@@ -384,7 +413,7 @@ pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64, repair_steps: u64) -
         .iter()
         .map(|g| g.name.clone())
         .collect();
-    let mut ex = Executive::new(p.plan.clone(), cfg);
+    let mut ex = Executive::new(p.plan.clone(), cfg).with_mapping(p.mapping.clone());
     let opts = MissionOptions {
         time_limit_ms: p.model.horizon_ms + MIN,
         ..MissionOptions::default()

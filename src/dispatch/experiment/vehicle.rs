@@ -51,6 +51,8 @@ pub struct KinematicVehicle {
     goals: BTreeMap<u64, Vec<GoalRequest>>,
     ready: VecDeque<VehicleEvent>,
     pub log: Vec<Done>,
+    /// Whether a stopped walk reports where it stopped (a vehicle without a position sensor does not).
+    report_positions: bool,
 }
 
 fn dist(a: Enu, b: Enu) -> f64 {
@@ -67,7 +69,14 @@ impl KinematicVehicle {
             goals: BTreeMap::new(),
             ready: VecDeque::new(),
             log: Vec::new(),
+            report_positions: true,
         }
+    }
+
+    /// A vehicle that does not report positions (its configuration maps none).
+    pub fn without_positions(mut self) -> Self {
+        self.report_positions = false;
+        self
     }
 
     /// A goal list uploaded by the ground station at `at_ms`.
@@ -128,7 +137,7 @@ impl KinematicVehicle {
             } else {
                 1.0
             };
-            if status != ReportStatus::Nominal {
+            if status != ReportStatus::Nominal && self.report_positions {
                 let at = Enu::new(
                     a.east + (b.east - a.east) * frac,
                     a.north + (b.north - a.north) * frac,

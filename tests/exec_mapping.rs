@@ -1,0 +1,272 @@
+//! The executive reads positions and uploaded goals through the config's `[mapping]` only: the AUV
+//! (config/sitl-auv.toml), the rover (config/demo-rover.toml) and shopping (an inline mapping) go through the
+//! same code; without a mapping positions are ignored and goals rejected with a reason, and a new place is
+//! never given object 0.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::Executive;
+use mavtempo::exec::state_update::integrate_state;
+use mavtempo::exec::DomainMapping;
+use mavtempo::lang::load_problem_and_domain;
+use mavtempo::model::{Domain, Value};
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::config::{Mapping, VehicleConfig};
+use mavtempo::vehicle::config_check::{check, resolve_mapping};
+use mavtempo::vehicle::goals::GoalBatch;
+use mavtempo::vehicle::{
+    ActionReport, Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict, ReportStatus, StateValue,
+    VehicleEvent,
+};
+
+fn solved(problem: &str) -> PartialPlan {
+    let (d, p) = load_problem_and_domain(Path::new(problem)).unwrap_or_else(|e| panic!("{e}"));
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(50_000)), StepOutcome::Solved);
+    search.into_plan()
+}
+
+/// The mapping of a shipped configuration, checked against the plan's domain and problem.
+fn shipped_mapping(config: &str, plan: &PartialPlan) -> DomainMapping {
+    let cfg = VehicleConfig::load(Path::new(config)).unwrap_or_else(|e| panic!("{e}"));
+    match check(&cfg, &plan.domain, Some(&plan.problem)) {
+        Ok(c) => c.mapping,
+        Err(issues) => panic!("{issues:?}"),
+    }
+}
+
+fn request(name: &str, kind: GoalKind, place: &str, new: bool, at: Enu) -> GoalRequest {
+    GoalRequest {
+        name: name.into(),
+        kind,
+        proposition: format!("{}({place})", kind.predicate()),
+        location: (kind != GoalKind::ReturnHome).then(|| GoalLocation {
+            name: place.into(),
+            new,
+            at,
+            lat: 0.0,
+            lon: 0.0,
+        }),
+        priority: 1,
+        start_window_s: (0.0, 10.0 * 3_600.0),
+        duration_s: (0.0, f64::INFINITY),
+        d_achiev_s: 60.0,
+    }
+}
+
+/// Uploads `goals` at time 0 and returns the executive's verdicts.
+fn upload(ex: &mut Executive, goals: Vec<GoalRequest>) -> Vec<GoalVerdict> {
+    let (batch, mut rx) = GoalBatch::new(goals);
+    ex.integrate(VehicleEvent::Goals(batch), 0);
+    rx.try_recv().expect("answered")
+}
+
+/// The last goal of the plan's problem as `ATTR(args) = value` text.
+fn last_goal(ex: &Executive) -> String {
+    let p = &ex.plan.problem;
+    let g = p.goals.last().expect("a goal");
+    let args: Vec<&str> = g.args.iter().map(|&o| p.object_name(o)).collect();
+    let value = match g.value {
+        Value::Obj(o) => p.object_name(o).to_string(),
+        Value::Unknown => "+oo".into(),
+    };
+    format!(
+        "{}({}) = {value}",
+        ex.plan.domain.attr(g.attr).name,
+        args.join(", ")
+    )
+}
+
+/// A failed report of the plan's first action named `task`, carrying a position.
+fn failed_at(ex: &mut Executive, task: &str, at: Enu) {
+    let a = ex
+        .plan
+        .live_actions()
+        .find(|&a| ex.plan.domain.task(ex.plan.action(a).task).name == task)
+        .expect("the plan has the task");
+    let report = ActionReport {
+        id: 1,
+        status: ReportStatus::Failed,
+        time_ms: 5_000,
+        resources: Vec::new(),
+        state: vec![("position".into(), StateValue::Position(at))],
+        reason: Some("stuck".into()),
+    };
+    integrate_state(ex, a, &report, 5_000);
+}
+
+#[test]
+fn auv_goals_and_positions_follow_the_auv_mapping() {
+    let plan = solved("domains/auv/problems/vents.ixt");
+    let mapping = shipped_mapping("config/sitl-auv.toml", &plan);
+    let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
+    let vent1 = Enu::new(1_000.0, 0.0, -1_500.0);
+    let spot = Enu::new(600.0, 200.0, -1_500.0);
+    let verdicts = upload(
+        &mut ex,
+        vec![request("g3", GoalKind::SampleAt, "vent1", false, vent1)],
+    );
+    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
+    assert_eq!(last_goal(&ex), "SAMPLED(vent1) = true");
+    // A place no object is at becomes a new location object, named after the goal.
+    let verdicts = upload(
+        &mut ex,
+        vec![request("g4", GoalKind::SurveyOf, "g4_loc", true, spot)],
+    );
+    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
+    assert_eq!(last_goal(&ex), "SURVEYED(g4_loc) = true");
+    let o = ex.plan.problem.object_id("g4_loc").expect("new object");
+    let location = ex.plan.domain.type_id("location");
+    assert_eq!(ex.plan.problem.object(o).map(|o| o.ty), location);
+    upload(
+        &mut ex,
+        vec![request(
+            "g5",
+            GoalKind::ReturnHome,
+            "",
+            false,
+            Enu::default(),
+        )],
+    );
+    assert_eq!(last_goal(&ex), "AUV_AT() = surface");
+    // The AUV's position attribute is AUV_AT: a stopped `go` sets it to a new place there.
+    let before = ex.plan.problem.objects.len();
+    let stop = Enu::new(300.0, 0.0, -450.0);
+    failed_at(&mut ex, "go", stop);
+    assert_eq!(ex.plan.problem.objects.len(), before + 1);
+    let last = ex.plan.problem.objects.last().expect("object");
+    assert_eq!(Some(last.ty), location);
+    assert_eq!(last.local(None).map(|(e, n, _)| (e, n)), Some((300.0, 0.0)));
+}
+
+#[test]
+fn the_rover_goes_through_the_same_code() {
+    let plan = solved("domains/rover/problems/fig2.ixt");
+    let mapping = shipped_mapping("config/demo-rover.toml", &plan);
+    let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
+    let verdicts = upload(
+        &mut ex,
+        vec![request(
+            "g6",
+            GoalKind::PictureOf,
+            "g6_loc",
+            true,
+            Enu::new(30.0, -8.0, 0.0),
+        )],
+    );
+    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
+    assert_eq!(last_goal(&ex), "PICTURE(g6_loc) = true");
+    // demo-rover.toml has no sample goals (the rover domain has no such attribute).
+    let verdicts = upload(
+        &mut ex,
+        vec![request(
+            "g7",
+            GoalKind::SampleAt,
+            "base",
+            false,
+            Enu::default(),
+        )],
+    );
+    assert_eq!(
+        verdicts,
+        vec![GoalVerdict::Rejected(
+            "no goal mapping for sample items in the config".into()
+        )]
+    );
+}
+
+#[test]
+fn shopping_goals_follow_an_inline_mapping() {
+    let plan = solved("domains/shopping/problems/day.ixt");
+    let m: Mapping = toml::from_str(
+        r#"
+        position = "AT"
+        location_type = "place"
+        goals.waypoint = { attribute = "AT" }
+        "#,
+    )
+    .expect("mapping parses");
+    let mapping = resolve_mapping(&m, &plan.domain, Some(&plan.problem), None).expect("resolves");
+    let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
+    // The places have no coordinates: a place the intake named is taken by its name.
+    let verdicts = upload(
+        &mut ex,
+        vec![request(
+            "g3",
+            GoalKind::BeAt,
+            "grocery",
+            false,
+            Enu::default(),
+        )],
+    );
+    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
+    assert_eq!(last_goal(&ex), "AT() = grocery");
+}
+
+#[test]
+fn without_a_mapping_positions_are_ignored_and_goals_rejected() {
+    let plan = solved("domains/auv/problems/vents.ixt");
+    let mut ex = Executive::new(plan, ExecConfig::default());
+    let goals_before = ex.plan.problem.goals.len();
+    let verdicts = upload(
+        &mut ex,
+        vec![
+            request(
+                "g3",
+                GoalKind::PictureOf,
+                "g3_loc",
+                true,
+                Enu::new(5.0, 5.0, 0.0),
+            ),
+            request("g4", GoalKind::ReturnHome, "", false, Enu::default()),
+        ],
+    );
+    assert_eq!(
+        verdicts,
+        vec![
+            GoalVerdict::Rejected("no goal mapping for picture items in the config".into()),
+            GoalVerdict::Rejected("no goal mapping for return_home items in the config".into()),
+        ]
+    );
+    assert_eq!(ex.plan.problem.goals.len(), goals_before);
+    let objects = ex.plan.problem.objects.len();
+    // The same report that makes a place with the mapping (auv_goals_and_positions_...) makes none here.
+    failed_at(&mut ex, "go", Enu::new(300.0, 0.0, -450.0));
+    assert_eq!(ex.plan.problem.objects.len(), objects, "no place was made");
+}
+
+#[test]
+fn a_new_place_without_a_location_type_is_a_rejection_not_object_zero() {
+    let plan = solved("domains/auv/problems/vents.ixt");
+    let d: &Domain = &plan.domain;
+    let mut mapping = shipped_mapping("config/sitl-auv.toml", &plan);
+    assert!(d.type_id("location").is_some());
+    mapping.location_type = None;
+    let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
+    let objects = ex.plan.problem.objects.len();
+    let verdicts = upload(
+        &mut ex,
+        vec![request(
+            "g3",
+            GoalKind::SampleAt,
+            "g3_loc",
+            true,
+            Enu::new(5.0, 5.0, 0.0),
+        )],
+    );
+    match &verdicts[..] {
+        [GoalVerdict::Rejected(r)] => assert!(r.contains("no location type"), "{r}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(ex.plan.problem.objects.len(), objects);
+    assert!(ex
+        .plan
+        .problem
+        .goals
+        .iter()
+        .all(|g| g.args.iter().all(|o| o.index() != 0)));
+}
