@@ -11,8 +11,8 @@ use mavtempo::exec::executive::Executive;
 use mavtempo::exec::state_update::integrate_state;
 use mavtempo::exec::DomainMapping;
 use mavtempo::lang::load_problem_and_domain;
-use mavtempo::model::{Domain, Value};
-use mavtempo::plan::PartialPlan;
+use mavtempo::model::{Domain, ObjectId, Value};
+use mavtempo::plan::{PartialPlan, STerm};
 use mavtempo::planner::{Budget, Search, StepOutcome};
 use mavtempo::vehicle::config::{Mapping, VehicleConfig};
 use mavtempo::vehicle::config_check::{check, resolve_mapping};
@@ -135,12 +135,45 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     assert_eq!(last_goal(&ex), "AUV_AT() = surface");
     // The AUV's position attribute is AUV_AT: a stopped `go` sets it to a new place there.
     let before = ex.plan.problem.objects.len();
+    let go_from = {
+        let a = ex
+            .plan
+            .live_actions()
+            .find(|&a| ex.plan.domain.task(ex.plan.action(a).task).name == "go")
+            .expect("a go");
+        ex.plan.term_name(STerm::Var(ex.plan.action(a).vars[0]))
+    };
     let stop = Enu::new(300.0, 0.0, -450.0);
     failed_at(&mut ex, "go", stop);
     assert_eq!(ex.plan.problem.objects.len(), before + 1);
     let last = ex.plan.problem.objects.last().expect("object");
     assert_eq!(Some(last.ty), location);
     assert_eq!(last.local(None).map(|(e, n, _)| (e, n)), Some((300.0, 0.0)));
+    // Met on the way from where the `go` started, the new place keeps that place's routes (CONNECTED is
+    // static): the AUV can go on from there wherever it could from the start, and nowhere else.
+    let p = &ex.plan.problem;
+    let new = p.object_id(&last.name).expect("named");
+    let from = p.object_id(&go_from).expect("from");
+    let connected = ex.plan.domain.attr_id("CONNECTED").expect("CONNECTED");
+    let route = |a: ObjectId, b: ObjectId| {
+        p.initial
+            .iter()
+            .filter(|f| f.attr == connected && f.args == vec![a, b])
+            .map(|f| f.value)
+            .last()
+    };
+    let mut routes = 0;
+    for to in ["surface", "vent1", "vent2"] {
+        let to = p.object_id(to).expect("object");
+        assert_eq!(
+            route(new, to),
+            route(from, to),
+            "{go_from} -> {}",
+            p.object_name(to)
+        );
+        routes += usize::from(route(new, to) == Some(Value::Obj(Domain::TRUE)));
+    }
+    assert!(routes >= 1, "the new place has a route on");
 }
 
 #[test]

@@ -185,7 +185,10 @@ pub fn run(json: bool) -> ExitCode {
     for g in &f.goals {
         println!("  {:<12} {:?} {}", g.name, g.fate, g.reason);
     }
-    println!("most launches of one action: {}", f.max_launches_of_one_action);
+    println!(
+        "most launches of one action: {}",
+        f.max_launches_of_one_action
+    );
     ExitCode::SUCCESS
 }
 

@@ -66,7 +66,11 @@ impl SessionSpec {
 impl SitlSession {
     /// Checks `spec`'s configuration against `domain` and `problem` (the home is the problem's when it
     /// has one), spawns the SITL there, paced or stepped, and links the vehicle to it over real sockets.
-    pub fn start(domain: &Domain, problem: &Problem, spec: SessionSpec) -> Result<SitlSession, String> {
+    pub fn start(
+        domain: &Domain,
+        problem: &Problem,
+        spec: SessionSpec,
+    ) -> Result<SitlSession, String> {
         let checked = super::check::checked_config(&spec.config, domain, Some(problem))?;
         let rt = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)

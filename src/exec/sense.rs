@@ -224,7 +224,7 @@ impl Executive {
             // A place the intake already named (a known object of the location type) is that object.
             (Some(l), _) => match self.known_location(l) {
                 Some(o) => o,
-                None => super::state_update::location_object(self, &l.name, l.at)?,
+                None => super::state_update::location_object(self, &l.name, l.at, None)?,
             },
             (None, _) => return Err(format!("{what} goal without a location")),
         };

@@ -21,8 +21,15 @@ use crate::vehicle::{ActionReport, Enu, StateValue};
 pub const SAME_PLACE_M: f64 = 2.0;
 
 /// The location object at `at` (within [`SAME_PLACE_M`]), or a new one named `name` of the mapping's
-/// location type; without a location type there is no object to name a new place.
-pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> Result<ObjectId, String> {
+/// location type; without a location type there is no object to name a new place. A new place met on the
+/// way from location `from` (an interrupted move) keeps `from`'s static relations (attributes no task
+/// changes, e.g. a route graph), so that the vehicle can go on from there.
+pub fn location_object(
+    ex: &mut Executive,
+    name: &str,
+    at: Enu,
+    from: Option<ObjectId>,
+) -> Result<ObjectId, String> {
     let home = ex.plan.problem.home;
     let ty = ex.mapping.location_type;
     let mut best: Option<(f64, ObjectId)> = None;
@@ -53,8 +60,13 @@ pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> Result<Object
         k += 1;
         unique = format!("{name}_{k}");
     }
-    let id = problem.add_object_with_defaults(
-        &ex.plan.domain,
+    let d = ex.plan.domain.clone();
+    let statics: Vec<AttrId> = (0..d.attrs.len())
+        .map(AttrId::from_index)
+        .filter(|&a| d.tasks.iter().all(|t| t.events.iter().all(|e| e.attr != a)))
+        .collect();
+    let id = problem.add_object_like(
+        &d,
         Object {
             name: unique,
             ty,
@@ -64,6 +76,7 @@ pub fn location_object(ex: &mut Executive, name: &str, at: Enu) -> Result<Object
                 up: at.up,
             }),
         },
+        from.map(|f| (f, statics.as_slice())),
     );
     ex.plan.set_problem(Arc::new(problem));
     Ok(id)
@@ -74,6 +87,7 @@ fn reported_value(
     ex: &mut Executive,
     var: &str,
     v: &StateValue,
+    a: ActionId,
 ) -> Result<(AttrId, Vec<ObjectId>, Value), String> {
     match v {
         StateValue::Position(p) => {
@@ -82,7 +96,18 @@ fn reported_value(
                 .position
                 .ok_or("no position attribute in the config's [mapping]")?;
             let name = format!("L{}", ex.plan.problem.objects.len());
-            let o = location_object(ex, &name, *p)?;
+            // Where the action started from: the value its start event on the position changed.
+            let act = ex.plan.action(a);
+            let from = act
+                .events
+                .iter()
+                .find(|&&e| ex.plan.event(e).attr == attr && ex.plan.event(e).at == act.start)
+                .and_then(|&e| before_value(ex, e))
+                .and_then(|(_, _, v)| match v {
+                    Value::Obj(o) => Some(o),
+                    _ => None,
+                });
+            let o = location_object(ex, &name, *p, from)?;
             Ok((attr, vec![], Value::Obj(o)))
         }
         StateValue::Symbol(s) => {
@@ -155,7 +180,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     let reported: Vec<(AttrId, Vec<ObjectId>, Value)> = r
         .state
         .iter()
-        .filter_map(|(var, v)| reported_value(ex, var, v).ok())
+        .filter_map(|(var, v)| reported_value(ex, var, v, a).ok())
         .collect();
     // The action's end effects: a reported value replaces the expected one (links established by an
     // effect the report contradicts are broken); a failed action's unreported end effects did not happen;
@@ -197,7 +222,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
         }
     }
     for (var, v) in &r.state {
-        let (attr, args, value) = match reported_value(ex, var, v) {
+        let (attr, args, value) = match reported_value(ex, var, v, a) {
             Ok(x) => x,
             Err(reason) => {
                 tracing::warn!(%var, "reported state value ignored: {reason}");

@@ -128,6 +128,18 @@ impl Problem {
     /// Appends an object and the facts the problem's wildcard `initial` statements give it (e.g. a new
     /// location gets `PICTURE(new) = false`); returns its id.
     pub fn add_object_with_defaults(&mut self, d: &Domain, object: Object) -> ObjectId {
+        self.add_object_like(d, object, None)
+    }
+
+    /// [`Self::add_object_with_defaults`], where the new object's facts on the attributes of `like.1` are
+    /// those of the object `like.0` instead of the defaults (a place met on the way from `like.0` keeps its
+    /// static relations, e.g. its routes).
+    pub fn add_object_like(
+        &mut self,
+        d: &Domain,
+        object: Object,
+        like: Option<(ObjectId, &[AttrId])>,
+    ) -> ObjectId {
         let id = self.add_object(object);
         let mut new_facts: Vec<(Time, Fact)> = Vec::new();
         for def in &self.defaults {
@@ -162,6 +174,27 @@ impl Problem {
                             value: def.value,
                         },
                     ));
+                }
+            }
+        }
+        if let Some((model, attrs)) = like {
+            for (_, f) in new_facts
+                .iter_mut()
+                .filter(|(_, f)| attrs.contains(&f.attr))
+            {
+                let args: Vec<ObjectId> = f
+                    .args
+                    .iter()
+                    .map(|&o| if o == id { model } else { o })
+                    .collect();
+                // The last fact on the instance is the one in force (a wildcard comes first).
+                if let Some(m) = self
+                    .initial
+                    .iter()
+                    .rev()
+                    .find(|g| g.attr == f.attr && g.args == args)
+                {
+                    f.value = m.value;
                 }
             }
         }
