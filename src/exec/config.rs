@@ -19,9 +19,17 @@ pub struct ExecConfig {
     #[serde(default = "default_slack")]
     pub replan_slack_ms: Time,
     /// Deterministic runs (tests, demo): plan repair and replanning budgets in planning steps instead of
-    /// wall-clock time (μ·ts of steps per cycle).
+    /// mission time (μ·n steps per cycle; a replanning attempt at most 40·n steps).
     #[serde(default)]
     pub repair_max_steps: Option<u64>,
+    /// Hard cap on the plan repair steps of one cycle, whatever the clock does: the μ·ts deadline is in
+    /// mission time, which does not move while a stepped simulator or a manual clock waits for the cycle.
+    #[serde(default = "default_repair_cycle_steps")]
+    pub repair_cycle_max_steps: u64,
+    /// Hard cap on the planning steps of one complete replanning attempt (§3.6), for the same reason: past
+    /// it the attempt ends as if the time limit l were reached.
+    #[serde(default = "default_replan_steps")]
+    pub replan_max_steps: u64,
     /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
     #[serde(default)]
     pub dispatch: PolicyKind,
@@ -36,6 +44,14 @@ fn default_mu() -> f64 {
 fn default_slack() -> Time {
     2_000
 }
+/// A planning step costs tens of µs on a rover plan: 20,000 steps are about μ·ts at the default ts.
+fn default_repair_cycle_steps() -> u64 {
+    20_000
+}
+/// An attempt's steps: generous for missions of a few dozen goals, bounded for a stepped simulator.
+fn default_replan_steps() -> u64 {
+    100_000
+}
 
 impl Default for ExecConfig {
     fn default() -> Self {
@@ -44,6 +60,8 @@ impl Default for ExecConfig {
             repair_share: default_mu(),
             replan_slack_ms: default_slack(),
             repair_max_steps: None,
+            repair_cycle_max_steps: default_repair_cycle_steps(),
+            replan_max_steps: default_replan_steps(),
             dispatch: PolicyKind::default(),
         }
     }
@@ -58,6 +76,8 @@ pub enum ConfigError {
     Share(f64),
     #[error("exec.replan_slack_ms must be >= 0, got {0}")]
     Slack(Time),
+    #[error("exec.{0} must be positive")]
+    StepCap(&'static str),
 }
 
 impl ExecConfig {
@@ -70,6 +90,12 @@ impl ExecConfig {
         }
         if self.replan_slack_ms < 0 {
             return Err(ConfigError::Slack(self.replan_slack_ms));
+        }
+        if self.repair_cycle_max_steps == 0 {
+            return Err(ConfigError::StepCap("repair_cycle_max_steps"));
+        }
+        if self.replan_max_steps == 0 {
+            return Err(ConfigError::StepCap("replan_max_steps"));
         }
         Ok(())
     }

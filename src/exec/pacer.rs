@@ -4,13 +4,10 @@
 
 use std::time::{Duration, Instant};
 
+use super::cycle::mission_time as since;
 use super::mission::Pacer;
 use crate::model::Time;
 use crate::vehicle::{MockVehicle, Vehicle, VehicleEvent};
-
-fn since(now_ms: u64, origin_ms: u64) -> Time {
-    now_ms.saturating_sub(origin_ms).min(i64::MAX as u64) as Time
-}
 
 /// MockVehicle's manual clock: waiting jumps to the next scripted event or to `until`.
 #[derive(Debug, Default)]
