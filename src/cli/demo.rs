@@ -4,7 +4,7 @@
 //! e5 a slow download, e6 a battery drop on the third move; e3/e4, the new goals g6 and g7, are uploaded
 //! over MAVLink by a simulated ground station while the first download runs. Wiring and printing only.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Duration;
@@ -13,10 +13,11 @@ use clap::Args;
 
 use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
 use super::sitl_session::{SitlSession, LEVEL_TOLERANCE};
+use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
-use crate::exec::pacer::LivePacer;
+use crate::exec::pacer::{LivePacer, StepGate};
 use crate::exec::trace::{CycleRecord, TraceEvent};
 use crate::lang;
 use crate::model::Problem;
@@ -59,11 +60,37 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
-    match demo(&args) {
-        Ok(report) => {
-            print_summary(&report);
+    let setup = DemoSetup {
+        problem: args.problem.clone(),
+        speedup: args.speedup,
+        upload: !args.no_upload,
+        max_steps: args.max_steps,
+        dispatch: args.dispatch.dispatch,
+    };
+    let mut printer = TracePrinter::default();
+    let quiet = args.quiet;
+    let result = run_demo(
+        &setup,
+        &mut |line: &str| {
+            // Progress lines inside the trace are indented with it.
+            if !(quiet && line.starts_with(' ')) {
+                println!("{line}");
+            }
+        },
+        &mut |c: &CycleRecord| {
+            if !quiet {
+                printer.cycle(c);
+            }
+        },
+    );
+    match result {
+        Ok(run) => {
+            if let Some(u) = &run.upload {
+                println!("{u}");
+            }
+            print_summary(&run.report);
             if let Some(path) = &args.report {
-                if let Err(e) = write_report(path, &report) {
+                if let Err(e) = write_report(path, &run.report) {
                     eprintln!("mavtempo demo: {e}");
                     return ExitCode::FAILURE;
                 }
@@ -78,10 +105,44 @@ pub fn run(args: DemoArgs) -> ExitCode {
     }
 }
 
-fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
+/// What a demo run is given (the command line's flags).
+#[derive(Clone, Debug)]
+pub struct DemoSetup {
+    /// A rover problem instead of the built-in Fig. 2.
+    pub problem: Option<PathBuf>,
+    /// Paced at N× instead of stepped.
+    pub speedup: Option<f64>,
+    /// The ground station uploads g6 and g7 when the download starts.
+    pub upload: bool,
+    /// Planning steps for the initial plan.
+    pub max_steps: u64,
+    pub dispatch: PolicyKind,
+}
+
+impl Default for DemoSetup {
+    /// The built-in Fig. 2 story, stepped (deterministic), with the upload.
+    fn default() -> Self {
+        DemoSetup {
+            problem: None,
+            speedup: None,
+            upload: true,
+            max_steps: 200_000,
+            dispatch: PolicyKind::default(),
+        }
+    }
+}
+
+/// What a demo run leaves.
+pub struct DemoRun {
+    pub report: MissionReport,
+    /// The ground station's account of its upload, if it uploaded.
+    pub upload: Option<String>,
+}
+
+fn load(problem: Option<&Path>) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
     let domain =
         Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
-    let (name, text) = match &args.problem {
+    let (name, text) = match problem {
         Some(p) => (
             p.display().to_string(),
             std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?,
@@ -106,62 +167,72 @@ pub(super) fn exec_config() -> ExecConfig {
     }
 }
 
-fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
-    let (domain, problem) = load(args)?;
-    println!(
+/// Runs the demo mission: `say` gets the progress lines, `observe` each cycle as it ends. Stepped (no
+/// speed-up), two runs of the same setup give the same cycles, events and figures.
+pub fn run_demo(
+    setup: &DemoSetup,
+    say: &mut dyn FnMut(&str),
+    observe: &mut dyn FnMut(&CycleRecord),
+) -> Result<DemoRun, String> {
+    let (domain, problem) = load(setup.problem.as_deref())?;
+    say(&format!(
         "planning {} ({} goals)...",
         problem.name,
         problem.goals.len()
-    );
-    let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
-    println!("initial plan: {} actions", plan.num_actions());
+    ));
+    let plan = initial_plan(domain, problem.clone(), setup.max_steps)?;
+    say(&format!("initial plan: {} actions", plan.num_actions()));
     let mut session = SitlSession::start(
         &problem,
         SCENARIO,
         "sitl/scenarios/fig2.toml",
-        args.speedup,
+        setup.speedup,
         6,
     )?;
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
-    println!(
+    say(&format!(
         "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         session.sim.client_address()
-    );
-    let mut ex = Executive::new(plan, exec_config()).with_policy(args.dispatch.dispatch);
+    ));
+    let mut ex = Executive::new(plan, exec_config()).with_policy(setup.dispatch);
     ex.level_tolerance = LEVEL_TOLERANCE;
+    // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
+    let gate = Arc::new(StepGate::default());
     let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
-    let mut printer = TracePrinter::default();
-    let mut observe = |_: &Executive, c: &CycleRecord| {
-        if !args.quiet {
-            printer.cycle(c);
-        }
+    let mut on_cycle = |_: &Executive, c: &CycleRecord| {
+        observe(c);
         let download = c.events.iter().any(
             |e| matches!(e, TraceEvent::Launch { action, .. } if action.starts_with("download_images")),
         );
-        if download && upload.is_none() && !args.no_upload {
-            if !args.quiet {
-                println!("             ground station: uploading g6, g7 (pictures of new targets)");
-            }
+        if download && upload.is_none() && setup.upload {
+            say("             ground station: uploading g6, g7 (pictures of new targets)");
             let items = new_goal_items(home);
             let addr = format!("tcpout:{gcs}");
-            upload = Some(
-                rt.spawn(async move { send_goals(&addr, items, Duration::from_secs(60)).await }),
-            );
+            gate.expect_goal_batch();
+            let gate = gate.clone();
+            upload = Some(rt.spawn(async move {
+                let r = send_goals(&addr, items, Duration::from_secs(60)).await;
+                if r.is_err() {
+                    // Failed before or after the batch reached the executive: the pacer stops waiting.
+                    gate.cancel_goal_batch();
+                }
+                r
+            }));
         }
     };
     let opts = MissionOptions {
         time_limit_ms: problem_horizon(&problem),
         ..MissionOptions::default()
     };
-    let report = match args.speedup {
+    let report = match setup.speedup {
         None => {
-            let mut pacer = session.step_pacer();
+            let mut pacer = session.step_pacer(gate.clone());
             run_mission(
                 &mut ex,
                 &mut session.vehicle,
                 &mut pacer,
                 &opts,
-                &mut observe,
+                &mut on_cycle,
             )
         }
         Some(speedup) => {
@@ -174,23 +245,21 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
                 &mut session.vehicle,
                 &mut pacer,
                 &opts,
-                &mut observe,
+                &mut on_cycle,
             )
         }
     };
-    if let Some(h) = upload {
-        match rt.block_on(h) {
-            Ok(Ok(r)) => println!(
-                "ground station: upload {}; {}",
-                r.failure.as_deref().unwrap_or("accepted"),
-                r.texts.join("; ")
-            ),
-            Ok(Err(e)) => println!("ground station: upload failed: {e}"),
-            Err(e) => println!("ground station: upload task: {e}"),
-        }
-    }
+    let upload = upload.map(|h| match rt.block_on(h) {
+        Ok(Ok(r)) => format!(
+            "ground station: upload {}; {}",
+            r.failure.as_deref().unwrap_or("accepted"),
+            r.texts.join("; ")
+        ),
+        Ok(Err(e)) => format!("ground station: upload failed: {e}"),
+        Err(e) => format!("ground station: upload task: {e}"),
+    });
     drop(session);
-    Ok(report)
+    Ok(DemoRun { report, upload })
 }
 
 fn problem_horizon(p: &Problem) -> crate::model::Time {
