@@ -121,15 +121,15 @@ fn stepper(
     origin_ms: u64,
     gate: Arc<StepGate>,
 ) -> SitlStepPacer {
-    SitlStepPacer {
-        sim: sim.clone(),
+    // Wall bound of each wait: the link settles in well under a millisecond, an upload in tens.
+    SitlStepPacer::new(
+        sim.clone(),
         runtime,
         origin_ms,
-        max_step_ms: 500,
-        // Wall bound of each wait: the link settles in well under a millisecond, an upload in tens.
-        settle: Duration::from_secs(10),
+        500,
+        Duration::from_secs(10),
         gate,
-    }
+    )
 }
 
 /// Steps (or waits for) the simulator until the vehicle's clock runs: the link is up. Stepped, the

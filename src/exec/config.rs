@@ -105,3 +105,23 @@ impl ExecConfig {
         (self.timestep_ms as f64 * self.repair_share) as Time
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_caps_have_defaults_and_must_be_positive() {
+        let cfg: ExecConfig = toml::from_str("timestep_ms = 1300").expect("parses");
+        assert_eq!(cfg.repair_cycle_max_steps, 20_000);
+        assert_eq!(cfg.replan_max_steps, 100_000);
+        assert_eq!(cfg.validate(), Ok(()));
+        let cfg: ExecConfig =
+            toml::from_str("replan_max_steps = 0\nrepair_cycle_max_steps = 5").expect("parses");
+        assert_eq!(cfg.repair_cycle_max_steps, 5);
+        assert_eq!(
+            cfg.validate(),
+            Err(ConfigError::StepCap("replan_max_steps"))
+        );
+    }
+}

@@ -102,7 +102,7 @@ impl StepGate {
 /// frame the companion produced and the companion every frame the simulator sent (nothing in flight, frame
 /// counts on both sides agree); after the step, the companion has handled everything the step produced; a
 /// goal upload the gate was told about reaches the executive before the next step. Every wait is bounded by
-/// `settle` of wall time (then a warning, and the run goes on, no longer reproducible).
+/// `settle` of wall time (then a warning, and the run goes on, no longer reproducible, with short waits).
 pub struct SitlStepPacer {
     pub sim: std::sync::Arc<sitl::SimHandle>,
     pub runtime: tokio::runtime::Handle,
@@ -112,14 +112,48 @@ pub struct SitlStepPacer {
     /// Wall-time bound of each wait for the link to settle or for a promised upload.
     pub settle: Duration,
     pub gate: std::sync::Arc<StepGate>,
+    /// Set once a wait ran out: the link is broken or stalled, later waits are kept short (a stalled link
+    /// must not cost `settle` per cycle).
+    stalled: std::cell::Cell<bool>,
 }
 
+/// The bound of the waits once the link has stalled.
+const STALLED_WAIT: Duration = Duration::from_millis(20);
+
 impl SitlStepPacer {
+    /// Steps of at most `max_step_ms`, waits bounded by `settle` of wall time.
+    pub fn new(
+        sim: std::sync::Arc<sitl::SimHandle>,
+        runtime: tokio::runtime::Handle,
+        origin_ms: u64,
+        max_step_ms: u64,
+        settle: Duration,
+        gate: std::sync::Arc<StepGate>,
+    ) -> Self {
+        SitlStepPacer {
+            sim,
+            runtime,
+            origin_ms,
+            max_step_ms,
+            settle,
+            gate,
+            stalled: std::cell::Cell::new(false),
+        }
+    }
+
+    fn bound(&self) -> Duration {
+        if self.stalled.get() {
+            STALLED_WAIT.min(self.settle)
+        } else {
+            self.settle
+        }
+    }
+
     /// Waits until nothing is in flight between the companion and the simulator: the companion has handled
     /// every frame the simulator sent and the simulator every frame the companion produced, with the
     /// simulator's count read again last (a reply to the companion's last frames would show there).
     fn settle<V: LinkCounted>(&self, v: &V) -> bool {
-        let deadline = Instant::now() + self.settle;
+        let deadline = Instant::now() + self.bound();
         loop {
             let sim_sent = self.sim.frames_sent();
             let link = v.link_counts();
@@ -131,6 +165,7 @@ impl SitlStepPacer {
                 return true;
             }
             if Instant::now() >= deadline {
+                self.stalled.set(true);
                 tracing::warn!(
                     sim_sent,
                     sim_received,
@@ -158,9 +193,10 @@ impl SitlStepPacer {
     /// Waits (bounded) until the goal batches the gate was promised are in the executive's channel (not
     /// taken: the next cycle integrates them with the rest).
     fn promised<V: LinkCounted>(&self, v: &V) {
-        let deadline = Instant::now() + self.settle;
+        let deadline = Instant::now() + self.bound();
         while v.link_counts().goal_batches < self.gate.promised() {
             if Instant::now() >= deadline {
+                self.stalled.set(true);
                 tracing::warn!("sitl step: a promised goal upload did not arrive; stepping on");
                 self.gate.cancel_goal_batch();
                 return;
