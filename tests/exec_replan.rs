@@ -9,7 +9,7 @@ use std::sync::Arc;
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::Executive;
 use mavtempo::exec::replan::{extract, goal_to_reject};
-use mavtempo::lang::load_problem_and_domain;
+use mavtempo::lang::{load_problem_and_domain, parse_domain, parse_problem};
 use mavtempo::model::{GoalId, Value};
 use mavtempo::plan::PartialPlan;
 
@@ -82,4 +82,184 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
         .add_constraint(tp, g4, 600_000, mavtempo::stn::INF)
         .unwrap();
     assert!(plan.stn.ub(ext.t_end) < before);
+}
+
+use std::cell::Cell;
+
+use mavtempo::exec::replan::{plan_until_limit, AttemptEnd};
+use mavtempo::model::Time;
+use mavtempo::planner::{Search, StepOutcome};
+
+/// The limit l = T_end_ub − d of a search.
+fn limit(s: &Search, t_end: mavtempo::stn::Timepoint, slack: Time) -> Time {
+    s.plan().stn.ub(t_end) - slack
+}
+
+/// A clock that moves 10 s of mission time each time it is read: planning takes mission time, and T_end
+/// (g2 within 4 min) is reached after a few reads, long before the search could finish.
+#[test]
+fn the_time_limit_stops_a_replanning() {
+    let ex = fig2();
+    let slack = ex.cfg.replan_slack_ms;
+    let ext = extract(&ex, 0, &[]).expect("P_ti");
+    let l0 = ext.plan.stn.ub(ext.t_end) - slack;
+    assert!(l0 > 0 && l0 < 4 * 60_000, "l0 = {l0}");
+    let t = Cell::new(0);
+    let clock = || {
+        let now = t.get();
+        t.set(now + 10_000);
+        now
+    };
+    let mut search = Search::new(ext.plan.clone());
+    let end = plan_until_limit(&mut search, ext.t_end, slack, 100_000, &clock);
+    assert_eq!(end, AttemptEnd::TimeLimit);
+    // One read per step: stopped at the first read at or past the limit as it then was.
+    let steps = search.steps() as Time;
+    assert!(
+        steps * 10_000 >= limit(&search, ext.t_end, slack),
+        "{steps} steps"
+    );
+    assert!(steps * 10_000 < l0 + 10_000, "{steps} steps");
+    // The same attempt with a clock that does not move plans on (the limit is what stopped it).
+    let mut frozen = Search::new(ext.plan);
+    let end = plan_until_limit(&mut frozen, ext.t_end, slack, 100_000, &|| 0);
+    assert_eq!(end, AttemptEnd::Solved);
+    assert!(frozen.steps() > search.steps());
+}
+
+/// Through `Executive::replan`: the moving clock makes the first attempt stop at l, a goal is rejected.
+#[test]
+fn replan_reports_the_time_limit_and_rejects_a_goal() {
+    let mut ex = fig2();
+    let t = Cell::new(0);
+    let clock = || {
+        let now = t.get();
+        t.set(now + 10_000);
+        now
+    };
+    let _ = ex.replan(&clock, &mut |_| {});
+    let outcomes: Vec<String> = ex
+        .pending_trace
+        .iter()
+        .filter_map(|e| match e {
+            mavtempo::exec::trace::TraceEvent::Replan { outcome, .. } => Some(outcome.clone()),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        outcomes
+            .first()
+            .is_some_and(|o| o.contains("time limit l reached")),
+        "{outcomes:?}"
+    );
+    assert!(ex
+        .goal_fates()
+        .iter()
+        .any(|g| g.fate == mavtempo::exec::executive::Fate::Rejected));
+}
+
+/// DONE is reached by `slow` (100 s, tried first, but it needs READY, which nothing makes true: a dead end
+/// one step later) or by `fast` (`fast_s` seconds); goal g wants DONE within 300 s.
+fn alternatives(fast_s: u32) -> Executive {
+    let d = parse_domain(
+        "alt.ixt",
+        &format!(
+            "domain alt;
+             attribute DONE(): bool;
+             attribute READY(): bool;
+             task slow() (st, et) {{
+                 hold(READY(): true, (st, et));
+                 event(DONE(): (false, true), et);
+                 (et - st) in [100, 100];
+             }} nonPreemptive
+             task fast() (st, et) {{
+                 event(DONE(): (false, true), et);
+                 (et - st) in [{fast_s}, {fast_s}];
+             }} nonPreemptive"
+        ),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let p = parse_problem(
+        "alt-problem.ixt",
+        "problem p; domain alt; horizon 30min;
+         initial { DONE() = false; READY() = false; }
+         goal g { hold(DONE(): true, (st, et)); st in [0, 300s]; }",
+        &d,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let plan = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    Executive::new(plan, ExecConfig::default())
+}
+
+/// A clock standing at 0 for its first read, then at `t`.
+fn jumps_to(t: Time) -> impl Fn() -> Time {
+    let reads = Cell::new(0u32);
+    move || {
+        let n = reads.get();
+        reads.set(n + 1);
+        if n == 0 {
+            0
+        } else {
+            t
+        }
+    }
+}
+
+/// §3.6's exception: past l, a step that backtracks and raises l is taken and planning goes on. Step 1
+/// inserts `slow` (T_end_ub falls from 300 s to 200 s); the clock then stands exactly at l; step 2 is the
+/// backtrack to `fast`, which raises T_end_ub to 290 s: planning goes on and finds the plan.
+#[test]
+fn a_backtrack_that_raises_l_continues_past_the_limit() {
+    let ex = alternatives(10);
+    let slack = ex.cfg.replan_slack_ms;
+    let ext = extract(&ex, 0, &[]).expect("P_ti");
+    let mut probe = Search::new(ext.plan.clone());
+    assert_eq!(probe.step(), StepOutcome::Progress);
+    let l1 = limit(&probe, ext.t_end, slack);
+    assert!(probe.next_is_backtrack(), "step 2 should be the backtrack");
+    assert_eq!(l1, 200_000 - 1 - slack);
+
+    let mut search = Search::new(ext.plan.clone());
+    let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &jumps_to(l1));
+    assert_eq!(end, AttemptEnd::Solved, "after {} steps", search.steps());
+    assert_eq!(search.backtracks(), 1);
+    assert!(limit(&search, ext.t_end, slack) > l1);
+
+    // The same clock one read earlier, at the limit before step 1: that step is no backtrack, so planning
+    // stops at once.
+    let l0 = limit(&Search::new(ext.plan.clone()), ext.t_end, slack);
+    let mut search = Search::new(ext.plan);
+    let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &|| l0);
+    assert_eq!(end, AttemptEnd::TimeLimit);
+    assert_eq!(search.steps(), 0);
+}
+
+/// A backtrack past l that does not raise it (`fast` is as long as `slow`) does not keep planning going.
+#[test]
+fn a_backtrack_that_does_not_raise_l_stops_at_the_limit() {
+    let ex = alternatives(100);
+    let slack = ex.cfg.replan_slack_ms;
+    let ext = extract(&ex, 0, &[]).expect("P_ti");
+    let mut probe = Search::new(ext.plan.clone());
+    assert_eq!(probe.step(), StepOutcome::Progress);
+    let l1 = limit(&probe, ext.t_end, slack);
+    let mut search = Search::new(ext.plan);
+    let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &jumps_to(l1));
+    assert_eq!(end, AttemptEnd::TimeLimit);
+    assert_eq!(
+        search.steps(),
+        2,
+        "the backtrack is taken, then planning stops"
+    );
+}
+
+/// With a clock that never moves, the attempt's hard step cap still ends it.
+#[test]
+fn a_frozen_clock_cannot_run_an_attempt_unbounded() {
+    let ex = fig2();
+    let ext = extract(&ex, 0, &[]).expect("P_ti");
+    let mut search = Search::new(ext.plan);
+    let end = plan_until_limit(&mut search, ext.t_end, ex.cfg.replan_slack_ms, 7, &|| 0);
+    assert_eq!(end, AttemptEnd::StepCap);
+    assert_eq!(search.steps(), 7);
 }

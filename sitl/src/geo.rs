@@ -1,26 +1,22 @@
-//! Local frame (metres north/east of home) <-> WGS84 lat/lon, equirectangular around home:
-//! exact enough for the few kilometres a rover mission spans.
+//! Local frame (metres north/east of home) <-> WGS-84 lat/lon, through the Earth model shared with the
+//! companion ([`geodesy::LocalFrame`]): the rover drives the distances the planner planned.
 
 use nalgebra::Vector2;
 
 use crate::config::GeoPoint;
 
-const EARTH_RADIUS_M: f64 = 6_378_137.0;
-
+/// The rover's 2-D frame: heights are not simulated, so the plane is at home's (zero) height.
 #[derive(Debug, Clone, Copy)]
 pub struct LocalFrame {
     origin: GeoPoint,
-    metres_per_deg_lat: f64,
-    metres_per_deg_lon: f64,
+    frame: geodesy::LocalFrame,
 }
 
 impl LocalFrame {
     pub fn new(origin: GeoPoint) -> Self {
-        let m = EARTH_RADIUS_M * std::f64::consts::PI / 180.0;
         Self {
             origin,
-            metres_per_deg_lat: m,
-            metres_per_deg_lon: m * origin.lat.to_radians().cos().max(1e-6),
+            frame: geodesy::LocalFrame::new(geodesy::Geodetic::new(origin.lat, origin.lon, 0.0)),
         }
     }
 
@@ -30,16 +26,15 @@ impl LocalFrame {
 
     /// [north, east] metres.
     pub fn to_local(self, p: GeoPoint) -> Vector2<f64> {
-        Vector2::new(
-            (p.lat - self.origin.lat) * self.metres_per_deg_lat,
-            (p.lon - self.origin.lon) * self.metres_per_deg_lon,
-        )
+        let e = self.frame.to_enu(geodesy::Geodetic::new(p.lat, p.lon, 0.0));
+        Vector2::new(e.north, e.east)
     }
 
     pub fn to_geo(self, ne: Vector2<f64>) -> GeoPoint {
+        let g = self.frame.to_geodetic(geodesy::Enu::new(ne.y, ne.x, 0.0));
         GeoPoint {
-            lat: self.origin.lat + ne.x / self.metres_per_deg_lat,
-            lon: self.origin.lon + ne.y / self.metres_per_deg_lon,
+            lat: g.lat,
+            lon: g.lon,
         }
     }
 
@@ -54,7 +49,7 @@ impl LocalFrame {
 
 /// Degrees to MAVLink integer degrees ×1e7 (saturating on nonsense).
 pub fn e7(deg: f64) -> i32 {
-    (deg * 1e7).round().clamp(i32::MIN as f64, i32::MAX as f64) as i32
+    geodesy::deg_to_e7(deg)
 }
 
 #[cfg(test)]
@@ -73,9 +68,9 @@ mod tests {
     }
 
     #[test]
-    fn one_degree_of_latitude_is_about_111_km() {
+    fn one_degree_of_latitude_at_the_equator_is_110_6_km() {
         let f = LocalFrame::new(GeoPoint { lat: 0.0, lon: 0.0 });
         let d = f.to_local(GeoPoint { lat: 1.0, lon: 0.0 });
-        assert!((d.x - 111_319.5).abs() < 1.0);
+        assert!((d.x - 110_574.3).abs() < 1.0, "{d:?}");
     }
 }

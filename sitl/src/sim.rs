@@ -41,11 +41,23 @@ impl SimClock {
     }
 }
 
+/// Frames through the simulator's link, counted once handled: a stepping client compares them with its
+/// own counts to know that nothing is in flight (the stepped clock is then exactly reproducible).
+#[derive(Debug, Default)]
+struct FrameCounts {
+    /// Frames queued to peers (after link faults: a dropped frame is not counted, a duplicate twice).
+    sent: AtomicU64,
+    /// Frames received and handled, the replies they caused already counted in `sent`.
+    received: AtomicU64,
+}
+
 /// A running simulator. Dropping it stops the simulator.
 pub struct SimHandle {
     local_addr: SocketAddr,
     client_address: String,
     clock: SimClock,
+    frames: Arc<FrameCounts>,
+    peers: Peers,
     snapshot: watch::Receiver<Snapshot>,
     ctrl: mpsc::UnboundedSender<Control>,
     task: Option<tokio::task::JoinHandle<()>>,
@@ -69,6 +81,22 @@ impl SimHandle {
 
     pub fn now_ms(&self) -> u64 {
         self.clock.now_ms()
+    }
+
+    /// Frames sent to peers so far (all peers).
+    pub fn frames_sent(&self) -> u64 {
+        self.frames.sent.load(Ordering::Acquire)
+    }
+
+    /// Frames received from peers and handled so far (all peers); the replies they caused are already in
+    /// [`SimHandle::frames_sent`].
+    pub fn frames_received(&self) -> u64 {
+        self.frames.received.load(Ordering::Acquire)
+    }
+
+    /// Peers connected now.
+    pub fn peer_count(&self) -> usize {
+        self.peers.ids().len()
     }
 
     pub fn snapshot(&self) -> Snapshot {
@@ -148,7 +176,10 @@ pub async fn spawn(config: SimConfig) -> Result<SimHandle, SimError> {
     let clock = SimClock::default();
     let (snap_tx, snap_rx) = watch::channel(ap.snapshot());
     let (ctrl_tx, ctrl_rx) = mpsc::unbounded_channel();
+    let frames = Arc::new(FrameCounts::default());
+    let peers = link.peers.clone();
     let run = Runner {
+        frames: frames.clone(),
         ap,
         link,
         inbound: in_rx,
@@ -164,6 +195,8 @@ pub async fn spawn(config: SimConfig) -> Result<SimHandle, SimError> {
         local_addr,
         client_address,
         clock,
+        frames,
+        peers,
         snapshot: snap_rx,
         ctrl: ctrl_tx,
         task: Some(task),
@@ -171,6 +204,7 @@ pub async fn spawn(config: SimConfig) -> Result<SimHandle, SimError> {
 }
 
 struct Runner {
+    frames: Arc<FrameCounts>,
     ap: Autopilot,
     link: Link,
     inbound: mpsc::Receiver<Inbound>,
@@ -249,6 +283,8 @@ impl Runner {
             self.ap.handle(frame);
         }
         self.flush();
+        // After the flush: a client seeing this count also sees the replies in `sent`.
+        self.frames.received.fetch_add(1, Ordering::AcqRel);
     }
 
     fn publish(&mut self) {
@@ -266,6 +302,8 @@ impl Runner {
         let sysid = self.ap.system_id();
         let peers: Peers = self.link.peers.clone();
         let all = peers.ids();
+        let sent = |ok: bool| u64::from(ok);
+        let mut count = 0;
         for (dest, msg) in out {
             let targets: Vec<u64> = match dest {
                 Dest::All => all.clone(),
@@ -279,18 +317,18 @@ impl Runner {
                 match lf.outbound(now) {
                     Delivery::Drop => {}
                     Delivery::Once => {
-                        peers.send_bytes(peer, bytes);
+                        count += sent(peers.send_bytes(peer, bytes));
                     }
                     Delivery::Twice => {
-                        peers.send_bytes(peer, bytes.clone());
-                        peers.send_bytes(peer, bytes);
+                        count += sent(peers.send_bytes(peer, bytes.clone()));
+                        count += sent(peers.send_bytes(peer, bytes));
                     }
                     Delivery::Reorder => {
                         // Hold this frame back until the next one; if one is already held,
                         // this frame overtakes it instead.
                         if let Some(prev) = lf.take_held(peer) {
-                            peers.send_bytes(peer, bytes);
-                            peers.send_bytes(peer, prev);
+                            count += sent(peers.send_bytes(peer, bytes));
+                            count += sent(peers.send_bytes(peer, prev));
                         } else {
                             lf.hold(peer, bytes);
                         }
@@ -298,9 +336,10 @@ impl Runner {
                     }
                 }
                 if let Some(held) = self.ap.link_faults.take_held(peer) {
-                    peers.send_bytes(peer, held);
+                    count += sent(peers.send_bytes(peer, held));
                 }
             }
         }
+        self.frames.sent.fetch_add(count, Ordering::AcqRel);
     }
 }

@@ -73,7 +73,7 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),
         ..MissionOptions::default()
     };
-    let mut pacer = session.step_pacer();
+    let mut pacer = session.step_pacer(Arc::default());
     let (thread0, process0) = (thread_cpu_ns(), process_cpu_ns());
     let wall = std::time::Instant::now();
     let report = run_mission(

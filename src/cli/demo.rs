@@ -4,7 +4,7 @@
 //! e5 a slow download, e6 a battery drop on the third move; e3/e4, the new goals g6 and g7, are uploaded
 //! over MAVLink by a simulated ground station while the first download runs. Wiring and printing only.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Duration;
@@ -13,10 +13,11 @@ use clap::Args;
 
 use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
-use crate::exec::pacer::LivePacer;
+use crate::exec::pacer::{LivePacer, StepGate};
 use crate::exec::trace::{CycleRecord, TraceEvent};
 use crate::lang;
 use crate::model::Problem;
@@ -72,11 +73,41 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
-    match demo(&args) {
-        Ok(report) => {
-            print_summary(&report);
+    let setup = DemoSetup {
+        problem: args.problem.clone(),
+        domain: args.domain.clone(),
+        config: args.config.clone(),
+        scenario: args.scenario.clone(),
+        vehicle: args.vehicle,
+        speedup: args.speedup,
+        upload: !args.no_upload,
+        max_steps: args.max_steps,
+        dispatch: args.dispatch.dispatch,
+    };
+    let mut printer = TracePrinter::default();
+    let quiet = args.quiet;
+    let result = run_demo(
+        &setup,
+        &mut |line: &str| {
+            // Progress lines inside the trace are indented with it.
+            if !(quiet && line.starts_with(' ')) {
+                println!("{line}");
+            }
+        },
+        &mut |c: &CycleRecord| {
+            if !quiet {
+                printer.cycle(c);
+            }
+        },
+    );
+    match result {
+        Ok(run) => {
+            if let Some(u) = &run.upload {
+                println!("{u}");
+            }
+            print_summary(&run.report);
             if let Some(path) = &args.report {
-                if let Err(e) = write_report(path, &report) {
+                if let Err(e) = write_report(path, &run.report) {
                     eprintln!("mavtempo demo: {e}");
                     return ExitCode::FAILURE;
                 }
@@ -91,17 +122,62 @@ pub fn run(args: DemoArgs) -> ExitCode {
     }
 }
 
-fn read(path: &std::path::Path) -> Result<String, String> {
+/// What a demo run is given (the command line's flags).
+#[derive(Clone, Debug)]
+pub struct DemoSetup {
+    /// A problem instead of the built-in Fig. 2.
+    pub problem: Option<PathBuf>,
+    /// Its domain instead of the built-in rover domain.
+    pub domain: Option<PathBuf>,
+    /// A vehicle configuration instead of the built-in config/demo-rover.toml.
+    pub config: Option<PathBuf>,
+    /// A SITL scenario (see [`DemoArgs::scenario`] for the default).
+    pub scenario: Option<PathBuf>,
+    pub vehicle: sitl::VehicleKind,
+    /// Paced at N× instead of stepped.
+    pub speedup: Option<f64>,
+    /// The ground station uploads g6 and g7 when the download starts.
+    pub upload: bool,
+    /// Planning steps for the initial plan.
+    pub max_steps: u64,
+    pub dispatch: PolicyKind,
+}
+
+impl Default for DemoSetup {
+    /// The built-in Fig. 2 story, stepped (deterministic), with the upload.
+    fn default() -> Self {
+        DemoSetup {
+            problem: None,
+            domain: None,
+            config: None,
+            scenario: None,
+            vehicle: sitl::VehicleKind::Rover,
+            speedup: None,
+            upload: true,
+            max_steps: 200_000,
+            dispatch: PolicyKind::default(),
+        }
+    }
+}
+
+/// What a demo run leaves.
+pub struct DemoRun {
+    pub report: MissionReport,
+    /// The ground station's account of its upload, if it uploaded.
+    pub upload: Option<String>,
+}
+
+fn read(path: &Path) -> Result<String, String> {
     std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
 }
 
-fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
-    let domain = match &args.domain {
+fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
+    let domain = match &setup.domain {
         Some(p) => lang::load_domain(p).map_err(|e| e.to_string())?,
         None => lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?,
     };
     let domain = Arc::new(domain);
-    let (name, text) = match &args.problem {
+    let (name, text) = match &setup.problem {
         Some(p) => (p.display().to_string(), read(p)?),
         None => (
             "domains/rover/problems/fig2.ixt".to_string(),
@@ -112,9 +188,9 @@ fn load(args: &DemoArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), St
     Ok((domain, Arc::new(problem)))
 }
 
-/// The session's configuration and scenario from the arguments (see [`DemoArgs::scenario`]).
-fn session_spec(args: &DemoArgs, problem: &Problem) -> Result<SessionSpec, String> {
-    let (scenario, scenario_name) = match (&args.scenario, &args.problem) {
+/// The session's configuration and scenario from the setup (see [`DemoArgs::scenario`]).
+fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, String), String> {
+    let (scenario, scenario_name) = match (&setup.scenario, &setup.problem) {
         (Some(p), _) => (read(p)?, p.display().to_string()),
         (None, None) => (SCENARIO.to_string(), "sitl/scenarios/fig2.toml".to_string()),
         (None, Some(problem)) => {
@@ -130,16 +206,15 @@ fn session_spec(args: &DemoArgs, problem: &Problem) -> Result<SessionSpec, Strin
         }
     };
     let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
-    if let Some(p) = &args.config {
+    if let Some(p) = &setup.config {
         spec.config =
             crate::vehicle::config::VehicleConfig::parse(&read(p)?, &p.display().to_string())
                 .map_err(|e| e.to_string())?;
     }
-    spec.vehicle = args.vehicle;
-    spec.speedup = args.speedup;
+    spec.vehicle = setup.vehicle;
+    spec.speedup = setup.speedup;
     spec.first_goal_number = problem.goals.len() as u32 + 1;
-    println!("SITL scenario: {scenario_name}");
-    Ok(spec)
+    Ok((spec, scenario_name))
 }
 
 pub(super) fn exec_config() -> ExecConfig {
@@ -153,58 +228,71 @@ pub(super) fn exec_config() -> ExecConfig {
     }
 }
 
-fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
-    let (domain, problem) = load(args)?;
-    println!(
+/// Runs the demo mission: `say` gets the progress lines, `observe` each cycle as it ends. Stepped (no
+/// speed-up), two runs of the same setup give the same cycles, events and figures.
+pub fn run_demo(
+    setup: &DemoSetup,
+    say: &mut dyn FnMut(&str),
+    observe: &mut dyn FnMut(&CycleRecord),
+) -> Result<DemoRun, String> {
+    let (domain, problem) = load(setup)?;
+    say(&format!(
         "planning {} ({} goals)...",
         problem.name,
         problem.goals.len()
-    );
-    let plan = initial_plan(domain.clone(), problem.clone(), args.max_steps)?;
-    println!("initial plan: {} actions", plan.num_actions());
-    let mut session = SitlSession::start(&domain, &problem, session_spec(args, &problem)?)?;
+    ));
+    let plan = initial_plan(domain.clone(), problem.clone(), setup.max_steps)?;
+    say(&format!("initial plan: {} actions", plan.num_actions()));
+    let (spec, scenario_name) = session_spec(setup, &problem)?;
+    say(&format!("SITL scenario: {scenario_name}"));
+    let mut session = SitlSession::start(&domain, &problem, spec)?;
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
-    println!(
-        "SITL rover at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
+    say(&format!(
+        "SITL vehicle at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         session.sim.client_address()
-    );
+    ));
     let mut ex = Executive::new(plan, exec_config())
-        .with_policy(args.dispatch.dispatch)
+        .with_policy(setup.dispatch)
         .with_mapping(session.mapping.clone());
     ex.level_tolerance = LEVEL_TOLERANCE;
+    // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
+    let gate = Arc::new(StepGate::default());
     let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
-    let mut printer = TracePrinter::default();
-    let mut observe = |_: &Executive, c: &CycleRecord| {
-        if !args.quiet {
-            printer.cycle(c);
-        }
+    let mut on_cycle = |_: &Executive, c: &CycleRecord| {
+        observe(c);
         let download = c.events.iter().any(
             |e| matches!(e, TraceEvent::Launch { action, .. } if action.starts_with("download_images")),
         );
-        if download && upload.is_none() && !args.no_upload && args.problem.is_none() {
-            if !args.quiet {
-                println!("             ground station: uploading g6, g7 (pictures of new targets)");
-            }
+        // The Fig. 2 story's e3/e4: only on the built-in problem.
+        if download && upload.is_none() && setup.upload && setup.problem.is_none() {
+            say("             ground station: uploading g6, g7 (pictures of new targets)");
             let items = new_goal_items(home);
             let addr = format!("tcpout:{gcs}");
-            upload = Some(
-                rt.spawn(async move { send_goals(&addr, items, Duration::from_secs(60)).await }),
-            );
+            gate.expect_goal_batch();
+            let gate = gate.clone();
+            upload = Some(rt.spawn(async move {
+                let r = send_goals(&addr, items, Duration::from_secs(60)).await;
+                if r.is_err() {
+                    // Failed before or after the batch reached the executive: the pacer stops waiting.
+                    gate.cancel_goal_batch();
+                }
+                r
+            }));
         }
     };
     let opts = MissionOptions {
         time_limit_ms: problem_horizon(&problem),
         ..MissionOptions::default()
     };
-    let report = match args.speedup {
+    let report = match setup.speedup {
         None => {
-            let mut pacer = session.step_pacer();
+            let mut pacer = session.step_pacer(gate.clone());
             run_mission(
                 &mut ex,
                 &mut session.vehicle,
                 &mut pacer,
                 &opts,
-                &mut observe,
+                &mut on_cycle,
             )
         }
         Some(speedup) => {
@@ -217,23 +305,21 @@ fn demo(args: &DemoArgs) -> Result<MissionReport, String> {
                 &mut session.vehicle,
                 &mut pacer,
                 &opts,
-                &mut observe,
+                &mut on_cycle,
             )
         }
     };
-    if let Some(h) = upload {
-        match rt.block_on(h) {
-            Ok(Ok(r)) => println!(
-                "ground station: upload {}; {}",
-                r.failure.as_deref().unwrap_or("accepted"),
-                r.texts.join("; ")
-            ),
-            Ok(Err(e)) => println!("ground station: upload failed: {e}"),
-            Err(e) => println!("ground station: upload task: {e}"),
-        }
-    }
+    let upload = upload.map(|h| match rt.block_on(h) {
+        Ok(Ok(r)) => format!(
+            "ground station: upload {}; {}",
+            r.failure.as_deref().unwrap_or("accepted"),
+            r.texts.join("; ")
+        ),
+        Ok(Err(e)) => format!("ground station: upload failed: {e}"),
+        Err(e) => format!("ground station: upload task: {e}"),
+    });
     drop(session);
-    Ok(report)
+    Ok(DemoRun { report, upload })
 }
 
 fn problem_horizon(p: &Problem) -> crate::model::Time {

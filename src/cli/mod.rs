@@ -3,7 +3,7 @@
 mod bench;
 mod bench_cpu;
 mod check;
-mod demo;
+pub mod demo;
 mod dispatch_arg;
 mod experiment;
 mod goal;

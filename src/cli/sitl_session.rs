@@ -3,9 +3,9 @@
 //! endpoint, wait for telemetry, pace the mission by stepping the simulator).
 
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
-use crate::exec::pacer::SitlStepPacer;
+use crate::exec::pacer::{SitlStepPacer, StepGate};
 use crate::exec::DomainMapping;
 use crate::model::{Domain, Problem};
 use crate::vehicle::config::VehicleConfig;
@@ -138,35 +138,64 @@ impl SitlSession {
         })
     }
 
-    /// The pacer of a stepped session: steps of at most 500 ms of sim time, telemetry every second.
-    pub fn step_pacer(&self) -> SitlStepPacer {
-        SitlStepPacer {
-            sim: self.sim.clone(),
-            runtime: self.rt.handle().clone(),
-            origin_ms: self.origin_ms,
-            max_step_ms: 500,
-            telemetry_period_ms: 1_000,
-            settle: Duration::from_secs(2),
-        }
+    /// The pacer of a stepped session: steps of at most 500 ms of sim time; goal uploads announced to
+    /// `gate` land before the next step.
+    pub fn step_pacer(&self, gate: Arc<StepGate>) -> SitlStepPacer {
+        stepper(&self.sim, self.rt.handle().clone(), self.origin_ms, gate)
     }
 }
 
-/// Steps (or waits for) the simulator until the vehicle's clock runs: the link is up.
+fn stepper(
+    sim: &Arc<sitl::SimHandle>,
+    runtime: tokio::runtime::Handle,
+    origin_ms: u64,
+    gate: Arc<StepGate>,
+) -> SitlStepPacer {
+    // Wall bound of each wait: the link settles in well under a millisecond, an upload in tens.
+    SitlStepPacer::new(
+        sim.clone(),
+        runtime,
+        origin_ms,
+        500,
+        Duration::from_secs(10),
+        gate,
+    )
+}
+
+/// Steps (or waits for) the simulator until the vehicle's clock runs: the link is up. Stepped, the
+/// companion must be connected before the first step and every step settled, so that the mission starts
+/// at the same sim time with the same telemetry run after run.
 fn link_up(
     rt: &tokio::runtime::Runtime,
-    sim: &sitl::SimHandle,
+    sim: &Arc<sitl::SimHandle>,
     vehicle: &MavlinkVehicle,
     stepped: bool,
 ) -> Result<(), String> {
-    for _ in 0..200 {
-        if vehicle.now_ms() > 0 && vehicle.target().is_some() {
-            return Ok(());
+    if stepped {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while sim.peer_count() == 0 {
+            if Instant::now() >= deadline {
+                return Err("the vehicle link did not connect to the SITL".into());
+            }
+            std::thread::sleep(Duration::from_millis(1));
         }
-        if stepped {
-            rt.block_on(sim.step(Duration::from_millis(200)))
+        let pacer = stepper(sim, rt.handle().clone(), sim.now_ms(), Arc::default());
+        for _ in 0..200 {
+            if vehicle.now_ms() > 0 && vehicle.target().is_some() {
+                return Ok(());
+            }
+            // The events (link up, levels) stay for the executive's first cycle.
+            pacer
+                .step_settled(vehicle, 200)
                 .map_err(|e| e.to_string())?;
         }
-        std::thread::sleep(Duration::from_millis(10));
+    } else {
+        for _ in 0..200 {
+            if vehicle.now_ms() > 0 && vehicle.target().is_some() {
+                return Ok(());
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
     }
     Err("no telemetry from the SITL rover".into())
 }

@@ -48,7 +48,6 @@ pub struct VehicleClock<'a, V: Vehicle> {
 
 impl<V: Vehicle> Clock for VehicleClock<'_, V> {
     fn now(&self) -> Time {
-        let now = self.vehicle.now_ms();
-        now.saturating_sub(self.origin_ms).min(i64::MAX as u64) as Time
+        super::cycle::mission_time(self.vehicle.now_ms(), self.origin_ms)
     }
 }

@@ -19,9 +19,17 @@ pub struct ExecConfig {
     #[serde(default = "default_slack")]
     pub replan_slack_ms: Time,
     /// Deterministic runs (tests, demo): plan repair and replanning budgets in planning steps instead of
-    /// wall-clock time (μ·ts of steps per cycle).
+    /// mission time (μ·n steps per cycle; a replanning attempt at most 40·n steps).
     #[serde(default)]
     pub repair_max_steps: Option<u64>,
+    /// Hard cap on the plan repair steps of one cycle, whatever the clock does: the μ·ts deadline is in
+    /// mission time, which does not move while a stepped simulator or a manual clock waits for the cycle.
+    #[serde(default = "default_repair_cycle_steps")]
+    pub repair_cycle_max_steps: u64,
+    /// Hard cap on the planning steps of one complete replanning attempt (§3.6), for the same reason: past
+    /// it the attempt ends as if the time limit l were reached.
+    #[serde(default = "default_replan_steps")]
+    pub replan_max_steps: u64,
     /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
     #[serde(default)]
     pub dispatch: PolicyKind,
@@ -50,6 +58,14 @@ fn default_same_failures() -> u32 {
 fn default_changes_per_min() -> u32 {
     12
 }
+/// A planning step costs tens of µs on a rover plan: 20,000 steps are about μ·ts at the default ts.
+fn default_repair_cycle_steps() -> u64 {
+    20_000
+}
+/// An attempt's steps: generous for missions of a few dozen goals, bounded for a stepped simulator.
+fn default_replan_steps() -> u64 {
+    100_000
+}
 
 impl Default for ExecConfig {
     fn default() -> Self {
@@ -58,6 +74,8 @@ impl Default for ExecConfig {
             repair_share: default_mu(),
             replan_slack_ms: default_slack(),
             repair_max_steps: None,
+            repair_cycle_max_steps: default_repair_cycle_steps(),
+            replan_max_steps: default_replan_steps(),
             dispatch: PolicyKind::default(),
             same_failure_limit: default_same_failures(),
             max_plan_changes_per_min: default_changes_per_min(),
@@ -76,6 +94,8 @@ pub enum ConfigError {
     Slack(Time),
     #[error("exec.{0} must be at least 1")]
     Positive(&'static str),
+    #[error("exec.{0} must be positive")]
+    StepCap(&'static str),
 }
 
 impl ExecConfig {
@@ -95,11 +115,37 @@ impl ExecConfig {
         if self.max_plan_changes_per_min == 0 {
             return Err(ConfigError::Positive("max_plan_changes_per_min"));
         }
+        if self.repair_cycle_max_steps == 0 {
+            return Err(ConfigError::StepCap("repair_cycle_max_steps"));
+        }
+        if self.replan_max_steps == 0 {
+            return Err(ConfigError::StepCap("replan_max_steps"));
+        }
         Ok(())
     }
 
     /// μ·ts: the plan repair budget of one cycle, ms.
     pub fn repair_budget_ms(&self) -> Time {
         (self.timestep_ms as f64 * self.repair_share) as Time
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_caps_have_defaults_and_must_be_positive() {
+        let cfg: ExecConfig = toml::from_str("timestep_ms = 1300").expect("parses");
+        assert_eq!(cfg.repair_cycle_max_steps, 20_000);
+        assert_eq!(cfg.replan_max_steps, 100_000);
+        assert_eq!(cfg.validate(), Ok(()));
+        let cfg: ExecConfig =
+            toml::from_str("replan_max_steps = 0\nrepair_cycle_max_steps = 5").expect("parses");
+        assert_eq!(cfg.repair_cycle_max_steps, 5);
+        assert_eq!(
+            cfg.validate(),
+            Err(ConfigError::StepCap("replan_max_steps"))
+        );
     }
 }

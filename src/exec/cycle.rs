@@ -23,6 +23,11 @@ pub enum CycleOutcome {
     Finished,
 }
 
+/// Vehicle ms → ms since the plan's origin (the vehicle time `origin_ms`).
+pub fn mission_time(vehicle_ms: u64, origin_ms: u64) -> Time {
+    vehicle_ms.saturating_sub(origin_ms).min(i64::MAX as u64) as Time
+}
+
 impl Executive {
     pub fn cycle(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> CycleOutcome {
         let t0 = Instant::now();
@@ -32,7 +37,11 @@ impl Executive {
         let t1 = Instant::now();
         let mut repairing = false;
         if self.abort.is_none() {
-            match self.repair_phase(now) {
+            // The repair's μ·ts is mission time: the vehicle's clock, as the pacer reads it.
+            let origin = self.vehicle_origin_ms;
+            let v: &dyn Vehicle = vehicle;
+            let clock = || mission_time(v.now_ms(), origin);
+            match self.repair_phase(now, &clock) {
                 RepairOutcome::InProgress => repairing = true,
                 RepairOutcome::Solved => self.plan_changed(now, PlanChangeKind::Repair),
                 _ => {}

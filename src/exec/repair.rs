@@ -1,13 +1,13 @@
 //! Plan repair across cycles (seed 1 §3.2 problems 1 and 2, §3.4).
 //!
 //! The root of the search tree is *ExecutingPlan*, partially invalidated; the tree is developed by the
-//! planner's ordered depth-first search, one step at a time, for at most μ·ts per cycle, each new timepoint
+//! planner's ordered depth-first search, one step at a time, for at most μ·ts of mission time per cycle (the
+//! executive's clock, so a vehicle at N× gets μ·ts/N of wall time), and never more than a hard step cap (a
+//! stepped simulator's clock does not move while the cycle runs), each new timepoint
 //! constrained after the end of the current cycle. Each node is labelled when its plan is executable
 //! (Definition 5); at the deadline, the last labelled node becomes *ExecutingPlan*. If nothing changed
 //! meanwhile (no message, no timepoint executed), the tree is kept and developed in the next cycle;
 //! otherwise a new tree is rooted at the new *ExecutingPlan*.
-
-use std::time::{Duration, Instant};
 
 use super::executive::Executive;
 use super::p_t::classify;
@@ -59,8 +59,9 @@ fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Incon
 }
 
 impl Executive {
-    /// The plan repair part of a cycle at `now`.
-    pub fn repair_phase(&mut self, now: Time) -> RepairOutcome {
+    /// The plan repair part of a cycle at `now`; `clock` is the executive's clock (mission time, ms since
+    /// the plan's origin), read to stop at `μ·ts` after the phase starts.
+    pub fn repair_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
         let running = classify(&self.plan, now).running;
         if self.repair.is_none() && !self.repair_requested && self.plan.flaws().is_empty() {
             return RepairOutcome::Idle;
@@ -83,23 +84,24 @@ impl Executive {
                 labelled: None,
             });
         }
-        let budget_steps = self
-            .cfg
-            .repair_max_steps
-            .map(|n| ((n as f64) * self.cfg.repair_share).ceil() as u64);
-        let deadline =
-            Instant::now() + Duration::from_millis(self.cfg.repair_budget_ms().max(0) as u64);
+        // Deterministic step budgets (μ·n steps) replace the deadline; the hard cap bounds both.
+        let cap = self.cfg.repair_cycle_max_steps;
+        let (max_steps, deadline) = match self.cfg.repair_max_steps {
+            Some(n) => (
+                (((n as f64) * self.cfg.repair_share).ceil() as u64).min(cap),
+                None,
+            ),
+            None => (
+                cap,
+                Some(clock().saturating_add(self.cfg.repair_budget_ms().max(0))),
+            ),
+        };
         let Some(rep) = self.repair.as_mut() else {
             return RepairOutcome::Idle;
         };
         let first = rep.search.steps();
         let outcome = loop {
-            let done = rep.search.steps() - first;
-            let out_of_budget = match budget_steps {
-                Some(n) => done >= n,
-                None => Instant::now() >= deadline,
-            };
-            if out_of_budget {
+            if rep.search.steps() - first >= max_steps || deadline.is_some_and(|d| clock() >= d) {
                 break None;
             }
             match rep.search.step() {

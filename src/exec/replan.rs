@@ -101,6 +101,63 @@ pub fn goal_to_reject(plan: &PartialPlan) -> Option<GoalId> {
         .map(|g| g.goal)
 }
 
+/// How a replanning attempt's search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AttemptEnd {
+    /// A flawless plan.
+    Solved,
+    /// Dead end: the search is exhausted.
+    DeadEnd,
+    /// The time limit l = T_end_ub − d was reached (and the next step was no backtrack raising it).
+    TimeLimit,
+    /// The attempt's hard step cap.
+    StepCap,
+}
+
+impl std::fmt::Display for AttemptEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            AttemptEnd::Solved => "solved",
+            AttemptEnd::DeadEnd => "dead end",
+            AttemptEnd::TimeLimit => "time limit l reached",
+            AttemptEnd::StepCap => "step cap reached",
+        })
+    }
+}
+
+/// §3.6: plans one step at a time until a solution, a dead end, or the time limit `l = T_end_ub − d`
+/// (re-read after each step: inserting timepoints lowers T_end_ub). Once `now() ≥ l`, planning stops unless
+/// the next step is a backtrack and that step raises l (backtracking can relax T_end); a next step that
+/// merely finds the current node flawless is taken too (it does no planning). `max_steps` bounds the attempt
+/// whatever the clock does.
+pub fn plan_until_limit(
+    search: &mut Search,
+    t_end: Timepoint,
+    slack: Time,
+    max_steps: u64,
+    now: &dyn Fn() -> Time,
+) -> AttemptEnd {
+    let limit = |s: &Search| s.plan().stn.ub(t_end).saturating_sub(slack);
+    loop {
+        if search.steps() >= max_steps {
+            return AttemptEnd::StepCap;
+        }
+        let l = limit(search);
+        let past = now() >= l;
+        if past && !search.next_is_solution() && !search.next_is_backtrack() {
+            return AttemptEnd::TimeLimit;
+        }
+        match search.step() {
+            StepOutcome::Solved => return AttemptEnd::Solved,
+            StepOutcome::Failed(_) => return AttemptEnd::DeadEnd,
+            StepOutcome::Progress => {}
+        }
+        if past && limit(search) <= l {
+            return AttemptEnd::TimeLimit;
+        }
+    }
+}
+
 /// How a replanning ended.
 #[derive(Debug)]
 pub enum ReplanResult {
@@ -119,8 +176,8 @@ impl Executive {
     ) -> ReplanResult {
         self.counters.replans += 1;
         let mut dropped: Vec<GoalId> = Vec::new();
-        // Deterministic runs: an attempt gets the steps of 40 cycles (a manual clock does not move while planning).
-        let max_steps = self.cfg.repair_max_steps.map(|n| n * 40);
+        let max_steps = self.replan_step_cap();
+        let slack = self.cfg.replan_slack_ms;
         for attempt in 1.. {
             let t = now();
             if t >= self.plan.horizon {
@@ -151,31 +208,14 @@ impl Executive {
                 return ReplanResult::NoGoals(ext.plan);
             }
             let mut search = Search::new(ext.plan);
-            let mut limit = search.plan().stn.ub(t_end) - self.cfg.replan_slack_ms;
-            let solved = loop {
-                let depth = search.depth();
-                let l = search.plan().stn.ub(t_end) - self.cfg.replan_slack_ms;
-                // Past the limit, go on only while backtracking raises it.
-                let backtracked = search.depth() < depth || l > limit;
-                if now() >= l && !backtracked {
-                    break false;
-                }
-                if max_steps.is_some_and(|m| search.steps() >= m) {
-                    break false;
-                }
-                limit = l;
-                match search.step() {
-                    StepOutcome::Solved => break true,
-                    StepOutcome::Failed(_) => break false,
-                    StepOutcome::Progress => {}
-                }
-            };
+            let end = plan_until_limit(&mut search, t_end, slack, max_steps, now);
+            let solved = end == AttemptEnd::Solved;
             self.trace(TraceEvent::Replan {
                 attempt: attempt as u32,
                 outcome: if solved {
                     format!("plan found in {} steps", search.steps())
                 } else {
-                    format!("no plan after {} steps", search.steps())
+                    format!("no plan after {} steps ({end})", search.steps())
                 },
             });
             let mut solution = solved.then(|| search.plan().clone());
@@ -220,6 +260,15 @@ impl Executive {
             refresh(self);
         }
         ReplanResult::Error("unreachable".into())
+    }
+
+    /// The hard step cap of one replanning attempt: `replan_max_steps`, and with deterministic step budgets
+    /// the steps of 40 cycles (a manual clock does not move while planning, so l is never reached).
+    fn replan_step_cap(&self) -> u64 {
+        let cap = self.cfg.replan_max_steps;
+        self.cfg
+            .repair_max_steps
+            .map_or(cap, |n| n.saturating_mul(40).min(cap))
     }
 
     /// Adopts a plan from complete replanning: running actions are forgotten (P_ts has none).

@@ -1,11 +1,8 @@
 //! Location coordinates: local metres east/north/up from the problem's home, or WGS-84 lat/lon/alt.
-//! Distances use a local flat-earth (equirectangular) projection around the home, accurate to well under a
-//! metre over the few kilometres a mission covers.
+//! Conversions and distances go through the one Earth model shared with the vehicle layer and the SITL
+//! ([`geodesy::LocalFrame`]), so the planner's distances are the ones the vehicle drives.
 
 use serde::Serialize;
-
-/// Mean Earth radius in metres (spherical approximation used by the flat-earth projection).
-const EARTH_RADIUS_M: f64 = 6_371_000.0;
 
 /// A WGS-84 position: degrees and metres above mean sea level.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -24,6 +21,12 @@ pub enum Position {
     Geo(GeoPoint),
 }
 
+impl GeoPoint {
+    fn geodetic(self) -> geodesy::Geodetic {
+        geodesy::Geodetic::new(self.lat, self.lon, self.alt)
+    }
+}
+
 impl Position {
     /// Local east/north/up metres relative to `home`. A geographic position without a home is projected
     /// around itself (so two such positions still get a sensible mutual distance via [`Position::distance`]).
@@ -32,9 +35,8 @@ impl Position {
             Position::Local { east, north, up } => (east, north, up),
             Position::Geo(p) => {
                 let h = home.copied().unwrap_or(p);
-                let north = (p.lat - h.lat).to_radians() * EARTH_RADIUS_M;
-                let east = (p.lon - h.lon).to_radians() * EARTH_RADIUS_M * h.lat.to_radians().cos();
-                (east, north, p.alt - h.alt)
+                let e = geodesy::LocalFrame::new(h.geodetic()).to_enu(p.geodetic());
+                (e.east, e.north, e.up)
             }
         }
     }
@@ -46,12 +48,12 @@ impl Position {
             Position::Geo(p) => Some(p),
             Position::Local { east, north, up } => {
                 let h = home?;
-                let lat = h.lat + (north / EARTH_RADIUS_M).to_degrees();
-                let lon = h.lon + (east / (EARTH_RADIUS_M * h.lat.to_radians().cos())).to_degrees();
+                let g = geodesy::LocalFrame::new(h.geodetic())
+                    .to_geodetic(geodesy::Enu::new(east, north, up));
                 Some(GeoPoint {
-                    lat,
-                    lon,
-                    alt: h.alt + up,
+                    lat: g.lat,
+                    lon: g.lon,
+                    alt: g.alt,
                 })
             }
         }
@@ -105,9 +107,9 @@ mod tests {
         let back = g.map(|g| g.to_local(Some(&home)));
         let (e, n, u) = back.unwrap_or((f64::NAN, f64::NAN, f64::NAN));
         assert!((e - 120.0).abs() < 1e-6 && (n + 80.0).abs() < 1e-6 && (u - 2.0).abs() < 1e-9);
-        // ~1 km north is ~0.009 degrees of latitude.
+        // ~1 km north is ~0.009 degrees of latitude (WGS-84 meridian radius at 43.56°: 6,365.8 km).
         let km = Position::Geo(GeoPoint {
-            lat: home.lat + 0.008_993_2,
+            lat: home.lat + 0.009_000_4,
             ..home
         });
         let d = km.distance(&Position::Geo(home), None);

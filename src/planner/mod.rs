@@ -84,9 +84,9 @@ pub struct Search {
     backtracks: u64,
     status: Status,
     hierarchy: hierarchy::Hierarchy,
-    /// The flaw the next step resolves, when [`Search::next_is_backtrack`] already selected it (valid until
-    /// the plan changes).
-    peeked: Option<(Flaw, Vec<Resolver>)>,
+    /// The next step's selection when [`Search::next_is_backtrack`] or [`Search::next_is_solution`] already
+    /// made it (`Some(None)`: no flaw left); valid until the plan changes.
+    peeked: Option<Option<(Flaw, Vec<Resolver>)>>,
 }
 
 impl Search {
@@ -145,16 +145,10 @@ impl Search {
     /// can be applied (seed 1 §3.6: when the time limit l is reached, planning is pursued if the next step is a backtrack
     /// and it increases l). The selection is kept for that next step.
     pub fn next_is_backtrack(&mut self) -> bool {
-        if self.status != Status::Running {
+        if !self.peek() {
             return false;
         }
-        if self.peeked.is_none() {
-            match self.select() {
-                Ok(p) => self.peeked = p,
-                Err(_) => return false,
-            }
-        }
-        let Some((_, rs)) = &self.peeked else {
+        let Some(Some((_, rs))) = &self.peeked else {
             return false;
         };
         // A dead end shows only when each resolver is tried (the propagation of forced conflicts is part
@@ -167,6 +161,30 @@ impl Search {
             self.plan.restore(level);
             if ok {
                 return false;
+            }
+        }
+        true
+    }
+
+    /// Whether the next step only finds that the current plan has no flaw left (it returns `Solved`
+    /// without planning). The selection is kept for that next step.
+    pub fn next_is_solution(&mut self) -> bool {
+        if self.status == Status::Solved {
+            return true;
+        }
+        self.peek() && matches!(self.peeked, Some(None))
+    }
+
+    /// Makes the next step's selection once (kept in `peeked`); false when the search is over or the
+    /// selection failed the search.
+    fn peek(&mut self) -> bool {
+        if self.status != Status::Running {
+            return false;
+        }
+        if self.peeked.is_none() {
+            match self.select() {
+                Ok(p) => self.peeked = Some(p),
+                Err(_) => return false,
             }
         }
         true
@@ -212,7 +230,7 @@ impl Search {
         }
         self.steps += 1;
         let picked = match self.peeked.take() {
-            Some(p) => Some(p),
+            Some(p) => p,
             None => match self.select() {
                 Ok(p) => p,
                 Err(r) => return StepOutcome::Failed(r),

@@ -112,6 +112,11 @@ impl Driver {
         self.runs.keys()
     }
 
+    /// Messages produced and not yet taken by the link.
+    pub fn outgoing_len(&self) -> usize {
+        self.out.len()
+    }
+
     pub fn take_outgoing(&mut self) -> Vec<MavMessage> {
         std::mem::take(&mut self.out)
     }

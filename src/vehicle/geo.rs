@@ -1,9 +1,7 @@
-//! Local East-North-Up metres ↔ WGS84 lat/lon around the problem's home (equirectangular: exact enough over
-//! the few kilometres a mission spans, and the inverse of itself to the centimetre).
+//! Local East-North-Up metres ↔ WGS-84 lat/lon around the vehicle's home, through the one Earth model shared
+//! with the planner and the SITL ([`geodesy::LocalFrame`]).
 
 use super::types::Enu;
-
-const EARTH_RADIUS_M: f64 = 6_378_137.0;
 
 /// The problem's home: the origin of the local frame.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
@@ -16,22 +14,26 @@ pub struct Home {
 }
 
 impl Home {
+    fn frame(self) -> geodesy::LocalFrame {
+        geodesy::LocalFrame::new(geodesy::Geodetic::new(self.lat, self.lon, self.alt))
+    }
+
     pub fn to_global(self, p: Enu) -> (f64, f64, f64) {
-        let lat = self.lat + (p.north / EARTH_RADIUS_M).to_degrees();
-        let lon = self.lon + (p.east / (EARTH_RADIUS_M * self.lat.to_radians().cos())).to_degrees();
-        (lat, lon, self.alt + p.up)
+        let g = self
+            .frame()
+            .to_geodetic(geodesy::Enu::new(p.east, p.north, p.up));
+        (g.lat, g.lon, g.alt)
     }
 
     pub fn to_local(self, lat: f64, lon: f64, alt: f64) -> Enu {
-        let north = (lat - self.lat).to_radians() * EARTH_RADIUS_M;
-        let east = (lon - self.lon).to_radians() * EARTH_RADIUS_M * self.lat.to_radians().cos();
-        Enu::new(east, north, alt - self.alt)
+        let e = self.frame().to_enu(geodesy::Geodetic::new(lat, lon, alt));
+        Enu::new(e.east, e.north, e.up)
     }
 }
 
-/// Degrees → the ×1e7 integers of MAVLink.
+/// Degrees → the ×1e7 integers of MAVLink (saturating).
 pub fn deg_e7(deg: f64) -> i32 {
-    (deg * 1e7).round() as i32
+    geodesy::deg_to_e7(deg)
 }
 
 #[cfg(test)]
@@ -52,13 +54,14 @@ mod tests {
     }
 
     #[test]
-    fn one_degree_of_latitude_is_about_111_km() {
+    fn one_degree_of_latitude_at_the_equator_is_110_6_km() {
         let home = Home {
             lat: 0.0,
             lon: 0.0,
             alt: 0.0,
         };
+        // WGS-84 meridian radius at the equator: a (1 − e²).
         let p = home.to_local(1.0, 0.0, 0.0);
-        assert!((p.north - 111_319.5).abs() < 1.0, "{p:?}");
+        assert!((p.north - 110_574.3).abs() < 1.0, "{p:?}");
     }
 }

@@ -43,6 +43,19 @@ pub struct LinkStats {
     /// Frames dropped because signing is on and they were unsigned or badly signed.
     pub rejected_unsigned: AtomicU64,
     pub crc_errors: AtomicU64,
+    /// Uploaded goal batches handed to the executive (in its event channel).
+    pub goal_batches: AtomicU64,
+}
+
+/// Frames to and from the autopilot's transport (see [`MavlinkVehicle::link_counts`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LinkCounts {
+    /// Frames produced for the autopilot, sent or about to be.
+    pub sent: u64,
+    /// Frames received from the autopilot and fully handled (events out, replies counted in `sent`).
+    pub received: u64,
+    /// Goal batches uploaded by ground stations and handed to the executive so far.
+    pub goal_batches: u64,
 }
 
 /// Who decides on uploaded goals.
@@ -86,6 +99,12 @@ struct Shared {
     driver: Mutex<Driver>,
     notify: Notify,
     clock_ms: AtomicU64,
+    /// Frames taken for the autopilot's transport (counted under the driver's lock, see
+    /// [`MavlinkVehicle::link_counts`]).
+    tx_frames: AtomicU64,
+    /// Frames received from the autopilot's transport whose handling is over: their events are in the
+    /// channel and the replies they caused are counted in `tx_frames`.
+    rx_frames: AtomicU64,
     /// The adopted system id, for the ground-station endpoint to answer as the same system.
     system_id: std::sync::atomic::AtomicU8,
     epoch: Instant,
@@ -155,6 +174,7 @@ impl Pump {
             ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
             let mut peer_v1 = false;
             let mut out = Vec::new();
+            let mut rx_handled: u64 = 0;
             let closed = loop {
                 let notified = async {
                     match &self.shared {
@@ -168,7 +188,9 @@ impl Pump {
                         Ok(n) => {
                             decoder.push(&buf[..n]);
                             let now = self.now();
+                            let crc_before = decoder.crc_errors;
                             while let Some(frame) = decoder.next_frame() {
+                                rx_handled += 1;
                                 self.record(&frame.bytes);
                                 if let Some(v) = &verifier {
                                     if !v.accepts(&frame) {
@@ -211,6 +233,8 @@ impl Pump {
                                     }
                                 }
                             }
+                            // A corrupted frame was sent too: it counts as received.
+                            rx_handled += decoder.crc_errors.saturating_sub(crc_before);
                             self.stats.crc_errors.store(decoder.crc_errors, Ordering::Relaxed);
                         }
                     },
@@ -246,6 +270,8 @@ impl Pump {
                 if let Some(s) = &self.shared {
                     if let Ok(mut d) = s.driver.lock() {
                         out.extend(d.take_outgoing());
+                        // Under the lock, with what the driver still holds: `link_counts` sees each frame once.
+                        s.tx_frames.fetch_add(out.len() as u64, Ordering::AcqRel);
                         for e in d.take_events() {
                             let _ = self.events.send(e);
                         }
@@ -260,6 +286,11 @@ impl Pump {
                         break;
                     }
                     self.stats.frames_out.fetch_add(1, Ordering::Relaxed);
+                }
+                if let Some(s) = &self.shared {
+                    // After the replies went out: what was received is handled.
+                    s.rx_frames
+                        .fetch_add(std::mem::take(&mut rx_handled), Ordering::AcqRel);
                 }
                 if failed {
                     break true;
@@ -303,6 +334,7 @@ impl Pump {
             Decider::Executive { timeout } => {
                 let (batch, rx) = GoalBatch::new(pending.goals.clone());
                 let _ = self.events.send(VehicleEvent::Goals(batch));
+                self.stats.goal_batches.fetch_add(1, Ordering::AcqRel);
                 awaiting.push(Awaiting {
                     pending,
                     rx,
@@ -346,6 +378,9 @@ fn open_tlog(path: &std::path::Path) -> Result<Arc<Mutex<TlogWriter>>, LinkError
 pub struct MavlinkVehicle {
     shared: Arc<Shared>,
     events: std_mpsc::Receiver<VehicleEvent>,
+    /// For the events a command causes at once (a stopped action's report): they are in the channel when
+    /// `start`/`stop` return, not whenever the pump runs next.
+    events_tx: std_mpsc::Sender<VehicleEvent>,
     local_addr: Option<SocketAddr>,
     gcs_addr: Option<SocketAddr>,
     stats: Arc<LinkStats>,
@@ -385,10 +420,13 @@ impl MavlinkVehicle {
             driver: Mutex::new(Driver::new(cfg)),
             notify: Notify::new(),
             clock_ms: AtomicU64::new(0),
+            tx_frames: AtomicU64::new(0),
+            rx_frames: AtomicU64::new(0),
             system_id: std::sync::atomic::AtomicU8::new(1),
             epoch,
         });
         let (tx, rx) = std_mpsc::channel();
+        let events_tx = tx.clone();
         let stats = Arc::new(LinkStats::default());
         let intake = Arc::new(Mutex::new(GoalIntake::new(known, opts.first_goal_number)));
         let decider = Arc::new(Mutex::new(opts.decider));
@@ -430,6 +468,7 @@ impl MavlinkVehicle {
         Ok(Self {
             shared,
             events: rx,
+            events_tx,
             local_addr,
             gcs_addr,
             stats,
@@ -466,6 +505,23 @@ impl MavlinkVehicle {
         &self.stats
     }
 
+    /// Frames exchanged with the autopilot so far: a stepped simulator compares them with its own counts
+    /// to know that nothing is in flight between them.
+    pub fn link_counts(&self) -> LinkCounts {
+        let (sent, pending) = match self.shared.driver.lock() {
+            Ok(d) => (
+                self.shared.tx_frames.load(Ordering::Acquire),
+                d.outgoing_len() as u64,
+            ),
+            Err(_) => (self.shared.tx_frames.load(Ordering::Acquire), 0),
+        };
+        LinkCounts {
+            sent: sent + pending,
+            received: self.shared.rx_frames.load(Ordering::Acquire),
+            goal_batches: self.stats.goal_batches.load(Ordering::Acquire),
+        }
+    }
+
     /// The adopted autopilot (system, component), once seen.
     pub fn target(&self) -> Option<(u8, u8)> {
         self.shared.driver.lock().ok().and_then(|d| d.target())
@@ -493,22 +549,30 @@ impl Drop for MavlinkVehicle {
 impl Vehicle for MavlinkVehicle {
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         let now = self.shared.clock_now();
-        self.shared
-            .driver
-            .lock()
-            .map_err(|_| VehicleError::Closed)?
-            .start(action, now)?;
+        {
+            let mut d = self
+                .shared
+                .driver
+                .lock()
+                .map_err(|_| VehicleError::Closed)?;
+            d.start(action, now)?;
+            self.deliver(&mut d);
+        }
         self.shared.notify.notify_one();
         Ok(())
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
         let now = self.shared.clock_now();
-        self.shared
-            .driver
-            .lock()
-            .map_err(|_| VehicleError::Closed)?
-            .stop(id, now)?;
+        {
+            let mut d = self
+                .shared
+                .driver
+                .lock()
+                .map_err(|_| VehicleError::Closed)?;
+            d.stop(id, now)?;
+            self.deliver(&mut d);
+        }
         self.shared.notify.notify_one();
         Ok(())
     }
@@ -523,6 +587,15 @@ impl Vehicle for MavlinkVehicle {
 
     fn now_ms(&self) -> u64 {
         self.shared.clock_ms.load(Ordering::Relaxed)
+    }
+}
+
+impl MavlinkVehicle {
+    /// Hands the driver's events to the channel, under its lock as the pump does (their order is kept).
+    fn deliver(&self, d: &mut Driver) {
+        for e in d.take_events() {
+            let _ = self.events_tx.send(e);
+        }
     }
 }
 

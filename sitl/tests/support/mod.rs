@@ -316,13 +316,13 @@ impl Gcs {
     }
 }
 
-/// A NAV_WAYPOINT at metres north/east of `home`.
+/// A NAV_WAYPOINT at metres north/east of `home` (the Earth model the SITL uses).
 pub fn waypoint(home: (f64, f64), north: f64, east: f64) -> MISSION_ITEM_INT_DATA {
-    let lat = home.0 + north / 111_319.490_793_273_57;
-    let lon = home.1 + east / (111_319.490_793_273_57 * home.0.to_radians().cos());
+    let frame = geodesy::LocalFrame::new(geodesy::Geodetic::new(home.0, home.1, 0.0));
+    let p = frame.to_geodetic(geodesy::Enu::new(east, north, 0.0));
     MISSION_ITEM_INT_DATA {
-        x: (lat * 1e7).round() as i32,
-        y: (lon * 1e7).round() as i32,
+        x: geodesy::deg_to_e7(p.lat),
+        y: geodesy::deg_to_e7(p.lon),
         command: MavCmd::MAV_CMD_NAV_WAYPOINT,
         frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
         autocontinue: 1,

@@ -22,6 +22,7 @@ use super::mission_out::{initial_plan, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::exec::executive::{Executive, Fate};
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::pacer::StepGate;
 use crate::exec::trace::CycleRecord;
 use crate::lang;
 use crate::vehicle::goal_client::{send_goals, GoalSendError, GoalSendReport};
@@ -302,6 +303,7 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     let mut pending: Vec<&Upload> = m.uploads.iter().collect();
     let mut sent: Vec<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = Vec::new();
     let mut printer = TracePrinter::default();
+    let gate = Arc::new(StepGate::default());
     let mut observe = |_: &Executive, c: &CycleRecord| {
         if trace {
             printer.cycle(c);
@@ -317,14 +319,23 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
         pending.retain(|u| (u.at_s * 1000.0) as i64 > c.time_ms);
         let items = upload_items(home, &due);
         let addr = format!("tcpout:{gcs}");
-        sent.push(rt.spawn(async move { send_goals(&addr, items, Duration::from_secs(30)).await }));
+        // The simulator waits for the batch to reach the executive: the mission is reproducible.
+        gate.expect_goal_batch();
+        let gate = gate.clone();
+        sent.push(rt.spawn(async move {
+            let r = send_goals(&addr, items, Duration::from_secs(30)).await;
+            if r.is_err() {
+                gate.cancel_goal_batch();
+            }
+            r
+        }));
     };
     let horizon_ms = problem.horizon;
     let opts = MissionOptions {
         time_limit_ms: horizon_ms + END_MARGIN_MS,
         ..MissionOptions::default()
     };
-    let mut pacer = session.step_pacer();
+    let mut pacer = session.step_pacer(gate.clone());
     let report = run_mission(
         &mut ex,
         &mut session.vehicle,
