@@ -215,12 +215,14 @@ impl Executive {
         let mut no_report: Vec<ActionId> = Vec::new();
         for a in self.plan.live_actions() {
             let act = self.plan.action(a);
-            for (tp, what) in [(act.start, "start"), (act.end, "end")] {
-                if !stn.is_executed(tp) && stn.ub(tp) < now {
-                    late = Some(format!("{what} of {}", self.action_text(a)));
-                    if what == "end" && self.started.contains_key(&a) {
-                        no_report.push(a);
-                    }
+            // The start first: an action that could not start in time is late at its start, not its end.
+            let late_tp = [(act.start, "start"), (act.end, "end")]
+                .into_iter()
+                .find(|&(tp, _)| !stn.is_executed(tp) && stn.ub(tp) < now);
+            if let Some((_, what)) = late_tp {
+                late = Some(format!("{what} of {}", self.action_text(a)));
+                if what == "end" && self.started.contains_key(&a) {
+                    no_report.push(a);
                 }
             }
         }

@@ -198,6 +198,7 @@ fn replan<V: Vehicle>(
     v: &mut Held<'_, V>,
     pacer: &mut dyn Pacer<V>,
 ) -> Result<(), MissionEnd> {
+    collect_stop_reports(ex, v, pacer);
     let cell = std::cell::RefCell::new(v);
     let now = || pacer.now(cell.borrow().inner);
     let result = ex.replan(&now, &mut |ex: &mut Executive| {
@@ -226,6 +227,51 @@ fn replan<V: Vehicle>(
         }
         ReplanResult::Error(e) => Err(MissionEnd::Error(e)),
     }
+}
+
+/// How long (wall) to wait for the reports of the actions stopped by an abort.
+const STOP_REPORT_WAIT: Duration = Duration::from_secs(2);
+
+/// §3.6: S_ti = S_ts, the state once the running actions are stopped: their reports (e.g. the position a
+/// stopped move reached) are integrated into the aborted plan before P_ti is extracted, or the state would
+/// keep the values they left unknown (a position of +oo from which nothing can be planned). Other events
+/// wait for the new plan's first cycle.
+fn collect_stop_reports<V: Vehicle>(
+    ex: &mut Executive,
+    v: &mut Held<'_, V>,
+    pacer: &mut dyn Pacer<V>,
+) {
+    let deadline = std::time::Instant::now() + STOP_REPORT_WAIT;
+    let mut kept = VecDeque::new();
+    let outstanding = |ex: &Executive| {
+        ex.stop_sent
+            .iter()
+            .any(|a| ex.started.contains_key(a) && !ex.plan.stn.is_executed(ex.plan.action(*a).end))
+    };
+    let mut held = std::mem::take(&mut v.held);
+    loop {
+        let next = match held.pop_front() {
+            Some(e) => Some(e),
+            None if outstanding(ex) && std::time::Instant::now() < deadline => {
+                v.inner.wait_event(Duration::from_millis(20))
+            }
+            None => v.inner.try_event(),
+        };
+        let Some(e) = next else {
+            if !outstanding(ex) || std::time::Instant::now() >= deadline {
+                break;
+            }
+            continue;
+        };
+        match e {
+            VehicleEvent::Report(r) if ex.by_vid.contains_key(&r.id) => {
+                let t = pacer.now(v.inner);
+                ex.integrate(VehicleEvent::Report(r), t);
+            }
+            other => kept.push_back(other),
+        }
+    }
+    v.held = kept;
 }
 
 /// What the report collects beyond the executive's own trace.

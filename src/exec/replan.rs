@@ -199,8 +199,16 @@ impl Executive {
                 Ok(e) => e,
                 Err(e) => return ReplanResult::Error(e.to_string()),
             };
-            for g in &ext.incoherent {
-                self.reject_goal(*g, "its window is no longer reachable at the current time");
+            for &g in &ext.incoherent {
+                let goal = &self.plan.problem.goals[g.index()];
+                let reason = format!(
+                    "its window is no longer reachable at the current time ({:.1} s, d_achiev {:.1} s, \
+                     start window {})",
+                    t as f64 / 1000.0,
+                    goal.achieve as f64 / 1000.0,
+                    goal.start_window
+                );
+                self.reject_goal(g, &reason);
             }
             dropped.extend(ext.incoherent.iter().copied());
             let t_end = ext.t_end;
@@ -252,10 +260,13 @@ impl Executive {
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
             };
-            self.reject_goal(
-                g,
-                "abandoned by complete replanning (lowest priority, least flexibility)",
+            let why = self.abort.as_deref().unwrap_or("execution aborted");
+            let reason = format!(
+                "abandoned by complete replanning after \"{why}\": no plan for every remaining goal \
+                 ({end}, {} steps); this one has the lowest priority, then the least flexibility",
+                search.steps()
             );
+            self.reject_goal(g, &reason);
             dropped.push(g);
             refresh(self);
         }

@@ -176,3 +176,36 @@ mod tests {
         assert!(NumInterval::ANY.contains(-1e300));
     }
 }
+
+/// The language's notation in seconds, e.g. `[0 s, 330 s]`, `]2 s, +oo[`.
+impl std::fmt::Display for TimeInterval {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = |v: Time| v as f64 / 1000.0;
+        match self.lb {
+            Bound::Closed(v) => write!(f, "[{} s", s(v))?,
+            Bound::Open(v) => write!(f, "]{} s", s(v))?,
+            Bound::Inf => f.write_str("]-oo")?,
+        }
+        match self.ub {
+            Bound::Closed(v) => write!(f, ", {} s]", s(v)),
+            Bound::Open(v) => write!(f, ", {} s[", s(v)),
+            Bound::Inf => f.write_str(", +oo["),
+        }
+    }
+}
+
+#[cfg(test)]
+mod display_tests {
+    use super::*;
+
+    #[test]
+    fn intervals_print_in_the_language_notation() {
+        assert_eq!(TimeInterval::closed(0, 330_000).to_string(), "[0 s, 330 s]");
+        assert_eq!(TimeInterval::at_least(1_500).to_string(), "[1.5 s, +oo[");
+        let open = TimeInterval {
+            lb: Bound::Open(2_000),
+            ub: Bound::Inf,
+        };
+        assert_eq!(open.to_string(), "]2 s, +oo[");
+    }
+}

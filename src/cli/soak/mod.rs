@@ -72,6 +72,13 @@ struct Share {
     share: f64,
 }
 
+#[derive(Clone, Debug, Serialize)]
+struct Rejection {
+    seed: u64,
+    goal: String,
+    reason: String,
+}
+
 #[derive(Debug, Default, Serialize)]
 struct Summary {
     missions: u64,
@@ -82,6 +89,8 @@ struct Summary {
     goals: u64,
     achieved: u64,
     rejected: BTreeMap<String, u64>,
+    /// Every rejected goal: its mission's seed, its name and the reason given.
+    rejections: Vec<Rejection>,
     /// Missions the planner could not plan at all (their goals are rejected with its reason).
     unplanned: u64,
     by_fault: BTreeMap<String, Share>,
@@ -189,12 +198,14 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
     let total = o.goals.len() as u64;
     sum.goals += total;
     sum.achieved += achieved;
-    for (_, fate, reason) in &o.goals {
+    for (goal, fate, reason) in &o.goals {
         if *fate == Fate::Rejected {
             *sum.rejected.entry(reason_class(reason).into()).or_default() += 1;
-            if reason_class(reason) == "no_initial_plan" {
-                // Counted once per mission below.
-            }
+            sum.rejections.push(Rejection {
+                seed: m.seed,
+                goal: goal.clone(),
+                reason: reason.clone(),
+            });
         }
     }
     if o.report.is_none() && o.violations.is_empty() {
