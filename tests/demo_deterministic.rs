@@ -27,7 +27,7 @@ fn run() -> (DemoRun, Vec<String>) {
     )
     .unwrap_or_else(|e| panic!("demo: {e}"));
     // The SITL's port changes from run to run; the rest of what the demo says must not.
-    said.retain(|l| !l.starts_with("SITL rover at"));
+    said.retain(|l| !l.starts_with("SITL vehicle at"));
     (run, said)
 }
 

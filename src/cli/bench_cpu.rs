@@ -48,7 +48,7 @@ pub struct CpuFigures {
     pub replans: u64,
     /// Each goal's fate and why.
     pub goals: Vec<crate::exec::executive::GoalFate>,
-    /// Most launches of one action instance.
+    /// Most launches in a row of one action instance without a nominal completion (its retries).
     pub max_launches_of_one_action: usize,
     /// Wall time of the run, s.
     pub wall_s: f64,
@@ -108,21 +108,10 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
         process_cpu_s: process.map(|ns| ns as f64 / 1e9),
         repairs: report.counters.repairs,
         replans: report.counters.replans,
-        max_launches_of_one_action: max_launches(&report),
+        max_launches_of_one_action: report.launches_in_a_row().into_values().max().unwrap_or(0),
         goals: report.goals.clone(),
         wall_s,
     })
-}
-
-/// The most launches of one action instance (the same task and arguments).
-fn max_launches(report: &crate::exec::mission::MissionReport) -> usize {
-    let mut n: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
-    for e in report.cycles.iter().flat_map(|c| &c.events) {
-        if let crate::exec::trace::TraceEvent::Launch { action, .. } = e {
-            *n.entry(action).or_default() += 1;
-        }
-    }
-    n.into_values().max().unwrap_or(0)
 }
 
 /// Nanoseconds on CPU of the calling thread (Linux schedstat).

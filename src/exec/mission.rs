@@ -3,7 +3,7 @@
 //! `mavtempo demo` and the dispatch experiment. How time passes is the [`Pacer`]'s business (wall clock of a
 //! live vehicle, an accelerated SITL, or a manual clock), so the same loop runs far faster than real time.
 
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
 use std::time::Duration;
 
 use serde::Serialize;
@@ -96,6 +96,31 @@ pub struct MissionReport {
     pub plan_changes: Vec<PlanChange>,
     pub resources: Vec<ResourceSample>,
     pub cycles: Vec<CycleRecord>,
+}
+
+impl MissionReport {
+    /// For each action instance (task and arguments) launched, the most launches in a row without a
+    /// nominal completion between them: its retries. (The same instance done again after a success, e.g. a
+    /// pan-and-tilt unit turned down for each picture, is new work and starts a new count.)
+    pub fn launches_in_a_row(&self) -> BTreeMap<String, usize> {
+        let mut run: BTreeMap<&str, usize> = BTreeMap::new();
+        let mut worst: BTreeMap<String, usize> = BTreeMap::new();
+        for e in self.cycles.iter().flat_map(|c| &c.events) {
+            match e {
+                TraceEvent::Launch { action, .. } => {
+                    let n = run.entry(action).or_default();
+                    *n += 1;
+                    let w = worst.entry(action.clone()).or_default();
+                    *w = (*w).max(*n);
+                }
+                TraceEvent::Report { action, status, .. } if status == "nominal" => {
+                    run.remove(action.as_str());
+                }
+                _ => {}
+            }
+        }
+        worst
+    }
 }
 
 /// The vehicle as the cycle sees it: events the pacer received while waiting come out first.

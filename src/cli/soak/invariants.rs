@@ -1,7 +1,5 @@
 //! What every soak mission must satisfy, checked on its report.
 
-use std::collections::BTreeMap;
-
 use serde::Serialize;
 
 use crate::exec::executive::Fate;
@@ -49,29 +47,17 @@ pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violatio
             _ => {}
         }
     }
-    let mut starts: BTreeMap<&str, usize> = BTreeMap::new();
-    let mut worst: BTreeMap<&str, usize> = BTreeMap::new();
-    for c in &report.cycles {
-        for e in &c.events {
-            match e {
-                TraceEvent::Launch { action, .. } => {
-                    let n = starts.entry(action).or_default();
-                    *n += 1;
-                    let w = worst.entry(action).or_default();
-                    *w = (*w).max(*n);
-                }
-                TraceEvent::Report { action, status, .. } if status == "nominal" => {
-                    starts.remove(action.as_str());
-                }
-                TraceEvent::GoalRejected { goal, reason } if reason.trim().is_empty() => v(
+    for e in report.cycles.iter().flat_map(|c| &c.events) {
+        if let TraceEvent::GoalRejected { goal, reason } = e {
+            if reason.trim().is_empty() {
+                v(
                     "rejected_with_reason",
                     format!("{goal} rejected without a reason"),
-                ),
-                _ => {}
+                );
             }
         }
     }
-    for (action, n) in worst {
+    for (action, n) in report.launches_in_a_row() {
         if n > MAX_STARTS {
             v(
                 "max_starts",
