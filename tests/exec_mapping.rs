@@ -158,9 +158,9 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     let route = |a: ObjectId, b: ObjectId| {
         p.initial
             .iter()
-            .filter(|f| f.attr == connected && f.args == vec![a, b])
+            .rev()
+            .find(|f| f.attr == connected && f.args == vec![a, b])
             .map(|f| f.value)
-            .last()
     };
     let mut routes = 0;
     for to in ["surface", "vent1", "vent2"] {
