@@ -1,34 +1,18 @@
 //! The planner's plan executed by the executive against MockVehicle with the manual clock: seed 2's
 //! shopping day (go / buy), from the root plan to both goals achieved.
 
-use std::path::Path;
-use std::sync::Arc;
+#[path = "common/shopping.rs"]
+mod shopping;
 
-use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::cycle::CycleOutcome;
-use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::executive::Fate;
 use mavtempo::exec::trace::TraceEvent;
-use mavtempo::lang::load_problem_and_domain;
-use mavtempo::plan::PartialPlan;
-use mavtempo::planner::{Budget, Search, StepOutcome};
 use mavtempo::vehicle::mock::Outcome;
 use mavtempo::vehicle::MockVehicle;
 
 #[test]
 fn shopping_day_planned_then_executed_achieves_both_goals() {
-    let (d, p) =
-        load_problem_and_domain(Path::new("domains/shopping/problems/day.ixt")).expect("day loads");
-    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
-    let mut search = Search::new(root);
-    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
-    let cfg = ExecConfig {
-        timestep_ms: 30_000,
-        repair_share: 0.6,
-        replan_slack_ms: 30_000,
-        repair_max_steps: Some(200),
-        ..ExecConfig::default()
-    };
-    let mut ex = Executive::new(search.into_plan(), cfg);
+    let mut ex = shopping::day_executive(shopping::day_config());
     let mut v = MockVehicle::new();
     v.script("go", Outcome::nominal(16 * 60_000));
     v.script("buy", Outcome::nominal(5 * 60_000));

@@ -2,36 +2,24 @@
 //! task the vehicle refuses, is settled — its goals rejected with the true reason — instead of being
 //! repaired or replanned for ever.
 
+#[path = "common/shopping.rs"]
+mod shopping;
+
 use std::collections::BTreeMap;
-use std::path::Path;
-use std::sync::Arc;
 
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
 use mavtempo::exec::pacer::MockPacer;
 use mavtempo::exec::trace::TraceEvent;
-use mavtempo::lang::load_problem_and_domain;
-use mavtempo::plan::PartialPlan;
-use mavtempo::planner::{Budget, Search, StepOutcome};
 use mavtempo::vehicle::mock::Outcome;
 use mavtempo::vehicle::MockVehicle;
 
 fn shopping(k: u32) -> Executive {
-    let (d, p) =
-        load_problem_and_domain(Path::new("domains/shopping/problems/day.ixt")).expect("day loads");
-    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
-    let mut search = Search::new(root);
-    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
-    let cfg = ExecConfig {
-        timestep_ms: 30_000,
-        repair_share: 0.6,
-        replan_slack_ms: 30_000,
-        repair_max_steps: Some(200),
+    shopping::day_executive(ExecConfig {
         same_failure_limit: k,
-        ..ExecConfig::default()
-    };
-    Executive::new(search.into_plan(), cfg)
+        ..shopping::day_config()
+    })
 }
 
 fn run(ex: &mut Executive, v: &mut MockVehicle) -> MissionReport {

@@ -1,0 +1,31 @@
+//! Seed 2's shopping day planned and handed to an executive (the mock-vehicle executive tests' set-up).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::Executive;
+use mavtempo::lang::load_problem_and_domain;
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+
+/// ts 30 s, μ 0.6, d 30 s, 200 repair steps per cycle: the day's executive parameters in these tests.
+pub fn day_config() -> ExecConfig {
+    ExecConfig {
+        timestep_ms: 30_000,
+        repair_share: 0.6,
+        replan_slack_ms: 30_000,
+        repair_max_steps: Some(200),
+        ..ExecConfig::default()
+    }
+}
+
+/// An executive over the planner's plan for domains/shopping/problems/day.ixt.
+pub fn day_executive(cfg: ExecConfig) -> Executive {
+    let (d, p) =
+        load_problem_and_domain(Path::new("domains/shopping/problems/day.ixt")).expect("day loads");
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
+    Executive::new(search.into_plan(), cfg)
+}
