@@ -102,21 +102,39 @@ impl MissionReport {
     /// For each action instance (task and arguments) launched, the most launches in a row without a
     /// nominal completion between them: its retries. (The same instance done again after a success, e.g. a
     /// pan-and-tilt unit turned down for each picture, is new work and starts a new count.)
+    /// An action the executive stopped by the plan (a preemptive action's end, not an abort) and that then
+    /// reports `interrupted` ended as planned: that counts as a completion too.
     pub fn launches_in_a_row(&self) -> BTreeMap<String, usize> {
         let mut run: BTreeMap<&str, usize> = BTreeMap::new();
         let mut worst: BTreeMap<String, usize> = BTreeMap::new();
-        for e in self.cycles.iter().flat_map(|c| &c.events) {
-            match e {
-                TraceEvent::Launch { action, .. } => {
-                    let n = run.entry(action).or_default();
-                    *n += 1;
-                    let w = worst.entry(action.clone()).or_default();
-                    *w = (*w).max(*n);
+        let mut stopped_by_plan: Vec<&str> = Vec::new();
+        for c in &self.cycles {
+            let aborted = c
+                .events
+                .iter()
+                .any(|e| matches!(e, TraceEvent::Abort { .. }));
+            for e in &c.events {
+                match e {
+                    TraceEvent::Launch { action, .. } => {
+                        let n = run.entry(action).or_default();
+                        *n += 1;
+                        let w = worst.entry(action.clone()).or_default();
+                        *w = (*w).max(*n);
+                    }
+                    TraceEvent::Stop { action, .. } if !aborted => stopped_by_plan.push(action),
+                    TraceEvent::Report { action, status, .. } => {
+                        let planned_stop = stopped_by_plan.iter().position(|a| a == action);
+                        if let Some(i) = planned_stop {
+                            stopped_by_plan.swap_remove(i);
+                        }
+                        if status == "nominal"
+                            || (status == "interrupted" && planned_stop.is_some())
+                        {
+                            run.remove(action.as_str());
+                        }
+                    }
+                    _ => {}
                 }
-                TraceEvent::Report { action, status, .. } if status == "nominal" => {
-                    run.remove(action.as_str());
-                }
-                _ => {}
             }
         }
         worst
