@@ -116,3 +116,39 @@ fn a_failure_that_changes_is_bounded_by_the_plan_change_rate() {
         .get("buy(apple, grocery)")
         .is_some_and(|&n| n < 10));
 }
+
+#[test]
+fn a_plan_repair_that_does_not_converge_is_given_up_for_a_replanning() {
+    // One step of repair per cycle, at most 3 in all: the repair after the failed `buy` needs more.
+    let mut ex = shopping::day_executive(ExecConfig {
+        repair_max_steps: Some(1),
+        repair_share: 1.0,
+        repair_episode_max_steps: 3,
+        ..shopping::day_config()
+    });
+    let mut v = MockVehicle::new();
+    v.script("go", Outcome::nominal(16 * 60_000));
+    v.script("buy", Outcome::failed(60_000, "till closed"));
+    v.script("buy", Outcome::nominal(60_000));
+    let r = run(&mut ex, &mut v);
+    let aborts: Vec<&str> = r
+        .cycles
+        .iter()
+        .flat_map(|c| &c.events)
+        .filter_map(|e| match e {
+            TraceEvent::Abort { reason } => Some(reason.as_str()),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        aborts.iter().any(|a| a.contains("did not converge within")),
+        "{aborts:?}"
+    );
+    assert!(r.counters.replans >= 1);
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    assert!(
+        r.goals.iter().all(|g| g.fate != Fate::Pending),
+        "{:?}",
+        r.goals
+    );
+}

@@ -26,6 +26,11 @@ pub struct ExecConfig {
     /// mission time, which does not move while a stepped simulator or a manual clock waits for the cycle.
     #[serde(default = "default_repair_cycle_steps")]
     pub repair_cycle_max_steps: u64,
+    /// Planning steps one plan repair may take over all its cycles (its tree restarted or not) before it
+    /// is given up: execution is aborted and a complete replanning follows. A repair that never converges
+    /// would otherwise go on for the rest of the mission.
+    #[serde(default = "default_repair_episode_steps")]
+    pub repair_episode_max_steps: u64,
     /// Hard cap on the planning steps of one complete replanning attempt (§3.6), for the same reason: past
     /// it the attempt ends as if the time limit l were reached.
     #[serde(default = "default_replan_steps")]
@@ -58,6 +63,9 @@ fn default_same_failures() -> u32 {
 fn default_changes_per_min() -> u32 {
     12
 }
+fn default_repair_episode_steps() -> u64 {
+    20_000
+}
 /// A planning step costs tens of µs on a rover plan: 20,000 steps are about μ·ts at the default ts.
 fn default_repair_cycle_steps() -> u64 {
     20_000
@@ -75,6 +83,7 @@ impl Default for ExecConfig {
             replan_slack_ms: default_slack(),
             repair_max_steps: None,
             repair_cycle_max_steps: default_repair_cycle_steps(),
+            repair_episode_max_steps: default_repair_episode_steps(),
             replan_max_steps: default_replan_steps(),
             dispatch: PolicyKind::default(),
             same_failure_limit: default_same_failures(),
@@ -117,6 +126,9 @@ impl ExecConfig {
         }
         if self.repair_cycle_max_steps == 0 {
             return Err(ConfigError::StepCap("repair_cycle_max_steps"));
+        }
+        if self.repair_episode_max_steps == 0 {
+            return Err(ConfigError::StepCap("repair_episode_max_steps"));
         }
         if self.replan_max_steps == 0 {
             return Err(ConfigError::StepCap("replan_max_steps"));

@@ -81,6 +81,8 @@ pub struct Executive {
     pub level_tolerance: f64,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/exec/failures.rs).
     pub failures: FailureMemory,
+    /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
+    pub repair_episode_steps: u64,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
     pub mapping: super::mapping::DomainMapping,
@@ -134,6 +136,7 @@ impl Executive {
             changed: false,
             level_tolerance: super::resource_report::EPS,
             failures,
+            repair_episode_steps: 0,
             mapping: super::mapping::DomainMapping::default(),
         }
     }

@@ -115,6 +115,24 @@ impl Executive {
         };
         let steps = rep.search.steps() - first;
         self.counters.repair_steps += steps;
+        self.repair_episode_steps += steps;
+        let finished = match &outcome {
+            Some(StepOutcome::Solved) => true,
+            Some(StepOutcome::Failed(r)) => !matches!(r, FailReason::Deadline { .. }),
+            _ => false,
+        };
+        if finished {
+            self.repair_episode_steps = 0;
+        } else if self.repair_episode_steps > self.cfg.repair_episode_max_steps {
+            let reason = format!(
+                "plan repair did not converge within {} steps",
+                self.repair_episode_steps
+            );
+            self.repair = None;
+            self.repair_episode_steps = 0;
+            self.abort = Some(reason.clone());
+            return RepairOutcome::Failed(reason);
+        }
         match outcome {
             Some(StepOutcome::Solved) => {
                 let Some(rep) = self.repair.take() else {

@@ -290,6 +290,7 @@ impl Executive {
         self.by_vid.clear();
         self.stop_sent.clear();
         self.repair = None;
+        self.repair_episode_steps = 0;
         self.repair_requested = false;
         self.abort = None;
         self.hierarchy = super::abstraction::Hierarchy::new(&self.plan.domain);
