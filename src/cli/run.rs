@@ -191,6 +191,7 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
     let opts = MissionOptions {
         time_limit_ms: problem.horizon + 60_000,
         initial_goals: goals,
+        max_cycles: None,
     };
     let mut pacer = LivePacer {
         origin_ms: origin,

@@ -38,6 +38,9 @@ pub struct MissionOptions {
     pub time_limit_ms: Time,
     /// Goals requested at the start (e.g. `--goals FILE`), integrated by the first cycle like an upload.
     pub initial_goals: Vec<GoalRequest>,
+    /// The mission stops (goals left pending) after this many cycles: a bound for loops nothing else
+    /// catches (a cycle every few ms of mission time). `None`: no bound.
+    pub max_cycles: Option<usize>,
 }
 
 /// How the mission ended.
@@ -50,6 +53,8 @@ pub enum MissionEnd {
     NoGoals,
     /// The time limit passed with goals pending.
     TimeLimit,
+    /// The cycle limit was reached with goals pending.
+    CycleLimit,
     /// Complete replanning could not even extract a problem.
     Error(String),
 }
@@ -226,6 +231,9 @@ pub fn run_mission<V: Vehicle>(
         if now >= opts.time_limit_ms {
             break MissionEnd::TimeLimit;
         }
+        if opts.max_cycles.is_some_and(|m| ex.cycles.len() >= m) {
+            break MissionEnd::CycleLimit;
+        }
         if let Some(e) = pacer.wait(v.inner, wake.min(opts.time_limit_ms.max(now + 1))) {
             v.held.push_back(e);
         }
@@ -375,6 +383,11 @@ impl Log {
 
     fn report(self, ex: &Executive, end: MissionEnd, duration_ms: Time) -> MissionReport {
         let mut goals = ex.goal_fates();
+        if end == MissionEnd::CycleLimit {
+            for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
+                g.reason = "mission cycle limit reached".into();
+            }
+        }
         if end == MissionEnd::TimeLimit {
             for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
                 g.reason = "mission time limit reached".into();

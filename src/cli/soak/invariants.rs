@@ -34,6 +34,16 @@ pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violatio
     if let MissionEnd::Error(e) = &report.end {
         v("no_error_exit", e.clone());
     }
+    if report.end == MissionEnd::CycleLimit {
+        v(
+            "cycle_bound",
+            format!(
+                "{} cycles by {} s of mission time",
+                report.cycles.len(),
+                report.duration_ms / 1000
+            ),
+        );
+    }
     for g in &report.goals {
         match g.fate {
             Fate::Pending => v(

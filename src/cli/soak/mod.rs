@@ -344,6 +344,8 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     let horizon_ms = problem.horizon;
     let opts = MissionOptions {
         time_limit_ms: horizon_ms + END_MARGIN_MS,
+        // Ten cycles per second of mission on average is a loop, not a mission (ts is 1.3 s).
+        max_cycles: Some((horizon_ms / 100).max(10_000) as usize),
         ..MissionOptions::default()
     };
     let mut pacer = session.step_pacer(gate.clone());
