@@ -205,7 +205,8 @@ fn jumps_to(t: Time) -> impl Fn() -> Time {
     }
 }
 
-/// §3.6's exception: past l, a step that backtracks and raises l is taken and planning goes on. Step 1
+/// §3.6's exception (on plain depth-first search, whose step order the test spells out): past l, a step
+/// that backtracks and raises l is taken and planning goes on. Step 1
 /// inserts `slow` (T_end_ub falls from 300 s to 200 s); the clock then stands exactly at l; step 2 is the
 /// backtrack to `fast`, which raises T_end_ub to 290 s: planning goes on and finds the plan.
 #[test]
@@ -213,13 +214,13 @@ fn a_backtrack_that_raises_l_continues_past_the_limit() {
     let ex = alternatives(10);
     let slack = ex.cfg.replan_slack_ms;
     let ext = extract(&ex, 0, &[]).expect("P_ti");
-    let mut probe = Search::new(ext.plan.clone());
+    let mut probe = Search::depth_first(ext.plan.clone());
     assert_eq!(probe.step(), StepOutcome::Progress);
     let l1 = limit(&probe, ext.t_end, slack);
     assert!(probe.next_is_backtrack(), "step 2 should be the backtrack");
     assert_eq!(l1, 200_000 - 1 - slack);
 
-    let mut search = Search::new(ext.plan.clone());
+    let mut search = Search::depth_first(ext.plan.clone());
     let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &jumps_to(l1));
     assert_eq!(end, AttemptEnd::Solved, "after {} steps", search.steps());
     assert_eq!(search.backtracks(), 1);
@@ -227,8 +228,8 @@ fn a_backtrack_that_raises_l_continues_past_the_limit() {
 
     // The same clock one read earlier, at the limit before step 1: that step is no backtrack, so planning
     // stops at once.
-    let l0 = limit(&Search::new(ext.plan.clone()), ext.t_end, slack);
-    let mut search = Search::new(ext.plan);
+    let l0 = limit(&Search::depth_first(ext.plan.clone()), ext.t_end, slack);
+    let mut search = Search::depth_first(ext.plan);
     let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &|| l0);
     assert_eq!(end, AttemptEnd::TimeLimit);
     assert_eq!(search.steps(), 0);
@@ -240,10 +241,10 @@ fn a_backtrack_that_does_not_raise_l_stops_at_the_limit() {
     let ex = alternatives(100);
     let slack = ex.cfg.replan_slack_ms;
     let ext = extract(&ex, 0, &[]).expect("P_ti");
-    let mut probe = Search::new(ext.plan.clone());
+    let mut probe = Search::depth_first(ext.plan.clone());
     assert_eq!(probe.step(), StepOutcome::Progress);
     let l1 = limit(&probe, ext.t_end, slack);
-    let mut search = Search::new(ext.plan);
+    let mut search = Search::depth_first(ext.plan);
     let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &jumps_to(l1));
     assert_eq!(end, AttemptEnd::TimeLimit);
     assert_eq!(
@@ -258,7 +259,7 @@ fn a_backtrack_that_does_not_raise_l_stops_at_the_limit() {
 fn a_frozen_clock_cannot_run_an_attempt_unbounded() {
     let ex = fig2();
     let ext = extract(&ex, 0, &[]).expect("P_ti");
-    let mut search = Search::new(ext.plan);
+    let mut search = Search::depth_first(ext.plan);
     let end = plan_until_limit(&mut search, ext.t_end, ex.cfg.replan_slack_ms, 7, &|| 0);
     assert_eq!(end, AttemptEnd::StepCap);
     assert_eq!(search.steps(), 7);

@@ -101,3 +101,42 @@ fn rover_fig2_with_a_low_battery_inserts_a_recharge() {
         .count();
     assert!(recharges >= 1, "no recharge in the plan");
 }
+
+/// A shortage is met by lengthening a recharge (the producer's quantity raised) rather than by recharges
+/// stacked on top of each other: the solar panels are one unary resource.
+#[test]
+fn rover_low_battery_recharges_do_not_overlap() {
+    let d = Arc::new(common::rover());
+    let p = Arc::new(common::fig2_low_battery(&d));
+    let planned = solve(d.clone(), p, Budget::steps(5_000)).expect("plan");
+    let plan = &planned.plan;
+    let recharges: Vec<_> = plan
+        .live_actions()
+        .filter(|&a| d.task(plan.action(a).task).name == "recharge_battery")
+        .map(|a| (plan.action(a).start, plan.action(a).end))
+        .collect();
+    assert!(!recharges.is_empty(), "no recharge in the plan");
+    for (i, &(s1, e1)) in recharges.iter().enumerate() {
+        for &(s2, e2) in &recharges[i + 1..] {
+            let ordered = plan.stn.distance(s2, e1) <= 0 || plan.stn.distance(s1, e2) <= 0;
+            assert!(ordered, "two recharges may overlap");
+        }
+    }
+}
+
+/// Widening a goal's window never turns a solved problem into a failure: fig2 with g2's window ending at
+/// 60 … 300 s is solved every time (the series that depth-first search alone lost at 80–150 s).
+#[test]
+fn rover_fig2_wider_windows_stay_solvable() {
+    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("fig2");
+    let d = Arc::new(common::rover());
+    for w in [60, 80, 90, 100, 120, 150, 200, 300] {
+        let edited = text.replace(
+            "    hold(PICTURE(p2): true, (st, et));\n    st in [0, 4min];",
+            &format!("    hold(PICTURE(p2): true, (st, et));\n    st in [0, {w}s];"),
+        );
+        assert_ne!(edited, text, "g2's window not found");
+        let p = mavtempo::lang::parse_problem("fig2-window", &edited, &d).expect("parses");
+        check_solved(&format!("fig2 g2 ≤ {w} s"), d.clone(), Arc::new(p));
+    }
+}

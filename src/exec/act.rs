@@ -2,13 +2,15 @@
 //! execution time before the end of the cycle), recomputed after each execution; starts of executable
 //! actions launch them (`START`), ends of preemptive actions stop them (`END`, their time is set by the
 //! report), goal timepoints are executed when the goal is achievable; non-executable actions and
-//! non-achievable goals are postponed while flexibility remains; timeouts when a timepoint's upper bound
+//! non-achievable goals are postponed while flexibility remains, and so are those that would squeeze a
+//! running action's duration ([`super::squeeze`]); timeouts when a timepoint's upper bound
 //! passes unexecuted.
 
 use super::dispatch_policy::Candidate;
 use super::executable::{action_executable, flawed_actions, goal_achievable, timepoint_executable};
 use super::executive::{Executive, Fate};
 use super::p_t::classify;
+use super::squeeze::should_wait;
 use super::t_exec::{t_exec, TpKind};
 use super::trace::TraceEvent;
 use crate::model::{Preemption, Time};
@@ -34,8 +36,11 @@ impl Executive {
         // never create one, so this set stays a (conservative) superset while ExecTPs is recomputed.
         let flawed = flawed_actions(&mut self.plan);
         loop {
+            let running: Vec<ActionId> = self.started.keys().copied().collect();
             let mut executed = false;
             let pt = classify(&self.plan, now);
+            // The starts due now: each is weighed against the running actions and the others due now.
+            let mut due: Vec<ActionId> = Vec::new();
             for &a in &pt.future {
                 let st = self.plan.action(a).start;
                 if self.plan.stn.is_executed(st) {
@@ -48,13 +53,23 @@ impl Executive {
                 if te > now {
                     wake(te, &mut next);
                 } else if action_executable(&self.plan, a, now, &flawed) {
-                    executed |= self.launch(vehicle, a, now);
+                    due.push(a);
                 } else if !postponed.contains(&a) {
                     postponed.push(a);
                 }
             }
-            let started: Vec<ActionId> = self.started.keys().copied().collect();
-            for a in started {
+            let weighed: Vec<ActionId> = running.iter().chain(&due).copied().collect();
+            for &a in &due {
+                let st = self.plan.action(a).start;
+                if should_wait(&self.plan, &weighed, st, now, ts) {
+                    if !postponed.contains(&a) {
+                        postponed.push(a);
+                    }
+                } else {
+                    executed |= self.launch(vehicle, a, now);
+                }
+            }
+            for &a in &running {
                 let act = self.plan.action(a);
                 if act.removed || self.plan.stn.is_executed(act.end) || self.stop_sent.contains(&a)
                 {
@@ -85,7 +100,9 @@ impl Executive {
                         wake(te, &mut next);
                         continue;
                     }
-                    if !goal_achievable(&self.plan, pg.goal, now) {
+                    if !goal_achievable(&self.plan, pg.goal, now)
+                        || should_wait(&self.plan, &weighed, pg.st, now, ts)
+                    {
                         continue;
                     }
                     if self.plan.stn.execute(pg.st, now).is_err() {

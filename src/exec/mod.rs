@@ -13,6 +13,7 @@
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
 //! | §3.5 the dispatch decision (src/dispatch policies; default earliest) | [`dispatch_policy`] |
+//! | §5 (future work, done): contingent durations not squeezed by dispatching | [`squeeze`] |
 //! | §3.2 time injected: manual clock (tests) / vehicle clock (live) | [`clock`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
@@ -51,6 +52,7 @@ pub mod resource_bounds;
 pub mod resource_report;
 pub mod sense;
 pub mod settle;
+pub mod squeeze;
 pub mod state_update;
 pub mod t_exec;
 pub mod trace;

@@ -79,8 +79,12 @@ impl Executive {
                 return RepairOutcome::Failed(reason);
             }
             root.set_time_floor(TimeFloor::At(self.cycle_end(now)));
+            // Repair is local (a few choices around the broken links) and its tree is rebuilt whenever the
+            // plan moves on: chronological depth-first, as in seed 1 — discrepancy iterations would
+            // redo the tree from its root every cycle. A repair that thrashes is cut off by its episode
+            // budget and replaced by a complete replanning, which searches by discrepancies.
             self.repair = Some(Repair {
-                search: Search::new(root),
+                search: Search::depth_first(root),
                 labelled: None,
             });
         }

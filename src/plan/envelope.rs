@@ -38,6 +38,9 @@ pub struct ReservoirConflict {
     pub open_decreases: Vec<(UsageId, Timepoint)>,
     /// Increases possibly but not necessarily before `point`.
     pub open_increases: Vec<(UsageId, Timepoint)>,
+    /// Increases necessarily before `point` (or at it) whose quantity is not fixed: counted at their
+    /// minimum in a shortage, they can be made to produce more.
+    pub short_producers: Vec<UsageId>,
 }
 
 /// Numeric tolerance on levels.
@@ -101,6 +104,7 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
         let mut level = l0;
         let mut open_dec = Vec::new();
         let mut open_inc = Vec::new();
+        let mut short_producers = Vec::new();
         for (j, cj) in changes.iter().enumerate() {
             let nec = j == i || necessarily_after(stn, cj.at, ci.at, 1);
             let poss = nec || possibly_after(stn, cj.at, ci.at, 0);
@@ -112,6 +116,9 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
                 }
             } else if cj.up && nec {
                 level += cj.lo;
+                if cj.lo < cj.hi {
+                    short_producers.push(cj.usage);
+                }
             } else if !cj.up && poss {
                 level -= cj.hi;
             }
@@ -138,6 +145,7 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
                 capacity,
                 open_decreases: open_dec,
                 open_increases: open_inc,
+                short_producers,
             });
         }
     }

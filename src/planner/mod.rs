@@ -66,6 +66,8 @@ struct Choice {
     resolvers: Vec<Resolver>,
     next: usize,
     applied_any: bool,
+    /// Discrepancies taken on the branch above this choice (see [`Search`]'s iterations).
+    discrepancies: u32,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,6 +89,13 @@ pub struct Search {
     /// The next step's selection when [`Search::next_is_backtrack`] or [`Search::next_is_solution`] already
     /// made it (`Some(None)`: no flaw left); valid until the plan changes.
     peeked: Option<Option<(Flaw, Vec<Resolver>)>>,
+    /// Limited discrepancy search: a branch may depart from the resolver order at most this many times
+    /// in the current iteration; when the tree so limited is exhausted and some resolver was left out for
+    /// the limit, the search starts again from the root with one more. Depth-first search alone drowns in
+    /// the subtree of one early wrong choice; this visits every resolver order in the end (complete).
+    discrepancy_limit: u32,
+    /// Whether the current iteration left a resolver out for the limit.
+    cut: bool,
 }
 
 impl Search {
@@ -102,7 +111,31 @@ impl Search {
             steps: 0,
             backtracks: 0,
             status: Status::Running,
+            discrepancy_limit: 0,
+            cut: false,
         }
+    }
+
+    /// A search whose root is `plan` that never leaves a resolver out: plain chronological depth-first
+    /// search (seed 1's), for comparisons and for tests of the order of its steps.
+    pub fn depth_first(plan: PartialPlan) -> Self {
+        Search {
+            discrepancy_limit: u32::MAX,
+            ..Search::new(plan)
+        }
+    }
+
+    /// The current iteration's discrepancy limit (0 in the first, heuristic-only, dive).
+    pub fn discrepancy_limit(&self) -> u32 {
+        self.discrepancy_limit
+    }
+
+    /// Discrepancies taken above a choice pushed now: those of the top choice, plus one if the resolver it
+    /// applied was not its first.
+    fn next_discrepancies(&self) -> u32 {
+        self.stack
+            .last()
+            .map_or(0, |c| c.discrepancies + u32::from(c.next > 1))
     }
 
     /// The current node's partial plan.
@@ -152,8 +185,13 @@ impl Search {
             return false;
         };
         // A dead end shows only when each resolver is tried (the propagation of forced conflicts is part
-        // of a step): try them on the trail and undo.
-        for r in rs.clone() {
+        // of a step): try them on the trail and undo. Only those the discrepancy limit allows count.
+        let allowed = if self.next_discrepancies() < self.discrepancy_limit {
+            rs.len()
+        } else {
+            1
+        };
+        for r in rs.iter().take(allowed).cloned().collect::<Vec<_>>() {
             let level = self.plan.save();
             let ok = resolvers::apply(&mut self.plan, &r)
                 .and_then(|()| select::propagate_forced(&mut self.plan))
@@ -245,12 +283,14 @@ impl Search {
             Some((flaw, resolvers)) => {
                 tracing::trace!(flaw = %self.plan.flaw_text(&flaw), resolvers = ?resolvers, "step");
                 let level = self.plan.save();
+                let discrepancies = self.next_discrepancies();
                 self.stack.push(Choice {
                     level,
                     flaw,
                     resolvers,
                     next: 0,
                     applied_any: false,
+                    discrepancies,
                 });
                 self.advance()
             }
@@ -266,7 +306,12 @@ impl Search {
                 return StepOutcome::Failed(r);
             };
             let level = top.level;
-            if top.next < top.resolvers.len() {
+            // Any resolver but the first departs from the order: allowed within the iteration's limit.
+            let within = top.next == 0 || top.discrepancies < self.discrepancy_limit;
+            if top.next < top.resolvers.len() && !within {
+                self.cut = true;
+            }
+            if top.next < top.resolvers.len() && within {
                 let r = top.resolvers[top.next].clone();
                 top.next += 1;
                 self.plan.restore(level);
@@ -290,6 +335,14 @@ impl Search {
                 };
                 self.plan.restore(top.level);
                 self.backtracks += 1;
+                if self.stack.is_empty() && self.cut {
+                    // The limited tree is exhausted: the next iteration, from the root.
+                    self.cut = false;
+                    self.discrepancy_limit = self.discrepancy_limit.saturating_add(1);
+                    self.peeked = None;
+                    tracing::debug!(limit = self.discrepancy_limit, "discrepancy iteration");
+                    return StepOutcome::Progress;
+                }
                 if self.stack.is_empty() {
                     let r = if top.applied_any {
                         FailReason::Exhausted { steps: self.steps }

@@ -56,6 +56,12 @@ pub enum Resolver {
         var: NVar,
         hi: f64,
     },
+    /// Bound a production quantity from below (a recharge made longer rather than a second one added).
+    RaiseQuantity {
+        action: ActionId,
+        var: NVar,
+        lo: f64,
+    },
 }
 
 impl Resolver {
@@ -390,6 +396,22 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
         }
     } else {
         order_around(plan, c, &c.open_increases, &c.open_decreases, &mut out);
+        let deficit = -c.level;
+        for &p in &c.short_producers {
+            let u = plan.usage(p);
+            if let NTerm::Var(v) = u.quantity {
+                let (lo, hi) = plan.numeric.bounds(v);
+                // As much as the deficit asks, or all this producer can give (the rest from another).
+                let new_lo = (lo + deficit).min(hi);
+                if new_lo > lo {
+                    out.push(Resolver::RaiseQuantity {
+                        action: u.action,
+                        var: v,
+                        lo: new_lo,
+                    });
+                }
+            }
+        }
         for task in plan.domain.tasks_producing(c.resource) {
             for (k, u) in plan.domain.task(task).usages.iter().enumerate() {
                 if u.resource == c.resource
@@ -457,6 +479,10 @@ pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
         }
         Resolver::CapQuantity { action, var, hi } => {
             plan.numeric.narrow(var, f64::NEG_INFINITY, hi)?;
+            plan.repropagate_action(action)
+        }
+        Resolver::RaiseQuantity { action, var, lo } => {
+            plan.numeric.narrow(var, lo, f64::INFINITY)?;
             plan.repropagate_action(action)
         }
     }

@@ -1,0 +1,158 @@
+//! Contingent durations are not squeezed (src/exec/squeeze.rs): a start that could go now but would shorten
+//! the upper bound of a running action's end waits until that action ends (while it keeps flexibility),
+//! instead of forcing the running action to be stopped short or to time out.
+//!
+//! The relay domain: the rover drives to b (late-preemptive, 10–100 s); a picture at b needs the radio
+//! relay open (20–30 s, non-preemptive), so the relay may open up to 25 s before the picture. Dispatched at
+//! its earliest, the relay would open at 0 s and the drive would have to end by 25 s; the drive takes 60 s.
+
+use std::sync::Arc;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions};
+use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::squeeze::squeezed_running_end;
+use mavtempo::exec::trace::TraceEvent;
+use mavtempo::lang::{parse_domain, parse_problem};
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::mock::Outcome;
+use mavtempo::vehicle::MockVehicle;
+
+const DOMAIN: &str = "domain relay;
+type place;
+attribute AT(): place;
+attribute LINK(): bool;
+attribute SHOT(?p: place): bool;
+
+task drive(?from: place, ?to: place) (st, et) {
+    ?from != ?to;
+    event(AT(): (?from, +oo), st);
+    hold(AT(): +oo, (st, et));
+    event(AT(): (+oo, ?to), et);
+    (et - st) in [10s, 100s];
+} latePreemptive
+
+task relay() (st, et) {
+    event(LINK(): (false, true), st);
+    hold(LINK(): true, (st, et));
+    event(LINK(): (true, false), et);
+    (et - st) in [20s, 30s];
+} nonPreemptive
+
+task snap(?p: place) (st, et) {
+    hold(AT(): ?p, (st, et));
+    hold(LINK(): true, (st, et));
+    event(SHOT(?p): (false, true), et);
+    (et - st) in [5s, 5s];
+} nonPreemptive
+";
+
+const PROBLEM: &str = "problem shot;
+domain relay;
+horizon 10min;
+object a, b: place;
+initial {
+    AT() = a;
+    LINK() = false;
+    SHOT(*) = false;
+}
+goal shot_b priority 1 { hold(SHOT(b): true, (st, et)); }
+";
+
+fn planned() -> PartialPlan {
+    let d = parse_domain("relay.ixt", DOMAIN).expect("domain parses");
+    let p = parse_problem("shot.ixt", PROBLEM, &d).expect("problem parses");
+    let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut search = Search::new(root);
+    assert_eq!(search.run(Budget::steps(2_000)), StepOutcome::Solved);
+    search.into_plan()
+}
+
+fn action_named(plan: &PartialPlan, task: &str) -> mavtempo::plan::ActionId {
+    plan.live_actions()
+        .find(|&a| plan.domain.task(plan.action(a).task).name == task)
+        .unwrap_or_else(|| panic!("{task} in the plan"))
+}
+
+#[test]
+fn the_relay_would_squeeze_the_running_drive() {
+    let mut plan = planned();
+    let drive = action_named(&plan, "drive");
+    let relay = action_named(&plan, "relay");
+    let (drive_st, drive_et) = (plan.action(drive).start, plan.action(drive).end);
+    let natural_ub = plan.stn.ub(drive_et);
+    let relay_st = plan.action(relay).start;
+    let t0 = plan.stn.lb(drive_st);
+    assert!(
+        plan.stn.lb(relay_st) <= t0,
+        "the relay could open with the drive"
+    );
+    // Weighed against the drive launched at the same time, then against the drive running.
+    let (a, ub) = squeezed_running_end(&plan, &[drive], relay_st, t0)
+        .expect("opening with the drive squeezes it");
+    assert_eq!(a, drive);
+    assert!(ub <= t0 + 25_000 && ub < natural_ub, "{ub} vs {natural_ub}");
+    plan.stn.execute(drive_st, t0).expect("the drive starts");
+    let (a, ub) = squeezed_running_end(&plan, &[drive], relay_st, t0)
+        .expect("opening now squeezes the running drive");
+    assert_eq!(a, drive);
+    assert!(ub <= t0 + 25_000, "{ub}");
+    // Once the drive has ended, nothing is squeezed.
+    plan.stn
+        .execute(drive_et, 60_000)
+        .expect("drive ends at 60 s");
+    assert_eq!(
+        squeezed_running_end(&plan, &[drive], relay_st, 60_000),
+        None
+    );
+}
+
+#[test]
+fn the_relay_waits_for_the_drive_instead_of_cutting_it_short() {
+    let mut ex = Executive::new(
+        planned(),
+        ExecConfig {
+            timestep_ms: 1_000,
+            ..ExecConfig::default()
+        },
+    );
+    let mut v = MockVehicle::new();
+    v.script("drive", Outcome::nominal(60_000));
+    v.script("relay", Outcome::nominal(25_000));
+    v.script("snap", Outcome::nominal(5_000));
+    let opts = MissionOptions {
+        time_limit_ms: 600_000,
+        ..MissionOptions::default()
+    };
+    let r = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, _| {},
+    );
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    assert_eq!(r.goals[0].fate, Fate::Achieved, "{:?}", r.goals);
+    let events: Vec<(u64, &TraceEvent)> = r
+        .cycles
+        .iter()
+        .flat_map(|c| c.events.iter().map(move |e| (c.time_ms as u64, e)))
+        .collect();
+    assert!(
+        !events
+            .iter()
+            .any(|(_, e)| matches!(e, TraceEvent::Stop { .. } | TraceEvent::Abort { .. })),
+        "nothing stopped or aborted: {events:?}"
+    );
+    let relay_start = events
+        .iter()
+        .find_map(|(t, e)| match e {
+            TraceEvent::Launch { action, .. } if action.starts_with("relay") => Some(*t),
+            _ => None,
+        })
+        .expect("the relay is launched");
+    assert!(relay_start >= 60_000, "relay opened at {relay_start} ms");
+    assert_eq!(r.counters.replans, 0);
+}
