@@ -13,6 +13,24 @@ pub struct BenchArgs {
     /// One JSON object per line instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// `suite`: seeds per size.
+    #[arg(long, default_value_t = 10)]
+    pub seeds: u64,
+    /// `suite`: the first seed (seed S, S+1, … per size).
+    #[arg(long, default_value_t = 1000)]
+    pub first_seed: u64,
+    /// `suite`: only this domain (rover, auv, shopping).
+    #[arg(long)]
+    pub domain: Option<String>,
+    /// `suite`: only sizes up to this one.
+    #[arg(long)]
+    pub max_size: Option<usize>,
+    /// `suite`: planning time limit per problem, seconds.
+    #[arg(long, default_value_t = 10.0)]
+    pub time_limit: f64,
+    /// `suite`: write each generated problem to DIR/<domain>/<name>.ixt (for other planners).
+    #[arg(long)]
+    pub write: Option<std::path::PathBuf>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -33,6 +51,8 @@ pub enum BenchWhat {
     Link,
     /// Executive CPU over a Dala-length mission (1,285 s) against the in-process SITL.
     Cpu,
+    /// Random rover, AUV and shopping problems of growing size: solved share and time per size, plans checked.
+    Suite,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
@@ -45,6 +65,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         BenchWhat::Dispatch => bench_dispatch(args.json),
         BenchWhat::Link => bench_link(args.json),
         BenchWhat::Cpu => super::bench_cpu::run(args.json),
+        BenchWhat::Suite => super::bench_suite::run(&args),
     }
 }
 

@@ -12,6 +12,7 @@ pub mod bench;
 pub mod hierarchy;
 pub mod resolvers;
 pub mod select;
+pub mod suite;
 
 use std::time::Instant;
 

@@ -1,0 +1,85 @@
+//! `mavtempo bench suite`: the planner on random problems of growing size (see `planner::suite`).
+
+use std::process::ExitCode;
+use std::time::Duration;
+
+use super::bench::BenchArgs;
+use crate::planner::suite::{self, generate::SuiteDomain, SuiteOptions, SuiteRun};
+
+pub fn run(args: &BenchArgs) -> ExitCode {
+    let domain = match args.domain.as_deref() {
+        None => None,
+        Some("rover") => Some(SuiteDomain::Rover),
+        Some("auv") => Some(SuiteDomain::Auv),
+        Some("shopping") => Some(SuiteDomain::Shopping),
+        Some(other) => {
+            eprintln!("bench suite: unknown domain `{other}` (rover, auv or shopping)");
+            return ExitCode::FAILURE;
+        }
+    };
+    if !(args.time_limit.is_finite() && args.time_limit > 0.0) {
+        eprintln!("bench suite: --time-limit must be a positive number of seconds");
+        return ExitCode::FAILURE;
+    }
+    let opts = SuiteOptions {
+        seeds: args.seeds,
+        first_seed: args.first_seed,
+        time_limit: Duration::from_secs_f64(args.time_limit),
+        domain,
+        max_size: args.max_size,
+    };
+    let json = args.json;
+    let mut write_error: Option<String> = None;
+    let mut each = |r: &SuiteRun, text: &str| {
+        if let Some(dir) = &args.write {
+            let d = dir.join(r.domain.name());
+            let file = d.join(format!("{}{}_{}.ixt", r.domain.name(), r.size, r.seed));
+            if let Err(e) = std::fs::create_dir_all(&d).and_then(|()| std::fs::write(&file, text)) {
+                write_error.get_or_insert(format!("{}: {e}", file.display()));
+            }
+        }
+        if json {
+            if let Ok(line) = serde_json::to_string(r) {
+                println!("{line}");
+            }
+        } else if !r.solved {
+            eprintln!(
+                "  {} n={} seed={}: {}",
+                r.domain.name(),
+                r.size,
+                r.seed,
+                r.failure.as_deref().unwrap_or("not solved")
+            );
+        }
+    };
+    let sizes = match suite::run(std::path::Path::new("domains"), &opts, &mut each) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("bench suite: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if let Some(e) = write_error {
+        eprintln!("bench suite: cannot write a problem: {e}");
+        return ExitCode::FAILURE;
+    }
+    for s in &sizes {
+        if json {
+            if let Ok(line) = serde_json::to_string(s) {
+                println!("{line}");
+            }
+        } else {
+            let ms = |v: Option<f64>| v.map_or("-".to_string(), |m| format!("{m:.0} ms"));
+            println!(
+                "{:<9} n={:<3} solved {:>2}/{:<2}  median {:>9}  max {:>9}",
+                s.domain.name(),
+                s.size,
+                s.solved,
+                s.problems,
+                ms(s.median_ms),
+                ms(s.max_ms)
+            );
+        }
+    }
+    ExitCode::SUCCESS
+}
