@@ -76,20 +76,55 @@ impl Resolver {
 
 /// The resolvers of `flaw`, in the order the search tries them (filtered by a cheap feasibility test).
 pub fn resolvers(plan: &PartialPlan, flaw: &Flaw) -> Vec<Resolver> {
+    resolvers_below(plan, flaw, usize::MAX).unwrap_or_default()
+}
+
+/// [`resolvers`] when there are fewer than `limit` of them, `None` when there are at least `limit`: the
+/// selection only needs a flaw's exact resolvers when their number can still make it win, and proving
+/// that a flaw has many stops after `limit` ordering queries (each a shortest-path search) instead of
+/// running all of them. The cheap resolvers (no query) are counted first.
+pub fn resolvers_below(plan: &PartialPlan, flaw: &Flaw, limit: usize) -> Option<Vec<Resolver>> {
+    if limit == 0 {
+        return None;
+    }
     match flaw {
-        Flaw::OpenCondition(c) => open_condition(plan, *c),
-        Flaw::Threat { event, link } => threat(plan, *event, *link),
-        Flaw::UnaryConflict { a, b } => unary(plan, *a, *b),
-        Flaw::Reservoir(c) => reservoir(plan, c),
+        Flaw::OpenCondition(c) => open_condition(plan, *c, limit),
+        Flaw::Threat { event, link } => threat(plan, *event, *link, limit),
+        Flaw::UnaryConflict { a, b } => unary(plan, *a, *b, limit),
+        Flaw::Reservoir(c) => Some(reservoir(plan, c)).filter(|rs| rs.len() < limit),
     }
 }
 
 fn possibly(plan: &PartialPlan, from: Timepoint, to: Timepoint, delay: Time) -> bool {
-    if from == to {
-        return delay <= 0;
+    if let Some(answer) = possibly_by_bounds(plan, from, to, delay) {
+        return answer;
     }
-    plan.stn.ub(to).saturating_sub(plan.stn.lb(from)) >= delay
-        && !plan.stn.distance_below(from, to, delay)
+    !plan.stn.distance_below(from, to, delay)
+}
+
+/// [`possibly`] where the timepoints' bounds decide it (no search): impossible when even the latest `to`
+/// minus the earliest `from` is short of `delay`; possible when the earliest schedule, or the latest one,
+/// already separates them by `delay` (both are solutions of the network). The same tests open the
+/// shortest-path search, so the answers agree.
+fn possibly_by_bounds(
+    plan: &PartialPlan,
+    from: Timepoint,
+    to: Timepoint,
+    delay: Time,
+) -> Option<bool> {
+    if from == to {
+        return Some(delay <= 0);
+    }
+    let stn = &plan.stn;
+    if stn.ub(to).saturating_sub(stn.lb(from)) < delay {
+        return Some(false);
+    }
+    if stn.lb(to) - stn.lb(from) >= delay
+        || (stn.ub(to) < INF && stn.ub(from) < INF && stn.ub(to) - stn.ub(from) >= delay)
+    {
+        return Some(true);
+    }
+    None
 }
 
 /// Whether a task's event value can match the condition's value.
@@ -121,7 +156,7 @@ fn regress_depth(plan: &PartialPlan, c: CondId, task: TaskId) -> u32 {
     }
 }
 
-fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
+fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Resolver>> {
     let cond = plan.cond(c);
     let b = &plan.bindings;
     let delay = cond.support_delay();
@@ -129,7 +164,28 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
         CondKind::Before(e) => Some(e),
         CondKind::Hold { .. } => None,
     };
+    // New tasks first (no ordering query), then the existing events: those the bounds decide, then
+    // those that need a search — stopping as soon as `limit` resolvers are certain.
+    let mut inserts: Vec<Resolver> = Vec::new();
+    for task in plan.domain.tasks_establishing(cond.attr) {
+        if regress_depth(plan, c, task) > MAX_REGRESS {
+            continue;
+        }
+        for (k, ev) in plan.domain.task(task).events.iter().enumerate() {
+            if ev.primary && ev.attr == cond.attr && value_compatible(plan, &ev.to, cond.value) {
+                inserts.push(Resolver::Insert {
+                    cond: c,
+                    task,
+                    event: k,
+                });
+            }
+        }
+    }
+    if inserts.len() >= limit {
+        return None;
+    }
     let mut existing: Vec<(Time, u32)> = Vec::new();
+    let mut undecided: Vec<crate::plan::EventId> = Vec::new();
     for &e in plan.events_on(cond.attr) {
         if Some(e) == own {
             continue;
@@ -141,11 +197,26 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
                 .iter()
                 .zip(&cond.args)
                 .any(|(&x, &y)| !b.possibly_equal(x, y))
-            || !possibly(plan, ev.at, cond.from, delay)
         {
             continue;
         }
-        existing.push((plan.stn.lb(ev.at), e.0));
+        match possibly_by_bounds(plan, ev.at, cond.from, delay) {
+            Some(false) => {}
+            Some(true) => existing.push((plan.stn.lb(ev.at), e.0)),
+            None => undecided.push(e),
+        }
+    }
+    if existing.len() + inserts.len() >= limit {
+        return None;
+    }
+    for e in undecided {
+        let ev = plan.event(e);
+        if !plan.stn.distance_below(ev.at, cond.from, delay) {
+            existing.push((plan.stn.lb(ev.at), e.0));
+            if existing.len() + inserts.len() >= limit {
+                return None;
+            }
+        }
     }
     existing.sort();
     let mut out: Vec<Resolver> = existing
@@ -155,21 +226,8 @@ fn open_condition(plan: &PartialPlan, c: CondId) -> Vec<Resolver> {
             event: crate::plan::EventId(e),
         })
         .collect();
-    for task in plan.domain.tasks_establishing(cond.attr) {
-        if regress_depth(plan, c, task) > MAX_REGRESS {
-            continue;
-        }
-        for (k, ev) in plan.domain.task(task).events.iter().enumerate() {
-            if ev.primary && ev.attr == cond.attr && value_compatible(plan, &ev.to, cond.value) {
-                out.push(Resolver::Insert {
-                    cond: c,
-                    task,
-                    event: k,
-                });
-            }
-        }
-    }
-    out
+    out.extend(inserts);
+    Some(out)
 }
 
 /// Drops the resolvers a look-ahead proves useless (done only for the selected flaw: it costs ordering
@@ -224,10 +282,15 @@ fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut [Resolver]
                 .iter()
                 .filter(|&&o| {
                     let own = own_event(plan, o);
-                    !open_condition(plan, o).iter().any(|x| match x {
-                        Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
-                        _ => false,
-                    })
+                    !open_condition(plan, o, usize::MAX)
+                        .unwrap_or_default()
+                        .iter()
+                        .any(|x| match x {
+                            Resolver::Link { cond, event } => {
+                                !link_doomed(plan, *event, *cond, own)
+                            }
+                            _ => false,
+                        })
                 })
                 .count(),
             Err(_) => usize::MAX,
@@ -263,17 +326,70 @@ fn link_doomed(
                 return false;
             }
         }
-        ev2.args
+        let same_instance = ev2
+            .args
             .iter()
             .zip(&cond.args)
-            .all(|(&x, &y)| b.necessarily_equal(x, y))
-            && !b.possibly_equal(ev2.to, cond.value)
-            && !possibly(plan, ev2.at, te, 1)
-            && !possibly(plan, cond.to, ev2.at, cond.end_delay())
+            .all(|(&x, &y)| b.necessarily_equal(x, y));
+        if !same_instance || b.possibly_equal(ev2.to, cond.value) {
+            return false;
+        }
+        // Doomed only if neither order is possible: the bounds first (either proving an order possible
+        // settles it), a search only for what they leave open.
+        let before = possibly_by_bounds(plan, ev2.at, te, 1);
+        let after = possibly_by_bounds(plan, cond.to, ev2.at, cond.end_delay());
+        if before == Some(true) || after == Some(true) {
+            return false;
+        }
+        let impossible = |bounds: Option<bool>, from, to, delay| {
+            bounds == Some(false) || plan.stn.distance_below(from, to, delay)
+        };
+        impossible(before, ev2.at, te, 1) && impossible(after, cond.to, ev2.at, cond.end_delay())
     })
 }
 
-fn threat(plan: &PartialPlan, e: crate::plan::EventId, l: crate::plan::LinkId) -> Vec<Resolver> {
+/// Which of the orderings `(from, to, delay)` are possible, unless `base` plus the number of possible ones
+/// reaches `limit` (then `None`): the bounds decide first, searches run only for the rest and stop as soon
+/// as the count is certain.
+fn possible_orders(
+    plan: &PartialPlan,
+    orders: [(Timepoint, Timepoint, Time); 2],
+    base: usize,
+    limit: usize,
+) -> Option<[bool; 2]> {
+    let mut count = base;
+    let mut ok = [false; 2];
+    let mut open = [false; 2];
+    for (i, &(from, to, delay)) in orders.iter().enumerate() {
+        match possibly_by_bounds(plan, from, to, delay) {
+            Some(p) => {
+                ok[i] = p;
+                count += usize::from(p);
+            }
+            None => open[i] = true,
+        }
+    }
+    if count >= limit {
+        return None;
+    }
+    for (i, &(from, to, delay)) in orders.iter().enumerate() {
+        if open[i] && !plan.stn.distance_below(from, to, delay) {
+            ok[i] = true;
+            count += 1;
+            if count >= limit {
+                return None;
+            }
+        }
+    }
+    Some(ok)
+}
+
+fn threat(
+    plan: &PartialPlan,
+    e: crate::plan::EventId,
+    l: crate::plan::LinkId,
+    limit: usize,
+) -> Option<Vec<Resolver>> {
     let link = plan.link(l);
     let cond = plan.cond(link.cond);
     let ev = plan.event(e);
@@ -288,9 +404,27 @@ fn threat(plan: &PartialPlan, e: crate::plan::EventId, l: crate::plan::LinkId) -
         to: est,
         delay: 1,
     };
+    // The binding resolvers first: they cost no ordering query.
+    let mut bind = Vec::new();
+    let b = &plan.bindings;
+    for (&x, &y) in ev.args.iter().zip(&cond.args) {
+        if !b.necessarily_equal(x, y) {
+            bind.push(Resolver::Separate(x, y));
+        }
+    }
+    if b.possibly_equal(ev.to, cond.value) {
+        bind.push(Resolver::Unify(ev.to, cond.value));
+    }
+    if bind.len() >= limit {
+        return None;
+    }
+    let [after_ok, before_ok] = possible_orders(
+        plan,
+        [(cond.to, ev.at, cond.end_delay()), (ev.at, est, 1)],
+        bind.len(),
+        limit,
+    )?;
     let mut out = Vec::new();
-    let after_ok = possibly(plan, cond.to, ev.at, cond.end_delay());
-    let before_ok = possibly(plan, ev.at, est, 1);
     let later_first = plan.stn.lb(ev.at) >= plan.stn.lb(est);
     match (after_ok, before_ok, later_first) {
         (true, true, true) => out.extend([after, before]),
@@ -299,25 +433,22 @@ fn threat(plan: &PartialPlan, e: crate::plan::EventId, l: crate::plan::LinkId) -
         (false, true, _) => out.push(before),
         (false, false, _) => {}
     }
-    let b = &plan.bindings;
-    for (&x, &y) in ev.args.iter().zip(&cond.args) {
-        if !b.necessarily_equal(x, y) {
-            out.push(Resolver::Separate(x, y));
-        }
-    }
-    if b.possibly_equal(ev.to, cond.value) {
-        out.push(Resolver::Unify(ev.to, cond.value));
-    }
-    out
+    out.extend(bind);
+    Some(out)
 }
 
-fn unary(plan: &PartialPlan, a: crate::plan::UsageId, b: crate::plan::UsageId) -> Vec<Resolver> {
+fn unary(
+    plan: &PartialPlan,
+    a: crate::plan::UsageId,
+    b: crate::plan::UsageId,
+    limit: usize,
+) -> Option<Vec<Resolver>> {
     let span = |u| match plan.usage(u).kind {
         UsageKind::Use { from, to } => Some((from, to)),
         _ => None,
     };
     let (Some((fa, ta)), Some((fb, tb))) = (span(a), span(b)) else {
-        return Vec::new();
+        return Some(Vec::new());
     };
     let a_first = Resolver::Order {
         from: ta,
@@ -330,7 +461,7 @@ fn unary(plan: &PartialPlan, a: crate::plan::UsageId, b: crate::plan::UsageId) -
         delay: 0,
     };
     let mut out = Vec::new();
-    let (ok_a, ok_b) = (possibly(plan, ta, fb, 0), possibly(plan, tb, fa, 0));
+    let [ok_a, ok_b] = possible_orders(plan, [(ta, fb, 0), (tb, fa, 0)], 0, limit)?;
     if plan.stn.lb(fa) <= plan.stn.lb(fb) {
         if ok_a {
             out.push(a_first);
@@ -346,7 +477,7 @@ fn unary(plan: &PartialPlan, a: crate::plan::UsageId, b: crate::plan::UsageId) -
             out.push(a_first);
         }
     }
-    out
+    Some(out)
 }
 
 /// The ordering resolvers of a reservoir conflict: each usage of `before` moved before the checkpoint,

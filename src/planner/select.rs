@@ -14,7 +14,7 @@
 use std::cmp::Reverse;
 
 use super::hierarchy::Hierarchy;
-use super::resolvers::{refine, resolvers, Resolver};
+use super::resolvers::{refine, resolvers, resolvers_below, Resolver};
 use crate::plan::{Flaw, PartialPlan};
 
 /// Rank of a flaw on an attribute in the hierarchy (higher first): attribute levels doubled, so that
@@ -47,11 +47,11 @@ fn rank_reservoir(plan: &PartialPlan, h: &Hierarchy, flaw: &Flaw) -> u64 {
     u64::from(level) * 2 - 1
 }
 
-/// 0 = dead end, 1 = forced constraint, 2 = the rest.
-fn tier(rs: &[Resolver], open: bool) -> u8 {
-    match rs.len() {
+/// 0 = dead end, 1 = forced constraint, 2 = the rest (`n` resolvers, the first inserting an action or not).
+fn tier(n: usize, first_inserts: bool, open: bool) -> u8 {
+    match n {
         0 => 0,
-        1 if !open && !rs[0].inserts() => 1,
+        1 if !open && !first_inserts => 1,
         _ => 2,
     }
 }
@@ -67,26 +67,79 @@ fn class(n: usize, open: bool) -> u8 {
 
 type Key = (u8, Reverse<u64>, u8, usize, u8, i64, Reverse<u32>);
 
-fn key(rank: u64, rs: &[Resolver], open: bool, kind: u8, urgency: i64, recency: u32) -> Key {
-    let t = tier(rs, open);
+/// The key of a flaw with `n` resolvers. For a given first resolver kind it never decreases with `n`,
+/// so a flaw proven to have at least `n` resolvers has at least `key_n(.., n, ..)`.
+fn key_n(
+    rank: u64,
+    n: usize,
+    first_inserts: bool,
+    open: bool,
+    kind: u8,
+    urgency: i64,
+    recency: u32,
+) -> Key {
+    let t = tier(n, first_inserts, open);
     // Dead ends and forced constraints are taken whatever their level.
     let rank = if t < 2 { 0 } else { rank };
     (
         t,
         Reverse(rank),
-        class(rs.len(), open),
-        rs.len(),
+        class(n, open),
+        n,
         kind,
         urgency,
         Reverse(recency),
     )
 }
 
+fn key(rank: u64, rs: &[Resolver], open: bool, kind: u8, urgency: i64, recency: u32) -> Key {
+    let first_inserts = rs.first().is_some_and(Resolver::inserts);
+    key_n(rank, rs.len(), first_inserts, open, kind, urgency, recency)
+}
+
+/// Where a flaw comes in the order of consideration (threats and unary conflicts, then reservoir
+/// conflicts, then open conditions by urgency): the first of equal keys wins.
+type Pos = (u8, usize);
+
+/// The best flaw so far: the least `(key, position)`.
+struct Best {
+    best: Option<(Key, Pos, Flaw, Vec<Resolver>)>,
+}
+
+impl Best {
+    fn beats(&self, key: Key, pos: Pos) -> bool {
+        self.best
+            .as_ref()
+            .is_none_or(|(k, p, _, _)| (key, pos) < (*k, *p))
+    }
+
+    /// The fewest resolvers a flaw at `pos` must be proven to have to lose to the best so far
+    /// (`usize::MAX` when nothing bounds it); `key_of(n)` is its key with `n` resolvers.
+    fn limit(&self, pos: Pos, key_of: impl Fn(usize) -> Key) -> usize {
+        if self.best.is_none() {
+            return usize::MAX;
+        }
+        // Keys grow with n, by n itself past 1: the first losing n is found within the best's count.
+        (0..=self.best.as_ref().map_or(0, |b| b.0 .3).saturating_add(2))
+            .find(|&n| !self.beats(key_of(n), pos))
+            .unwrap_or(usize::MAX)
+    }
+
+    fn consider(&mut self, key: Key, pos: Pos, f: Flaw, rs: Vec<Resolver>) {
+        if self.beats(key, pos) {
+            self.best = Some((key, pos, f, rs));
+        }
+    }
+}
+
 /// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
 ///
 /// Forced conflicts were mostly applied by [`propagate_forced`] at the end of the previous step, so only
 /// the flaws at the best rank present need their resolvers listed (listing them costs ordering queries);
-/// reservoirs that cannot reach that rank are not even checked this step.
+/// reservoirs that cannot reach that rank are not even checked this step. The selection is the least
+/// key over the flaws considered (the first of equal keys); open conditions are examined first because
+/// they usually win, and the other flaws' resolvers are only counted as far as could still beat the best
+/// found so far ([`resolvers_below`]) — the choice is the one listing every flaw's resolvers would make.
 pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
     let threats: Vec<(Flaw, u64)> = plan
         .live_threats()
@@ -112,30 +165,8 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver
         .map(|&(_, r)| r)
         .max()
         .unwrap_or(0);
-    let mut best: Option<(Key, Flaw, Vec<Resolver>)> = None;
-    let mut consider = |key: Key, f: Flaw, rs: Vec<Resolver>| {
-        if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
-            best = Some((key, f, rs));
-        }
-    };
-    for (f, rank) in threats.into_iter().chain(unary) {
-        if rank < top {
-            continue;
-        }
-        let kind = if matches!(f, Flaw::Threat { .. }) {
-            0
-        } else {
-            1
-        };
-        let rs = resolvers(plan, &f);
-        consider(key(rank, &rs, false, kind, 0, 0), f, rs);
-    }
-    for c in plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top) {
-        let f = Flaw::Reservoir(c);
-        let rs = resolvers(plan, &f);
-        let rank = rank_reservoir(plan, h, &f);
-        consider(key(rank, &rs, false, 2, 0, 0), f, rs);
-    }
+    let reservoirs = plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top);
+    let mut best = Best { best: None };
     // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
     // recent); the scan stops at the first forced one (at most one resolver), which no later one can beat
     // but by being a dead end — found at the next step anyway.
@@ -153,15 +184,43 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver
         })
         .collect();
     candidates.sort_by_key(|&(u, r, _, _)| (u, r));
-    for (urgency, std::cmp::Reverse(recency), f, rank) in candidates {
-        let rs = resolvers(plan, &f);
-        let forced = rs.len() <= 1;
-        consider(key(rank, &rs, true, 3, urgency, recency), f, rs);
-        if forced {
-            break;
+    for (i, (urgency, std::cmp::Reverse(recency), f, rank)) in candidates.into_iter().enumerate() {
+        let pos = (2, i);
+        let key_of = |n| key_n(rank, n, false, true, 3, urgency, recency);
+        // At least 2: whether the scan stops here (forced) must be known exactly.
+        let limit = best.limit(pos, key_of).max(2);
+        // None: at least `limit` (≥ 2) resolvers, neither forced nor better than the best.
+        if let Some(rs) = resolvers_below(plan, &f, limit) {
+            let forced = rs.len() <= 1;
+            best.consider(key(rank, &rs, true, 3, urgency, recency), pos, f, rs);
+            if forced {
+                break;
+            }
         }
     }
-    best.map(|(_, f, mut rs)| {
+    for (i, c) in reservoirs.into_iter().enumerate() {
+        let f = Flaw::Reservoir(c);
+        let rs = resolvers(plan, &f);
+        let rank = rank_reservoir(plan, h, &f);
+        best.consider(key(rank, &rs, false, 2, 0, 0), (1, i), f, rs);
+    }
+    for (i, (f, rank)) in threats.into_iter().chain(unary).enumerate() {
+        if rank < top {
+            continue;
+        }
+        let kind = if matches!(f, Flaw::Threat { .. }) {
+            0
+        } else {
+            1
+        };
+        let pos = (0, i);
+        // Threat and unary resolvers only order or bind: none inserts an action.
+        let limit = best.limit(pos, |n| key_n(rank, n, false, false, kind, 0, 0));
+        if let Some(rs) = resolvers_below(plan, &f, limit) {
+            best.consider(key(rank, &rs, false, kind, 0, 0), pos, f, rs);
+        }
+    }
+    best.best.map(|(_, _, f, mut rs)| {
         refine(plan, &f, &mut rs);
         (f, rs)
     })
@@ -193,10 +252,147 @@ pub fn propagate_forced(plan: &mut PartialPlan) -> Result<(), crate::plan::PlanE
 }
 
 fn apply_if_forced(plan: &mut PartialPlan, f: &Flaw) -> Result<bool, crate::plan::PlanError> {
-    let rs = resolvers(plan, f);
+    // Only whether there are 0, 1 or more resolvers matters here.
+    let Some(rs) = resolvers_below(plan, f, 2) else {
+        return Ok(false);
+    };
     match rs.as_slice() {
         [] => Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(f))),
         [r] if !r.inserts() => super::resolvers::apply(plan, r).map(|()| true),
         _ => Ok(false),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    /// The selection before it counted resolvers lazily: every considered flaw's resolvers listed, the
+    /// first least key kept. The lazy [`pick`] must choose exactly as it does.
+    fn pick_reference(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
+        let threats: Vec<(Flaw, u64)> = plan
+            .live_threats()
+            .into_iter()
+            .map(|(event, link)| {
+                let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
+                (Flaw::Threat { event, link }, rank)
+            })
+            .collect();
+        let unary: Vec<(Flaw, u64)> = plan
+            .live_unary_conflicts()
+            .into_iter()
+            .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
+            .collect();
+        let open: Vec<(Flaw, u64)> = plan
+            .open_conditions()
+            .map(|c| (Flaw::OpenCondition(c), rank_attr(h, plan.cond(c).attr)))
+            .collect();
+        let top = threats
+            .iter()
+            .chain(&unary)
+            .chain(&open)
+            .map(|&(_, r)| r)
+            .max()
+            .unwrap_or(0);
+        let mut best: Option<(Key, Flaw, Vec<Resolver>)> = None;
+        let mut consider = |key: Key, f: Flaw, rs: Vec<Resolver>| {
+            if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
+                best = Some((key, f, rs));
+            }
+        };
+        for (f, rank) in threats.into_iter().chain(unary) {
+            if rank < top {
+                continue;
+            }
+            let kind = if matches!(f, Flaw::Threat { .. }) {
+                0
+            } else {
+                1
+            };
+            let rs = resolvers(plan, &f);
+            consider(key(rank, &rs, false, kind, 0, 0), f, rs);
+        }
+        for c in plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top) {
+            let f = Flaw::Reservoir(c);
+            let rs = resolvers(plan, &f);
+            let rank = rank_reservoir(plan, h, &f);
+            consider(key(rank, &rs, false, 2, 0, 0), f, rs);
+        }
+        // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
+        // recent); the scan stops at the first forced one (at most one resolver), which no later one can beat
+        // but by being a dead end — found at the next step anyway.
+        let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> = open
+            .into_iter()
+            .filter(|&(_, rank)| rank >= top)
+            .filter_map(|(f, rank)| match f {
+                Flaw::OpenCondition(c) => Some((
+                    plan.stn.ub(plan.cond(c).from),
+                    std::cmp::Reverse(c.0),
+                    f,
+                    rank,
+                )),
+                _ => None,
+            })
+            .collect();
+        candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+        for (urgency, std::cmp::Reverse(recency), f, rank) in candidates {
+            let rs = resolvers(plan, &f);
+            let forced = rs.len() <= 1;
+            consider(key(rank, &rs, true, 3, urgency, recency), f, rs);
+            if forced {
+                break;
+            }
+        }
+        best.map(|(_, f, mut rs)| {
+            refine(plan, &f, &mut rs);
+            (f, rs)
+        })
+    }
+
+    /// On generated rover grids and the shipped problems, at every step of the search, the lazy
+    /// selection equals the exhaustive one (flaw and ordered resolvers).
+    #[test]
+    fn lazy_pick_equals_exhaustive() {
+        let domains = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("domains");
+        let rover = Arc::new(
+            crate::lang::load_domain(&domains.join("rover").join("rover.ixt"))
+                .expect("rover domain"),
+        );
+        let mut problems = Vec::new();
+        for n in [3, 7, 12] {
+            let text = crate::planner::bench::rover_grid_problem(n);
+            problems.push(
+                crate::lang::parse_problem(&format!("grid{n}"), &text, &rover)
+                    .expect("grid problem"),
+            );
+        }
+        for name in ["fig2", "dala"] {
+            let path = domains
+                .join("rover")
+                .join("problems")
+                .join(format!("{name}.ixt"));
+            problems.push(crate::lang::load_problem(&path, &rover).expect("rover problem"));
+        }
+        for p in problems {
+            let root = PartialPlan::new(rover.clone(), Arc::new(p)).expect("root plan");
+            let mut search = crate::planner::Search::new(root);
+            let mut compared = 0;
+            for _ in 0..2_000 {
+                // The root's forced conflicts are applied by the search's first selection.
+                if !search.stack.is_empty() {
+                    let mut lazy = search.plan.clone();
+                    let mut full = search.plan.clone();
+                    let h = &search.hierarchy;
+                    assert_eq!(pick(&mut lazy, h), pick_reference(&mut full, h));
+                    compared += 1;
+                }
+                if search.step() != crate::planner::StepOutcome::Progress {
+                    break;
+                }
+            }
+            assert!(search.next_is_solution(), "the search solves the problem");
+            assert!(compared > 10);
+        }
     }
 }

@@ -37,8 +37,20 @@ pub(crate) fn distance(stn: &Stn, a: u32, b: u32) -> Time {
     bounded(stn, a, b, INF)
 }
 
-/// Whether the shortest path a→b is shorter than `limit`.
+/// Whether the shortest path a→b is shorter than `limit`. A "no" the search proved is remembered
+/// ([`super::memo`]): asked again, it is re-checked against the edges added since instead of searched.
 pub(crate) fn distance_below(stn: &Stn, a: u32, b: u32, limit: Time) -> bool {
+    if a != b && a != 0 && b != 0 {
+        let via_origin = sat_add(stn.ub[b as usize], -stn.lb[a as usize]);
+        if via_origin >= limit && stn.memo.proves(stn, a, b, limit) {
+            return false;
+        }
+        let below = bounded(stn, a, b, limit) < limit;
+        if !below {
+            stn.memo.record(stn, a, b, limit);
+        }
+        return below;
+    }
     bounded(stn, a, b, limit) < limit
 }
 
@@ -102,8 +114,7 @@ fn bounded(stn: &Stn, a: u32, b: u32, limit: Time) -> Time {
                 best = key;
                 break;
             }
-            for &h in &stn.out[x as usize] {
-                let (_, y, w) = stn.half_edge(h);
+            for &(y, w) in &stn.wout[x as usize] {
                 if w >= INF || y == 0 {
                     continue;
                 }

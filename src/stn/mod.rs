@@ -25,6 +25,7 @@ pub mod bench;
 mod distance;
 mod error;
 pub mod floyd_warshall;
+mod memo;
 mod network;
 mod propagate;
 mod relax;

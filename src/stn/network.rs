@@ -19,6 +19,9 @@ pub(crate) struct CData {
     pub lb: Time,
     pub ub: Time,
     pub active: bool,
+    /// Index of the forward half in `out[from]` and of the backward half in `out[to]` (and in `wout`).
+    pub at_from: u32,
+    pub at_to: u32,
 }
 
 impl CData {
@@ -46,9 +49,17 @@ pub struct Stn {
     pub(crate) out: Vec<Vec<Half>>,
     /// Halves entering each timepoint.
     pub(crate) inc: Vec<Vec<Half>>,
+    /// `out` as (head, weight), `INF` where there is no edge (removed constraint, infinite bound), kept in
+    /// step by [`Stn::sync_edges`]: what the distance queries scan, without a look-up per half.
+    pub(crate) wout: Vec<Vec<(u32, Time)>>,
     pub(crate) executed: Vec<Option<ConstraintId>>,
     pub(crate) trail: Vec<Entry>,
     pub(crate) scratch: super::propagate::Scratch,
+    /// Edges added or lowered, for [`super::memo`] (undone edges are dropped by restores).
+    pub(crate) log: Vec<super::memo::LoggedEdge>,
+    /// Stamp of the last logged edge (never decreases).
+    pub(crate) log_stamp: u64,
+    pub(crate) memo: super::memo::Memo,
 }
 
 impl Default for Stn {
@@ -66,9 +77,13 @@ impl Stn {
             cons: Vec::new(),
             out: vec![Vec::new()],
             inc: vec![Vec::new()],
+            wout: vec![Vec::new()],
             executed: vec![None],
             trail: Vec::new(),
             scratch: Default::default(),
+            log: Vec::new(),
+            log_stamp: 0,
+            memo: Default::default(),
         }
     }
 
@@ -83,6 +98,7 @@ impl Stn {
         self.ub.push(INF);
         self.out.push(Vec::new());
         self.inc.push(Vec::new());
+        self.wout.push(Vec::new());
         self.executed.push(None);
         self.trail.push(Entry::AddTimepoint);
         Timepoint(t)
@@ -109,17 +125,23 @@ impl Stn {
     ) -> Result<ConstraintId, Inconsistent> {
         let level = self.save();
         let c = self.cons.len() as u32;
+        let at_from = self.out[from.0 as usize].len() as u32;
+        self.out[from.0 as usize].push(Half { c, forward: true });
+        self.inc[to.0 as usize].push(Half { c, forward: true });
+        let at_to = self.out[to.0 as usize].len() as u32;
+        self.out[to.0 as usize].push(Half { c, forward: false });
+        self.inc[from.0 as usize].push(Half { c, forward: false });
+        self.wout[from.0 as usize].push((to.0, INF));
+        self.wout[to.0 as usize].push((from.0, INF));
         self.cons.push(CData {
             from: from.0,
             to: to.0,
             lb: -INF,
             ub: INF,
             active: true,
+            at_from,
+            at_to,
         });
-        self.out[from.0 as usize].push(Half { c, forward: true });
-        self.inc[to.0 as usize].push(Half { c, forward: true });
-        self.out[to.0 as usize].push(Half { c, forward: false });
-        self.inc[from.0 as usize].push(Half { c, forward: false });
         self.trail.push(Entry::AddConstraint);
         match self.impose(c, norm_lb(lb), norm_ub(ub)) {
             Ok(()) => Ok(ConstraintId(c)),
@@ -155,12 +177,27 @@ impl Stn {
             let d = &mut self.cons[c.index()];
             d.lb = new_lb;
             d.ub = new_ub;
+            // Inactive: its edges stay INF in `wout` until a restore makes it active again.
             Ok(())
         };
         if result.is_err() {
             self.restore(level);
         }
         result
+    }
+
+    /// Copies constraint `c`'s current edges into `wout` (after any change of its bounds or activity).
+    pub(crate) fn sync_edges(&mut self, c: u32) {
+        let d = &self.cons[c as usize];
+        let (fw, bw) = if d.active {
+            (d.edge(true).2, d.edge(false).2)
+        } else {
+            (INF, INF)
+        };
+        let (from, to) = (d.from as usize, d.to as usize);
+        let (at_from, at_to) = (d.at_from as usize, d.at_to as usize);
+        self.wout[from][at_from].1 = fw;
+        self.wout[to][at_to].1 = bw;
     }
 
     /// The constraint as currently stored (also for removed ones).
@@ -245,6 +282,7 @@ impl Stn {
             return;
         }
         self.cons[c.index()].active = false;
+        self.sync_edges(c.0);
         self.trail.push(Entry::Remove(c.0));
         let d = &self.cons[c.index()];
         let t = d.to as usize;
@@ -262,6 +300,7 @@ impl Stn {
         removed.dedup();
         for c in &removed {
             self.cons[c.index()].active = false;
+            self.sync_edges(c.0);
             self.trail.push(Entry::Remove(c.0));
         }
         if let Some(c) = self.executed[t.index()] {

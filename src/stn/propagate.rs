@@ -98,13 +98,33 @@ impl Stn {
     pub(crate) fn impose(&mut self, c: u32, lb: Time, ub: Time) -> Result<(), Inconsistent> {
         if ub < self.cons[c as usize].ub {
             self.cons[c as usize].ub = ub;
+            self.sync_edges(c);
+            self.log_edge(Half { c, forward: true });
             self.propagate_half(Half { c, forward: true })?;
         }
         if lb > self.cons[c as usize].lb {
             self.cons[c as usize].lb = lb;
+            self.sync_edges(c);
+            self.log_edge(Half { c, forward: false });
             self.propagate_half(Half { c, forward: false })?;
         }
         Ok(())
+    }
+
+    /// Logs a new or lowered edge for the query memory ([`super::memo`]).
+    fn log_edge(&mut self, h: Half) {
+        let (u, v, w) = self.half_edge(h);
+        if w >= INF {
+            return;
+        }
+        self.log_stamp += 1;
+        self.log.push(super::memo::LoggedEdge {
+            stamp: self.log_stamp,
+            trail_pos: self.trail.len(),
+            u,
+            v,
+            w,
+        });
     }
 
     /// Propagates the (new or lowered) edge `new` = u→v.

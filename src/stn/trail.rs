@@ -23,6 +23,9 @@ impl Stn {
     /// Timepoints and constraints created after `level` no longer exist; their identifiers will be reused.
     /// Restoring a level above the current one does nothing.
     pub fn restore(&mut self, level: Level) {
+        while self.log.last().is_some_and(|e| e.trail_pos > level.0) {
+            self.log.pop();
+        }
         while self.trail.len() > level.0 {
             let Some(entry) = self.trail.pop() else { break };
             match entry {
@@ -33,6 +36,7 @@ impl Stn {
                     self.ub.pop();
                     self.out.pop();
                     self.inc.pop();
+                    self.wout.pop();
                     self.executed.pop();
                 }
                 Entry::AddConstraint => {
@@ -42,13 +46,21 @@ impl Stn {
                         self.out[d.to as usize].pop();
                         self.inc[d.to as usize].pop();
                         self.out[d.from as usize].pop();
+                        self.wout[d.to as usize].pop();
+                        self.wout[d.from as usize].pop();
                     }
                 }
-                Entry::Remove(c) => self.cons[c as usize].active = true,
+                Entry::Remove(c) => {
+                    // An edge comes back that no logged stamp covers: forget every proof.
+                    self.cons[c as usize].active = true;
+                    self.sync_edges(c);
+                    self.memo.clear();
+                }
                 Entry::Weights(c, lb, ub) => {
                     let d = &mut self.cons[c as usize];
                     d.lb = lb;
                     d.ub = ub;
+                    self.sync_edges(c);
                 }
                 Entry::Executed(t, old) => self.executed[t as usize] = old,
             }
