@@ -91,3 +91,44 @@ fn goal_check_refuses_a_malformed_waypoints_file_with_its_place() {
     assert!(String::from_utf8_lossy(&out.stdout)
         .contains("g2: picture_of(g2_loc) priority 1 window [0, 10] s"));
 }
+
+/// MISSION_COUNT counts in 16 bits: 70,000 items are refused with the reason, not wrapped to 4,464 and
+/// reported as accepted.
+#[test]
+fn goal_send_refuses_more_items_than_mavlink_can_count() {
+    let rt = tokio::runtime::Runtime::new().expect("rt");
+    let server = rt
+        .block_on(GoalServer::syntactic(
+            "udpin:127.0.0.1:0",
+            Home {
+                lat: 43.5615,
+                lon: 1.4778,
+                alt: 0.0,
+            },
+        ))
+        .expect("server");
+    let addr = server.local_addr.expect("bound");
+    let item = r#"{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, 0, 43.5620, 1.4850, 0], "autoContinue": true}"#;
+    let items = vec![item; 70_000].join(",\n");
+    let plan = format!(
+        r#"{{"fileType": "Plan", "version": 1, "groundStation": "QGroundControl",
+ "mission": {{"version": 2, "firmwareType": 3, "vehicleType": 10, "cruiseSpeed": 2, "hoverSpeed": 5,
+  "plannedHomePosition": [43.5615, 1.4778, 0], "items": [{items}]}},
+ "geoFence": {{"circles": [], "polygons": [], "version": 2}}, "rallyPoints": {{"points": [], "version": 2}}}}"#
+    );
+    let plan = temp_file("many.plan", &plan);
+    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .args(["goal", "send"])
+        .arg(&plan)
+        .args(["--to", &format!("udpout:{addr}")])
+        .output()
+        .expect("run mavtempo");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "stdout {stdout}");
+    assert!(!stdout.contains("upload accepted"), "{stdout}");
+    assert!(
+        stderr.contains("70000 items") && stderr.contains("at most 65535"),
+        "{stderr}"
+    );
+}

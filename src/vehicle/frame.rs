@@ -151,9 +151,18 @@ impl Signer {
     }
 }
 
-/// Parses a signing key given as 64 hex digits.
+/// Parses a signing key given as 64 hex digits. Any text is answered with a reason (the key comes from a
+/// config file): characters are counted and checked as characters, never sliced as bytes.
 pub fn parse_key(hex: &str) -> Result<[u8; 32], String> {
     let hex = hex.trim();
+    if let Some((i, c)) = hex
+        .chars()
+        .enumerate()
+        .find(|(_, c)| !c.is_ascii_hexdigit())
+    {
+        return Err(format!("not a hex digit at position {i}: `{c}`"));
+    }
+    // Only ASCII hex digits from here: bytes and characters are the same.
     if hex.len() != 64 {
         return Err(format!(
             "expected 64 hex digits, found {} characters",
@@ -161,14 +170,9 @@ pub fn parse_key(hex: &str) -> Result<[u8; 32], String> {
         ));
     }
     let mut key = [0u8; 32];
-    for (i, byte) in key.iter_mut().enumerate() {
-        *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|_| {
-            format!(
-                "not a hex digit pair at position {}: `{}`",
-                2 * i,
-                &hex[2 * i..2 * i + 2]
-            )
-        })?;
+    for (byte, pair) in key.iter_mut().zip(hex.as_bytes().chunks(2)) {
+        let digit = |b: u8| (b as char).to_digit(16).unwrap_or(0) as u8;
+        *byte = (digit(pair[0]) << 4) | digit(pair[1]);
     }
     Ok(key)
 }
@@ -295,10 +299,23 @@ mod tests {
 
     #[test]
     fn key_parse_errors_are_clear() {
-        assert!(parse_key(&"ab".repeat(32)).is_ok());
+        let key = parse_key(&format!("0aF1{}", "00".repeat(30))).expect("valid key");
+        assert_eq!(&key[..3], &[0x0a, 0xf1, 0x00]);
         assert!(parse_key("abc").unwrap_err().contains("64 hex digits"));
         assert!(parse_key(&format!("zz{}", "00".repeat(31)))
             .unwrap_err()
-            .contains("`zz`"));
+            .contains("position 0: `z`"));
+    }
+
+    #[test]
+    fn a_non_ascii_key_is_an_error_not_a_panic() {
+        // 64 bytes, but a two-byte character across a digit-pair boundary (it used to panic on slicing).
+        let text = format!("0é{}", "0".repeat(61));
+        assert_eq!(text.len(), 64);
+        let e = parse_key(&text).unwrap_err();
+        assert!(e.contains("position 1: `é`"), "{e}");
+        let text = format!("{}é", "0".repeat(62));
+        assert_eq!(text.len(), 64);
+        assert!(parse_key(&text).unwrap_err().contains("position 62"));
     }
 }

@@ -22,7 +22,12 @@ pub enum GoalSendError {
     Io(#[from] std::io::Error),
     #[error("no heartbeat from a companion (component 191) within {0:?}")]
     NoCompanion(Duration),
+    #[error("{0} items: a MAVLink mission transfer carries at most {max} (its count is 16 bits)", max = MAX_ITEMS)]
+    TooManyItems(usize),
 }
+
+/// The most items one mission transfer can carry: MISSION_COUNT's count is a `u16`.
+pub const MAX_ITEMS: usize = u16::MAX as usize;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct GoalSendReport {
@@ -77,6 +82,10 @@ pub async fn send_goals(
     items: Vec<MissionItem>,
     timeout: Duration,
 ) -> Result<GoalSendReport, GoalSendError> {
+    // Refused before any traffic: a count that wrapped would upload a prefix and look accepted.
+    if items.len() > MAX_ITEMS {
+        return Err(GoalSendError::TooManyItems(items.len()));
+    }
     let expected_texts = items
         .iter()
         .filter(|i| i.command != GOAL_ATTRIBUTES_CMD)

@@ -86,7 +86,7 @@ impl MissionClient {
         true
     }
 
-    /// Starts an upload; false when another transfer is running.
+    /// Starts an upload; false when another transfer is running or the list is longer than 65,535 items.
     pub fn upload(
         &mut self,
         token: Token,
@@ -94,8 +94,17 @@ impl MissionClient {
         now: u64,
         out: &mut Vec<MavMessage>,
     ) -> bool {
+        // MISSION_COUNT's count is 16 bits: a longer list cannot be sent (a wrapped count would upload a
+        // prefix and be acknowledged).
+        let Ok(n) = u16::try_from(items.len()) else {
+            tracing::warn!(
+                items = items.len(),
+                "mission upload refused: more items than MAVLink can count"
+            );
+            return false;
+        };
         let count = MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-            count: items.len() as u16,
+            count: n,
             target_system: self.target.0,
             target_component: self.target.1,
             mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
