@@ -24,19 +24,23 @@ fn temp_file(name: &str, text: &str) -> std::path::PathBuf {
     p
 }
 
+/// A goal server on a free UDP port that answers with the syntactic acceptance test.
+fn syntactic_server(rt: &tokio::runtime::Runtime) -> GoalServer {
+    rt.block_on(GoalServer::syntactic(
+        "udpin:127.0.0.1:0",
+        Home {
+            lat: 43.5615,
+            lon: 1.4778,
+            alt: 0.0,
+        },
+    ))
+    .expect("server")
+}
+
 #[test]
 fn goal_send_uploads_a_plan_and_prints_the_verdicts() {
     let rt = tokio::runtime::Runtime::new().expect("rt");
-    let server = rt
-        .block_on(GoalServer::syntactic(
-            "udpin:127.0.0.1:0",
-            Home {
-                lat: 43.5615,
-                lon: 1.4778,
-                alt: 0.0,
-            },
-        ))
-        .expect("server");
+    let server = syntactic_server(&rt);
     let addr = server.local_addr.expect("bound");
     let plan = temp_file("goals.plan", PLAN);
     let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
@@ -97,16 +101,7 @@ fn goal_check_refuses_a_malformed_waypoints_file_with_its_place() {
 #[test]
 fn goal_send_refuses_more_items_than_mavlink_can_count() {
     let rt = tokio::runtime::Runtime::new().expect("rt");
-    let server = rt
-        .block_on(GoalServer::syntactic(
-            "udpin:127.0.0.1:0",
-            Home {
-                lat: 43.5615,
-                lon: 1.4778,
-                alt: 0.0,
-            },
-        ))
-        .expect("server");
+    let server = syntactic_server(&rt);
     let addr = server.local_addr.expect("bound");
     let item = r#"{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, 0, 43.5620, 1.4850, 0], "autoContinue": true}"#;
     let items = vec![item; 70_000].join(",\n");
