@@ -181,3 +181,68 @@ fn a_lost_item_is_requested_again_and_a_silent_uploader_is_cancelled() {
         "{out:?}"
     );
 }
+
+/// An item whose command id the dialect does not know cannot be parsed: it is answered with MISSION_ACK
+/// UNSUPPORTED and a reason at once, and the intake is free for the next uploader (it used to be dropped
+/// silently, leaving the upload locked while others were DENIED).
+#[test]
+fn an_item_with_an_unknown_command_is_refused_at_once() {
+    use mavlink::Message;
+    let mut i = intake();
+    let mut out = Vec::new();
+    let count = MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+        count: 2,
+        target_system: SYS,
+        target_component: 191,
+        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        opaque_id: 0,
+    });
+    assert!(i.handle(GCS, &count, SYS, 0, &mut out).is_none());
+    assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
+    // MISSION_ITEM_INT's wire payload: seq 0, command 48879 (no such MAV_CMD), to (SYS, 191).
+    let mut payload = vec![0u8; 38];
+    payload[30..32].copy_from_slice(&48_879u16.to_le_bytes());
+    payload[32] = SYS;
+    payload[33] = 191;
+    assert!(
+        MavMessage::parse(mavlink::MavlinkVersion::V2, 73, &payload).is_err(),
+        "the dialect should not read it"
+    );
+    let mut out = Vec::new();
+    i.unparsable_item(GCS, 73, &payload, SYS, &mut out);
+    assert!(
+        out.iter().any(|m| matches!(m, MavMessage::MISSION_ACK(a)
+            if a.mavtype == MavMissionResult::MAV_MISSION_UNSUPPORTED && a.target_system == 255)),
+        "{out:?}"
+    );
+    let texts: String = out
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::STATUSTEXT(s) => s
+                .text
+                .to_str()
+                .ok()
+                .map(|t| t.trim_end_matches('\0').to_string()),
+            _ => None,
+        })
+        .collect();
+    assert!(texts.contains("command 48879"), "{texts}");
+    // Another station can upload right away.
+    let other = MavHeader {
+        system_id: 254,
+        component_id: 190,
+        sequence: 0,
+    };
+    let mut out = Vec::new();
+    i.handle(other, &count, SYS, 10, &mut out);
+    assert!(
+        matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0 && r.target_system == 254),
+        "{out:?}"
+    );
+    // Someone else's unparsable traffic (another target) is not ours to answer.
+    let mut foreign = payload.clone();
+    foreign[33] = 1;
+    let mut out = Vec::new();
+    i.unparsable_item(GCS, 73, &foreign, SYS, &mut out);
+    assert!(out.is_empty());
+}

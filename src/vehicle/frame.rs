@@ -26,7 +26,8 @@ pub struct RawFrame {
 }
 
 impl RawFrame {
-    fn payload(&self) -> &[u8] {
+    /// The payload as sent (MAVLink 2 may have trimmed its trailing zeros).
+    pub fn payload(&self) -> &[u8] {
         match self.version {
             MavlinkVersion::V1 => &self.bytes[6..self.bytes.len() - 2],
             MavlinkVersion::V2 => {

@@ -108,6 +108,43 @@ impl GoalIntake {
         out.extend(statustext(text, severity, self.text_id));
     }
 
+    /// A mission item the dialect cannot parse (typically a command id it does not know): read where it
+    /// goes and which command it carries from the raw payload (MISSION_ITEM and MISSION_ITEM_INT share
+    /// the offsets: seq at 28, command at 30, target system and component at 32 and 33), answer
+    /// MISSION_ACK UNSUPPORTED at once with the reason, and end that sender's upload so the intake is free.
+    pub fn unparsable_item(
+        &mut self,
+        header: MavHeader,
+        message_id: u32,
+        payload: &[u8],
+        our_system: u8,
+        out: &mut Vec<MavMessage>,
+    ) {
+        const MISSION_ITEM: u32 = 39;
+        const MISSION_ITEM_INT: u32 = 73;
+        if message_id != MISSION_ITEM && message_id != MISSION_ITEM_INT {
+            return;
+        }
+        // MAVLink 2 trims trailing zero bytes: read past the end as zeros.
+        let byte = |i: usize| payload.get(i).copied().unwrap_or(0);
+        let seq = u16::from_le_bytes([byte(28), byte(29)]);
+        let command = u16::from_le_bytes([byte(30), byte(31)]);
+        let (ts, tc) = (byte(32), byte(33));
+        if !((ts == our_system || ts == 0) && tc == COMPANION_COMPONENT) {
+            return;
+        }
+        let peer = (header.system_id as u8, header.component_id);
+        if self.upload.as_ref().is_some_and(|u| u.peer == peer) {
+            self.upload = None;
+        }
+        out.push(Self::ack(peer, MavMissionResult::MAV_MISSION_UNSUPPORTED));
+        self.texts(
+            &format!("goal item {seq}: command {command} is not a MAVLink command this companion knows; upload refused"),
+            MavSeverity::MAV_SEVERITY_WARNING,
+            out,
+        );
+    }
+
     /// Feeds a message; returns a completed upload to decide on.
     pub fn handle(
         &mut self,

@@ -201,7 +201,19 @@ impl Pump {
                                 }
                                 self.stats.frames_in.fetch_add(1, Ordering::Relaxed);
                                 peer_v1 = frame.version == MavlinkVersion::V1;
-                                let Some(msg) = frame.parse() else { continue };
+                                let Some(msg) = frame.parse() else {
+                                    // A goal item the dialect cannot read is refused at once, not dropped
+                                    // (the autopilot's items belong to our mission client).
+                                    let from_autopilot = self.shared.as_ref().is_some_and(|s| {
+                                        s.driver.lock().is_ok_and(|d| d.target() == Some((frame.system_id, frame.component_id)))
+                                    });
+                                    if let (Some((intake, _)), false) = (&self.intake, from_autopilot) {
+                                        if let Ok(mut i) = intake.lock() {
+                                            i.unparsable_item(frame.header(), frame.message_id, frame.payload(), encoder.system_id, &mut out);
+                                        }
+                                    }
+                                    continue;
+                                };
                                 let header = frame.header();
                                 if self.shared.is_none() && matches!(msg, MavMessage::HEARTBEAT(_)) {
                                     // Answer a ground station's heartbeat at once: over UDP it is how we learn
