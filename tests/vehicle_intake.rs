@@ -28,6 +28,17 @@ fn intake() -> GoalIntake {
     )
 }
 
+/// MISSION_COUNT of `n` goal items to the companion.
+fn mission_count(n: u16) -> MavMessage {
+    MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+        count: n,
+        target_system: SYS,
+        target_component: 191,
+        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+        opaque_id: 0,
+    })
+}
+
 fn items() -> Vec<MissionItem> {
     vec![
         MissionItem::waypoint(43.5601, 1.4801, 0.0),
@@ -146,13 +157,7 @@ fn requests_from_someone_not_downloading_are_not_answered() {
 fn a_lost_item_is_requested_again_and_a_silent_uploader_is_cancelled() {
     let mut i = intake();
     let mut out = Vec::new();
-    let count = MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-        count: 2,
-        target_system: SYS,
-        target_component: 191,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-        opaque_id: 0,
-    });
+    let count = mission_count(2);
     i.handle(GCS, &count, SYS, 0, &mut out);
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
     out.clear();
@@ -190,13 +195,7 @@ fn an_item_with_an_unknown_command_is_refused_at_once() {
     use mavlink::Message;
     let mut i = intake();
     let mut out = Vec::new();
-    let count = MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-        count: 2,
-        target_system: SYS,
-        target_component: 191,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-        opaque_id: 0,
-    });
+    let count = mission_count(2);
     assert!(i.handle(GCS, &count, SYS, 0, &mut out).is_none());
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
     // MISSION_ITEM_INT's wire payload: seq 0, command 48879 (no such MAV_CMD), to (SYS, 191).
