@@ -361,3 +361,55 @@ async fn the_auv_dives_to_a_guided_depth() {
         .await;
     assert_eq!(alt, -5000);
 }
+
+/// Targets that cannot be places are refused, over the socket: DO_REPOSITION to latitude 214° or with a NaN
+/// altitude or speed is DENIED, a mission item at longitude 214.7° ends the upload with INVALID_PARAM6_Y, and
+/// the SITL keeps its heartbeat and accepts a sane target afterwards.
+#[tokio::test]
+async fn absurd_targets_are_refused_and_the_vehicle_goes_on() {
+    let (sim, mut gcs) = start("").await;
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    let good = waypoint(HOME, 20.0, 10.0);
+    let cases: [(i32, i32, f32, f32); 3] = [
+        (2_140_000_000, good.y, 0.0, -1.0),
+        (good.x, good.y, f32::NAN, -1.0),
+        (good.x, good.y, 0.0, f32::INFINITY),
+    ];
+    for (x, y, z, speed) in cases {
+        let (r, _) = gcs
+            .command_int(
+                MavCmd::MAV_CMD_DO_REPOSITION,
+                [speed, 1.0, 0.0, 0.0],
+                x,
+                y,
+                z,
+            )
+            .await;
+        assert_eq!(
+            r,
+            MavResult::MAV_RESULT_DENIED,
+            "x {x} y {y} z {z} speed {speed}"
+        );
+    }
+    assert!(
+        sim.snapshot().distance_m < 0.01,
+        "moved towards an absurd target"
+    );
+    // Longitude 214.7° (i32::MAX ×1e-7): beyond ±180°.
+    let mut far = waypoint(HOME, 5.0, 5.0);
+    far.y = i32::MAX;
+    let items = vec![waypoint(HOME, 0.0, 0.0), far];
+    assert_eq!(
+        gcs.upload(&items).await,
+        MavMissionResult::MAV_MISSION_INVALID_PARAM6_Y
+    );
+    gcs.sync().await;
+    sim.step(Duration::from_secs(2)).await.expect("step");
+    let beats = gcs.sync().await;
+    assert!(
+        beats.iter().any(|m| matches!(m, MavMessage::HEARTBEAT(_))),
+        "no heartbeat after the refusals"
+    );
+    let (r, _) = gcs.reposition(&good, true, 0.0).await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+}

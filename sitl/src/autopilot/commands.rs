@@ -199,6 +199,12 @@ impl Autopilot {
         let Some((x, y, _frame)) = c.int else {
             return MavResult::MAV_RESULT_COMMAND_INT_ONLY;
         };
+        // A target that cannot be a place, or a speed that is not a number, is refused (ArduPilot: DENIED).
+        let place =
+            super::mission::absurd_position(true, f64::from(x) / 1e7, f64::from(y) / 1e7, c.p[6]);
+        if place.is_some() || !c.p[0].is_finite() {
+            return MavResult::MAV_RESULT_DENIED;
+        }
         let change_mode = (c.p[1] as u32) & 1 == 1;
         if self.mode != Mode::Guided {
             if !change_mode {
@@ -239,7 +245,13 @@ impl Autopilot {
         let pos_ignored = m
             .type_mask
             .contains(PositionTargetTypemask::POSITION_TARGET_TYPEMASK_X_IGNORE);
-        if !pos_ignored {
+        let place = super::mission::absurd_position(
+            true,
+            f64::from(m.lat_int) / 1e7,
+            f64::from(m.lon_int) / 1e7,
+            m.alt,
+        );
+        if !pos_ignored && place.is_none() {
             self.set_guided_target(m.lat_int, m.lon_int, m.alt, 0.0);
         }
     }

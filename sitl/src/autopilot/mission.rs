@@ -63,6 +63,20 @@ impl Item {
     }
 }
 
+/// The error for an item position that cannot be a place: latitude beyond ±90°, longitude beyond ±180° (in
+/// global frames), or a non-finite coordinate; `None` when it can be one.
+pub(super) fn absurd_position(global: bool, x: f64, y: f64, z: f32) -> Option<MavMissionResult> {
+    if !x.is_finite() || (global && x.abs() > 90.0) {
+        Some(MavMissionResult::MAV_MISSION_INVALID_PARAM5_X)
+    } else if !y.is_finite() || (global && y.abs() > 180.0) {
+        Some(MavMissionResult::MAV_MISSION_INVALID_PARAM6_Y)
+    } else if !z.is_finite() {
+        Some(MavMissionResult::MAV_MISSION_INVALID_PARAM7)
+    } else {
+        None
+    }
+}
+
 /// MISSION_ITEM_INT -> legacy MISSION_ITEM: degrees in global frames, metres (x 1e-4) otherwise.
 fn to_float(m: &MISSION_ITEM_INT_DATA) -> MISSION_ITEM_DATA {
     let scale = if is_global(m.frame) { 1e-7 } else { 1e-4 };
@@ -226,11 +240,32 @@ impl Autopilot {
     }
 
     pub(super) fn on_item_int(&mut self, from: Sender, m: &MISSION_ITEM_INT_DATA) {
+        let bad = absurd_position(
+            is_global(m.frame),
+            f64::from(m.x) / 1e7,
+            f64::from(m.y) / 1e7,
+            m.z,
+        );
+        if let Some(result) = bad {
+            return self.refuse_item(from, result);
+        }
         self.on_mission_item(from, m.seq, Item::from_int(m), m.mission_type);
     }
 
     pub(super) fn on_item_float(&mut self, from: Sender, m: &MISSION_ITEM_DATA) {
+        let bad = absurd_position(is_global(m.frame), f64::from(m.x), f64::from(m.y), m.z);
+        if let Some(result) = bad {
+            return self.refuse_item(from, result);
+        }
         self.on_mission_item(from, m.seq, Item::from_float(m), m.mission_type);
+    }
+
+    /// An item that cannot be a place ends its sender's upload with the error, as ArduPilot does.
+    fn refuse_item(&mut self, from: Sender, result: MavMissionResult) {
+        if self.upload.as_ref().is_some_and(|u| u.from == from) {
+            self.upload = None;
+            self.mission_ack(from, result);
+        }
     }
 
     /// Re-requests and cancels on the wall clock; called by the run loop.
