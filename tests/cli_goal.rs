@@ -24,6 +24,16 @@ fn temp_file(name: &str, text: &str) -> std::path::PathBuf {
     p
 }
 
+/// `mavtempo goal send PLAN --to udpout:ADDR`.
+fn goal_send(plan: &std::path::Path, addr: std::net::SocketAddr) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .args(["goal", "send"])
+        .arg(plan)
+        .args(["--to", &format!("udpout:{addr}")])
+        .output()
+        .expect("run mavtempo")
+}
+
 /// A goal server on a free UDP port that answers with the syntactic acceptance test.
 fn syntactic_server(rt: &tokio::runtime::Runtime) -> GoalServer {
     rt.block_on(GoalServer::syntactic(
@@ -43,12 +53,7 @@ fn goal_send_uploads_a_plan_and_prints_the_verdicts() {
     let server = syntactic_server(&rt);
     let addr = server.local_addr.expect("bound");
     let plan = temp_file("goals.plan", PLAN);
-    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["goal", "send"])
-        .arg(&plan)
-        .args(["--to", &format!("udpout:{addr}")])
-        .output()
-        .expect("run mavtempo");
+    let out = goal_send(&plan, addr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -112,12 +117,7 @@ fn goal_send_refuses_more_items_than_mavlink_can_count() {
  "geoFence": {{"circles": [], "polygons": [], "version": 2}}, "rallyPoints": {{"points": [], "version": 2}}}}"#
     );
     let plan = temp_file("many.plan", &plan);
-    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["goal", "send"])
-        .arg(&plan)
-        .args(["--to", &format!("udpout:{addr}")])
-        .output()
-        .expect("run mavtempo");
+    let out = goal_send(&plan, addr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "stdout {stdout}");

@@ -132,15 +132,9 @@ impl Best {
     }
 }
 
-/// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
-///
-/// Forced conflicts were mostly applied by [`propagate_forced`] at the end of the previous step, so only
-/// the flaws at the best rank present need their resolvers listed (listing them costs ordering queries);
-/// reservoirs that cannot reach that rank are not even checked this step. The selection is the least
-/// key over the flaws considered (the first of equal keys); open conditions are examined first because
-/// they usually win, and the other flaws' resolvers are only counted as far as could still beat the best
-/// found so far ([`resolvers_below`]) — the choice is the one listing every flaw's resolvers would make.
-pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
+/// The live threats, unary conflicts and open conditions with their ranks, and the best rank present.
+type Ranked = Vec<(Flaw, u64)>;
+fn ranked_flaws(plan: &mut PartialPlan, h: &Hierarchy) -> (Ranked, Ranked, Ranked, u64) {
     let threats: Vec<(Flaw, u64)> = plan
         .live_threats()
         .into_iter()
@@ -165,6 +159,19 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver
         .map(|&(_, r)| r)
         .max()
         .unwrap_or(0);
+    (threats, unary, open, top)
+}
+
+/// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
+///
+/// Forced conflicts were mostly applied by [`propagate_forced`] at the end of the previous step, so only
+/// the flaws at the best rank present need their resolvers listed (listing them costs ordering queries);
+/// reservoirs that cannot reach that rank are not even checked this step. The selection is the least
+/// key over the flaws considered (the first of equal keys); open conditions are examined first because
+/// they usually win, and the other flaws' resolvers are only counted as far as could still beat the best
+/// found so far ([`resolvers_below`]) — the choice is the one listing every flaw's resolvers would make.
+pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
+    let (threats, unary, open, top) = ranked_flaws(plan, h);
     let reservoirs = plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top);
     let mut best = Best { best: None };
     // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
@@ -271,30 +278,7 @@ mod tests {
     /// The selection before it counted resolvers lazily: every considered flaw's resolvers listed, the
     /// first least key kept. The lazy [`pick`] must choose exactly as it does.
     fn pick_reference(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
-        let threats: Vec<(Flaw, u64)> = plan
-            .live_threats()
-            .into_iter()
-            .map(|(event, link)| {
-                let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
-                (Flaw::Threat { event, link }, rank)
-            })
-            .collect();
-        let unary: Vec<(Flaw, u64)> = plan
-            .live_unary_conflicts()
-            .into_iter()
-            .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
-            .collect();
-        let open: Vec<(Flaw, u64)> = plan
-            .open_conditions()
-            .map(|c| (Flaw::OpenCondition(c), rank_attr(h, plan.cond(c).attr)))
-            .collect();
-        let top = threats
-            .iter()
-            .chain(&unary)
-            .chain(&open)
-            .map(|&(_, r)| r)
-            .max()
-            .unwrap_or(0);
+        let (threats, unary, open, top) = ranked_flaws(plan, h);
         let mut best: Option<(Key, Flaw, Vec<Resolver>)> = None;
         let mut consider = |key: Key, f: Flaw, rs: Vec<Resolver>| {
             if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
