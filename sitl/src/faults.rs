@@ -11,10 +11,12 @@ use crate::scenario::{EventKind, Fault, FaultSpec};
 use crate::time::{later, secs_to_ms};
 
 /// Something that happened in the sim, which faults can be triggered on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimEvent {
     pub kind: EventKind,
     pub value: i64,
+    /// Where the vehicle was (east, north metres from home).
+    pub at_m: [f64; 2],
 }
 
 #[derive(Debug)]
@@ -53,7 +55,10 @@ impl FaultEngine {
             .filter(|p| !p.fired && p.due_ms.is_none())
         {
             let w = &p.spec.when;
-            if w.on != Some(ev.kind) || w.value.is_some_and(|v| v != ev.value) {
+            if w.on != Some(ev.kind)
+                || w.value.is_some_and(|v| v != ev.value)
+                || !w.is_near(ev.at_m)
+            {
                 continue;
             }
             p.seen += 1;
@@ -229,11 +234,13 @@ mod tests {
         let ev = SimEvent {
             kind: EventKind::WaypointReached,
             value: 3,
+            at_m: [0.0, 0.0],
         };
         e.on_event(
             SimEvent {
                 kind: EventKind::WaypointReached,
                 value: 2,
+                at_m: [0.0, 0.0],
             },
             4000,
         );
@@ -242,6 +249,27 @@ mod tests {
         e.on_event(ev, 6000);
         assert!(e.due(6999).is_empty());
         assert_eq!(e.due(7000).len(), 1);
+    }
+
+    #[test]
+    fn a_trigger_near_a_place_fires_only_there() {
+        // "The camera hangs on the picture of p2", whichever capture that is.
+        let mut e = FaultEngine::new(&[spec(Trigger {
+            on: Some(EventKind::PictureStarted),
+            near_m: Some([25.0, -10.0]),
+            occurrence: 1,
+            ..Trigger::default()
+        })]);
+        let pic = |at_m| SimEvent {
+            kind: EventKind::PictureStarted,
+            value: 0,
+            at_m,
+        };
+        e.on_event(pic([34.0, 0.0]), 1000);
+        e.on_event(pic([10.0, 4.0]), 2000);
+        assert!(e.due(10_000).is_empty());
+        e.on_event(pic([25.5, -9.0]), 11_000);
+        assert_eq!(e.due(11_000).len(), 1);
     }
 
     #[test]

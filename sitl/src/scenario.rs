@@ -175,6 +175,22 @@ pub struct Trigger {
     pub occurrence: u32,
     #[serde(default)]
     pub delay_s: f64,
+    /// Only events within `within_m` (default [`NEAR_M`]) of this place (east, north metres from home):
+    /// "the picture of p2", whichever capture that is in the plan's order.
+    pub near_m: Option<[f64; 2]>,
+    pub within_m: Option<f64>,
+}
+
+/// How close an event must be to a trigger's `near_m` when `within_m` is not given.
+pub const NEAR_M: f64 = 3.0;
+
+impl Trigger {
+    /// Whether an event at `at_m` is near enough (always, without `near_m`).
+    pub fn is_near(&self, at_m: [f64; 2]) -> bool {
+        self.near_m.is_none_or(|p| {
+            (p[0] - at_m[0]).hypot(p[1] - at_m[1]) <= self.within_m.unwrap_or(NEAR_M)
+        })
+    }
 }
 
 fn one() -> u32 {
@@ -343,6 +359,11 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
     }
     if t.occurrence == 0 || t.delay_s < 0.0 {
         return Err("`when`: occurrence must be >= 1 and delay_s >= 0".into());
+    }
+    if t.near_m.is_some_and(|p| !p.iter().all(|c| c.is_finite()))
+        || t.within_m.is_some_and(|r| !(r.is_finite() && r >= 0.0))
+    {
+        return Err("`when`: near_m must be finite and within_m finite and >= 0".into());
     }
     let prob = |p: f64| (0.0..=1.0).contains(&p);
     match &f.fault {

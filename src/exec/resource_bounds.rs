@@ -37,7 +37,8 @@ pub fn past_level(
     running: &[ActionId],
     past: (f64, f64),
 ) -> (f64, f64) {
-    let (mut lb, mut ub) = past;
+    // In time order: a saturating production adds at most up to the capacity.
+    let mut changes: Vec<(Time, f64, f64, bool)> = Vec::new();
     for &u in plan.usages_of(r) {
         let us = plan.usage(u);
         if plan.action(us.action).removed || running.contains(&us.action) {
@@ -46,17 +47,30 @@ pub fn past_level(
         let (qlo, qhi) = plan.numeric.term(us.quantity);
         match us.kind {
             UsageKind::Produce { at } if plan.stn.ub(at) < t => {
-                lb += qlo;
-                ub += qhi;
+                changes.push((plan.stn.ub(at), qlo, qhi, us.saturating));
             }
             UsageKind::Consume { at } if plan.stn.ub(at) < t => {
-                lb -= qhi;
-                ub -= qlo;
+                changes.push((plan.stn.ub(at), -qhi, -qlo, false));
             }
             _ => {}
         }
     }
-    (lb, ub)
+    changes.sort_by_key(|c| c.0);
+    let capacity = plan.domain.resource(r).capacity;
+    changes
+        .into_iter()
+        .fold(past, |(lb, ub), (_, dlo, dhi, saturating)| {
+            add(lb, ub, dlo, dhi, saturating, capacity)
+        })
+}
+
+/// `[lb, ub] + [dlo, dhi]`, clipped at the capacity for a saturating production.
+fn add(lb: f64, ub: f64, dlo: f64, dhi: f64, saturating: bool, capacity: f64) -> (f64, f64) {
+    if saturating {
+        ((lb + dlo).min(capacity), (ub + dhi).min(capacity))
+    } else {
+        (lb + dlo, ub + dhi)
+    }
 }
 
 /// Eq. (2): `[lev_min^RA, lev_max^RA]`, what the running actions may have done to r so far: consumed up to
@@ -121,17 +135,12 @@ pub fn fold_removed(plan: &PartialPlan, a: ActionId, past: &mut [(f64, f64)]) {
     for &u in &plan.action(a).usages {
         let us = plan.usage(u);
         let (qlo, qhi) = plan.numeric.term(us.quantity);
+        let capacity = plan.domain.resource(us.resource).capacity;
         let p = &mut past[us.resource.index()];
-        match us.kind {
-            UsageKind::Produce { .. } => {
-                p.0 += qlo;
-                p.1 += qhi;
-            }
-            UsageKind::Consume { .. } => {
-                p.0 -= qhi;
-                p.1 -= qlo;
-            }
-            UsageKind::Use { .. } => {}
-        }
+        *p = match us.kind {
+            UsageKind::Produce { .. } => add(p.0, p.1, qlo, qhi, us.saturating, capacity),
+            UsageKind::Consume { .. } => add(p.0, p.1, -qhi, -qlo, false, capacity),
+            UsageKind::Use { .. } => *p,
+        };
     }
 }

@@ -107,6 +107,8 @@ pub enum Stmt {
     Usage {
         kind: UsageAst,
         secondary: bool,
+        /// `saturating produce(…)`: the level rises by the quantity but never above the capacity.
+        saturating: bool,
         resource: Ident,
         quantity: Expr,
         from: Ident,

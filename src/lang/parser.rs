@@ -330,10 +330,14 @@ impl<'a> Parser<'a> {
     fn stmt(&mut self) -> PResult<Stmt> {
         let start = self.span();
         let secondary = self.eat_kw("secondary");
+        let saturating = self.eat_kw("saturating");
         let kw = match self.peek() {
             Tok::Ident(s) => s.clone(),
             _ => String::new(),
         };
+        if saturating && kw != "produce" {
+            return self.err("`produce` after `saturating`");
+        }
         if secondary && kw != "event" && kw != "produce" {
             return self.err("`event` or `produce` after `secondary`");
         }
@@ -400,6 +404,7 @@ impl<'a> Parser<'a> {
                 Ok(Stmt::Usage {
                     kind,
                     secondary,
+                    saturating,
                     resource,
                     quantity,
                     from,

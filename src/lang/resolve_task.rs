@@ -370,6 +370,7 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
         Stmt::Usage {
             kind,
             secondary,
+            saturating,
             resource,
             quantity,
             from,
@@ -379,7 +380,7 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
             ctx,
             s,
             task,
-            (*kind, *secondary),
+            (*kind, *secondary, *saturating),
             resource,
             quantity,
             from,
@@ -401,7 +402,7 @@ fn usage(
     ctx: &mut Ctx<'_>,
     s: &Scope<'_>,
     task: &mut Task,
-    (kind, secondary): (UsageAst, bool),
+    (kind, secondary, saturating): (UsageAst, bool, bool),
     resource: &Ident,
     quantity: &Expr,
     from: &Ident,
@@ -469,6 +470,7 @@ fn usage(
             kind,
             quantity,
             primary: matches!(kind, UsageKind::Produce { .. }) && !secondary,
+            saturating,
         });
     }
 }

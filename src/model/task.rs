@@ -87,6 +87,10 @@ pub struct ResourceUsage {
     /// Productions are primary effects (they justify inserting e.g. download_images) unless marked
     /// `secondary`; uses and consumptions are never effects.
     pub primary: bool,
+    /// `saturating produce`: the level rises by the quantity but not above the capacity (a recharge up to
+    /// full, a download that frees what is stored). Such a production never overflows.
+    #[serde(default)]
+    pub saturating: bool,
 }
 
 /// `(to - from) in interval` between two timepoints of the task.

@@ -436,6 +436,7 @@ impl PartialPlan {
                 resource: u.resource,
                 kind,
                 quantity: nterm(&u.quantity),
+                saturating: u.saturating,
             });
             self.actions[id.index()].usages.push(uid);
         }

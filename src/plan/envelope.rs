@@ -11,7 +11,9 @@
 //!
 //! `L0 + Σ_{increases j possibly ≤ i (i included)} q_max(j) − Σ_{decreases j necessarily < i} q_min(j)`.
 //!
-//! (Changes at the same instant are taken in their worst order, as the checker does.)
+//! (Changes at the same instant are taken in their worst order, as the checker does.) A saturating
+//! production (`saturating produce`) is clipped at the capacity: it never overflows, and its quantity
+//! interval is first narrowed to what it can add whatever the order ([`clip_saturating`]).
 //!
 //! Levels only change at these instants, so if every bound is within `[0, capacity]` every schedule of the
 //! partial plan (every instantiation of the quantities) keeps the level inside: no conflict is missed.
@@ -41,6 +43,15 @@ pub struct ReservoirConflict {
     /// Increases necessarily before `point` (or at it) whose quantity is not fixed: counted at their
     /// minimum in a shortage, they can be made to produce more.
     pub short_producers: Vec<UsageId>,
+    /// In a shortage, for each saturating production necessarily before `point`, the decreases that may
+    /// still come between it and `point` (pairs: decrease, production): each, ordered before the
+    /// production, may be absorbed by the refill (a download after three pictures frees their room
+    /// whatever their sizes).
+    pub refill: Option<Vec<(Timepoint, Timepoint)>>,
+    /// In a shortage, the saturating production that gives the best bound when it refills the whole
+    /// capacity whatever it finds (a download that sends every stored image): a producer inserted before it
+    /// cannot help, so one is inserted after it.
+    pub reset: Option<Timepoint>,
 }
 
 /// Numeric tolerance on levels.
@@ -52,6 +63,10 @@ struct Change {
     up: bool,
     lo: f64,
     hi: f64,
+    /// A saturating production: clipped at the capacity, never an overflow.
+    saturating: bool,
+    /// The quantity's lower bound before [`clip_saturating`].
+    raw_lo: f64,
 }
 
 /// The first checkpoint (earliest lower bound) where reservoir `r`'s envelope leaves `[0, capacity]`.
@@ -78,6 +93,7 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
             NTerm::Var(v) => plan.numeric.bounds(v),
             NTerm::Const(c) => (c, c),
         };
+        let saturating = us.saturating;
         let mut push = |at, up| {
             changes.push(Change {
                 usage: u,
@@ -85,6 +101,8 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
                 up,
                 lo,
                 hi,
+                saturating,
+                raw_lo: lo,
             })
         };
         match us.kind {
@@ -97,6 +115,8 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
         }
     }
     let stn = &plan.stn;
+    let mut rel = Relations::new(stn, &changes);
+    clip_saturating(&mut rel, l0, capacity, &mut changes);
     let mut order: Vec<usize> = (0..changes.len()).collect();
     order.sort_by_key(|&i| (stn.lb(changes[i].at), i));
     for &i in &order {
@@ -106,8 +126,8 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
         let mut open_inc = Vec::new();
         let mut short_producers = Vec::new();
         for (j, cj) in changes.iter().enumerate() {
-            let nec = j == i || necessarily_after(stn, cj.at, ci.at, 1);
-            let poss = nec || possibly_after(stn, cj.at, ci.at, 0);
+            let nec = j == i || rel.before(j, i);
+            let poss = nec || rel.possibly_before(j, i);
             if ci.up {
                 if cj.up && poss {
                     level += cj.hi;
@@ -130,8 +150,19 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
                 }
             }
         }
+        let mut refill = None;
+        let mut reset = None;
+        if !ci.up && level < -EPS {
+            if let Some(r) = best_refill(&mut rel, l0, capacity, &changes, i) {
+                if r.bound > level {
+                    level = r.bound;
+                    reset = r.reset;
+                }
+                refill = Some(r.pairs);
+            }
+        }
         let violated = if ci.up {
-            level > capacity + EPS
+            !ci.saturating && level > capacity + EPS
         } else {
             level < -EPS
         };
@@ -146,8 +177,181 @@ pub fn reservoir_conflict(plan: &PartialPlan, r: ResourceId) -> Option<Reservoir
                 open_decreases: open_dec,
                 open_increases: open_inc,
                 short_producers,
+                refill,
+                reset,
             });
         }
     }
     None
+}
+
+/// A saturating production adds `min(q, capacity − L)` to the level L it finds. Its quantity interval is
+/// narrowed, soundly, to what it can add whatever the order the plan still allows: at least
+/// `min(q_lo, capacity − UB)` and at most `min(q_hi, capacity − LB)`, with `[LB, UB]` the pessimistic level
+/// bounds just before it (other saturating productions count at most their `q_hi` above and nothing below).
+fn clip_saturating(rel: &mut Relations, l0: f64, capacity: f64, changes: &mut [Change]) {
+    let clipped: Vec<(usize, f64, f64)> = changes
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.up && c.saturating)
+        .map(|(i, ci)| {
+            if ci.lo >= capacity - EPS {
+                // A refill of the whole capacity: it adds between nothing and everything, and
+                // [`best_refill`] knows the level after it exactly; no need for the quadratic bounds.
+                return (i, 0.0, capacity);
+            }
+            let (mut lb, mut ub) = (l0, l0);
+            for (j, cj) in changes.iter().enumerate() {
+                if j == i {
+                    continue;
+                }
+                let nec = rel.before(j, i);
+                let poss = nec || rel.possibly_before(j, i);
+                if cj.up {
+                    if poss {
+                        ub += cj.hi;
+                    }
+                    if nec && !cj.saturating {
+                        lb += cj.lo;
+                    }
+                } else {
+                    if nec {
+                        ub -= cj.lo;
+                    }
+                    if poss {
+                        lb -= cj.hi;
+                    }
+                }
+            }
+            let lo = ci.lo.min(capacity - ub.min(capacity)).max(0.0);
+            let hi = ci.hi.min(capacity - lb.clamp(0.0, capacity)).max(lo);
+            (i, lo, hi)
+        })
+        .collect();
+    for (i, lo, hi) in clipped {
+        changes[i].lo = lo;
+        changes[i].hi = hi;
+    }
+}
+
+/// The best lower bound of the level just after decrease `i` that a saturating production P necessarily
+/// before it gives. Whatever the order of the decreases D not yet ordered before P, the level just after `i`
+/// is at least `min(LB_P + q_lo(P), capacity) − Σ q_max(D)` (a D before P can only lower the refill's
+/// starting point by what it would have cost after P), with `LB_P` the bound from the changes necessarily
+/// before P. Returns the best bound over the productions P, and for every P the pairs (D, P) of the D other
+/// than `i`: each one ordered before P may be absorbed by the refill.
+fn best_refill(
+    rel: &mut Relations,
+    l0: f64,
+    capacity: f64,
+    changes: &[Change],
+    i: usize,
+) -> Option<Refill> {
+    let mut best: Option<(f64, Option<Timepoint>)> = None;
+    let mut pairs = Vec::new();
+    let anchors: Vec<usize> = changes
+        .iter()
+        .enumerate()
+        .filter(|&(p, cp)| p != i && cp.up && cp.saturating)
+        .map(|(p, _)| p)
+        .filter(|&p| rel.before(p, i))
+        .collect();
+    let is_reset = |c: &Change| c.raw_lo >= capacity - EPS;
+    for &p in &anchors {
+        let cp = &changes[p];
+        // A production followed, before `i`, by a refill of the whole capacity gives a weaker bound
+        // than that refill (its base is lower and more decreases may follow it): skip it. This keeps
+        // the anchors to the last refills before `i`, one or two, instead of every earlier one.
+        if anchors
+            .iter()
+            .any(|&q| q != p && is_reset(&changes[q]) && rel.before(p, q))
+        {
+            continue;
+        }
+        let mut before = l0;
+        let mut after = 0.0;
+        for (j, cj) in changes.iter().enumerate() {
+            if j == p {
+                continue;
+            }
+            let nec_before_p = rel.before(j, p);
+            if cj.up {
+                if nec_before_p {
+                    before += cj.lo;
+                } else if rel.before(p, j) && rel.before(j, i) {
+                    after += cj.lo;
+                }
+            } else if nec_before_p {
+                before -= cj.hi;
+            } else if j == i || rel.possibly_before(j, i) {
+                after -= cj.hi;
+                if j != i {
+                    pairs.push((cj.at, cp.at));
+                }
+            }
+        }
+        // The level before P is taken as at least 0: a schedule where it is lower runs out at an earlier
+        // decrease, whose own checkpoint reports it (the first violation of any schedule is caught there).
+        let bound = (before.max(0.0) + cp.raw_lo).min(capacity) + after;
+        if best.is_none_or(|(b, _)| bound > b) {
+            let reset = (cp.raw_lo >= capacity - EPS).then_some(cp.at);
+            best = Some((bound, reset));
+        }
+    }
+    best.map(|(bound, reset)| Refill {
+        bound,
+        pairs,
+        reset,
+    })
+}
+
+/// What the saturating productions before a decrease guarantee ([`best_refill`]).
+struct Refill {
+    bound: f64,
+    pairs: Vec<(Timepoint, Timepoint)>,
+    /// The best one's instant when it refills the whole capacity.
+    reset: Option<Timepoint>,
+}
+
+/// The ordering questions of one envelope pass between its changes, each asked of the network once: the
+/// pass and its refill bounds ask the same pairs over and over.
+struct Relations<'a> {
+    stn: &'a crate::stn::Stn,
+    at: Vec<Timepoint>,
+    /// `n × n`, row `j`, column `i`: 0 unknown, 1 no, 2 yes.
+    before: Vec<u8>,
+    possibly: Vec<u8>,
+}
+
+impl<'a> Relations<'a> {
+    fn new(stn: &'a crate::stn::Stn, changes: &[Change]) -> Self {
+        let n = changes.len();
+        Relations {
+            stn,
+            at: changes.iter().map(|c| c.at).collect(),
+            before: vec![0; n * n],
+            possibly: vec![0; n * n],
+        }
+    }
+
+    fn cached(slot: &mut u8, ask: impl FnOnce() -> bool) -> bool {
+        if *slot == 0 {
+            *slot = if ask() { 2 } else { 1 };
+        }
+        *slot == 2
+    }
+
+    /// Change `j` necessarily strictly before change `i`.
+    fn before(&mut self, j: usize, i: usize) -> bool {
+        let (stn, a, b) = (self.stn, self.at[j], self.at[i]);
+        let k = j * self.at.len() + i;
+        Self::cached(&mut self.before[k], || necessarily_after(stn, a, b, 1))
+    }
+
+    /// Change `j` possibly at or before change `i`.
+    fn possibly_before(&mut self, j: usize, i: usize) -> bool {
+        let (stn, a, b) = (self.stn, self.at[j], self.at[i]);
+        let k = j * self.at.len() + i;
+        Self::cached(&mut self.possibly[k], || possibly_after(stn, a, b, 0))
+    }
 }

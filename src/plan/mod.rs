@@ -204,6 +204,8 @@ pub struct Usage {
     pub resource: ResourceId,
     pub kind: UsageKind,
     pub quantity: NTerm,
+    /// A saturating production (see [`crate::model::ResourceUsage::saturating`]).
+    pub saturating: bool,
 }
 
 /// A goal in the plan: its timepoints and its condition.

@@ -43,11 +43,13 @@ pub enum Resolver {
     Separate(STerm, STerm),
     /// Binding `=`.
     Unify(STerm, STerm),
-    /// Insert an instance of `task` whose `usage`-th usage (a production) happens no later than `before`.
+    /// Insert an instance of `task` whose `usage`-th usage (a production) happens no later than `before`
+    /// (and after `after`, the refill it must follow to help).
     InsertProducer {
         task: TaskId,
         usage: usize,
         before: Timepoint,
+        after: Option<Timepoint>,
         resource: ResourceId,
     },
     /// Bound a production quantity from above.
@@ -526,7 +528,22 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
             }
         }
     } else {
+        // The level never exceeds the capacity, so a decrease larger than the capacity runs out whatever
+        // the plan does: no producer, order or refill can help (a capacity fallen below a picture's size).
+        let (_, need) = plan.numeric.term(plan.usage(c.at).quantity);
+        if need > c.capacity + 1e-6 {
+            return out;
+        }
         order_around(plan, c, &c.open_increases, &c.open_decreases, &mut out);
+        for &(t, refill) in c.refill.iter().flatten() {
+            if possibly(plan, t, refill, 1) {
+                out.push(Resolver::Order {
+                    from: t,
+                    to: refill,
+                    delay: 1,
+                });
+            }
+        }
         let deficit = -c.level;
         for &p in &c.short_producers {
             let u = plan.usage(p);
@@ -553,6 +570,7 @@ fn reservoir(plan: &PartialPlan, c: &ReservoirConflict) -> Vec<Resolver> {
                         task,
                         usage: k,
                         before: c.point,
+                        after: c.reset,
                         resource: c.resource,
                     });
                 }
@@ -593,6 +611,7 @@ pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
             task,
             usage,
             before,
+            after,
             resource: _,
         } => {
             let a = plan.insert_action(task)?;
@@ -606,6 +625,9 @@ pub fn apply(plan: &mut PartialPlan, r: &Resolver) -> Result<(), PlanError> {
                 UsageKind::Use { to, .. } => to,
             };
             plan.stn.add_constraint(at, before, 1, INF)?;
+            if let Some(after) = after {
+                plan.stn.add_constraint(after, at, 1, INF)?;
+            }
             Ok(())
         }
         Resolver::CapQuantity { action, var, hi } => {

@@ -161,12 +161,14 @@ pub fn domain() -> Domain {
             kind: UsageKind::Use { from: ST, to: ET },
             quantity: NumTerm::Const(1.0),
             primary: false,
+            saturating: false,
         },
         ResourceUsage {
             resource: store,
             kind: UsageKind::Consume { at: ST },
             quantity: NumTerm::Const(1.0),
             primary: false,
+            saturating: false,
         },
     ];
     snap.temporal = vec![TemporalConstraint {
@@ -182,6 +184,7 @@ pub fn domain() -> Domain {
         kind: UsageKind::Use { from: ST, to: ET },
         quantity: NumTerm::Const(1.0),
         primary: false,
+        saturating: false,
     }];
     cal.temporal = vec![TemporalConstraint {
         from: ST,

@@ -302,6 +302,7 @@ impl Autopilot {
     }
 
     pub(super) fn emit_event(&mut self, kind: EventKind, value: i64) {
-        self.events.push(SimEvent { kind, value });
+        let at_m = [self.kin.pos.y, self.kin.pos.x];
+        self.events.push(SimEvent { kind, value, at_m });
     }
 }

@@ -21,7 +21,8 @@ struct Usage {
 enum Kind {
     Use(Time, Time),
     Consume(Time),
-    Produce(Time),
+    /// A production; `true`: saturating (clipped at the capacity).
+    Produce(Time, bool),
 }
 
 pub(super) fn check(cx: &Ctx, quantities: &[Vec<Iv>], out: &mut Vec<Violation>) {
@@ -42,7 +43,7 @@ pub(super) fn check(cx: &Ctx, quantities: &[Vec<Iv>], out: &mut Vec<Violation>) 
                 let kind = match u.kind {
                     UsageKind::Use { from, to } => Kind::Use(cx.at(a, from), cx.at(a, to)),
                     UsageKind::Consume { at } => Kind::Consume(cx.at(a, at)),
-                    UsageKind::Produce { at } => Kind::Produce(cx.at(a, at)),
+                    UsageKind::Produce { at } => Kind::Produce(cx.at(a, at), u.saturating),
                 };
                 usages.push(Usage {
                     who: cx.label(a),
@@ -120,6 +121,8 @@ struct Step<'a> {
     low: f64,
     /// Change of the highest possible level.
     high: f64,
+    /// A saturating production: the levels it raises are clipped at the capacity.
+    saturating: bool,
     who: &'a str,
 }
 
@@ -129,11 +132,12 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
         let (qmin, qmax) = u.q;
         let who = u.who.as_str();
         match u.kind {
-            Kind::Produce(t) => steps.push(Step {
+            Kind::Produce(t, saturating) => steps.push(Step {
                 time: t,
                 rank: 2,
                 low: qmin,
                 high: qmax,
+                saturating,
                 who,
             }),
             Kind::Consume(t) => steps.push(Step {
@@ -141,6 +145,7 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
                 rank: 1,
                 low: -qmax,
                 high: -qmin,
+                saturating: false,
                 who,
             }),
             Kind::Use(a, b) => {
@@ -149,6 +154,7 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
                     rank: 1,
                     low: -qmax,
                     high: -qmin,
+                    saturating: false,
                     who,
                 });
                 steps.push(Step {
@@ -156,6 +162,7 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
                     rank: 0,
                     low: qmax,
                     high: qmin,
+                    saturating: false,
                     who,
                 });
             }
@@ -199,10 +206,16 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
         }
         for s in group.iter().filter(|s| s.rank == 2) {
             low += s.low;
+            if s.saturating {
+                low = low.min(cap);
+            }
         }
         let mut high_mid = high;
         for s in group.iter().filter(|s| s.rank != 1) {
             high_mid += s.high;
+            if s.saturating {
+                high_mid = high_mid.min(cap);
+            }
             if high_mid > cap + eps && !above_reported {
                 above_reported = true;
                 out.push(Violation::ResourceOverCapacity {
@@ -214,7 +227,13 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
                 });
             }
         }
-        high = group.iter().fold(high, |h, s| h + s.high);
+        high = group.iter().fold(high, |h, s| {
+            if s.saturating {
+                (h + s.high).min(cap)
+            } else {
+                h + s.high
+            }
+        });
     }
     // Capacity drops of the profile below a level reached earlier.
     if !above_reported {
@@ -284,7 +303,7 @@ mod tests {
         // A download producing [1, 2.4] before the fourth: its minimum, 1, is enough, and its maximum
         // cannot overflow (3 − 3 × 0.8 + 2.4 = 3); one producing up to 3 could.
         let mut with = pics;
-        with.push(u("dl", Kind::Produce(25), (1.0, 2.4)));
+        with.push(u("dl", Kind::Produce(25, false), (1.0, 2.4)));
         assert!(run(&s, &with, false).is_empty());
         if let Some(dl) = with.last_mut() {
             dl.q = (1.0, 3.0);
@@ -297,9 +316,42 @@ mod tests {
     }
 
     #[test]
+    fn a_saturating_production_is_clipped_at_the_capacity_and_never_overflows() {
+        // Three pictures of [0.9, 1] then a download sending everything (3) and two more pictures: the
+        // download cannot overflow, and after it the level is the capacity whatever the sizes were.
+        let s = setup(3.0, vec![(0, 3.0)]);
+        let mut us: Vec<Usage> = (0..3)
+            .map(|i| u(&format!("p{i}"), Kind::Consume(i * 10), (0.9, 1.0)))
+            .collect();
+        us.push(u("dl", Kind::Produce(25, true), (3.0, 3.0)));
+        us.extend((0..3).map(|i| u(&format!("q{i}"), Kind::Consume(30 + i * 10), (0.9, 1.0))));
+        assert!(run(&s, &us, false).is_empty());
+        // A fourth picture after the download runs out: the download refills to the capacity, no more.
+        us.push(u("q3", Kind::Consume(60), (0.9, 1.0)));
+        let v = run(&s, &us, false);
+        assert!(
+            matches!(v.as_slice(), [Violation::ResourceBelowZero { time: 60, culprit, .. }] if culprit == "q3"),
+            "{v:?}"
+        );
+        // The same download, not saturating, may overflow.
+        us.pop();
+        if let Some(dl) = us.iter_mut().find(|x| x.who == "dl") {
+            dl.kind = Kind::Produce(25, false);
+        }
+        let v = run(&s, &us, false);
+        assert!(
+            matches!(
+                v.as_slice(),
+                [Violation::ResourceOverCapacity { time: 25, .. }]
+            ),
+            "{v:?}"
+        );
+    }
+
+    #[test]
     fn reservoir_upper_bound_takes_the_maximum_production_and_the_profile() {
         let s = setup(2.0, vec![(0, 3.0)]);
-        let v = run(&s, &[u("dl", Kind::Produce(5), (1.0, 3.0))], false);
+        let v = run(&s, &[u("dl", Kind::Produce(5, false), (1.0, 3.0))], false);
         assert!(
             matches!(v.as_slice(), [Violation::ResourceOverCapacity { level, capacity, .. }] if *level == 5.0 && *capacity == 3.0),
             "{v:?}"
@@ -322,7 +374,7 @@ mod tests {
             &s,
             &[
                 u("c", Kind::Consume(5), (1.0, 1.0)),
-                u("p", Kind::Produce(5), (1.0, 1.0)),
+                u("p", Kind::Produce(5, false), (1.0, 1.0)),
             ],
             false,
         );
