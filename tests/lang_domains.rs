@@ -476,3 +476,34 @@ fn goal_windows_are_cut_to_the_horizon() {
         (Bound::Open(60_000), Bound::Open(120_000))
     );
 }
+
+/// `saturating produce` marks a production clipped at the capacity (the rover's download sends what is
+/// stored); `saturating` before anything but `produce` is an error at its place.
+#[test]
+fn saturating_production_is_read_and_refused_elsewhere() {
+    let (d, _) = load("rover", "fig2");
+    let download = d
+        .tasks
+        .iter()
+        .find(|t| t.name == "download_images")
+        .expect("download_images");
+    let storage = download
+        .usages
+        .iter()
+        .find(|u| matches!(u.kind, UsageKind::Produce { .. }))
+        .expect("a production");
+    assert!(storage.saturating);
+    let recharge = d
+        .tasks
+        .iter()
+        .find(|t| t.name == "recharge_battery")
+        .expect("recharge_battery");
+    assert!(recharge.usages.iter().all(|u| !u.saturating));
+    let bad = "domain d;\nresource R: reservoir capacity 3;\ntask t() (st, et) {\n    saturating consume(R: 1, st);\n}\n";
+    let e = lang::parse_domain("bad.ixt", bad).expect_err("refused");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("bad.ixt:4:") && msg.contains("`produce` after `saturating`"),
+        "{msg}"
+    );
+}
