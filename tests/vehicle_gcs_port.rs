@@ -1,5 +1,6 @@
 //! The executive's ground-station port (`run --gcs udpin:…`) over real UDP sockets: garbage from one sender
-//! costs only that sender (one frame decoder per UDP peer, replies to the peer they answer).
+//! costs only that sender (one frame decoder per UDP peer, replies to the peer they answer), and goals are
+//! taken only from the system ids the configuration allows (`link.goal_sysids`).
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -164,4 +165,34 @@ fn a_station_uploads_while_another_sender_blasts_garbage() {
         &format!("{before} garbage datagrams before, {during} during"),
     );
     assert!(v.stats().crc_errors.load(Ordering::Relaxed) > 0);
+}
+
+#[test]
+fn goals_are_taken_only_from_the_configured_system_ids() {
+    let (_v, gcs) = companion("goal_sysids = [255, 250]");
+    let (report, took) = upload(42, gcs);
+    assert!(
+        report
+            .failure
+            .as_deref()
+            .is_some_and(|f| f.contains("MAV_MISSION_DENIED")),
+        "{report:?}"
+    );
+    assert!(
+        report
+            .texts
+            .iter()
+            .any(|t| t.contains("system 42") && t.contains("goal_sysids")),
+        "{report:?}"
+    );
+    assert!(took < PROMPT, "refused in {took:?}");
+    let (report, took) = upload(250, gcs);
+    assert_accepted(&report, took, "from an allowed system");
+}
+
+#[test]
+fn without_goal_sysids_any_system_may_upload() {
+    let (_v, gcs) = companion("");
+    let (report, took) = upload(42, gcs);
+    assert_accepted(&report, took, "from system 42, no list");
 }

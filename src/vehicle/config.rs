@@ -128,6 +128,10 @@ pub struct LinkConfig {
     pub tlog: Option<String>,
     #[serde(default = "d_reconnect")]
     pub reconnect_ms: u64,
+    /// The system ids of the ground stations goals are taken from (e.g. `[255]`); others are answered
+    /// MISSION_ACK DENIED with the reason. Unset: any system.
+    #[serde(default)]
+    pub goal_sysids: Option<Vec<u8>>,
 }
 
 fn d_heartbeat_timeout() -> u64 {
@@ -357,6 +361,14 @@ impl VehicleConfig {
         };
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
+        }
+        if let Some(ids) = &self.link.goal_sysids {
+            if ids.is_empty() || ids.contains(&0) {
+                return Err(invalid(
+                    "link.goal_sysids".into(),
+                    "system ids 1 to 255, at least one (leave the key out to take goals from any system)",
+                ));
+            }
         }
         if !(-90.0..=90.0).contains(&self.home.lat) || !(-180.0..=180.0).contains(&self.home.lon) {
             return Err(invalid(

@@ -444,6 +444,7 @@ impl MavlinkVehicle {
             None => None,
         };
         let gcs_addr = gcs_transport.as_ref().and_then(|t| t.local_addr());
+        let goal_sysids = cfg.link.goal_sysids.clone();
         let epoch = Instant::now();
         let shared = Arc::new(Shared {
             driver: Mutex::new(Driver::new(cfg)),
@@ -457,7 +458,9 @@ impl MavlinkVehicle {
         let (tx, rx) = std_mpsc::channel();
         let events_tx = tx.clone();
         let stats = Arc::new(LinkStats::default());
-        let intake = Arc::new(Mutex::new(GoalIntake::new(known, opts.first_goal_number)));
+        let intake = Arc::new(Mutex::new(
+            GoalIntake::new(known, opts.first_goal_number).allowing(goal_sysids),
+        ));
         let decider = Arc::new(Mutex::new(opts.decider));
         let mut tasks = vec![tokio::spawn(
             Pump {
