@@ -10,6 +10,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::geo::Home;
+use super::safe_stop::OnShutdown;
 use super::types::GoalKind;
 
 #[derive(Debug, thiserror::Error)]
@@ -189,6 +190,9 @@ pub struct Modes {
     pub rtl: Mode,
     #[serde(default)]
     pub manual: Option<Mode>,
+    /// What a SIGINT / SIGTERM leaves the vehicle in: `hold` (default), `rtl` or `none` (as it is).
+    #[serde(default)]
+    pub on_shutdown: OnShutdown,
 }
 
 /// The domain's reservoirs the vehicle's battery (percent) and storage levels are reported as; a level whose

@@ -19,6 +19,7 @@ use super::frame::{parse_key, Encoder, Signer};
 use super::goals::{GoalBatch, GoalDecider, KnownLocations, SyntacticDecider};
 use super::intake::{GoalIntake, PendingDecision};
 use super::peers::Peers;
+use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
 use super::tlog::TlogWriter;
 use super::types::{ActionId, ActionStart, GoalVerdict, VehicleEvent};
 
@@ -557,6 +558,48 @@ impl MavlinkVehicle {
     /// The adopted autopilot (system, component), once seen.
     pub fn target(&self) -> Option<(u8, u8)> {
         self.shared.driver.lock().ok().and_then(|d| d.target())
+    }
+
+    /// Leaves the vehicle safe as the configuration says (`modes.on_shutdown`): ends the running actions,
+    /// commands HOLD (or RTL) and waits, within the command's retries and two seconds more, for a HEARTBEAT
+    /// in that mode. `pass_time` runs between looks (a sleep on a live link; a step of a stepped simulator).
+    pub fn safe_stop(&self, pass_time: &mut dyn FnMut(&MavlinkVehicle)) -> SafeStopReport {
+        let bound = {
+            let Ok(mut d) = self.shared.driver.lock() else {
+                return SafeStop::settled(OnShutdown::None, SafeStopOutcome::NoVehicle).report();
+            };
+            d.begin_safe_stop(self.shared.clock_now());
+            self.deliver(&mut d);
+            Duration::from_millis(d.safe_stop_bound_ms())
+        };
+        self.shared.notify.notify_one();
+        let deadline = Instant::now() + bound;
+        loop {
+            let state = self
+                .shared
+                .driver
+                .lock()
+                .ok()
+                .and_then(|d| d.safe_stop().cloned());
+            let Some(state) = state else {
+                return SafeStop::settled(OnShutdown::None, SafeStopOutcome::NoVehicle).report();
+            };
+            if state.outcome().is_some() || Instant::now() >= deadline {
+                return state.report();
+            }
+            pass_time(self);
+        }
+    }
+
+    /// A flush of the `.tlog` that never waits: it skips when a record is being written (for a process
+    /// about to exit at once; records reach the file whole either way).
+    pub fn tlog_flusher(&self) -> Option<Box<dyn Fn() + Send>> {
+        let tlog = self.tlog.clone()?;
+        Some(Box::new(move || {
+            if let Ok(mut t) = tlog.try_lock() {
+                let _ = t.flush();
+            }
+        }))
     }
 
     /// Writes buffered `.tlog` records to disk.

@@ -5,6 +5,7 @@
 //! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
 //! - `intake`, `goals`, `goal_files`: goal lists from a ground station or a file;
 //! - `config_check`: a configuration checked against its domain, the executive's mapping resolved;
+//! - `safe_stop`: the vehicle left safe when the companion is stopped by a signal;
 //! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
 //!   that pump bytes through the core.
 
@@ -27,6 +28,7 @@ pub mod link;
 pub mod mission_client;
 pub mod mock;
 pub mod peers;
+pub mod safe_stop;
 pub mod telemetry;
 pub mod tlog;
 pub mod types;
