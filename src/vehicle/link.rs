@@ -565,6 +565,7 @@ impl MavlinkVehicle {
     /// in that mode. `pass_time` runs between looks (a sleep on a live link; a step of a stepped simulator).
     pub fn safe_stop(&self, pass_time: &mut dyn FnMut(&MavlinkVehicle)) -> SafeStopReport {
         let bound = {
+            // A poisoned driver (a pump panicked) can command nothing.
             let Ok(mut d) = self.shared.driver.lock() else {
                 return SafeStop::settled(OnShutdown::None, SafeStopOutcome::NoVehicle).report();
             };
