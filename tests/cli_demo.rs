@@ -5,12 +5,6 @@
 
 use std::process::Command;
 
-fn temp_path(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("mavtempo-cli-demo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp dir");
-    dir.join(name)
-}
-
 fn events(report: &serde_json::Value) -> Vec<serde_json::Value> {
     report["cycles"]
         .as_array()
@@ -22,7 +16,8 @@ fn events(report: &serde_json::Value) -> Vec<serde_json::Value> {
 
 #[test]
 fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
-    let report_path = temp_path("report.json");
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let report_path = dir.path().join("report.json");
     let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
         .args(["demo", "--quiet", "--no-upload", "--problem"])
         .arg("tests/fixtures/exec/rover_two.ixt")
@@ -67,12 +62,12 @@ fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
         .expect("resources")
         .is_empty());
     assert!(report["cycle_times"]["count"].as_u64().unwrap_or(0) > 0);
-    let _ = std::fs::remove_file(&report_path);
 }
 
 #[test]
 fn demo_fig2_story_every_goal_settled() {
-    let report_path = temp_path("fig2.json");
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let report_path = dir.path().join("fig2.json");
     let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
         .args(["demo", "--quiet", "--report"])
         .arg(&report_path)
@@ -140,7 +135,6 @@ fn demo_fig2_story_every_goal_settled() {
         .iter()
         .any(|e| e["kind"] == "launch" && action(e, "recharge_battery")));
     assert!(report["counters"]["repairs"].as_u64().unwrap_or(0) >= 1);
-    let _ = std::fs::remove_file(&report_path);
 }
 
 #[test]

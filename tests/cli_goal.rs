@@ -16,10 +16,9 @@ const PLAN: &str = r#"{"fileType": "Plan", "version": 1, "groundStation": "QGrou
   ]},
  "geoFence": {"circles": [], "polygons": [], "version": 2}, "rallyPoints": {"points": [], "version": 2}}"#;
 
-fn temp_file(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("mavtempo-cli-goal-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp dir");
-    let p = dir.join(name);
+/// `text` written to `name` in `dir` (removed with it when the test ends, passed or failed).
+fn temp_file(dir: &tempfile::TempDir, name: &str, text: &str) -> std::path::PathBuf {
+    let p = dir.path().join(name);
     std::fs::write(&p, text).expect("write");
     p
 }
@@ -52,7 +51,8 @@ fn goal_send_uploads_a_plan_and_prints_the_verdicts() {
     let rt = tokio::runtime::Runtime::new().expect("rt");
     let server = syntactic_server(&rt);
     let addr = server.local_addr.expect("bound");
-    let plan = temp_file("goals.plan", PLAN);
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let plan = temp_file(&dir, "goals.plan", PLAN);
     let out = goal_send(&plan, addr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -72,7 +72,9 @@ fn goal_send_uploads_a_plan_and_prints_the_verdicts() {
 
 #[test]
 fn goal_check_refuses_a_malformed_waypoints_file_with_its_place() {
+    let dir = tempfile::TempDir::new().expect("temp dir");
     let wp = temp_file(
+        &dir,
         "bad.waypoints",
         "QGC WPL 110\n1\t0\t3\t16\t0\t0\t0\t0\tnorth\t1.4\t0\t1\n",
     );
@@ -90,7 +92,7 @@ fn goal_check_refuses_a_malformed_waypoints_file_with_its_place() {
         )),
         "{stderr}"
     );
-    let plan = temp_file("good.plan", PLAN);
+    let plan = temp_file(&dir, "good.plan", PLAN);
     let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
         .args(["goal", "check"])
         .arg(&plan)
@@ -116,7 +118,8 @@ fn goal_send_refuses_more_items_than_mavlink_can_count() {
   "plannedHomePosition": [43.5615, 1.4778, 0], "items": [{items}]}},
  "geoFence": {{"circles": [], "polygons": [], "version": 2}}, "rallyPoints": {{"points": [], "version": 2}}}}"#
     );
-    let plan = temp_file("many.plan", &plan);
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let plan = temp_file(&dir, "many.plan", &plan);
     let out = goal_send(&plan, addr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -253,3 +253,36 @@ fn malformed_configs_name_the_key() {
     let err = VehicleConfig::parse(&base.replace("hold = 4\n", ""), "c.toml").unwrap_err();
     assert!(err.to_string().contains("missing field `hold`"), "{err}");
 }
+
+#[test]
+fn shutdown_mode_and_goal_sysids_are_read_and_checked() {
+    use mavtempo::vehicle::safe_stop::OnShutdown;
+    let base = all_bindings();
+    let parse = |from: &str, to: &str| VehicleConfig::parse(&base.replacen(from, to, 1), "c.toml");
+    let cfg = VehicleConfig::parse(&base, "c.toml").expect("parses");
+    assert_eq!(cfg.modes.on_shutdown, OnShutdown::Hold, "HOLD by default");
+    assert_eq!(
+        cfg.link.goal_sysids, None,
+        "goals from any system by default"
+    );
+    let cfg = parse("[modes]", "[modes]\non_shutdown = \"rtl\"").expect("rtl");
+    assert_eq!(cfg.modes.on_shutdown, OnShutdown::Rtl);
+    let cfg = parse("[modes]", "[modes]\non_shutdown = \"none\"").expect("none");
+    assert_eq!(cfg.modes.on_shutdown, OnShutdown::None);
+    let err = parse("[modes]", "[modes]\non_shutdown = \"land\"").unwrap_err();
+    assert!(
+        err.to_string().contains("land") && err.to_string().contains("hold"),
+        "{err}"
+    );
+    let cfg = parse("[link]\n", "[link]\ngoal_sysids = [255, 250]\n").expect("list");
+    assert_eq!(cfg.link.goal_sysids, Some(vec![255, 250]));
+    for bad in ["[]", "[0, 255]"] {
+        let err = parse("[link]\n", &format!("[link]\ngoal_sysids = {bad}\n")).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("c.toml: link.goal_sysids: system ids 1 to 255"),
+            "{bad}: {err}"
+        );
+    }
+    assert!(parse("[link]\n", "[link]\ngoal_sysids = [256]\n").is_err());
+}

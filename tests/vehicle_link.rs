@@ -173,9 +173,8 @@ fn signing_rejects_unsigned_frames_and_signs_its_own() {
 
 #[test]
 fn picture_action_over_the_wire_and_tlog_records_both_directions() {
-    let dir = std::env::temp_dir().join(format!("mavtempo-tlog-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp");
-    let tlog = dir.join("link.tlog");
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let tlog = dir.path().join("link.tlog");
     let opts = LinkOptions {
         tlog: Some(tlog.clone()),
         ..LinkOptions::default()
@@ -250,7 +249,6 @@ fn picture_action_over_the_wire_and_tlog_records_both_directions() {
             .all(|(t, _)| *t <= now_us && *t > now_us - 600_000_000),
         "timestamps are unix µs"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn goal_items() -> Vec<MissionItem> {

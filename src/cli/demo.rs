@@ -2,7 +2,8 @@
 //! executive against the built-in SITL, in process, over real sockets. The faults come from the SITL's
 //! scenario (sitl/scenarios/fig2.toml): e1 the first picture fails, e2 rough ground on the way to p2,
 //! e5 a slow download, e6 a battery drop on the third move; e3/e4, the new goals g6 and g7, are uploaded
-//! over MAVLink by a simulated ground station while the first download runs. Wiring and printing only.
+//! over MAVLink by a simulated ground station while the first download runs. SIGINT / SIGTERM stop it
+//! safely (see [`super::shutdown`]). Wiring and printing only.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -16,7 +17,8 @@ use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
-use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::interrupt::Interrupt;
+use crate::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
 use crate::exec::pacer::{LivePacer, StepGate};
 use crate::exec::trace::{CycleRecord, TraceEvent};
 use crate::lang;
@@ -73,6 +75,13 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
+    let interrupt = match super::shutdown::listen() {
+        Ok(s) => s.interrupt,
+        Err(e) => {
+            eprintln!("mavtempo demo: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
     let setup = DemoSetup {
         problem: args.problem.clone(),
         domain: args.domain.clone(),
@@ -83,6 +92,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
         upload: !args.no_upload,
         max_steps: args.max_steps,
         dispatch: args.dispatch.dispatch,
+        interrupt: interrupt.clone(),
     };
     let mut printer = TracePrinter::default();
     let quiet = args.quiet;
@@ -113,11 +123,16 @@ pub fn run(args: DemoArgs) -> ExitCode {
                 }
                 println!("report written to {}", path.display());
             }
-            ExitCode::SUCCESS
+            match run.report.end {
+                MissionEnd::Interrupted(_) => {
+                    super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
+                }
+                _ => ExitCode::SUCCESS,
+            }
         }
         Err(e) => {
             eprintln!("mavtempo demo: {e}");
-            ExitCode::FAILURE
+            super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
         }
     }
 }
@@ -141,6 +156,8 @@ pub struct DemoSetup {
     /// Planning steps for the initial plan.
     pub max_steps: u64,
     pub dispatch: PolicyKind,
+    /// Stops the mission when requested (a signal); the vehicle is then made safe.
+    pub interrupt: Interrupt,
 }
 
 impl Default for DemoSetup {
@@ -156,6 +173,7 @@ impl Default for DemoSetup {
             upload: true,
             max_steps: 200_000,
             dispatch: PolicyKind::default(),
+            interrupt: Interrupt::default(),
         }
     }
 }
@@ -282,9 +300,10 @@ pub fn run_demo(
     };
     let opts = MissionOptions {
         time_limit_ms: problem_horizon(&problem),
+        interrupt: setup.interrupt.clone(),
         ..MissionOptions::default()
     };
-    let report = match setup.speedup {
+    let mut report = match setup.speedup {
         None => {
             let mut pacer = session.step_pacer(gate.clone());
             run_mission(
@@ -309,7 +328,30 @@ pub fn run_demo(
             )
         }
     };
+    let interrupted = matches!(report.end, MissionEnd::Interrupted(_));
+    if interrupted {
+        // Stepped, the simulator moves only when stepped: the HOLD shows in its heartbeat after a few steps.
+        report.shutdown = Some(match setup.speedup {
+            None => {
+                let pacer = session.step_pacer(gate.clone());
+                session.vehicle.safe_stop(&mut |v| {
+                    if let Err(e) = pacer.step_settled(v, 100) {
+                        tracing::warn!("sitl step: {e}");
+                    }
+                })
+            }
+            Some(_) => session
+                .vehicle
+                .safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))),
+        });
+    }
+    if let (Some(h), true) = (&upload, interrupted) {
+        h.abort();
+    }
     let upload = upload.map(|h| match rt.block_on(h) {
+        Err(e) if e.is_cancelled() => {
+            "ground station: upload abandoned (mission interrupted)".into()
+        }
         Ok(Ok(r)) => format!(
             "ground station: upload {}; {}",
             r.failure.as_deref().unwrap_or("accepted"),

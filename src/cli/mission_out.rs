@@ -95,6 +95,21 @@ pub fn print_summary(r: &MissionReport) {
         "cycle time (executive CPU): p50 {} µs, p99 {} µs, max {} µs over {} cycles",
         r.cycle_times.p50_us, r.cycle_times.p99_us, r.cycle_times.max_us, r.cycle_times.count
     );
+    if let Some(s) = &r.shutdown {
+        println!(
+            "shutdown: {:?} ({:?} mode {:?}; actions ended: {}; ACK {}; last mode {:?})",
+            s.outcome,
+            s.action,
+            s.mode,
+            if s.stopped.is_empty() {
+                "none".to_string()
+            } else {
+                s.stopped.join(", ")
+            },
+            s.ack.as_deref().unwrap_or("none"),
+            s.last_mode
+        );
+    }
 }
 
 pub fn write_report(path: &Path, r: &MissionReport) -> Result<(), String> {

@@ -11,6 +11,7 @@ mod goal;
 mod mission_out;
 mod plan;
 mod run;
+mod shutdown;
 mod sim;
 mod sitl_session;
 mod soak;

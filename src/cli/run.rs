@@ -1,6 +1,7 @@
 //! `mavtempo run --config FILE DOMAIN PROBLEM [--vehicle ADDR] [--goals FILE] [--gcs ADDR] [--tlog FILE]
 //! [--report FILE]`: plans the problem, then executes it live against a MAVLink vehicle, with goal uploads
-//! from ground stations decided by the executive. Wiring and printing only.
+//! from ground stations decided by the executive. SIGINT / SIGTERM stop it safely (see [`super::shutdown`]).
+//! Wiring and printing only.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -10,9 +11,11 @@ use std::time::{Duration, Instant};
 use clap::Args;
 
 use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
+use super::shutdown::Signals;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
-use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::interrupt::Interrupt;
+use crate::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
 use crate::exec::pacer::LivePacer;
 use crate::exec::trace::CycleRecord;
 use crate::lang;
@@ -68,7 +71,15 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> ExitCode {
-    match mission(&args) {
+    let signals = match super::shutdown::listen() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("mavtempo run: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let interrupt = signals.interrupt.clone();
+    match mission(&args, &signals) {
         Ok(report) => {
             print_summary(&report);
             if let Some(path) = &args.report {
@@ -77,12 +88,27 @@ pub fn run(args: RunArgs) -> ExitCode {
                     return ExitCode::FAILURE;
                 }
             }
-            ExitCode::SUCCESS
+            match report.end {
+                MissionEnd::Interrupted(_) => {
+                    super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
+                }
+                _ => ExitCode::SUCCESS,
+            }
         }
         Err(e) => {
             eprintln!("mavtempo run: {e}");
-            ExitCode::FAILURE
+            super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
         }
+    }
+}
+
+/// Stops the start-up when a signal came before the mission began: nothing was sent to the vehicle.
+fn not_interrupted(interrupt: &Interrupt) -> Result<(), String> {
+    match interrupt.signal_name() {
+        Some(name) => Err(format!(
+            "{name} before the mission started: nothing sent to the vehicle, no report"
+        )),
+        None => Ok(()),
     }
 }
 
@@ -134,7 +160,8 @@ fn initial_goals(
     items_to_goals(&file.items, known, first).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-fn mission(args: &RunArgs) -> Result<MissionReport, String> {
+fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
+    let interrupt = &signals.interrupt;
     if !(args.speedup.is_finite() && args.speedup > 0.0) {
         return Err(format!("--speedup must be > 0, got {}", args.speedup));
     }
@@ -156,6 +183,7 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
     );
     let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
     println!("initial plan: {} actions", plan.num_actions());
+    not_interrupted(interrupt)?;
     let opts = LinkOptions {
         address: args.vehicle.clone(),
         tlog: args.tlog.clone(),
@@ -168,8 +196,12 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
     };
     let mut vehicle =
         MavlinkVehicle::connect_blocking(checked.vehicle, opts).map_err(|e| e.to_string())?;
+    if let Some(flush) = vehicle.tlog_flusher() {
+        signals.before_exit_at_once(flush);
+    }
     let deadline = Instant::now() + Duration::from_secs(args.link_timeout);
     while vehicle.target().is_none() || vehicle.now_ms() == 0 {
+        not_interrupted(interrupt)?;
         if Instant::now() >= deadline {
             return Err(format!(
                 "no heartbeat and clock from the vehicle within {} s",
@@ -192,12 +224,17 @@ fn mission(args: &RunArgs) -> Result<MissionReport, String> {
         time_limit_ms: problem.horizon + 60_000,
         initial_goals: goals,
         max_cycles: None,
+        interrupt: interrupt.clone(),
     };
     let mut pacer = LivePacer {
         origin_ms: origin,
         speedup: args.speedup,
     };
-    let report = run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe);
+    let mut report = run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe);
+    if matches!(report.end, MissionEnd::Interrupted(_)) {
+        report.shutdown =
+            Some(vehicle.safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))));
+    }
     vehicle.flush_tlog();
     Ok(report)
 }

@@ -1,4 +1,4 @@
-//! `mavtempo sim`: the built-in SITL vehicle on a socket, until Ctrl-C. Wiring only.
+//! `mavtempo sim`: the built-in SITL vehicle on a socket, until SIGINT (Ctrl-C) or SIGTERM. Wiring only.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -82,8 +82,24 @@ fn serve(config: sitl::SimConfig) -> ExitCode {
             sim.client_address()
         );
         let _ = std::io::stdout().flush();
-        let _ = tokio::signal::ctrl_c().await;
+        stopped().await;
         sim.stop().await;
         ExitCode::SUCCESS
     })
+}
+
+/// Until SIGINT or SIGTERM (a service manager's stop): either stops the simulator cleanly.
+async fn stopped() {
+    use tokio::signal::unix::{signal, SignalKind};
+    match signal(SignalKind::terminate()) {
+        Ok(mut term) => {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = term.recv() => {}
+            }
+        }
+        Err(_) => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
 }

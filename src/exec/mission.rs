@@ -10,12 +10,14 @@ use serde::Serialize;
 
 use super::cycle::CycleOutcome;
 use super::executive::{Counters, Executive, Fate, GoalFate};
+use super::interrupt::{signal_name, Interrupt};
 use super::p_t::classify;
 use super::replan::ReplanResult;
 use super::resource_bounds::level_bounds;
 use super::trace::{CycleRecord, TraceEvent};
 use crate::model::{ResourceId, Time};
 use crate::vehicle::goals::GoalBatch;
+use crate::vehicle::safe_stop::SafeStopReport;
 use crate::vehicle::{
     ActionId as Vid, ActionStart, GoalRequest, Vehicle, VehicleError, VehicleEvent,
 };
@@ -29,6 +31,17 @@ pub trait Pacer<V: Vehicle> {
     /// Lets time pass until `until` (ms since origin) or until a message arrives, whichever comes first.
     /// A message received while waiting is returned (it is integrated by the next cycle).
     fn wait(&mut self, vehicle: &mut V, until: Time) -> Option<VehicleEvent>;
+    /// [`Pacer::wait`] that gives up (returning nothing) once `interrupt` is requested. By default the
+    /// same as `wait`: right for pacers whose waits are short in wall time.
+    fn wait_or_interrupt(
+        &mut self,
+        vehicle: &mut V,
+        until: Time,
+        interrupt: &Interrupt,
+    ) -> Option<VehicleEvent> {
+        let _ = interrupt;
+        self.wait(vehicle, until)
+    }
 }
 
 /// What the loop needs besides the executive, the vehicle and the pacer.
@@ -41,6 +54,8 @@ pub struct MissionOptions {
     /// The mission stops (goals left pending) after this many cycles: a bound for loops nothing else
     /// catches (a cycle every few ms of mission time). `None`: no bound.
     pub max_cycles: Option<usize>,
+    /// Stops the mission before its next cycle when requested (a signal): the end is `Interrupted`.
+    pub interrupt: Interrupt,
 }
 
 /// How the mission ended.
@@ -57,6 +72,8 @@ pub enum MissionEnd {
     CycleLimit,
     /// Complete replanning could not even extract a problem.
     Error(String),
+    /// Stopped from outside (the signal's name, e.g. `SIGTERM`) with goals pending.
+    Interrupted(String),
 }
 
 /// A change of *ExecutingPlan*.
@@ -101,6 +118,9 @@ pub struct MissionReport {
     pub plan_changes: Vec<PlanChange>,
     pub resources: Vec<ResourceSample>,
     pub cycles: Vec<CycleRecord>,
+    /// What was done to leave the vehicle safe after an interruption (set by the caller that did it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shutdown: Option<SafeStopReport>,
 }
 
 impl MissionReport {
@@ -193,6 +213,9 @@ pub fn run_mission<V: Vehicle>(
     }
     let mut log = Log::default();
     let end = loop {
+        if let Some(signal) = opts.interrupt.requested() {
+            break MissionEnd::Interrupted(signal_name(signal));
+        }
         let now = pacer.now(v.inner);
         let outcome = ex.cycle(&mut v, now);
         log.after_cycle(ex, now);
@@ -234,7 +257,8 @@ pub fn run_mission<V: Vehicle>(
         if opts.max_cycles.is_some_and(|m| ex.cycles.len() >= m) {
             break MissionEnd::CycleLimit;
         }
-        if let Some(e) = pacer.wait(v.inner, wake.min(opts.time_limit_ms.max(now + 1))) {
+        let until = wake.min(opts.time_limit_ms.max(now + 1));
+        if let Some(e) = pacer.wait_or_interrupt(v.inner, until, &opts.interrupt) {
             v.held.push_back(e);
         }
     };
@@ -393,6 +417,11 @@ impl Log {
                 g.reason = "mission time limit reached".into();
             }
         }
+        if let MissionEnd::Interrupted(signal) = &end {
+            for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
+                g.reason = format!("mission interrupted ({signal})");
+            }
+        }
         MissionReport {
             end,
             duration_ms,
@@ -402,6 +431,7 @@ impl Log {
             plan_changes: self.changes,
             resources: self.resources,
             cycles: ex.cycles.clone(),
+            shutdown: None,
         }
     }
 }

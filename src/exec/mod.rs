@@ -26,6 +26,7 @@
 //! | (not in the papers) nothing loops: repeated failures banned, plan changes per minute bounded | [`failures`], [`settle`] |
 //! | the per-cycle trace (Fig. 6) | [`trace`] |
 //! | a mission run live: cycles, replanning, the report | [`mission`] (time: [`pacer`]) |
+//! | (not in the papers) a mission stopped from outside (a signal) | [`interrupt`] |
 
 pub mod abstraction;
 pub mod act;
@@ -41,6 +42,7 @@ pub mod executive;
 pub mod failures;
 pub mod goal_request;
 pub mod instantiate;
+pub mod interrupt;
 pub mod mapping;
 pub mod mission;
 pub mod p_t;

@@ -6,6 +6,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use super::cycle::mission_time as since;
+use super::interrupt::Interrupt;
 use super::mission::Pacer;
 use crate::model::Time;
 use crate::vehicle::link::LinkCounts;
@@ -55,8 +56,38 @@ impl<V: Vehicle> Pacer<V> for LivePacer {
     }
 
     fn wait(&mut self, v: &mut V, until: Time) -> Option<VehicleEvent> {
-        let left = (until - self.now(v)).max(1) as f64 / self.speedup.max(1e-3);
-        v.wait_event(Duration::from_micros((left * 1000.0).ceil() as u64))
+        v.wait_event(self.wall_left(v, until))
+    }
+
+    fn wait_or_interrupt(
+        &mut self,
+        v: &mut V,
+        until: Time,
+        interrupt: &Interrupt,
+    ) -> Option<VehicleEvent> {
+        // In slices: a timestep at 1× is a second or more of wall time, too long to ignore a signal.
+        let deadline = Instant::now() + self.wall_left(v, until);
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            if let Some(e) = v.wait_event(left.min(INTERRUPT_POLL)) {
+                return Some(e);
+            }
+            if interrupt.requested().is_some() || Instant::now() >= deadline {
+                return None;
+            }
+        }
+    }
+}
+
+/// How often a live wait looks for an interrupt.
+const INTERRUPT_POLL: Duration = Duration::from_millis(50);
+
+impl LivePacer {
+    /// The wall time until mission time `until`.
+    fn wall_left<V: Vehicle>(&self, v: &V, until: Time) -> Duration {
+        let left =
+            (until - since(v.now_ms(), self.origin_ms)).max(1) as f64 / self.speedup.max(1e-3);
+        Duration::from_micros((left * 1000.0).ceil() as u64)
     }
 }
 

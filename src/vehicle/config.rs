@@ -10,6 +10,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::geo::Home;
+use super::safe_stop::OnShutdown;
 use super::types::GoalKind;
 
 #[derive(Debug, thiserror::Error)]
@@ -128,6 +129,10 @@ pub struct LinkConfig {
     pub tlog: Option<String>,
     #[serde(default = "d_reconnect")]
     pub reconnect_ms: u64,
+    /// The system ids of the ground stations goals are taken from (e.g. `[255]`); others are answered
+    /// MISSION_ACK DENIED with the reason. Unset: any system.
+    #[serde(default)]
+    pub goal_sysids: Option<Vec<u8>>,
 }
 
 fn d_heartbeat_timeout() -> u64 {
@@ -185,6 +190,9 @@ pub struct Modes {
     pub rtl: Mode,
     #[serde(default)]
     pub manual: Option<Mode>,
+    /// What a SIGINT / SIGTERM leaves the vehicle in: `hold` (default), `rtl` or `none` (as it is).
+    #[serde(default)]
+    pub on_shutdown: OnShutdown,
 }
 
 /// The domain's reservoirs the vehicle's battery (percent) and storage levels are reported as; a level whose
@@ -357,6 +365,14 @@ impl VehicleConfig {
         };
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
+        }
+        if let Some(ids) = &self.link.goal_sysids {
+            if ids.is_empty() || ids.contains(&0) {
+                return Err(invalid(
+                    "link.goal_sysids".into(),
+                    "system ids 1 to 255, at least one (leave the key out to take goals from any system)",
+                ));
+            }
         }
         if !(-90.0..=90.0).contains(&self.home.lat) || !(-180.0..=180.0).contains(&self.home.lon) {
             return Err(invalid(

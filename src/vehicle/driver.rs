@@ -5,15 +5,16 @@
 use std::collections::BTreeMap;
 
 use mavlink::dialects::ardupilotmega::{
-    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
 };
 use mavlink::MavHeader;
 
 use super::actions::{Ctx, End, Run};
 use super::api::VehicleError;
-use super::commands::CommandClient;
+use super::commands::{Command, CommandClient, CommandOutcome, Token};
 use super::config::VehicleConfig;
 use super::mission_client::MissionClient;
+use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome};
 use super::telemetry::Telemetry;
 use super::types::{ActionId, ActionReport, ActionStart, LinkStatus, VehicleEvent};
 
@@ -37,6 +38,9 @@ macro_rules! ctx {
 /// `MAV_COMP_ID_ONBOARD_COMPUTER`.
 pub const COMPANION_COMPONENT: u8 = 191;
 
+/// The owner of the safe stop's mode command (action ids are small; `u64::MAX` is "nobody").
+const SAFE_STOP_TOKEN: Token = u64::MAX - 1;
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Link {
     Waiting,
@@ -58,6 +62,7 @@ pub struct Driver {
     link: Link,
     last_heartbeat_rx: u64,
     last_heartbeat_tx: Option<u64>,
+    safe_stop: Option<SafeStop>,
 }
 
 /// The HEARTBEAT of the companion.
@@ -93,6 +98,7 @@ impl Driver {
             link: Link::Waiting,
             last_heartbeat_rx: 0,
             last_heartbeat_tx: None,
+            safe_stop: None,
         }
     }
 
@@ -187,6 +193,65 @@ impl Driver {
         Ok(())
     }
 
+    /// The companion is stopping: unless `modes.on_shutdown` is `none`, every running action is ended as
+    /// `END` ends it and the configured mode (HOLD or RTL) is commanded; [`Driver::safe_stop`] follows it.
+    pub fn begin_safe_stop(&mut self, now: u64) {
+        let action = self.cfg.modes.on_shutdown;
+        let mode = match action {
+            OnShutdown::None => {
+                self.safe_stop = Some(SafeStop::settled(action, SafeStopOutcome::LeftAsIs));
+                return;
+            }
+            OnShutdown::Hold => self.cfg.modes.hold,
+            OnShutdown::Rtl => self.cfg.modes.rtl,
+        };
+        let Some(target) = self.target else {
+            self.safe_stop = Some(SafeStop::settled(action, SafeStopOutcome::NoVehicle));
+            return;
+        };
+        let mut stopped = Vec::new();
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            if let Some(run) = self.runs.get(&id) {
+                stopped.push(run.task.clone());
+            }
+            self.with_run(id, now, |run, ctx| Some(run.stop(ctx)));
+        }
+        tracing::warn!(?action, ?stopped, "shutdown: vehicle to its safe mode");
+        let (p2, p3) = mode.set_mode_params();
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            target,
+            [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.cmds.send(SAFE_STOP_TOKEN, cmd, now, &mut self.out);
+        self.safe_stop = Some(SafeStop::commanding(action, mode, stopped));
+    }
+
+    /// The safe stop, once begun.
+    pub fn safe_stop(&self) -> Option<&SafeStop> {
+        self.safe_stop.as_ref()
+    }
+
+    /// How long a safe stop may wait for its confirmation: the command's retries, then two seconds for a
+    /// HEARTBEAT in the mode.
+    pub fn safe_stop_bound_ms(&self) -> u64 {
+        let link = &self.cfg.link;
+        link.command_ack_timeout_ms
+            .saturating_mul(u64::from(link.command_retries) + 1)
+            .saturating_add(2_000)
+    }
+
+    fn command_outcome(&mut self, token: Token, cmd: MavCmd, outcome: CommandOutcome, now: u64) {
+        if token == SAFE_STOP_TOKEN {
+            if let Some(s) = &mut self.safe_stop {
+                s.on_ack(outcome);
+            }
+            return;
+        }
+        self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
+    }
+
     /// A message received from the link.
     pub fn handle(&mut self, header: MavHeader, msg: &MavMessage, now: u64) {
         let (sys, comp) = (header.system_id as u8, header.component_id);
@@ -221,9 +286,12 @@ impl Driver {
         let cfg = &self.cfg;
         self.tel
             .update(msg, &cfg.home, &cfg.resources, &mut self.events);
+        if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
+            s.on_heartbeat(h.custom_mode);
+        }
         if let MavMessage::COMMAND_ACK(ack) = msg {
             if let Some((token, cmd, outcome)) = self.cmds.on_ack(ack, now) {
-                self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
+                self.command_outcome(token, cmd, outcome, now);
             }
         }
         if let Some((token, outcome)) = self.mission.handle(msg, now, &mut self.out) {
@@ -264,7 +332,7 @@ impl Driver {
             self.events.push(VehicleEvent::Link(LinkStatus::Lost));
         }
         for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
-            self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
+            self.command_outcome(token, cmd, outcome, now);
         }
         if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
             self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));

@@ -1,6 +1,8 @@
 //! Transports for `udpin:`, `udpout:`, `tcpin:`, `tcpout:` and `serial:PORT:BAUD` addresses, as byte pipes (the
 //! frame layer is ours, so the `.tlog` sees exact bytes and signing is checked in one place). A `tcpin` keeps
-//! its listener across reconnections; `udpin` answers the last sender.
+//! its listener across reconnections. Over UDP, [`Endpoint::recv_from`] / [`Endpoint::send_to`] name the
+//! sender and the receiver (the link keeps one decoder per sender, see `super::peers`); the simple
+//! [`Endpoint::recv`] / [`Endpoint::send`] of one-peer clients answer the last sender.
 
 use std::io::{self, Read, Write};
 use std::net::SocketAddr;
@@ -207,6 +209,39 @@ impl Endpoint {
                 Some(Err(e)) => Err(e),
                 None => Ok(0),
             },
+        }
+    }
+
+    /// Reads some bytes into `buf` and who sent them (UDP; `None` on a stream). `Ok((0, _))` means the
+    /// peer closed (TCP, serial).
+    pub async fn recv_from(&mut self, buf: &mut [u8]) -> io::Result<(usize, Option<SocketAddr>)> {
+        match self {
+            Endpoint::Udp { socket, .. } => loop {
+                let (n, from) = socket.recv_from(buf).await?;
+                // An empty datagram is no close: UDP has none.
+                if n > 0 {
+                    break Ok((n, Some(from)));
+                }
+            },
+            _ => Ok((self.recv(buf).await?, None)),
+        }
+    }
+
+    /// The remote a `udpout:` address names (sent to before it is heard from); `None` otherwise.
+    pub fn fixed_peer(&self) -> Option<SocketAddr> {
+        match self {
+            Endpoint::Udp { peer, .. } => *peer,
+            _ => None,
+        }
+    }
+
+    /// Sends one frame to `to` over UDP; on a stream `to` is `None` and the frame goes down the stream.
+    pub async fn send_to(&mut self, bytes: &[u8], to: Option<SocketAddr>) -> io::Result<()> {
+        match (&*self, to) {
+            (Endpoint::Udp { socket, .. }, Some(addr)) => {
+                socket.send_to(bytes, addr).await.map(|_| ())
+            }
+            _ => self.send(bytes).await,
         }
     }
 

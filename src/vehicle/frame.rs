@@ -75,7 +75,12 @@ impl FrameDecoder {
     pub fn next_frame(&mut self) -> Option<RawFrame> {
         loop {
             let data = &self.buf[self.start..];
-            let stx = data.iter().position(|&b| b == STX_V1 || b == STX_V2)?;
+            let Some(stx) = data.iter().position(|&b| b == STX_V1 || b == STX_V2) else {
+                // No frame can start in what is left: drop it (kept, garbage without a start byte grew
+                // the buffer without bound).
+                self.start = self.buf.len();
+                return None;
+            };
             self.start += stx;
             let data = &self.buf[self.start..];
             if data.len() < 2 {
@@ -263,6 +268,18 @@ mod tests {
         assert_eq!(frames[1].sequence, 1);
         assert_eq!(frames[0].parse(), Some(heartbeat()));
         assert_eq!(frames[1].parse(), Some(heartbeat()));
+    }
+
+    #[test]
+    fn garbage_without_a_start_byte_is_not_kept() {
+        let mut dec = FrameDecoder::default();
+        for _ in 0..1000 {
+            dec.push(&[0x13; 1400]);
+            assert!(dec.next_frame().is_none());
+        }
+        assert!(dec.buf.len() <= 1400, "{} bytes kept", dec.buf.len());
+        dec.push(&Encoder::new(5, 1, None).encode(&heartbeat(), false));
+        assert_eq!(dec.next_frame().and_then(|f| f.parse()), Some(heartbeat()));
     }
 
     #[test]

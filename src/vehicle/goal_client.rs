@@ -76,8 +76,21 @@ fn gcs_heartbeat() -> MavMessage {
     })
 }
 
+/// The system id a ground station uses (MAVLink's convention for a GCS).
+pub const GCS_SYSTEM_ID: u8 = 255;
+
 /// Uploads `items` to the companion at `address` and waits for the ACK and one STATUSTEXT per goal.
 pub async fn send_goals(
+    address: &str,
+    items: Vec<MissionItem>,
+    timeout: Duration,
+) -> Result<GoalSendReport, GoalSendError> {
+    send_goals_as(GCS_SYSTEM_ID, address, items, timeout).await
+}
+
+/// [`send_goals`] as the ground station of system `system_id`.
+pub async fn send_goals_as(
+    system_id: u8,
     address: &str,
     items: Vec<MissionItem>,
     timeout: Duration,
@@ -93,7 +106,7 @@ pub async fn send_goals(
     let mut transport =
         Transport::bind(Address::parse(address).map_err(GoalSendError::Address)?).await?;
     let mut ep = transport.open().await?;
-    let mut enc = Encoder::new(255, 190, None);
+    let mut enc = Encoder::new(system_id, 190, None);
     let mut dec = FrameDecoder::default();
     let mut texts = TextAssembler::default();
     let start = Instant::now();

@@ -1,6 +1,8 @@
 //! Goal intake: the companion's side of the mission protocol for items addressed to component 191. An upload
 //! becomes goal requests ([`super::goals::items_to_goals`]); once the decider has answered, MISSION_ACK and one
-//! STATUSTEXT per goal go back. The accepted list can be downloaded again (MISSION_REQUEST_LIST).
+//! STATUSTEXT per goal go back. The accepted list can be downloaded again (MISSION_REQUEST_LIST). When the
+//! configuration names the ground stations allowed to send goals (`link.goal_sysids`), uploads and clears from
+//! any other system are answered MISSION_ACK DENIED with the reason.
 
 // The legacy MISSION_ITEM / MISSION_REQUEST must still be accepted (ArduPilot sends MISSION_REQUEST).
 #![allow(deprecated)]
@@ -68,6 +70,8 @@ pub struct GoalIntake {
     pub timeout_ms: u64,
     pub retries: u32,
     text_id: u16,
+    /// The system ids goals are taken from; `None`: any.
+    allowed_systems: Option<Vec<u8>>,
 }
 
 impl GoalIntake {
@@ -81,7 +85,34 @@ impl GoalIntake {
             timeout_ms: 1500,
             retries: 5,
             text_id: 0,
+            allowed_systems: None,
         }
+    }
+
+    /// Goals taken only from these system ids (`None`: from any).
+    pub fn allowing(mut self, systems: Option<Vec<u8>>) -> Self {
+        self.allowed_systems = systems;
+        self
+    }
+
+    /// When `peer` may not send goals: DENIED and the reason, and true.
+    fn refused_sender(&mut self, peer: (u8, u8), out: &mut Vec<MavMessage>) -> bool {
+        let Some(allowed) = &self.allowed_systems else {
+            return false;
+        };
+        if allowed.contains(&peer.0) {
+            return false;
+        }
+        let list: Vec<String> = allowed.iter().map(u8::to_string).collect();
+        let text = format!(
+            "goals from system {} refused: link.goal_sysids allows {}",
+            peer.0,
+            list.join(", ")
+        );
+        tracing::warn!("{text}");
+        out.push(Self::ack(peer, MavMissionResult::MAV_MISSION_DENIED));
+        self.texts(&text, MavSeverity::MAV_SEVERITY_WARNING, out);
+        true
     }
 
     fn ack(peer: (u8, u8), result: MavMissionResult) -> MavMessage {
@@ -134,6 +165,9 @@ impl GoalIntake {
             return;
         }
         let peer = (header.system_id as u8, header.component_id);
+        if self.refused_sender(peer, out) {
+            return;
+        }
         if self.upload.as_ref().is_some_and(|u| u.peer == peer) {
             self.upload = None;
         }
@@ -158,6 +192,9 @@ impl GoalIntake {
         let for_us = |ts: u8, tc: u8| (ts == our_system || ts == 0) && tc == COMPANION_COMPONENT;
         match msg {
             MavMessage::MISSION_COUNT(c) if for_us(c.target_system, c.target_component) => {
+                if self.refused_sender(peer, out) {
+                    return None;
+                }
                 if c.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
                     out.push(Self::ack(peer, MavMissionResult::MAV_MISSION_UNSUPPORTED));
                     return None;
@@ -220,6 +257,9 @@ impl GoalIntake {
                 None
             }
             MavMessage::MISSION_CLEAR_ALL(r) if for_us(r.target_system, r.target_component) => {
+                if self.refused_sender(peer, out) {
+                    return None;
+                }
                 self.accepted.clear();
                 out.push(Self::ack(peer, MavMissionResult::MAV_MISSION_ACCEPTED));
                 None

@@ -9,16 +9,17 @@ use std::sync::{mpsc as std_mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::ardupilotmega::MavMessage;
-use mavlink::MavlinkVersion;
 use tokio::sync::{oneshot, Notify};
 
 use super::api::{Vehicle, VehicleError};
 use super::config::VehicleConfig;
 use super::driver::{companion_heartbeat, Driver, COMPANION_COMPONENT};
 use super::endpoint::{Address, Transport};
-use super::frame::{parse_key, Encoder, FrameDecoder, Signer};
+use super::frame::{parse_key, Encoder, Signer};
 use super::goals::{GoalBatch, GoalDecider, KnownLocations, SyntacticDecider};
 use super::intake::{GoalIntake, PendingDecision};
+use super::peers::Peers;
+use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
 use super::tlog::TlogWriter;
 use super::types::{ActionId, ActionStart, GoalVerdict, VehicleEvent};
 
@@ -168,11 +169,12 @@ impl Pump {
                     continue;
                 }
             };
-            let mut decoder = FrameDecoder::default();
+            // One decoder per UDP sender: garbage from one never holds back another's frames.
+            let mut peers = Peers::new(endpoint.fixed_peer());
+            let datagram = self.transport.is_datagram();
             let mut buf = vec![0u8; 65536];
             let mut ticker = tokio::time::interval(Duration::from_millis(10));
             ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
-            let mut peer_v1 = false;
             let mut out = Vec::new();
             let mut rx_handled: u64 = 0;
             let closed = loop {
@@ -183,13 +185,12 @@ impl Pump {
                     }
                 };
                 tokio::select! {
-                    r = endpoint.recv(&mut buf) => match r {
-                        Ok(0) | Err(_) => break true,
-                        Ok(n) => {
-                            decoder.push(&buf[..n]);
+                    r = endpoint.recv_from(&mut buf) => match r {
+                        Ok((0, _)) | Err(_) => break true,
+                        Ok((n, from)) => {
+                            let (frames, corrupted) = peers.decode(from, &buf[..n]);
                             let now = self.now();
-                            let crc_before = decoder.crc_errors;
-                            while let Some(frame) = decoder.next_frame() {
+                            for frame in frames {
                                 rx_handled += 1;
                                 self.record(&frame.bytes);
                                 if let Some(v) = &verifier {
@@ -200,7 +201,7 @@ impl Pump {
                                     }
                                 }
                                 self.stats.frames_in.fetch_add(1, Ordering::Relaxed);
-                                peer_v1 = frame.version == MavlinkVersion::V1;
+                                peers.heard(from, &frame);
                                 let Some(msg) = frame.parse() else {
                                     // A goal item the dialect cannot read is refused at once, not dropped
                                     // (the autopilot's items belong to our mission client).
@@ -246,8 +247,8 @@ impl Pump {
                                 }
                             }
                             // A corrupted frame was sent too: it counts as received.
-                            rx_handled += decoder.crc_errors.saturating_sub(crc_before);
-                            self.stats.crc_errors.store(decoder.crc_errors, Ordering::Relaxed);
+                            rx_handled += corrupted;
+                            self.stats.crc_errors.fetch_add(corrupted, Ordering::Relaxed);
                         }
                     },
                     _ = ticker.tick() => {
@@ -290,14 +291,31 @@ impl Pump {
                     }
                 }
                 let mut failed = false;
-                for msg in out.drain(..) {
-                    let bytes = encoder.encode(&msg, peer_v1);
-                    self.record(&bytes);
-                    if endpoint.send(&bytes).await.is_err() {
-                        failed = true;
-                        break;
+                'out: for msg in out.drain(..) {
+                    // Encoded once per MAVLink version its receivers speak.
+                    let mut encoded: [Option<Vec<u8>>; 2] = [None, None];
+                    for (to, v1) in peers.destinations(&msg, datagram) {
+                        let slot = &mut encoded[usize::from(v1)];
+                        if slot.is_none() {
+                            let bytes = encoder.encode(&msg, v1);
+                            self.record(&bytes);
+                            *slot = Some(bytes);
+                        }
+                        let Some(bytes) = slot.as_deref() else {
+                            continue;
+                        };
+                        match endpoint.send_to(bytes, to).await {
+                            Ok(()) => {
+                                self.stats.frames_out.fetch_add(1, Ordering::Relaxed);
+                            }
+                            // One UDP peer gone costs only that peer.
+                            Err(e) if datagram => tracing::debug!(?to, "udp send: {e}"),
+                            Err(_) => {
+                                failed = true;
+                                break 'out;
+                            }
+                        }
                     }
-                    self.stats.frames_out.fetch_add(1, Ordering::Relaxed);
                 }
                 if let Some(s) = &self.shared {
                     // After the replies went out: what was received is handled.
@@ -427,6 +445,7 @@ impl MavlinkVehicle {
             None => None,
         };
         let gcs_addr = gcs_transport.as_ref().and_then(|t| t.local_addr());
+        let goal_sysids = cfg.link.goal_sysids.clone();
         let epoch = Instant::now();
         let shared = Arc::new(Shared {
             driver: Mutex::new(Driver::new(cfg)),
@@ -440,7 +459,9 @@ impl MavlinkVehicle {
         let (tx, rx) = std_mpsc::channel();
         let events_tx = tx.clone();
         let stats = Arc::new(LinkStats::default());
-        let intake = Arc::new(Mutex::new(GoalIntake::new(known, opts.first_goal_number)));
+        let intake = Arc::new(Mutex::new(
+            GoalIntake::new(known, opts.first_goal_number).allowing(goal_sysids),
+        ));
         let decider = Arc::new(Mutex::new(opts.decider));
         let mut tasks = vec![tokio::spawn(
             Pump {
@@ -537,6 +558,49 @@ impl MavlinkVehicle {
     /// The adopted autopilot (system, component), once seen.
     pub fn target(&self) -> Option<(u8, u8)> {
         self.shared.driver.lock().ok().and_then(|d| d.target())
+    }
+
+    /// Leaves the vehicle safe as the configuration says (`modes.on_shutdown`): ends the running actions,
+    /// commands HOLD (or RTL) and waits, within the command's retries and two seconds more, for a HEARTBEAT
+    /// in that mode. `pass_time` runs between looks (a sleep on a live link; a step of a stepped simulator).
+    pub fn safe_stop(&self, pass_time: &mut dyn FnMut(&MavlinkVehicle)) -> SafeStopReport {
+        let bound = {
+            // A poisoned driver (a pump panicked) can command nothing.
+            let Ok(mut d) = self.shared.driver.lock() else {
+                return SafeStop::settled(OnShutdown::None, SafeStopOutcome::NoVehicle).report();
+            };
+            d.begin_safe_stop(self.shared.clock_now());
+            self.deliver(&mut d);
+            Duration::from_millis(d.safe_stop_bound_ms())
+        };
+        self.shared.notify.notify_one();
+        let deadline = Instant::now() + bound;
+        loop {
+            let state = self
+                .shared
+                .driver
+                .lock()
+                .ok()
+                .and_then(|d| d.safe_stop().cloned());
+            let Some(state) = state else {
+                return SafeStop::settled(OnShutdown::None, SafeStopOutcome::NoVehicle).report();
+            };
+            if state.outcome().is_some() || Instant::now() >= deadline {
+                return state.report();
+            }
+            pass_time(self);
+        }
+    }
+
+    /// A flush of the `.tlog` that never waits: it skips when a record is being written (for a process
+    /// about to exit at once; records reach the file whole either way).
+    pub fn tlog_flusher(&self) -> Option<Box<dyn Fn() + Send>> {
+        let tlog = self.tlog.clone()?;
+        Some(Box::new(move || {
+            if let Ok(mut t) = tlog.try_lock() {
+                let _ = t.flush();
+            }
+        }))
     }
 
     /// Writes buffered `.tlog` records to disk.

@@ -5,7 +5,9 @@
 //! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
 //! - `intake`, `goals`, `goal_files`: goal lists from a ground station or a file;
 //! - `config_check`: a configuration checked against its domain, the executive's mapping resolved;
-//! - `endpoint`, `link`: tokio transports and the tasks that pump bytes through the core.
+//! - `safe_stop`: the vehicle left safe when the companion is stopped by a signal;
+//! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
+//!   that pump bytes through the core.
 
 pub mod actions;
 pub mod api;
@@ -25,6 +27,8 @@ pub mod items;
 pub mod link;
 pub mod mission_client;
 pub mod mock;
+pub mod peers;
+pub mod safe_stop;
 pub mod telemetry;
 pub mod tlog;
 pub mod types;
