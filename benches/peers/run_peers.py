@@ -4,7 +4,7 @@ mavtempo's own figures (`mavtempo bench suite --json`, same seeds) beside them.
 
 For every DIR/<domain>/n<N>_s<SEED>.pddl and every planner: unified-planning's PDDLReader reads the domain
 and problem, the planner gets the time limit (each run in a child process that is killed past it, as not
-every engine keeps its limit), and a returned plan is validated by unified-planning's plan validator. A
+every engine keeps its limit: 5 s past it), and a returned plan is validated by unified-planning's plan validator. A
 problem counts as solved when a plan came back within the limit and the validator did not reject it.
 
 Output: one JSON object per (domain, size, seed, planner) in --out, and a Markdown table per domain on
@@ -12,12 +12,12 @@ standard output (solved out of the seeds and median time of the solved ones, per
 
 Usage: run_peers.py --problems DIR [--mavtempo FILE] [--planners lpg,tamer,...] [--time-limit 10]
                     [--out peers.jsonl]
+       run_peers.py --report --out peers.jsonl      (the table again, from the saved results)
 """
 
 import argparse
 import json
 import multiprocessing as mp
-import os
 import re
 import statistics
 import sys
@@ -233,7 +233,8 @@ def table(rows, planners, limit):
     for dom in sorted({r["domain"] for r in rows}):
         sizes = sorted({r["size"] for r in rows if r["domain"] == dom})
         cols = [p for p in planners if any(r["planner"] == p and r["domain"] == dom for r in rows)]
-        out.append(f"**{dom}** (solved / problems, median time of the solved; limit {limit:g} s)\n")
+        out.append(f"**{dom}** (solved / problems (median time of the solved), plans the validator rejected; "
+                   f"limit {limit:g} s)\n")
         out.append("| n | " + " | ".join(cols) + " |")
         out.append("|---|" + "---|" * len(cols))
         for n in sizes:
@@ -242,7 +243,9 @@ def table(rows, planners, limit):
                 rs = [r for r in rows if r["domain"] == dom and r["size"] == n and r["planner"] == p]
                 ok = [r["ms"] for r in rs if r["solved"]]
                 med = statistics.median(ok) if ok else None
-                cells.append(f"{len(ok)}/{len(rs)} ({fmt_ms(med)})")
+                rejected = sum(1 for r in rs if r["valid"] is False)
+                cells.append(f"{len(ok)}/{len(rs)} ({fmt_ms(med)})"
+                             + (f", {rejected} rejected" if rejected else ""))
             out.append(f"| {n} | " + " | ".join(cells) + " |")
         out.append("")
     return "\n".join(out)
@@ -268,13 +271,25 @@ def mavtempo_rows(path, wanted):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--problems", required=True, help="DIR given to `mavtempo bench suite --write DIR --pddl`")
+    ap.add_argument("--problems", help="DIR given to `mavtempo bench suite --write DIR --pddl`")
     ap.add_argument("--mavtempo", help="`mavtempo bench suite --json` output on the same seeds")
     ap.add_argument("--planners", default=",".join(PLANNERS))
     ap.add_argument("--time-limit", type=float, default=10.0)
     ap.add_argument("--out", default="peers.jsonl")
+    ap.add_argument("--report", action="store_true",
+                    help="only print the table of the results already in --out")
     args = ap.parse_args()
 
+    if args.report:
+        with open(args.out) as f:
+            rows = [json.loads(line) for line in f if line.strip()]
+        order = ["mavtempo"] + [p for p in args.planners.split(",") if p]
+        order += sorted({r["planner"] for r in rows} - set(order))
+        print(table(rows, order, args.time_limit))
+        return
+
+    if not args.problems:
+        sys.exit("--problems DIR is needed (or --report)")
     files = problem_files(args.problems)
     if not files:
         sys.exit(f"no DIR/<domain>/n<N>_s<SEED>.pddl under {args.problems}")

@@ -220,3 +220,417 @@ fn shopping(p: &mut String, m: &ShoppingMission) {
 fn goal(p: &mut String, goals: &[String]) {
     let _ = writeln!(p, "  (:goal (and {}))", goals.join(" "));
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::{HashMap, HashSet};
+    use std::path::Path;
+
+    use super::*;
+    use crate::planner::suite::generate::{draw, problem as native_problem};
+
+    /// An s-expression, lower-cased as PDDL is case-insensitive.
+    #[derive(Debug)]
+    enum Sx {
+        Atom(String),
+        List(Vec<Sx>),
+    }
+
+    impl Sx {
+        fn atom(&self) -> Option<&str> {
+            match self {
+                Sx::Atom(a) => Some(a),
+                Sx::List(_) => None,
+            }
+        }
+        fn list(&self) -> &[Sx] {
+            match self {
+                Sx::List(l) => l,
+                Sx::Atom(_) => &[],
+            }
+        }
+        fn head(&self) -> Option<&str> {
+            self.list().first().and_then(Sx::atom)
+        }
+    }
+
+    /// The top-level forms of `text` (`;` comments dropped); Err on unbalanced parentheses.
+    fn parse(text: &str) -> Result<Vec<Sx>, String> {
+        let mut stack: Vec<Vec<Sx>> = vec![Vec::new()];
+        for line in text.lines() {
+            let code = line.split(';').next().unwrap_or("");
+            let spaced = code.replace('(', " ( ").replace(')', " ) ");
+            for tok in spaced.split_whitespace() {
+                match tok {
+                    "(" => stack.push(Vec::new()),
+                    ")" => {
+                        let done = stack.pop().ok_or("unbalanced")?;
+                        stack
+                            .last_mut()
+                            .ok_or("`)` without `(`")?
+                            .push(Sx::List(done));
+                    }
+                    t => stack
+                        .last_mut()
+                        .ok_or("unbalanced")?
+                        .push(Sx::Atom(t.to_lowercase())),
+                }
+            }
+            if stack.is_empty() {
+                return Err("`)` without `(`".into());
+            }
+        }
+        match stack.len() {
+            1 => stack.pop().ok_or_else(|| "empty".into()),
+            k => Err(format!("{} `(` not closed", k - 1)),
+        }
+    }
+
+    /// Names of a typed list `a b - t c - u` (the types left out).
+    fn typed_names(l: &[Sx]) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut skip = false;
+        for s in l {
+            match s.atom() {
+                Some("-") => skip = true,
+                Some(_) if skip => skip = false,
+                Some(a) => out.push(a.to_string()),
+                None => {}
+            }
+        }
+        out
+    }
+
+    struct PddlDomain {
+        predicates: HashMap<String, usize>,
+        functions: HashMap<String, usize>,
+        constants: HashSet<String>,
+        /// (name, parameters)
+        actions: Vec<(String, Vec<String>)>,
+    }
+
+    const OPERATORS: &[&str] = &[
+        "and", "not", "at", "over", ">=", "<=", ">", "<", "=", "+", "-", "*", "/", "increase",
+        "decrease", "assign",
+    ];
+
+    /// Every atom or term application under `e` whose head is no operator, as (head, args).
+    fn applications<'a>(e: &'a Sx, out: &mut Vec<(&'a str, Vec<&'a str>)>) {
+        let l = e.list();
+        let Some(h) = e.head() else { return };
+        if OPERATORS.contains(&h) {
+            for s in &l[1..] {
+                applications(s, out);
+            }
+        } else if h != "start" && h != "end" && h != "all" {
+            out.push((h, l[1..].iter().filter_map(Sx::atom).collect()));
+        }
+    }
+
+    fn read_domain(text: &str) -> Result<PddlDomain, String> {
+        let forms = parse(text)?;
+        let [def] = forms.as_slice() else {
+            return Err(format!("{} top-level forms", forms.len()));
+        };
+        if def.head() != Some("define") {
+            return Err("not a define".into());
+        }
+        let mut d = PddlDomain {
+            predicates: HashMap::new(),
+            functions: HashMap::new(),
+            constants: HashSet::new(),
+            actions: Vec::new(),
+        };
+        for s in def.list() {
+            match s.head() {
+                Some(":predicates") | Some(":functions") => {
+                    for p in &s.list()[1..] {
+                        let name = p.head().ok_or("unnamed predicate")?.to_string();
+                        let arity = typed_names(&p.list()[1..]).len();
+                        if s.head() == Some(":predicates") {
+                            d.predicates.insert(name, arity);
+                        } else {
+                            d.functions.insert(name, arity);
+                        }
+                    }
+                }
+                Some(":constants") => d.constants.extend(typed_names(&s.list()[1..])),
+                Some(":durative-action") => {
+                    let l = s.list();
+                    let name = l.get(1).and_then(Sx::atom).ok_or("unnamed action")?;
+                    let mut params = Vec::new();
+                    for w in l.windows(2) {
+                        match w[0].atom() {
+                            Some(":parameters") => params = typed_names(w[1].list()),
+                            Some(":condition") | Some(":effect") | Some(":duration") => {
+                                let mut apps = Vec::new();
+                                applications(&w[1], &mut apps);
+                                for (h, args) in apps {
+                                    let declared = d.predicates.get(h).or(d.functions.get(h));
+                                    if declared != Some(&args.len()) {
+                                        return Err(format!(
+                                            "{name}: {h}/{} not declared with that arity",
+                                            args.len()
+                                        ));
+                                    }
+                                    for a in args {
+                                        let known = params.iter().any(|p| p == a)
+                                            || d.constants.contains(a)
+                                            || a == "?duration"
+                                            || a.parse::<f64>().is_ok();
+                                        if !known {
+                                            return Err(format!("{name}: {h} uses unknown {a}"));
+                                        }
+                                    }
+                                }
+                            }
+                            _ => {}
+                        }
+                    }
+                    d.actions.push((name.to_string(), params));
+                }
+                _ => {}
+            }
+        }
+        Ok(d)
+    }
+
+    /// Checks that a problem names its domain and uses only declared predicates, functions and objects,
+    /// with the declared arities; returns the number of goal atoms.
+    fn check_problem(d: &PddlDomain, domain_name: &str, text: &str) -> Result<usize, String> {
+        let forms = parse(text)?;
+        let [def] = forms.as_slice() else {
+            return Err(format!("{} top-level forms", forms.len()));
+        };
+        let mut objects: HashSet<String> = d.constants.clone();
+        let mut facts = Vec::new();
+        let mut goals = 0;
+        for s in def.list() {
+            match s.head() {
+                Some(":domain") => {
+                    if s.list().get(1).and_then(Sx::atom) != Some(domain_name) {
+                        return Err("another domain".into());
+                    }
+                }
+                Some(":objects") => objects.extend(typed_names(&s.list()[1..])),
+                Some(":init") => {
+                    for f in &s.list()[1..] {
+                        // A timed initial literal: (at TIME LITERAL), TIME a number.
+                        let time = (f.head() == Some("at"))
+                            .then(|| f.list().get(1).and_then(Sx::atom))
+                            .flatten();
+                        if let Some(t) = time {
+                            let t: f64 = t.parse().map_err(|_| format!("TIL time {t}"))?;
+                            if t <= 0.0 {
+                                return Err(format!("TIL at {t}"));
+                            }
+                        }
+                        applications(f, &mut facts);
+                    }
+                }
+                Some(":goal") => {
+                    let mut g = Vec::new();
+                    applications(&s.list()[1], &mut g);
+                    goals = g.len();
+                    facts.extend(g);
+                }
+                _ => {}
+            }
+        }
+        for (h, args) in facts {
+            // The number in `(at 224 (visible w1))` is no application: its head is `at`, an operator.
+            let declared = d.predicates.get(h).or(d.functions.get(h));
+            if declared != Some(&args.len()) {
+                return Err(format!("{h}/{} not declared with that arity", args.len()));
+            }
+            if let Some(a) = args
+                .iter()
+                .find(|a| !objects.contains(**a) && a.parse::<f64>().is_err())
+            {
+                return Err(format!("({h} …) uses undeclared object {a}"));
+            }
+        }
+        Ok(goals)
+    }
+
+    const DOMAINS: [SuiteDomain; 3] = [SuiteDomain::Rover, SuiteDomain::Auv, SuiteDomain::Shopping];
+
+    #[test]
+    fn the_parser_here_catches_what_it_is_meant_to() {
+        assert!(parse("(a (b)").is_err());
+        assert!(parse("(a))").is_err());
+        let d = read_domain(domain(SuiteDomain::Auv)).expect("auv domain");
+        let ok = "(define (problem p) (:domain auv) (:objects surface - location) (:init (auv-at surface)) (:goal (and (auv-at surface))))";
+        assert_eq!(check_problem(&d, "auv", ok), Ok(1));
+        for bad in [
+            ok.replace("(:init (auv-at surface))", "(:init (auv-at vent9))"),
+            ok.replace(
+                "(:init (auv-at surface))",
+                "(:init (auv-at surface surface))",
+            ),
+            ok.replace("(:init (auv-at surface))", "(:init (flies surface))"),
+            ok.replace("(:domain auv)", "(:domain rover)"),
+            ok.replace(
+                "(:init (auv-at surface))",
+                "(:init (at 0 (auv-at surface)))",
+            ),
+        ] {
+            assert!(check_problem(&d, "auv", &bad).is_err(), "{bad}");
+        }
+        let broken =
+            domain(SuiteDomain::Auv).replace("(at end (sampled ?l))", "(at end (sampled ?x))");
+        assert!(read_domain(&broken).is_err());
+    }
+
+    #[test]
+    fn each_domain_has_the_tasks_of_its_native_domain_and_declares_what_its_actions_use() {
+        for dom in DOMAINS {
+            let d = read_domain(domain(dom)).unwrap_or_else(|e| panic!("{}: {e}", dom.name()));
+            let path = format!("domains/{0}/{0}.ixt", dom.name());
+            let native = crate::lang::load_domain(Path::new(&path)).expect("shipped domain");
+            let names: Vec<&str> = d.actions.iter().map(|a| a.0.as_str()).collect();
+            for t in &native.tasks {
+                assert!(
+                    names.contains(&t.name.as_str()),
+                    "{}: no action {}",
+                    dom.name(),
+                    t.name
+                );
+                let a = d.actions.iter().find(|a| a.0 == t.name);
+                assert_eq!(
+                    a.map(|a| a.1.len()),
+                    Some(t.n_params),
+                    "{} parameters",
+                    t.name
+                );
+            }
+            assert_eq!(
+                names.len(),
+                native.tasks.len(),
+                "{}: no extra action",
+                dom.name()
+            );
+        }
+    }
+
+    #[test]
+    fn every_problem_is_well_formed_on_its_domain() {
+        for dom in DOMAINS {
+            let d = read_domain(domain(dom)).expect("domain");
+            for &n in dom.sizes() {
+                for seed in [0, 1000, 1009] {
+                    let m = draw(dom, n, seed);
+                    let text = problem(&m);
+                    let goals = check_problem(&d, dom.name(), &text).unwrap_or_else(|e| {
+                        panic!("{} n={n} seed={seed}: {e}\n{text}", dom.name())
+                    });
+                    // One goal per target / vent / item, the rover's communications, and the way home.
+                    let expected = match &m {
+                        Mission::Rover(r) => n + r.comms.len(),
+                        Mission::Auv(_) | Mission::Shopping(_) => n + 1,
+                    };
+                    assert_eq!(goals, expected, "{} n={n} seed={seed}", dom.name());
+                    assert_eq!(file_name(&m), format!("n{n}_s{seed}.pddl"));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn native_texts_are_those_of_before_the_split() {
+        // Written by the generator before it drew into structs (the same as `bench suite --write`).
+        for (dom, n, golden) in [
+            (
+                SuiteDomain::Rover,
+                6,
+                include_str!("golden/rover6_1000.ixt"),
+            ),
+            (SuiteDomain::Auv, 4, include_str!("golden/auv4_1000.ixt")),
+            (
+                SuiteDomain::Shopping,
+                4,
+                include_str!("golden/shopping4_1000.ixt"),
+            ),
+        ] {
+            assert_eq!(native_problem(dom, n, 1000), golden, "{}", dom.name());
+            assert_eq!(
+                crate::planner::suite::native::render(&draw(dom, n, 1000)),
+                golden
+            );
+        }
+    }
+
+    /// `VISIBLE() = W1 at 224s;` → (1, 224).
+    fn native_windows(text: &str) -> Vec<(String, String)> {
+        text.lines()
+            .filter_map(|l| l.trim().strip_prefix("VISIBLE() = W"))
+            .filter_map(|l| l.split_once(" at "))
+            .map(|(w, t)| (w.to_string(), t.trim_end_matches("s;").to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn rover_pddl_and_native_text_say_the_same_mission() {
+        for n in [4, 8, 12] {
+            for seed in 1000..1010 {
+                let m = draw(SuiteDomain::Rover, n, seed);
+                let (native, pddl) = (crate::planner::suite::native::render(&m), problem(&m));
+                for (w, t) in native_windows(&native) {
+                    assert!(
+                        pddl.contains(&format!("(at {t} (visible w{w}))")),
+                        "n={n} seed={seed}"
+                    );
+                }
+                let Mission::Rover(r) = &m else {
+                    panic!("a rover mission")
+                };
+                assert!(native.contains(&format!("BATTERY: level {},", r.battery)));
+                assert!(pddl.contains(&format!("(= (battery) {})", r.battery)));
+                assert!(pddl.contains(&format!("(at {} (not (before-horizon)))", r.horizon_s)));
+                assert!(native.contains(&format!("horizon {}s;", r.horizon_s)));
+                for (i, g) in r.pictures.iter().enumerate() {
+                    let til = format!("(not (before-deadline-picture t{i})))");
+                    let line = native
+                        .lines()
+                        .find(|l| l.starts_with(&format!("goal picture_t{i} ")))
+                        .unwrap_or_default();
+                    match g.deadline_s {
+                        Some(d) => {
+                            assert!(pddl.contains(&format!("(at {d} {til}")));
+                            assert!(line.contains(&format!("st in [0, {d}s]")));
+                        }
+                        None => {
+                            assert!(!pddl.contains(&til));
+                            assert!(!line.contains("st in"));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn travel_times_are_the_slowest_moves_rounded_up() {
+        let m = draw(SuiteDomain::Rover, 4, 1000);
+        let Mission::Rover(r) = &m else {
+            panic!("a rover mission")
+        };
+        let (e, nn) = r.targets[0];
+        let dist = e.hypot(nn);
+        let text = problem(&m);
+        let line = text
+            .lines()
+            .find(|l| l.contains("(path base t0)"))
+            .unwrap_or_default();
+        let secs: f64 = line
+            .split("(travel-time base t0) ")
+            .nth(1)
+            .and_then(|s| s.split(')').next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(f64::NAN);
+        assert!(
+            secs >= dist / 0.3 && secs < dist / 0.3 + 1e-3,
+            "{secs} for {dist} m"
+        );
+    }
+}
