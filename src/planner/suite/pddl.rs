@@ -1,6 +1,6 @@
 //! The suite's missions ([`super::generate`]) as PDDL 2.1 problems with PDDL 2.2's timed initial literals,
-//! on the hand translations of the shipped domains (domains/<d>/<d>.pddl), so that established planners run
-//! on the very problems `mavtempo bench suite` plans (`--write DIR --pddl`; benches/peers/).
+//! on the hand translations of the shipped domains (domains/<d>/pddl/<d>.pddl), so that established
+//! planners run on the very problems `mavtempo bench suite` plans (`--write DIR --pddl`; benches/peers/).
 //!
 //! PDDL needs fixed numbers where the domain language keeps intervals. The translation takes the worst case
 //! for the plan, so a PDDL plan's timing and levels hold whatever the native model lets execution draw:
@@ -22,9 +22,9 @@ use super::generate::{AuvMission, Mission, RoverMission, ShoppingMission, SuiteD
 /// The PDDL domain of `d`.
 pub fn domain(d: SuiteDomain) -> &'static str {
     match d {
-        SuiteDomain::Rover => include_str!("../../../domains/rover/rover.pddl"),
-        SuiteDomain::Auv => include_str!("../../../domains/auv/auv.pddl"),
-        SuiteDomain::Shopping => include_str!("../../../domains/shopping/shopping.pddl"),
+        SuiteDomain::Rover => include_str!("../../../domains/rover/pddl/rover.pddl"),
+        SuiteDomain::Auv => include_str!("../../../domains/auv/pddl/auv.pddl"),
+        SuiteDomain::Shopping => include_str!("../../../domains/shopping/pddl/shopping.pddl"),
     }
 }
 
@@ -407,10 +407,8 @@ mod tests {
         let mut goals = 0;
         for s in def.list() {
             match s.head() {
-                Some(":domain") => {
-                    if s.list().get(1).and_then(Sx::atom) != Some(domain_name) {
-                        return Err("another domain".into());
-                    }
+                Some(":domain") if s.list().get(1).and_then(Sx::atom) != Some(domain_name) => {
+                    return Err("another domain".into());
                 }
                 Some(":objects") => objects.extend(typed_names(&s.list()[1..])),
                 Some(":init") => {
