@@ -31,6 +31,9 @@ pub struct BenchArgs {
     /// `suite`: write each generated problem to DIR/<domain>/<name>.ixt (for other planners).
     #[arg(long)]
     pub write: Option<std::path::PathBuf>,
+    /// `suite`, with --write: also in PDDL, DIR/<domain>/domain.pddl and DIR/<domain>/n<N>_s<SEED>.pddl.
+    #[arg(long, requires = "write")]
+    pub pddl: bool,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]

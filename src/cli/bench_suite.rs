@@ -4,7 +4,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use super::bench::BenchArgs;
-use crate::planner::suite::{self, generate::SuiteDomain, SuiteOptions, SuiteRun};
+use crate::planner::suite::generate::{Mission, SuiteDomain};
+use crate::planner::suite::{self, pddl, SuiteOptions, SuiteRun};
 
 pub fn run(args: &BenchArgs) -> ExitCode {
     let domain = match args.domain.as_deref() {
@@ -30,12 +31,23 @@ pub fn run(args: &BenchArgs) -> ExitCode {
     };
     let json = args.json;
     let mut write_error: Option<String> = None;
-    let mut each = |r: &SuiteRun, text: &str| {
+    let mut each = |r: &SuiteRun, mission: &Mission, text: &str| {
         if let Some(dir) = &args.write {
             let d = dir.join(r.domain.name());
-            let file = d.join(format!("{}{}_{}.ixt", r.domain.name(), r.size, r.seed));
-            if let Err(e) = std::fs::create_dir_all(&d).and_then(|()| std::fs::write(&file, text)) {
-                write_error.get_or_insert(format!("{}: {e}", file.display()));
+            let mut files = vec![(
+                d.join(format!("{}{}_{}.ixt", r.domain.name(), r.size, r.seed)),
+                text.to_string(),
+            )];
+            if args.pddl {
+                files.push((d.join("domain.pddl"), pddl::domain(r.domain).to_string()));
+                files.push((d.join(pddl::file_name(mission)), pddl::problem(mission)));
+            }
+            for (file, body) in files {
+                if let Err(e) =
+                    std::fs::create_dir_all(&d).and_then(|()| std::fs::write(&file, body))
+                {
+                    write_error.get_or_insert(format!("{}: {e}", file.display()));
+                }
             }
         }
         if json {

@@ -1,5 +1,6 @@
 //! Random planning problems of a given size on the shipped domains, for `mavtempo bench suite`: nobody
-//! tuned the planner on them. Everything is drawn from the seed.
+//! tuned the planner on them. Everything is drawn from the seed into a plain mission struct, which
+//! [`super::native`] writes in the domain language and [`super::pddl`] in PDDL, so both say the same problem.
 //!
 //! - rover (domains/rover/rover.ixt): `n` picture targets within 60 m of the base; 3 storage slots, so the
 //!   pictures need downloads in two or three visibility windows; a battery that is full or needs about one
@@ -8,8 +9,6 @@
 //!   at the end.
 //! - shopping (domains/shopping/shopping.ixt): `n` items sold at places of a random connected town, some
 //!   wanted before a time; home at the end of the day.
-
-use std::fmt::Write;
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -42,13 +41,126 @@ impl SuiteDomain {
     }
 }
 
-/// The problem text of size `n` and `seed` on `domain`.
+/// One generated problem, before it is written in any language.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Mission {
+    Rover(RoverMission),
+    Auv(AuvMission),
+    Shopping(ShoppingMission),
+}
+
+impl Mission {
+    pub fn domain(&self) -> SuiteDomain {
+        match self {
+            Mission::Rover(_) => SuiteDomain::Rover,
+            Mission::Auv(_) => SuiteDomain::Auv,
+            Mission::Shopping(_) => SuiteDomain::Shopping,
+        }
+    }
+
+    /// (size, seed) it was drawn for.
+    pub fn size_seed(&self) -> (usize, u64) {
+        match self {
+            Mission::Rover(m) => (m.size, m.seed),
+            Mission::Auv(m) => (m.size, m.seed),
+            Mission::Shopping(m) => (m.size, m.seed),
+        }
+    }
+}
+
+/// A rover mission: targets `t0 … t{n-1}` (east, north metres from the base at the origin).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoverMission {
+    pub size: usize,
+    pub seed: u64,
+    pub horizon_s: f64,
+    pub targets: Vec<(f64, f64)>,
+    /// In time order; they never overlap.
+    pub windows: Vec<VisibilityWindow>,
+    /// Initial battery level, percent (capacity 100).
+    pub battery: f64,
+    /// One per target, in target order.
+    pub pictures: Vec<PictureGoal>,
+    pub comms: Vec<CommGoal>,
+}
+
+/// A ground-station pass: `VISIBLE() = W{station}` over `[start_s, end_s)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VisibilityWindow {
+    /// 1 or 2: the domain names two stations, a third pass is station 1 again.
+    pub station: u8,
+    pub start_s: f64,
+    pub end_s: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PictureGoal {
+    pub priority: u32,
+    /// The picture is to be stored by then.
+    pub deadline_s: Option<f64>,
+}
+
+/// `COMMUNICATED(W{station})` by `deadline_s` (the end of that station's first pass).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommGoal {
+    pub station: u8,
+    pub deadline_s: f64,
+}
+
+/// An AUV mission: vents `vent0 …` (east, north, up metres from the surface point), all connected.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AuvMission {
+    pub size: usize,
+    pub seed: u64,
+    pub horizon_s: f64,
+    pub vents: Vec<(f64, f64, f64)>,
+    /// Of each vent's sampling goal.
+    pub priorities: Vec<u32>,
+}
+
+/// A shopping day from 08:00 to 20:00: places `home` (0) and `shop1 …`, items `item0 …`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShoppingMission {
+    pub size: usize,
+    pub seed: u64,
+    pub places: usize,
+    /// Two-way roads between place indices (smaller first).
+    pub roads: Vec<(usize, usize)>,
+    /// The place index selling each item.
+    pub sold_at: Vec<usize>,
+    /// One per item.
+    pub wants: Vec<ShoppingGoal>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShoppingGoal {
+    pub priority: u32,
+    /// Wanted before this hour of the day (11 … 17).
+    pub by_hour: Option<u32>,
+}
+
+impl ShoppingMission {
+    pub fn place_name(i: usize) -> String {
+        if i == 0 {
+            "home".to_string()
+        } else {
+            format!("shop{i}")
+        }
+    }
+}
+
+/// The problem text of size `n` and `seed` on `domain`, in the domain language.
 pub fn problem(domain: SuiteDomain, n: usize, seed: u64) -> String {
+    super::native::render(&draw(domain, n, seed))
+}
+
+/// The mission of size `n` and `seed` on `domain`.
+pub fn draw(domain: SuiteDomain, n: usize, seed: u64) -> Mission {
     let mut rng = <ChaCha8Rng as rand::SeedableRng>::seed_from_u64(seed ^ ((n as u64) << 32));
     match domain {
-        SuiteDomain::Rover => rover(n, seed, &mut rng),
-        SuiteDomain::Auv => auv(n, seed, &mut rng),
-        SuiteDomain::Shopping => shopping(n, seed, &mut rng),
+        SuiteDomain::Rover => Mission::Rover(rover(n, seed, &mut rng)),
+        SuiteDomain::Auv => Mission::Auv(auv(n, seed, &mut rng)),
+        SuiteDomain::Shopping => Mission::Shopping(shopping(n, seed, &mut rng)),
     }
 }
 
@@ -59,30 +171,28 @@ fn point(rng: &mut ChaCha8Rng, r: f64) -> (f64, f64) {
     ((a.cos() * d).round(), (a.sin() * d).round())
 }
 
-fn rover(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> String {
+// The draws below keep the order in which the problem texts used to be written, so a seed gives the same
+// problem as before the split into drawing and rendering.
+
+fn rover(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> RoverMission {
     let targets: Vec<(f64, f64)> = (0..n).map(|_| point(rng, 60.0)).collect();
     // A tour at the domain's slowest speed (0.3 m/s), pictures and downloads, with slack.
     let tour: f64 = targets.iter().map(|t| t.0.hypot(t.1)).sum::<f64>() * 1.2;
     let horizon_s = ((tour / 0.3 + 120.0 * n as f64 + 600.0) / 60.0).ceil() * 60.0;
     // Windows spread over the mission: enough of them for n pictures with 3 slots.
-    let windows = (n.div_ceil(2)).clamp(2, 3);
-    let span = horizon_s / windows as f64;
-    let mut p = rover_opening(
-        &format!("`mavtempo bench suite` (rover, n = {n}, seed {seed})"),
-        &format!("rover{n}_{seed}"),
-        horizon_s,
-        &targets,
-    );
-    let mut opened = Vec::new();
-    for w in 0..windows {
-        let start = (span * w as f64 + rng.gen_range(0.2..0.5) * span).round();
-        let end = (start + rng.gen_range(0.3..0.45) * span).round();
-        // The domain names two windows (W1, W2): a third pass is W1's ground station again.
-        let _ = writeln!(p, "    VISIBLE() = W{} at {start}s;", w % 2 + 1);
-        let _ = writeln!(p, "    VISIBLE() = NONE at {end}s;");
-        opened.push(end);
-    }
-    let _ = writeln!(p, "}}\n");
+    let count = (n.div_ceil(2)).clamp(2, 3);
+    let span = horizon_s / count as f64;
+    let windows: Vec<VisibilityWindow> = (0..count)
+        .map(|w| {
+            let start_s = (span * w as f64 + rng.gen_range(0.2..0.5) * span).round();
+            let end_s = (start_s + rng.gen_range(0.3..0.45) * span).round();
+            VisibilityWindow {
+                station: (w % 2 + 1) as u8,
+                start_s,
+                end_s,
+            }
+        })
+        .collect();
     // Moves cost 0.5 % per metre: full, or about one recharge short of the tour.
     let battery = if rng.gen_bool(0.5) {
         100.0
@@ -91,61 +201,42 @@ fn rover(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> String {
             .clamp(20.0, 100.0)
             .round()
     };
-    let _ = writeln!(p, "resource STORAGE: level 3, capacity 3;");
-    let _ = writeln!(p, "resource BATTERY: level {battery}, capacity 100;\n");
-    for i in 0..n {
-        let prio = rng.gen_range(1..=3);
-        let _ = write!(
-            p,
-            "goal picture_t{i} priority {prio} {{ hold(PICTURE(t{i}): true, (st, et));"
-        );
-        if rng.gen_bool(0.3) {
-            let deadline = (horizon_s * rng.gen_range(0.5..0.9)).round();
-            let _ = write!(p, " st in [0, {deadline}s];");
-        }
-        let _ = writeln!(p, " }}");
+    let pictures = (0..n)
+        .map(|_| {
+            let priority = rng.gen_range(1..=3);
+            let deadline_s = rng
+                .gen_bool(0.3)
+                .then(|| (horizon_s * rng.gen_range(0.5..0.9)).round());
+            PictureGoal {
+                priority,
+                deadline_s,
+            }
+        })
+        .collect();
+    // At most one goal per station, due by the end of its first pass.
+    let comms = windows
+        .iter()
+        .take(2)
+        .filter_map(|w| {
+            rng.gen_bool(0.3).then_some(CommGoal {
+                station: w.station,
+                deadline_s: w.end_s,
+            })
+        })
+        .collect();
+    RoverMission {
+        size: n,
+        seed,
+        horizon_s,
+        targets,
+        windows,
+        battery,
+        pictures,
+        comms,
     }
-    for (w, end) in opened.iter().enumerate().take(2) {
-        if rng.gen_bool(0.3) {
-            let _ = writeln!(
-                p,
-                "goal comm_w{0} priority 2 {{ hold(COMMUNICATED(W{0}): true, (st, et)); st in [0, {end}s]; }}",
-                w + 1
-            );
-        }
-    }
-    p
 }
 
-/// The opening of a rover problem on domains/rover/rover.ixt: header, horizon, the base and the targets
-/// (east, north metres) as locations, and the `initial` block's fixed part (the robot still at the base,
-/// PTU forward, modules initialised, no picture, no window open); the caller adds the windows and closes it.
-pub fn rover_opening(by: &str, name: &str, horizon_s: f64, targets: &[(f64, f64)]) -> String {
-    let mut p = String::new();
-    let _ = writeln!(p, "// Generated by {by}.");
-    let _ = writeln!(p, "problem {name};\ndomain rover;\n");
-    let _ = writeln!(p, "horizon {horizon_s}s;\n");
-    let _ = writeln!(p, "object base: location at (0, 0);");
-    for (i, (e, nn)) in targets.iter().enumerate() {
-        let _ = writeln!(p, "object t{i}: location at ({e}, {nn});");
-    }
-    let _ = writeln!(p, "\ninitial {{");
-    for line in [
-        "AT_ROBOT() = base;",
-        "ROBOT_STATUS() = STILL;",
-        "PTU_POS() = FORWARD;",
-        "MVT_INIT() = T;",
-        "PTU_INIT() = T;",
-        "PICTURE(*) = false;",
-        "COMMUNICATED(*) = false;",
-        "VISIBLE() = NONE;",
-    ] {
-        let _ = writeln!(p, "    {line}");
-    }
-    p
-}
-
-fn auv(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> String {
+fn auv(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> AuvMission {
     let vents: Vec<(f64, f64, f64)> = (0..n)
         .map(|_| {
             let (e, nn) = point(rng, 500.0);
@@ -158,65 +249,16 @@ fn auv(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> String {
         .sum::<f64>();
     let horizon_s = ((legs + 1500.0 * n as f64) * 1.5 / 60.0).ceil() * 60.0;
     let priorities: Vec<u32> = (0..n).map(|_| rng.gen_range(1..=3)).collect();
-    auv_problem(
-        &format!("`mavtempo bench suite` (auv, n = {n}, seed {seed})"),
-        &format!("auv{n}_{seed}"),
-        &vents,
+    AuvMission {
+        size: n,
+        seed,
         horizon_s,
-        &priorities,
-    )
+        vents,
+        priorities,
+    }
 }
 
-/// An AUV problem on domains/auv/auv.ixt: `vents` (east, north, up metres) all connected to each other and
-/// to the surface, each to be sampled with its priority, back at the surface at `horizon_s`.
-pub fn auv_problem(
-    by: &str,
-    name: &str,
-    vents: &[(f64, f64, f64)],
-    horizon_s: f64,
-    priorities: &[u32],
-) -> String {
-    let mut p = String::new();
-    let _ = writeln!(p, "// Generated by {by}.");
-    let _ = writeln!(p, "problem {name};\ndomain auv;\n");
-    let _ = writeln!(p, "horizon {horizon_s}s;\n");
-    let _ = writeln!(p, "object surface: location at (0, 0, 0);");
-    for (i, v) in vents.iter().enumerate() {
-        let _ = writeln!(
-            p,
-            "object vent{i}: location at ({}, {}, {});",
-            v.0, v.1, v.2
-        );
-    }
-    let _ = writeln!(
-        p,
-        "\ninitial {{\n    AUV_AT() = surface;\n    CONNECTED(*, *) = false;"
-    );
-    let names: Vec<String> = std::iter::once("surface".to_string())
-        .chain((0..vents.len()).map(|i| format!("vent{i}")))
-        .collect();
-    for a in &names {
-        for b in &names {
-            if a != b {
-                let _ = writeln!(p, "    CONNECTED({a}, {b}) = true;");
-            }
-        }
-    }
-    let _ = writeln!(p, "    SURVEYED(*) = false;\n    SAMPLED(*) = false;\n}}\n");
-    for (i, prio) in priorities.iter().enumerate() {
-        let _ = writeln!(
-            p,
-            "goal sample_vent{i} external priority {prio} {{ hold(SAMPLED(vent{i}): true, (st, et)); }}"
-        );
-    }
-    let _ = writeln!(
-        p,
-        "goal at_surface internal priority 1 {{ hold(AUV_AT(): surface, (st, et)); st in [{horizon_s}s, {horizon_s}s]; }}"
-    );
-    p
-}
-
-fn shopping(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> String {
+fn shopping(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> ShoppingMission {
     // A town of n/2 + 2 places: a random tree (each place joined to an earlier one), plus one shortcut.
     let places = n / 2 + 2;
     let mut roads: Vec<(usize, usize)> = (1..places).map(|i| (rng.gen_range(0..i), i)).collect();
@@ -224,53 +266,20 @@ fn shopping(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> String {
     if a != b && !roads.contains(&(a.min(b), a.max(b))) {
         roads.push((a.min(b), a.max(b)));
     }
-    let mut p = String::new();
-    let _ = writeln!(
-        p,
-        "// Generated by `mavtempo bench suite` (shopping, n = {n}, seed {seed})."
-    );
-    let _ = writeln!(p, "problem shop{n}_{seed};\ndomain shopping;\n");
-    let _ = writeln!(p, "start 08:00;\nhorizon 20:00;\n");
-    let names: Vec<String> = (0..places)
-        .map(|i| {
-            if i == 0 {
-                "home".to_string()
-            } else {
-                format!("shop{i}")
-            }
+    let sold_at = (0..n).map(|_| rng.gen_range(1..places)).collect();
+    let wants = (0..n)
+        .map(|_| {
+            let priority = rng.gen_range(1..=3);
+            let by_hour = rng.gen_bool(0.3).then(|| rng.gen_range(11..=17));
+            ShoppingGoal { priority, by_hour }
         })
         .collect();
-    let _ = writeln!(p, "object {}: place;", names.join(", "));
-    let items: Vec<String> = (0..n).map(|i| format!("item{i}")).collect();
-    let _ = writeln!(p, "object {}: item;\n", items.join(", "));
-    let _ = writeln!(
-        p,
-        "initial {{\n    AT() = home;\n    CONNECTED(*, *) = false;\n    SELLS(*, *) = false;\n    HAVE(*) = false;"
-    );
-    for &(a, b) in &roads {
-        let _ = writeln!(p, "    CONNECTED({}, {}) = true;", names[a], names[b]);
-        let _ = writeln!(p, "    CONNECTED({}, {}) = true;", names[b], names[a]);
+    ShoppingMission {
+        size: n,
+        seed,
+        places,
+        roads,
+        sold_at,
+        wants,
     }
-    for it in &items {
-        let shop = rng.gen_range(1..places);
-        let _ = writeln!(p, "    SELLS({}, {it}) = true;", names[shop]);
-    }
-    let _ = writeln!(p, "}}\n");
-    for it in &items {
-        let prio = rng.gen_range(1..=3);
-        let _ = write!(
-            p,
-            "goal have_{it} external priority {prio} {{ hold(HAVE({it}): true, (st, et));"
-        );
-        if rng.gen_bool(0.3) {
-            let h = rng.gen_range(11..=17);
-            let _ = write!(p, " st in [08:00, {h}:00];");
-        }
-        let _ = writeln!(p, " }}");
-    }
-    let _ = writeln!(
-        p,
-        "goal at_home internal priority 1 {{ hold(AT(): home, (st, et)); st in [20:00, 20:00]; }}"
-    );
-    p
 }

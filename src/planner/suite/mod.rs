@@ -1,14 +1,17 @@
 //! `mavtempo bench suite`: random problems of growing size on the shipped domains ([`generate`]), each
 //! planned within a time limit and its plan checked by the independent checker; solved share and times per
-//! size. `--write DIR` keeps the problems so that other planners can be run on the same ones.
+//! size. `--write DIR` keeps the problems so that other planners can be run on the same ones (`--pddl`: in
+//! PDDL too, [`pddl`]).
 
 pub mod generate;
+pub mod native;
+pub mod pddl;
 
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use generate::SuiteDomain;
+use generate::{Mission, SuiteDomain};
 
 use super::{solve, Budget};
 use crate::lang::{load_domain, parse_problem};
@@ -58,11 +61,11 @@ pub struct SuiteOptions {
     pub max_size: Option<usize>,
 }
 
-/// Runs the suite; `each` sees every problem's outcome as it comes (with its text).
+/// Runs the suite; `each` sees every problem's outcome as it comes (with its mission and native text).
 pub fn run(
     domains: &Path,
     opts: &SuiteOptions,
-    each: &mut dyn FnMut(&SuiteRun, &str),
+    each: &mut dyn FnMut(&SuiteRun, &Mission, &str),
 ) -> Result<Vec<SuiteSize>, SuiteError> {
     let mut sizes = Vec::new();
     for dom in [SuiteDomain::Rover, SuiteDomain::Auv, SuiteDomain::Shopping] {
@@ -78,13 +81,14 @@ pub fn run(
             let mut times = Vec::new();
             let mut solved = 0;
             for seed in opts.first_seed..opts.first_seed + opts.seeds {
-                let text = generate::problem(dom, n, seed);
+                let mission = generate::draw(dom, n, seed);
+                let text = native::render(&mission);
                 let r = one(&d, dom, n, seed, &text, opts.time_limit);
                 if r.solved {
                     solved += 1;
                     times.push(r.ms);
                 }
-                each(&r, &text);
+                each(&r, &mission, &text);
             }
             times.sort_by(f64::total_cmp);
             sizes.push(SuiteSize {
