@@ -1,6 +1,7 @@
 //! Goal intake: the companion's side of the mission protocol for items addressed to component 191. An upload
 //! becomes goal requests ([`super::goals::items_to_goals`]); once the decider has answered, MISSION_ACK and one
-//! STATUSTEXT per goal go back. The accepted list can be downloaded again (MISSION_REQUEST_LIST).
+//! STATUSTEXT per goal go back (a goal still being inserted into the plan then gets its final STATUSTEXT
+//! later, [`GoalIntake::verdict`]). The accepted list can be downloaded again (MISSION_REQUEST_LIST).
 
 // The legacy MISSION_ITEM / MISSION_REQUEST must still be accepted (ArduPilot sends MISSION_REQUEST).
 #![allow(deprecated)]
@@ -307,13 +308,24 @@ impl GoalIntake {
                     ))),
             )
         {
-            let severity = match v {
-                GoalVerdict::Accepted => MavSeverity::MAV_SEVERITY_INFO,
-                GoalVerdict::Rejected(_) => MavSeverity::MAV_SEVERITY_WARNING,
-            };
-            self.texts(&verdict_text(g, v), severity, out);
+            self.verdict(g, v, out);
         }
         self.accepted = pending.items;
+    }
+
+    /// The STATUSTEXT of one goal's verdict: in the answer, or later for a goal that was still being
+    /// inserted into the plan when the upload was answered.
+    pub fn verdict(
+        &mut self,
+        goal: &GoalRequest,
+        verdict: &GoalVerdict,
+        out: &mut Vec<MavMessage>,
+    ) {
+        let severity = match verdict {
+            GoalVerdict::Accepted | GoalVerdict::Inserting => MavSeverity::MAV_SEVERITY_INFO,
+            GoalVerdict::Rejected(_) => MavSeverity::MAV_SEVERITY_WARNING,
+        };
+        self.texts(&verdict_text(goal, verdict), severity, out);
     }
 
     /// Re-requests on timeout; cancels the upload after the retries.
