@@ -261,7 +261,7 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
     Ok((spec, scenario_name))
 }
 
-pub(super) fn exec_config() -> ExecConfig {
+pub fn exec_config() -> ExecConfig {
     ExecConfig {
         // Seed 1 §4: ts = 1.3 s; μ = 0.6. Budgets in planning steps keep the run deterministic.
         timestep_ms: 1_300,

@@ -17,14 +17,19 @@ use super::goals::{items_to_goals, verdict_text, KnownLocations};
 use super::items::MissionItem;
 use super::types::{GoalRequest, GoalVerdict};
 
-/// STATUSTEXT(s) for `text`: chunks of 50 bytes sharing a non-zero id when longer than one message.
+/// STATUSTEXT(s) for `text`: chunks of 50 bytes sharing a non-zero id when longer than one message. A
+/// receiver knows a chunked text is complete when a chunk holds a NUL (is shorter than 50 bytes): a text
+/// whose length is a multiple of 50 gets an empty last chunk.
 pub fn statustext(text: &str, severity: MavSeverity, id: u16) -> Vec<MavMessage> {
     let bytes = text.as_bytes();
-    let chunks: Vec<&[u8]> = if bytes.is_empty() {
+    let mut chunks: Vec<&[u8]> = if bytes.is_empty() {
         vec![&[][..]]
     } else {
         bytes.chunks(50).collect()
     };
+    if chunks.len() > 1 && bytes.len() % 50 == 0 {
+        chunks.push(&[][..]);
+    }
     let single = chunks.len() == 1;
     chunks
         .iter()
