@@ -173,4 +173,15 @@ mod tests {
             Err(ConfigError::StepCap("replan_max_steps"))
         );
     }
+
+    #[test]
+    fn goal_insertion_cycles_default_to_3_and_must_be_positive() {
+        let cfg: ExecConfig = toml::from_str("").expect("parses");
+        assert_eq!(cfg.goal_insertion_cycles, 3);
+        let cfg: ExecConfig = toml::from_str("goal_insertion_cycles = 0").expect("parses");
+        assert_eq!(
+            cfg.validate(),
+            Err(ConfigError::Positive("goal_insertion_cycles"))
+        );
+    }
 }

@@ -27,7 +27,7 @@ pub fn statustext(text: &str, severity: MavSeverity, id: u16) -> Vec<MavMessage>
     } else {
         bytes.chunks(50).collect()
     };
-    if chunks.len() > 1 && bytes.len() % 50 == 0 {
+    if chunks.len() > 1 && bytes.len().is_multiple_of(50) {
         chunks.push(&[][..]);
     }
     let single = chunks.len() == 1;
