@@ -298,10 +298,15 @@ fn goal_requests_accepted_and_rejected_through_the_vehicle() {
     let _ = run(&mut ex, &mut v, 2_000);
     let fates = ex.goal_fates();
     assert!(
-        fates.iter().any(|f| f.name == "g6"),
+        fates
+            .iter()
+            .any(|f| f.name == "g6" && f.fate != mavtempo::exec::executive::Fate::Rejected),
         "g6 accepted into the plan: {fates:?}"
     );
-    assert!(!fates.iter().any(|f| f.name == "g7"));
+    // g7 never entered the plan: its fate says why.
+    assert!(fates.iter().any(|f| f.name == "g7"
+        && f.fate == mavtempo::exec::executive::Fate::Rejected
+        && !f.reason.is_empty()));
     assert!(events(&ex).iter().any(|(_, e)| matches!(e,
         TraceEvent::GoalRejected { goal, .. } if goal == "g7")));
     // g6 is an open condition: plan repair was started.

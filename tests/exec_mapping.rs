@@ -58,17 +58,27 @@ fn request(name: &str, kind: GoalKind, place: &str, new: bool, at: Enu) -> GoalR
     }
 }
 
-/// Uploads `goals` at time 0 and returns the executive's verdicts.
+/// Uploads `goals` at time 0 and returns the executive's verdicts, as a cycle gives them: after the
+/// repair part, which had the goals' insertion attempts (one per cycle here; each goal gets its own).
 fn upload(ex: &mut Executive, goals: Vec<GoalRequest>) -> Vec<GoalVerdict> {
+    let n = goals.len();
     let (batch, mut rx) = GoalBatch::new(goals);
     ex.integrate(VehicleEvent::Goals(batch), 0);
+    for _ in 0..n.max(1) {
+        ex.repair_phase(0, &|| 0);
+    }
+    ex.answer_goal_batches();
     rx.try_recv().expect("answered")
 }
 
 /// The last goal of the plan's problem as `ATTR(args) = value` text.
 fn last_goal(ex: &Executive) -> String {
+    goal_text(ex, ex.plan.problem.goals.last().expect("a goal"))
+}
+
+/// A goal as `ATTR(args) = value` text.
+fn goal_text(ex: &Executive, g: &mavtempo::model::Goal) -> String {
     let p = &ex.plan.problem;
-    let g = p.goals.last().expect("a goal");
     let args: Vec<&str> = g.args.iter().map(|&o| p.object_name(o)).collect();
     let value = match g.value {
         Value::Obj(o) => p.object_name(o).to_string(),
@@ -113,12 +123,17 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
     assert_eq!(last_goal(&ex), "SAMPLED(vent1) = true");
     // A place no object is at becomes a new location object, named after the goal.
-    let verdicts = upload(
-        &mut ex,
-        vec![request("g4", GoalKind::SurveyOf, "g4_loc", true, spot)],
-    );
-    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
-    assert_eq!(last_goal(&ex), "SURVEYED(g4_loc) = true");
+    let g4 = request("g4", GoalKind::SurveyOf, "g4_loc", true, spot);
+    let mapped = ex.goal_from_request(&g4).expect("mapped");
+    assert_eq!(goal_text(&ex, &mapped), "SURVEYED(g4_loc) = true");
+    // No route leads to the new place (CONNECTED is static): its insertion fails and it is rejected
+    // with the planner's reason, the plan kept as it was.
+    let goals_before = ex.plan.problem.goals.len();
+    match upload(&mut ex, vec![g4]).as_slice() {
+        [GoalVerdict::Rejected(r)] => assert!(r.contains("plan repair found no plan"), "{r}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(ex.plan.problem.goals.len(), goals_before);
     let o = ex.plan.problem.object_id("g4_loc").expect("new object");
     let location = ex.plan.domain.type_id("location");
     assert_eq!(ex.plan.problem.object(o).map(|o| o.ty), location);

@@ -264,3 +264,33 @@ fn a_frozen_clock_cannot_run_an_attempt_unbounded() {
     assert_eq!(end, AttemptEnd::StepCap);
     assert_eq!(search.steps(), 7);
 }
+
+/// Each attempt of a complete replanning has one goal fewer and half the steps of the one before (never
+/// under a sixteenth of the first): the whole replanning is bounded, whatever the number of goals.
+#[test]
+fn replanning_attempts_halve_their_step_cap() {
+    use mavtempo::exec::replan::attempt_cap;
+    let caps: Vec<u64> = (1..=8).map(|k| attempt_cap(100_000, k)).collect();
+    assert_eq!(
+        caps,
+        [100_000, 50_000, 25_000, 12_500, 6_250, 6_250, 6_250, 6_250]
+    );
+    // Six goals dropped one by one: within 2.1 times the first attempt's cap.
+    let total: u64 = (1..=7).map(|k| attempt_cap(100_000, k)).sum();
+    assert!(total <= 210_000, "{total}");
+    assert_eq!(attempt_cap(1, 9), 1);
+    assert_eq!(attempt_cap(100_000, usize::MAX), 6_250);
+}
+
+/// Among goals of the same priority and flexibility, the newest is abandoned first.
+#[test]
+fn equal_goals_the_newest_is_abandoned_first() {
+    let ex = fig2();
+    let mut plan = ex.plan.clone();
+    // g4 and g5 differ only by d_achiev; make g5 like g4: then the newer, g5, goes first.
+    let mut p = (*plan.problem).clone();
+    p.goals[4].achieve = p.goals[3].achieve;
+    plan.set_problem(Arc::new(p));
+    plan.remove_goal(GoalId::from_index(1));
+    assert_eq!(goal_to_reject(&plan), Some(GoalId::from_index(4)));
+}

@@ -245,3 +245,24 @@ fn an_item_with_an_unknown_command_is_refused_at_once() {
     i.unparsable_item(GCS, 73, &foreign, SYS, &mut out);
     assert!(out.is_empty());
 }
+
+/// A chunked STATUSTEXT is complete at its first chunk shorter than 50 bytes: a text of exactly 100 bytes
+/// (a goal's final verdict can be) ends with an empty chunk, or the ground station would wait for more.
+#[test]
+fn a_text_whose_length_is_a_multiple_of_50_ends_with_an_empty_chunk() {
+    use mavtempo::vehicle::goal_client::TextAssembler;
+    use mavtempo::vehicle::intake::statustext;
+    for len in [49, 50, 51, 100, 149, 150] {
+        let text: String = "x".repeat(len);
+        let msgs = statustext(&text, MavSeverity::MAV_SEVERITY_INFO, 7);
+        let mut asm = TextAssembler::default();
+        let got: Vec<String> = msgs
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::STATUSTEXT(s) => asm.push(s.id, &s.text[..]),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(got, vec![text], "{len} bytes");
+    }
+}

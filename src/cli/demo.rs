@@ -64,6 +64,12 @@ pub struct DemoArgs {
     /// Do not upload g6 and g7 during the download (only the built-in Fig. 2 story uploads them).
     #[arg(long)]
     pub no_upload: bool,
+    /// A ground station also uploads the goals of this `.plan`/`.waypoints` file, at `--upload-at`.
+    #[arg(long)]
+    pub upload: Option<PathBuf>,
+    /// When the `--upload` file is uploaded: seconds of mission time.
+    #[arg(long, default_value_t = 100.0)]
+    pub upload_at: f64,
     /// Print only the summary, not the per-cycle trace.
     #[arg(long)]
     pub quiet: bool,
@@ -90,6 +96,10 @@ pub fn run(args: DemoArgs) -> ExitCode {
         vehicle: args.vehicle,
         speedup: args.speedup,
         upload: !args.no_upload,
+        timed_upload: args.upload.clone().map(|file| TimedUpload {
+            at_ms: (args.upload_at * 1000.0).round() as crate::model::Time,
+            items: UploadItems::File(file),
+        }),
         max_steps: args.max_steps,
         dispatch: args.dispatch.dispatch,
         interrupt: interrupt.clone(),
@@ -112,7 +122,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
     );
     match result {
         Ok(run) => {
-            if let Some(u) = &run.upload {
+            for u in run.upload.iter().chain(&run.timed_upload) {
                 println!("{u}");
             }
             print_summary(&run.report);
@@ -153,6 +163,8 @@ pub struct DemoSetup {
     pub speedup: Option<f64>,
     /// The ground station uploads g6 and g7 when the download starts.
     pub upload: bool,
+    /// Goals a ground station uploads at a given mission time.
+    pub timed_upload: Option<TimedUpload>,
     /// Planning steps for the initial plan.
     pub max_steps: u64,
     pub dispatch: PolicyKind,
@@ -171,9 +183,39 @@ impl Default for DemoSetup {
             vehicle: sitl::VehicleKind::Rover,
             speedup: None,
             upload: true,
+            timed_upload: None,
             max_steps: 200_000,
             dispatch: PolicyKind::default(),
             interrupt: Interrupt::default(),
+        }
+    }
+}
+
+/// An upload at a given mission time (`--upload FILE --upload-at S`).
+#[derive(Clone, Debug)]
+pub struct TimedUpload {
+    /// Mission time, ms: uploaded at the first cycle at or after it.
+    pub at_ms: crate::model::Time,
+    pub items: UploadItems,
+}
+
+/// What a [`TimedUpload`] sends.
+#[derive(Clone, Debug)]
+pub enum UploadItems {
+    /// A `.plan` or `.waypoints` file.
+    File(PathBuf),
+    /// Picture goals (priority 1, start window [0, 30 min], d_achiev 60 s) at these (east, north) metres
+    /// from the session's home.
+    PicturesAt(Vec<(f64, f64)>),
+}
+
+impl UploadItems {
+    fn items(&self, home: crate::vehicle::geo::Home) -> Result<Vec<MissionItem>, String> {
+        match self {
+            UploadItems::File(p) => crate::vehicle::goal_files::load(p)
+                .map(|f| f.items)
+                .map_err(|e| e.to_string()),
+            UploadItems::PicturesAt(places) => Ok(picture_items(home, places)),
         }
     }
 }
@@ -183,6 +225,8 @@ pub struct DemoRun {
     pub report: MissionReport,
     /// The ground station's account of its upload, if it uploaded.
     pub upload: Option<String>,
+    /// The same for the timed upload.
+    pub timed_upload: Option<String>,
 }
 
 fn read(path: &Path) -> Result<String, String> {
@@ -235,7 +279,7 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
     Ok((spec, scenario_name))
 }
 
-pub(super) fn exec_config() -> ExecConfig {
+pub fn exec_config() -> ExecConfig {
     ExecConfig {
         // Seed 1 §4: ts = 1.3 s; μ = 0.6. Budgets in planning steps keep the run deterministic.
         timestep_ms: 1_300,
@@ -275,7 +319,25 @@ pub fn run_demo(
     ex.level_tolerance = LEVEL_TOLERANCE;
     // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
     let gate = Arc::new(StepGate::default());
-    let mut upload: Option<tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>> = None;
+    let timed_items = match &setup.timed_upload {
+        Some(t) => Some((t.at_ms, t.items.items(home)?)),
+        None => None,
+    };
+    let start_upload = |items: Vec<MissionItem>| {
+        let addr = format!("tcpout:{gcs}");
+        gate.expect_goal_batch();
+        let gate = gate.clone();
+        rt.spawn(async move {
+            let r = send_goals(&addr, items, Duration::from_secs(60)).await;
+            if r.is_err() {
+                // Failed before or after the batch reached the executive: the pacer stops waiting.
+                gate.cancel_goal_batch();
+            }
+            r
+        })
+    };
+    let mut upload: Option<UploadTask> = None;
+    let mut timed: Option<UploadTask> = None;
     let mut on_cycle = |_: &Executive, c: &CycleRecord| {
         observe(c);
         let download = c.events.iter().any(
@@ -284,18 +346,18 @@ pub fn run_demo(
         // The Fig. 2 story's e3/e4: only on the built-in problem.
         if download && upload.is_none() && setup.upload && setup.problem.is_none() {
             say("             ground station: uploading g6, g7 (pictures of new targets)");
-            let items = new_goal_items(home);
-            let addr = format!("tcpout:{gcs}");
-            gate.expect_goal_batch();
-            let gate = gate.clone();
-            upload = Some(rt.spawn(async move {
-                let r = send_goals(&addr, items, Duration::from_secs(60)).await;
-                if r.is_err() {
-                    // Failed before or after the batch reached the executive: the pacer stops waiting.
-                    gate.cancel_goal_batch();
-                }
-                r
-            }));
+            upload = Some(start_upload(picture_items(home, &NEW_GOALS)));
+        }
+        if let Some((at, items)) = timed_items.as_ref().filter(|(at, _)| c.time_ms >= *at) {
+            if timed.is_none() {
+                say(&format!(
+                    "             ground station: uploading {} items at {:.1} s (due at {:.1} s)",
+                    items.len(),
+                    c.time_ms as f64 / 1000.0,
+                    *at as f64 / 1000.0
+                ));
+                timed = Some(start_upload(items.clone()));
+            }
         }
     };
     let opts = MissionOptions {
@@ -345,23 +407,40 @@ pub fn run_demo(
                 .safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))),
         });
     }
-    if let (Some(h), true) = (&upload, interrupted) {
-        h.abort();
+    if interrupted {
+        for h in upload.iter().chain(&timed) {
+            h.abort();
+        }
     }
-    let upload = upload.map(|h| match rt.block_on(h) {
-        Err(e) if e.is_cancelled() => {
+    let upload = upload.map(|h| upload_account(rt, h));
+    let timed_upload = timed.map(|h| upload_account(rt, h));
+    drop(session);
+    Ok(DemoRun {
+        report,
+        upload,
+        timed_upload,
+    })
+}
+
+type UploadTask = tokio::task::JoinHandle<Result<GoalSendReport, GoalSendError>>;
+
+/// The ground station's account of its upload: the MISSION_ACK outcome and the goals' verdicts.
+fn upload_account(rt: &tokio::runtime::Runtime, h: UploadTask) -> String {
+    // The verdicts all came before the mission ended (it waits for every insertion); the bound is for a
+    // ground station that lost its link.
+    match rt.block_on(async { tokio::time::timeout(Duration::from_secs(30), h).await }) {
+        Ok(Err(e)) if e.is_cancelled() => {
             "ground station: upload abandoned (mission interrupted)".into()
         }
-        Ok(Ok(r)) => format!(
+        Ok(Ok(Ok(r))) => format!(
             "ground station: upload {}; {}",
             r.failure.as_deref().unwrap_or("accepted"),
             r.texts.join("; ")
         ),
-        Ok(Err(e)) => format!("ground station: upload failed: {e}"),
-        Err(e) => format!("ground station: upload task: {e}"),
-    });
-    drop(session);
-    Ok(DemoRun { report, upload })
+        Ok(Ok(Err(e))) => format!("ground station: upload failed: {e}"),
+        Ok(Err(e)) => format!("ground station: upload task: {e}"),
+        Err(_) => "ground station: no answer within 30 s".into(),
+    }
 }
 
 fn problem_horizon(p: &Problem) -> crate::model::Time {
@@ -369,10 +448,11 @@ fn problem_horizon(p: &Problem) -> crate::model::Time {
     p.horizon + 60_000
 }
 
-/// g6, g7: goal attributes (priority 1, start window [0, 30 min], d_achiev 60 s) then a picture item.
-fn new_goal_items(home: crate::vehicle::geo::Home) -> Vec<MissionItem> {
+/// Picture goals at (east, north) metres from home, each a goal-attributes item (priority 1, start window
+/// [0, 30 min], d_achiev 60 s) then a picture item: g6, g7 of the story.
+pub fn picture_items(home: crate::vehicle::geo::Home, places: &[(f64, f64)]) -> Vec<MissionItem> {
     let mut items = Vec::new();
-    for (east, north) in NEW_GOALS {
+    for &(east, north) in places {
         items.push(MissionItem {
             command: GOAL_ATTRIBUTES_CMD,
             frame: 2,

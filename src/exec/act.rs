@@ -125,7 +125,7 @@ impl Executive {
             if !executed {
                 break;
             }
-            self.changed = true;
+            self.mark_changed();
         }
         for a in postponed {
             if !self.plan.stn.is_executed(self.plan.action(a).start) {

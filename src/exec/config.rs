@@ -31,10 +31,16 @@ pub struct ExecConfig {
     /// would otherwise go on for the rest of the mission.
     #[serde(default = "default_repair_episode_steps")]
     pub repair_episode_max_steps: u64,
-    /// Hard cap on the planning steps of one complete replanning attempt (§3.6), for the same reason: past
-    /// it the attempt ends as if the time limit l were reached.
+    /// Hard cap on the planning steps of the first complete replanning attempt (§3.6), for the same reason:
+    /// past it the attempt ends as if the time limit l were reached. Each further attempt (one goal fewer)
+    /// gets half the steps of the one before, down to a sixteenth: a whole replanning stays within about
+    /// twice this (plus a sixteenth per further goal dropped), and so does its memory.
     #[serde(default = "default_replan_steps")]
     pub replan_max_steps: u64,
+    /// Cycles of plan repair (μ·ts, or μ·n steps, each) a new goal's insertion into the plan may take; past
+    /// them the goal is rejected and the plan stays as it was (src/exec/goal_insertion.rs).
+    #[serde(default = "default_insertion_cycles")]
+    pub goal_insertion_cycles: u32,
     /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
     #[serde(default)]
     pub dispatch: PolicyKind,
@@ -56,6 +62,9 @@ fn default_mu() -> f64 {
 }
 fn default_slack() -> Time {
     2_000
+}
+fn default_insertion_cycles() -> u32 {
+    3
 }
 fn default_same_failures() -> u32 {
     3
@@ -85,6 +94,7 @@ impl Default for ExecConfig {
             repair_cycle_max_steps: default_repair_cycle_steps(),
             repair_episode_max_steps: default_repair_episode_steps(),
             replan_max_steps: default_replan_steps(),
+            goal_insertion_cycles: default_insertion_cycles(),
             dispatch: PolicyKind::default(),
             same_failure_limit: default_same_failures(),
             max_plan_changes_per_min: default_changes_per_min(),
@@ -120,6 +130,9 @@ impl ExecConfig {
         }
         if self.same_failure_limit == 0 {
             return Err(ConfigError::Positive("same_failure_limit"));
+        }
+        if self.goal_insertion_cycles == 0 {
+            return Err(ConfigError::Positive("goal_insertion_cycles"));
         }
         if self.max_plan_changes_per_min == 0 {
             return Err(ConfigError::Positive("max_plan_changes_per_min"));
@@ -158,6 +171,17 @@ mod tests {
         assert_eq!(
             cfg.validate(),
             Err(ConfigError::StepCap("replan_max_steps"))
+        );
+    }
+
+    #[test]
+    fn goal_insertion_cycles_default_to_3_and_must_be_positive() {
+        let cfg: ExecConfig = toml::from_str("").expect("parses");
+        assert_eq!(cfg.goal_insertion_cycles, 3);
+        let cfg: ExecConfig = toml::from_str("goal_insertion_cycles = 0").expect("parses");
+        assert_eq!(
+            cfg.validate(),
+            Err(ConfigError::Positive("goal_insertion_cycles"))
         );
     }
 }

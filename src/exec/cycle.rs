@@ -47,6 +47,8 @@ impl Executive {
                 _ => {}
             }
         }
+        // Uploads are answered once this cycle's insertion attempt had its share (its verdict, or "to follow").
+        self.answer_goal_batches();
         let t2 = Instant::now();
         let next = if self.abort.is_none() {
             self.act(vehicle, now)
@@ -79,7 +81,8 @@ impl Executive {
             return CycleOutcome::Aborted(reason);
         }
         let busy = self.plan.live_actions().next().is_some();
-        let pending = self.fates.values().any(|f| f.fate == Fate::Pending);
+        let pending =
+            self.fates.values().any(|f| f.fate == Fate::Pending) || !self.insertions.is_empty();
         if !busy && !pending {
             return CycleOutcome::Finished;
         }

@@ -2,7 +2,7 @@
 //! [`super::cycle`], message integration in [`super::sense`], the act part in [`super::act`], plan repair in
 //! [`super::repair`] and complete replanning in [`super::replan`].
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 
 use serde::Serialize;
 
@@ -10,11 +10,13 @@ use super::abstraction::Hierarchy;
 use super::config::ExecConfig;
 use super::dispatch_policy::PlanDispatch;
 use super::failures::FailureMemory;
+use super::goal_insertion::Insertion;
 use super::p_t::State;
 use super::repair::Repair;
 use super::trace::{CycleRecord, TraceEvent};
 use crate::model::{GoalId, ResourceId, Time};
 use crate::plan::{ActionId, PartialPlan};
+use crate::vehicle::goals::GoalBatch;
 use crate::vehicle::{ActionStart, Arg, Enu};
 
 /// The fate of a goal at the end of a run.
@@ -39,6 +41,8 @@ pub struct GoalFate {
 pub struct Counters {
     pub repairs: u64,
     pub repair_steps: u64,
+    /// The part of `repair_steps` spent inserting new goals (src/exec/goal_insertion.rs).
+    pub insertion_steps: u64,
     pub replans: u64,
     pub launches: u64,
 }
@@ -86,6 +90,16 @@ pub struct Executive {
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
     pub mapping: super::mapping::DomainMapping,
+    /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
+    pub insertions: VecDeque<Insertion>,
+    /// Uploads not answered yet, or with goals still being inserted, by number.
+    pub goal_batches: BTreeMap<u64, GoalBatch>,
+    pub next_batch: u64,
+    /// Requested goals that never entered the plan (mapping, acceptance test or insertion failed), in the
+    /// order they were refused.
+    pub refused: Vec<GoalFate>,
+    /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
+    pub insertion_stale: bool,
 }
 
 impl Executive {
@@ -138,6 +152,11 @@ impl Executive {
             failures,
             repair_episode_steps: 0,
             mapping: super::mapping::DomainMapping::default(),
+            insertions: VecDeque::new(),
+            goal_batches: BTreeMap::new(),
+            next_batch: 0,
+            refused: Vec::new(),
+            insertion_stale: false,
         }
     }
 
@@ -210,9 +229,27 @@ impl Executive {
         self.plan.domain.resource_id(name)
     }
 
-    /// Goal fates in the order of the problem.
+    /// Goal fates in the order of the problem, then the goals refused before they entered the plan, then
+    /// those whose insertion is still in progress (pending).
     pub fn goal_fates(&self) -> Vec<GoalFate> {
-        self.fates.values().cloned().collect()
+        let inserting = self.insertions.iter().map(|i| GoalFate {
+            name: i.goal.name.clone(),
+            fate: Fate::Pending,
+            reason: "insertion into the plan in progress".into(),
+        });
+        self.fates
+            .values()
+            .cloned()
+            .chain(self.refused.iter().cloned())
+            .chain(inserting)
+            .collect()
+    }
+
+    /// Something changed in *ExecutingPlan* (a message integrated, a timepoint executed): the repair tree
+    /// and the insertion in progress start again from it (§3.2).
+    pub fn mark_changed(&mut self) {
+        self.changed = true;
+        self.insertion_stale = true;
     }
 
     pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: &str) {

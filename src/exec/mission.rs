@@ -298,7 +298,12 @@ fn replan<V: Vehicle>(
         }
         ReplanResult::NoGoals(plan) => {
             ex.adopt(plan);
-            Err(MissionEnd::NoGoals)
+            // A new goal waiting for its insertion attempt still gets it, on the plan left.
+            if ex.insertions.is_empty() {
+                Err(MissionEnd::NoGoals)
+            } else {
+                Ok(())
+            }
         }
         ReplanResult::Error(e) => Err(MissionEnd::Error(e)),
     }

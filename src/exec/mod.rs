@@ -9,6 +9,7 @@
 //! | §3.3 report timing: in bounds / too late / too early | [`report_timing`] |
 //! | §3.3 resource level: over-consumption / over-production | [`resource_report`] |
 //! | §3.3 goal request acceptance test | [`goal_request`] |
+//! | (not in the papers) a new goal's bounded insertion attempt beside the plan: rejected first, plan kept | [`goal_insertion`] |
 //! | §3.3 capacity alteration | [`capacity`] |
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
@@ -40,6 +41,7 @@ pub mod dispatch_policy;
 pub mod executable;
 pub mod executive;
 pub mod failures;
+pub mod goal_insertion;
 pub mod goal_request;
 pub mod instantiate;
 pub mod interrupt;

@@ -59,26 +59,52 @@ fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Incon
 }
 
 impl Executive {
+    /// The root of a repair tree: *ExecutingPlan* with its timepoints not executed yet no earlier than
+    /// `now + 1`, and new timepoints after the end of this cycle (§3.4).
+    pub fn repair_root(&self, now: Time) -> Result<PartialPlan, String> {
+        let mut root = self.plan.clone();
+        not_before(&mut root, now + 1)
+            .map_err(|e| format!("plan not executable at {now} ms: {e}"))?;
+        root.set_time_floor(TimeFloor::At(self.cycle_end(now)));
+        Ok(root)
+    }
+
+    /// This cycle's repair budget: μ·n steps with deterministic budgets, else until μ·ts of mission time on
+    /// `clock`; never more than the hard cap of steps per cycle.
+    pub fn cycle_budget(&self, clock: &dyn Fn() -> Time) -> (u64, Option<Time>) {
+        let cap = self.cfg.repair_cycle_max_steps;
+        match self.cfg.repair_max_steps {
+            Some(n) => (
+                (((n as f64) * self.cfg.repair_share).ceil() as u64).min(cap),
+                None,
+            ),
+            None => (
+                cap,
+                Some(clock().saturating_add(self.cfg.repair_budget_ms().max(0))),
+            ),
+        }
+    }
+
     /// The plan repair part of a cycle at `now`; `clock` is the executive's clock (mission time, ms since
     /// the plan's origin), read to stop at `μ·ts` after the phase starts.
     pub fn repair_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
         let running = classify(&self.plan, now).running;
         if self.repair.is_none() && !self.repair_requested && self.plan.flaws().is_empty() {
-            return RepairOutcome::Idle;
+            // Nothing to repair: the cycle's repair share goes to a new goal's insertion, if any.
+            return self.insertion_phase(now, clock);
         }
         self.repair_requested = false;
         // `changed` covers everything since the tree was last developed, the previous cycle's act part
         // included (a timepoint it executed is not in the tree's nodes).
         let changed = std::mem::take(&mut self.changed);
         if self.repair.is_none() || changed {
-            // A new tree rooted at ExecutingPlan; new timepoints after the end of this cycle.
-            let mut root = self.plan.clone();
-            if let Err(e) = not_before(&mut root, now + 1) {
-                let reason = format!("plan not executable at {now} ms: {e}");
-                self.abort = Some(reason.clone());
-                return RepairOutcome::Failed(reason);
-            }
-            root.set_time_floor(TimeFloor::At(self.cycle_end(now)));
+            let root = match self.repair_root(now) {
+                Ok(r) => r,
+                Err(reason) => {
+                    self.abort = Some(reason.clone());
+                    return RepairOutcome::Failed(reason);
+                }
+            };
             // Repair is local (a few choices around the broken links) and its tree is rebuilt whenever the
             // plan moves on: chronological depth-first, as in seed 1 — discrepancy iterations would
             // redo the tree from its root every cycle. A repair that thrashes is cut off by its episode
@@ -88,18 +114,9 @@ impl Executive {
                 labelled: None,
             });
         }
-        // Deterministic step budgets (μ·n steps) replace the deadline; the hard cap bounds both.
-        let cap = self.cfg.repair_cycle_max_steps;
-        let (max_steps, deadline) = match self.cfg.repair_max_steps {
-            Some(n) => (
-                (((n as f64) * self.cfg.repair_share).ceil() as u64).min(cap),
-                None,
-            ),
-            None => (
-                cap,
-                Some(clock().saturating_add(self.cfg.repair_budget_ms().max(0))),
-            ),
-        };
+        let (max_steps, deadline) = self.cycle_budget(clock);
+        // ExecutingPlan is about to change: an insertion rooted at it starts again.
+        self.insertion_stale = true;
         let Some(rep) = self.repair.as_mut() else {
             return RepairOutcome::Idle;
         };

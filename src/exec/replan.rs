@@ -7,8 +7,11 @@
 //! new timepoint after it ("planning to plan"). Planning goes one step at a time until a solution, a dead end,
 //! or the time limit `l = T_end_ub − d` (d: the slack); it goes on past l only while the search is
 //! backtracking and l increases. Without a solution a goal is rejected — the lowest priority, then the least
-//! flexibility `st_ub − d_achiev` — S_t is refreshed (the paper's suggested improvement), and a new attempt
-//! starts.
+//! flexibility `st_ub − d_achiev`, then the newest — S_t is refreshed (the paper's suggested improvement),
+//! and a new attempt starts. Every attempt is bounded in steps as well (a stepped simulator's clock does not
+//! move while it plans), each half the previous one's ([`attempt_cap`]), so a whole replanning — and the
+//! memory its searches take — is bounded too. A new goal whose insertion attempt is in progress is not in
+//! the plan yet (src/exec/goal_insertion.rs): it never competes with the goals held.
 
 use std::sync::Arc;
 
@@ -89,16 +92,34 @@ pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracte
     })
 }
 
-/// The goal to abandon: the lowest priority, then the least flexibility `st_ub − d_achiev`.
+/// The goal to abandon: the lowest priority, then the least flexibility `st_ub − d_achiev`, then the
+/// newest (the goals held longest are kept).
 pub fn goal_to_reject(plan: &PartialPlan) -> Option<GoalId> {
     plan.goals
         .iter()
         .filter(|g| g.active)
         .min_by_key(|g| {
             let goal = &plan.problem.goals[g.goal.index()];
-            (goal.priority, plan.stn.ub(g.st) - goal.achieve, g.goal)
+            (
+                goal.priority,
+                plan.stn.ub(g.st) - goal.achieve,
+                std::cmp::Reverse(g.goal),
+            )
         })
         .map(|g| g.goal)
+}
+
+/// The step cap of attempt `attempt` (from 1) of a complete replanning whose first attempt may take
+/// `first`: half the previous attempt's, never under a sixteenth of the first. Each attempt has one goal
+/// fewer, so it needs less; the whole replanning stays within about `2·first` steps (plus `first/16` per
+/// attempt past the fifth), and its memory with it (the search grows with its steps).
+pub fn attempt_cap(first: u64, attempt: usize) -> u64 {
+    let halvings = u32::try_from(attempt.saturating_sub(1)).unwrap_or(u32::MAX);
+    first
+        .checked_shr(halvings)
+        .unwrap_or(0)
+        .max(first / 16)
+        .max(1)
 }
 
 /// How a replanning attempt's search ended.
@@ -176,7 +197,7 @@ impl Executive {
     ) -> ReplanResult {
         self.counters.replans += 1;
         let mut dropped: Vec<GoalId> = Vec::new();
-        let max_steps = self.replan_step_cap();
+        let first_cap = self.replan_step_cap();
         let slack = self.cfg.replan_slack_ms;
         for attempt in 1.. {
             let t = now();
@@ -216,6 +237,7 @@ impl Executive {
                 return ReplanResult::NoGoals(ext.plan);
             }
             let mut search = Search::new(ext.plan);
+            let max_steps = attempt_cap(first_cap, attempt);
             let end = plan_until_limit(&mut search, t_end, slack, max_steps, now);
             let solved = end == AttemptEnd::Solved;
             self.trace(TraceEvent::Replan {
@@ -273,8 +295,8 @@ impl Executive {
         ReplanResult::Error("unreachable".into())
     }
 
-    /// The hard step cap of one replanning attempt: `replan_max_steps`, and with deterministic step budgets
-    /// the steps of 40 cycles (a manual clock does not move while planning, so l is never reached).
+    /// The hard step cap of the first replanning attempt: `replan_max_steps`, and with deterministic step
+    /// budgets the steps of 40 cycles (a manual clock does not move while planning, so l is never reached).
     fn replan_step_cap(&self) -> u64 {
         let cap = self.cfg.replan_max_steps;
         self.cfg
@@ -293,6 +315,8 @@ impl Executive {
         self.repair_episode_steps = 0;
         self.repair_requested = false;
         self.abort = None;
+        // A new goal's insertion attempt starts again from the new plan.
+        self.insertion_stale = true;
         self.hierarchy = super::abstraction::Hierarchy::new(&self.plan.domain);
     }
 }

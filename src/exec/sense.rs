@@ -1,10 +1,11 @@
 //! Sensing (seed 1 §3.2, §3.3): integrating the vehicle's messages into *ExecutingPlan*. Each message kind
-//! is delegated to the file holding its rule; this file only routes and records.
+//! is delegated to the file holding its rule; this file only routes and records. A goal request is mapped
+//! to the domain here and waits for its insertion attempt (goal_insertion: the acceptance test of §3.3,
+//! then a bounded plan repair beside the plan).
 
 use super::capacity::{alter, CapacityOutcome};
 use super::executable::{flawed_actions, plan_executable};
-use super::executive::{Executive, Fate};
-use super::goal_request::request;
+use super::executive::Executive;
 use super::mapping::GoalShape;
 use super::p_t::{classify, remove_past};
 use super::report_timing::{integrate, timing};
@@ -13,14 +14,12 @@ use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::integrate_state;
 use super::trace::TraceEvent;
 use crate::model::{Goal, GoalKind, Time, TimeInterval, Value};
-use crate::vehicle::{
-    ActionReport, GoalRequest, GoalVerdict, ReportStatus, ResourceLevel, VehicleEvent,
-};
+use crate::vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
 
 impl Executive {
     /// Integrates one message received at time `now`.
     pub fn integrate(&mut self, event: VehicleEvent, now: Time) {
-        self.changed = true;
+        self.mark_changed();
         match event {
             VehicleEvent::Report(r) => self.integrate_report(r, now),
             VehicleEvent::Resource(l) => self.integrate_level(&l, now),
@@ -47,14 +46,7 @@ impl Executive {
                     CapacityOutcome::Nothing => {}
                 }
             }
-            VehicleEvent::Goals(batch) => {
-                let verdicts: Vec<GoalVerdict> = batch
-                    .goals
-                    .iter()
-                    .map(|g| self.integrate_goal(g, now))
-                    .collect();
-                batch.answer(verdicts);
-            }
+            VehicleEvent::Goals(batch) => self.receive_goals(batch),
             VehicleEvent::Link(status) => tracing::info!(?status, "vehicle link"),
         }
     }
@@ -157,45 +149,6 @@ impl Executive {
         }
     }
 
-    /// A goal request: mapped to the domain, then the acceptance test of §3.3 (goal_request).
-    fn integrate_goal(&mut self, g: &GoalRequest, now: Time) -> GoalVerdict {
-        let goal = match self.goal_from_request(g) {
-            Ok(goal) => goal,
-            Err(reason) => {
-                self.trace(TraceEvent::GoalRejected {
-                    goal: g.name.clone(),
-                    reason: reason.clone(),
-                });
-                return GoalVerdict::Rejected(reason);
-            }
-        };
-        let running = classify(&self.plan, now).running;
-        match request(&mut self.plan, goal, now, &running) {
-            Ok(id) => {
-                self.fates.insert(
-                    id,
-                    super::executive::GoalFate {
-                        name: g.name.clone(),
-                        fate: Fate::Pending,
-                        reason: String::new(),
-                    },
-                );
-                self.trace(TraceEvent::GoalAccepted {
-                    goal: g.name.clone(),
-                });
-                self.repair_requested = true;
-                GoalVerdict::Accepted
-            }
-            Err(e) => {
-                self.trace(TraceEvent::GoalRejected {
-                    goal: g.name.clone(),
-                    reason: e.to_string(),
-                });
-                GoalVerdict::Rejected(e.to_string())
-            }
-        }
-    }
-
     /// The object a goal location names when the intake recognised it (`new` false) and it is of the location
     /// type.
     fn known_location(&self, l: &crate::vehicle::GoalLocation) -> Option<crate::model::ObjectId> {
@@ -209,7 +162,7 @@ impl Executive {
 
     /// The domain goal for a request, as the config's `[mapping.goals]` says: `attr(L) = true` or
     /// `attr() = L`; a new location object when the request names a place no object is at.
-    fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, String> {
+    pub fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, String> {
         let what = g.kind.key();
         let target = *self
             .mapping

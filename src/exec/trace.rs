@@ -28,6 +28,10 @@ pub enum TraceEvent {
         ub: f64,
         verdict: String,
     },
+    /// A goal request mapped to the domain: its insertion attempt follows.
+    GoalReceived {
+        goal: String,
+    },
     GoalAccepted {
         goal: String,
     },
@@ -101,6 +105,9 @@ impl TraceEvent {
                 ub,
                 verdict,
             } => format!("{resource} = {level:.2} in [{lb:.2}, {ub:.2}]: {verdict}"),
+            TraceEvent::GoalReceived { goal } => {
+                format!("goal {goal} received: inserting it into the plan")
+            }
             TraceEvent::GoalAccepted { goal } => format!("goal {goal} accepted"),
             TraceEvent::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
             TraceEvent::GoalAchieved { goal } => format!("goal {goal} achieved"),

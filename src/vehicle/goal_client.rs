@@ -10,7 +10,7 @@ use mavlink::dialects::ardupilotmega::{
 use super::driver::COMPANION_COMPONENT;
 use super::endpoint::{Address, Transport};
 use super::frame::{Encoder, FrameDecoder};
-use super::goals::GOAL_ATTRIBUTES_CMD;
+use super::goals::{is_final_verdict_text, GOAL_ATTRIBUTES_CMD, INSERTING};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
 
@@ -65,6 +65,21 @@ impl TextAssembler {
     }
 }
 
+/// Goals answered "received … verdict to follow" whose final verdict has not come yet.
+fn awaiting_verdicts(texts: &[String]) -> usize {
+    let name = |t: &str| t.split(' ').next().unwrap_or("").to_string();
+    texts
+        .iter()
+        .filter(|t| t.ends_with(INSERTING))
+        .filter(|t| {
+            let n = name(t);
+            !texts
+                .iter()
+                .any(|f| is_final_verdict_text(f) && name(f) == n)
+        })
+        .count()
+}
+
 fn gcs_heartbeat() -> MavMessage {
     MavMessage::HEARTBEAT(HEARTBEAT_DATA {
         custom_mode: 0,
@@ -79,7 +94,8 @@ fn gcs_heartbeat() -> MavMessage {
 /// The system id a ground station uses (MAVLink's convention for a GCS).
 pub const GCS_SYSTEM_ID: u8 = 255;
 
-/// Uploads `items` to the companion at `address` and waits for the ACK and one STATUSTEXT per goal.
+/// Uploads `items` to the companion at `address` and waits for the ACK and each goal's final verdict (a goal
+/// the companion is still inserting into its plan when it answers gets its verdict in a later STATUSTEXT).
 pub async fn send_goals(
     address: &str,
     items: Vec<MissionItem>,
@@ -113,7 +129,7 @@ pub async fn send_goals_as(
     let now = || start.elapsed().as_millis() as u64;
     let mut client: Option<MissionClient> = None;
     let mut failure: Option<Option<String>> = None;
-    let mut collected = Vec::new();
+    let mut collected: Vec<String> = Vec::new();
     let mut last_heartbeat = None::<u64>;
     let mut buf = vec![0u8; 65536];
     let mut pending_items = Some(items);
@@ -135,8 +151,16 @@ pub async fn send_goals_as(
         for m in out.drain(..) {
             ep.send(&enc.encode(&m, false)).await?;
         }
-        let done_texts = collected.len() >= expected_texts
-            || quiet_since.elapsed() > Duration::from_millis(1500);
+        // A goal answered "received … verdict to follow" is still being inserted into the plan: its final
+        // verdict comes later (bounded by the executive's insertion cycles), so the quiet wait does not end it.
+        let finals = collected
+            .iter()
+            .filter(|t| is_final_verdict_text(t))
+            .count();
+        let done_texts = finals >= expected_texts
+            || (awaiting_verdicts(&collected) == 0
+                && quiet_since.elapsed() > Duration::from_millis(1500))
+            || start.elapsed() > timeout * 4;
         match &failure {
             Some(None) if done_texts => break,
             Some(Some(_)) if quiet_since.elapsed() > Duration::from_millis(500) => break,

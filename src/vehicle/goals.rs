@@ -218,37 +218,108 @@ impl GoalDecider for SyntacticDecider {
     }
 }
 
-/// A goal list handed to the executive; answer it with one verdict per goal (in order).
+/// The verdicts that follow an upload's answer: `(index of the goal in the upload, final verdict)`.
+pub type LaterVerdicts = tokio::sync::mpsc::UnboundedReceiver<(usize, GoalVerdict)>;
+
+/// A goal list handed to the executive. The upload is answered once ([`GoalBatch::answer`] or
+/// [`GoalBatch::answer_now`]: the MISSION_ACK and a STATUSTEXT per goal); a goal still being inserted into the
+/// plan then is answered [`GoalVerdict::Inserting`] and its final verdict ([`GoalBatch::decide`]) follows on
+/// its own.
 #[derive(Debug)]
 pub struct GoalBatch {
     pub goals: Vec<GoalRequest>,
     reply: Option<tokio::sync::oneshot::Sender<Vec<GoalVerdict>>>,
+    later: Option<tokio::sync::mpsc::UnboundedSender<(usize, GoalVerdict)>>,
+    verdicts: Vec<Option<GoalVerdict>>,
+    answered: bool,
 }
 
 impl GoalBatch {
     pub fn new(
         goals: Vec<GoalRequest>,
     ) -> (Self, tokio::sync::oneshot::Receiver<Vec<GoalVerdict>>) {
+        let (batch, rx, _) = Self::with_later(goals);
+        (batch, rx)
+    }
+
+    /// A batch whose final verdicts after the answer come out of the [`LaterVerdicts`] receiver.
+    pub fn with_later(
+        goals: Vec<GoalRequest>,
+    ) -> (
+        Self,
+        tokio::sync::oneshot::Receiver<Vec<GoalVerdict>>,
+        LaterVerdicts,
+    ) {
         let (tx, rx) = tokio::sync::oneshot::channel();
+        let (later_tx, later_rx) = tokio::sync::mpsc::unbounded_channel();
+        let verdicts = vec![None; goals.len()];
         (
             Self {
                 goals,
                 reply: Some(tx),
+                later: Some(later_tx),
+                verdicts,
+                answered: false,
             },
             rx,
+            later_rx,
         )
     }
 
     /// A batch nobody waits on (the mock vehicle's scripted goal requests).
     pub fn detached(goals: Vec<GoalRequest>) -> Self {
-        Self { goals, reply: None }
+        let verdicts = vec![None; goals.len()];
+        Self {
+            goals,
+            reply: None,
+            later: None,
+            verdicts,
+            answered: false,
+        }
     }
 
-    /// Sends the verdicts back to the goal intake (ignored if the ground station went away).
+    /// Sends all the verdicts back to the goal intake at once (ignored if the ground station went away).
     pub fn answer(mut self, verdicts: Vec<GoalVerdict>) {
+        self.verdicts = verdicts.into_iter().map(Some).collect();
+        self.answer_now();
+    }
+
+    /// Goal `i`'s verdict: kept for the answer, or, once the upload is answered, sent after it.
+    pub fn decide(&mut self, i: usize, verdict: GoalVerdict) {
+        let Some(slot) = self.verdicts.get_mut(i) else {
+            return;
+        };
+        *slot = Some(verdict.clone());
+        if self.answered && verdict.is_final() {
+            if let Some(tx) = &self.later {
+                let _ = tx.send((i, verdict));
+            }
+        }
+    }
+
+    /// Answers the upload with the verdicts known so far: [`GoalVerdict::Inserting`] for the others.
+    pub fn answer_now(&mut self) {
+        if self.answered {
+            return;
+        }
+        self.answered = true;
+        let verdicts = self
+            .verdicts
+            .iter()
+            .map(|v| v.clone().unwrap_or(GoalVerdict::Inserting))
+            .collect();
         if let Some(tx) = self.reply.take() {
             let _ = tx.send(verdicts);
         }
+    }
+
+    /// Answered, and every goal has its final verdict.
+    pub fn settled(&self) -> bool {
+        self.answered
+            && self
+                .verdicts
+                .iter()
+                .all(|v| v.as_ref().is_some_and(GoalVerdict::is_final))
     }
 }
 
@@ -257,7 +328,24 @@ pub fn verdict_text(goal: &GoalRequest, verdict: &GoalVerdict) -> String {
     match verdict {
         GoalVerdict::Accepted => format!("{} accepted: {}", goal.name, goal.proposition),
         GoalVerdict::Rejected(reason) => format!("{} rejected: {reason}", goal.name),
+        GoalVerdict::Inserting => {
+            format!("{} received: {}; {INSERTING}", goal.name, goal.proposition)
+        }
     }
+}
+
+/// How a [`GoalVerdict::Inserting`] text ends: the ground station waits for the final verdict.
+pub const INSERTING: &str = "inserting it into the plan, verdict to follow";
+
+/// Whether a STATUSTEXT is a goal's final verdict (`g<n> accepted: …` or `g<n> rejected: …`).
+pub fn is_final_verdict_text(text: &str) -> bool {
+    let mut words = text.splitn(3, ' ');
+    let name = words.next().unwrap_or("");
+    let verdict = words.next().unwrap_or("");
+    name.len() > 1
+        && name.starts_with('g')
+        && name[1..].bytes().all(|b| b.is_ascii_digit())
+        && (verdict == "accepted:" || verdict == "rejected:")
 }
 
 /// The MAVLink value of a MISSION_ACK result (for messages and logs).

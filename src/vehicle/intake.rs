@@ -1,8 +1,9 @@
 //! Goal intake: the companion's side of the mission protocol for items addressed to component 191. An upload
 //! becomes goal requests ([`super::goals::items_to_goals`]); once the decider has answered, MISSION_ACK and one
-//! STATUSTEXT per goal go back. The accepted list can be downloaded again (MISSION_REQUEST_LIST). When the
-//! configuration names the ground stations allowed to send goals (`link.goal_sysids`), uploads and clears from
-//! any other system are answered MISSION_ACK DENIED with the reason.
+//! STATUSTEXT per goal go back (a goal still being inserted into the plan then gets its final STATUSTEXT
+//! later, [`GoalIntake::verdict`]). The accepted list can be downloaded again (MISSION_REQUEST_LIST). When
+//! the configuration names the ground stations allowed to send goals (`link.goal_sysids`), uploads and
+//! clears from any other system are answered MISSION_ACK DENIED with the reason.
 
 // The legacy MISSION_ITEM / MISSION_REQUEST must still be accepted (ArduPilot sends MISSION_REQUEST).
 #![allow(deprecated)]
@@ -18,14 +19,19 @@ use super::goals::{items_to_goals, verdict_text, KnownLocations};
 use super::items::MissionItem;
 use super::types::{GoalRequest, GoalVerdict};
 
-/// STATUSTEXT(s) for `text`: chunks of 50 bytes sharing a non-zero id when longer than one message.
+/// STATUSTEXT(s) for `text`: chunks of 50 bytes sharing a non-zero id when longer than one message. A
+/// receiver knows a chunked text is complete when a chunk holds a NUL (is shorter than 50 bytes): a text
+/// whose length is a multiple of 50 gets an empty last chunk.
 pub fn statustext(text: &str, severity: MavSeverity, id: u16) -> Vec<MavMessage> {
     let bytes = text.as_bytes();
-    let chunks: Vec<&[u8]> = if bytes.is_empty() {
+    let mut chunks: Vec<&[u8]> = if bytes.is_empty() {
         vec![&[][..]]
     } else {
         bytes.chunks(50).collect()
     };
+    if chunks.len() > 1 && bytes.len().is_multiple_of(50) {
+        chunks.push(&[][..]);
+    }
     let single = chunks.len() == 1;
     chunks
         .iter()
@@ -347,13 +353,24 @@ impl GoalIntake {
                     ))),
             )
         {
-            let severity = match v {
-                GoalVerdict::Accepted => MavSeverity::MAV_SEVERITY_INFO,
-                GoalVerdict::Rejected(_) => MavSeverity::MAV_SEVERITY_WARNING,
-            };
-            self.texts(&verdict_text(g, v), severity, out);
+            self.verdict(g, v, out);
         }
         self.accepted = pending.items;
+    }
+
+    /// The STATUSTEXT of one goal's verdict: in the answer, or later for a goal that was still being
+    /// inserted into the plan when the upload was answered.
+    pub fn verdict(
+        &mut self,
+        goal: &GoalRequest,
+        verdict: &GoalVerdict,
+        out: &mut Vec<MavMessage>,
+    ) {
+        let severity = match verdict {
+            GoalVerdict::Accepted | GoalVerdict::Inserting => MavSeverity::MAV_SEVERITY_INFO,
+            GoalVerdict::Rejected(_) => MavSeverity::MAV_SEVERITY_WARNING,
+        };
+        self.texts(&verdict_text(goal, verdict), severity, out);
     }
 
     /// Re-requests on timeout; cancels the upload after the retries.

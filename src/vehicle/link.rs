@@ -9,19 +9,21 @@ use std::sync::{mpsc as std_mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::ardupilotmega::MavMessage;
-use tokio::sync::{oneshot, Notify};
+
+use tokio::sync::Notify;
 
 use super::api::{Vehicle, VehicleError};
 use super::config::VehicleConfig;
 use super::driver::{companion_heartbeat, Driver, COMPANION_COMPONENT};
 use super::endpoint::{Address, Transport};
 use super::frame::{parse_key, Encoder, Signer};
+use super::goal_answers::{answer_uploads, Awaiting, FollowUp};
 use super::goals::{GoalBatch, GoalDecider, KnownLocations, SyntacticDecider};
 use super::intake::{GoalIntake, PendingDecision};
 use super::peers::Peers;
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
 use super::tlog::TlogWriter;
-use super::types::{ActionId, ActionStart, GoalVerdict, VehicleEvent};
+use super::types::{ActionId, ActionStart, VehicleEvent};
 
 #[derive(Debug, thiserror::Error)]
 pub enum LinkError {
@@ -130,12 +132,6 @@ struct Pump {
     epoch: Instant,
 }
 
-struct Awaiting {
-    pending: PendingDecision,
-    rx: oneshot::Receiver<Vec<GoalVerdict>>,
-    deadline: Instant,
-}
-
 impl Pump {
     fn now(&self) -> u64 {
         self.epoch.elapsed().as_millis() as u64
@@ -159,6 +155,7 @@ impl Pump {
         );
         let verifier = self.signer_key.map(|(k, l)| Signer::new(k, l));
         let mut awaiting: Vec<Awaiting> = Vec::new();
+        let mut following: Vec<FollowUp> = Vec::new();
         let mut last_own_heartbeat: Option<u64> = None;
         loop {
             let mut endpoint = match self.transport.open().await {
@@ -263,18 +260,7 @@ impl Pump {
                         if let Some((intake, _)) = &self.intake {
                             if let Ok(mut i) = intake.lock() {
                                 i.tick(now, &mut out);
-                                awaiting.retain_mut(|a| {
-                                    let verdicts = match a.rx.try_recv() {
-                                        Ok(v) => v,
-                                        Err(oneshot::error::TryRecvError::Empty) if Instant::now() < a.deadline => return true,
-                                        Err(_) => {
-                                            tracing::warn!("no goal decision from the executive: syntactic verdicts sent");
-                                            a.pending.goals.iter().map(SyntacticDecider::verdict).collect()
-                                        }
-                                    };
-                                    i.decided(a.pending.clone(), &verdicts, &mut out);
-                                    false
-                                });
+                                answer_uploads(&mut i, &mut awaiting, &mut following, Instant::now(), &mut out);
                             }
                         }
                     },
@@ -362,12 +348,13 @@ impl Pump {
                 }
             }
             Decider::Executive { timeout } => {
-                let (batch, rx) = GoalBatch::new(pending.goals.clone());
+                let (batch, rx, later) = GoalBatch::with_later(pending.goals.clone());
                 let _ = self.events.send(VehicleEvent::Goals(batch));
                 self.stats.goal_batches.fetch_add(1, Ordering::AcqRel);
                 awaiting.push(Awaiting {
                     pending,
                     rx,
+                    later,
                     deadline: Instant::now() + *timeout,
                 });
             }

@@ -3,7 +3,8 @@
 //! from a ground station, `.tlog` recording. Layers, bottom up:
 //! - `frame`, `tlog`: bytes ↔ frames, signing, recording;
 //! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
-//! - `intake`, `goals`, `goal_files`: goal lists from a ground station or a file;
+//! - `intake`, `goals`, `goal_files`, `goal_answers`: goal lists from a ground station or a file, and the
+//!   executive's answers;
 //! - `config_check`: a configuration checked against its domain, the executive's mapping resolved;
 //! - `safe_stop`: the vehicle left safe when the companion is stopped by a signal;
 //! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
@@ -19,6 +20,7 @@ pub mod driver;
 pub mod endpoint;
 pub mod frame;
 pub mod geo;
+pub mod goal_answers;
 pub mod goal_client;
 pub mod goal_files;
 pub mod goals;

@@ -238,6 +238,16 @@ pub struct GoalRequest {
 pub enum GoalVerdict {
     Accepted,
     Rejected(String),
+    /// Passed the acceptance test; its bounded insertion into the plan (plan repair) is still going on when
+    /// the upload is answered: `Accepted` or `Rejected` follows.
+    Inserting,
+}
+
+impl GoalVerdict {
+    /// Whether this is the goal's last word (not [`GoalVerdict::Inserting`]).
+    pub fn is_final(&self) -> bool {
+        !matches!(self, GoalVerdict::Inserting)
+    }
 }
 
 /// Everything a vehicle tells the executive.

@@ -1,0 +1,234 @@
+//! A new goal never costs the goals already held (issue 15): its insertion is a bounded plan repair beside
+//! *ExecutingPlan*; when it fails the new goal is rejected first, with the planner's reason, the plan stays
+//! as it was and no running action is stopped. Seed 1 Fig. 2's rover on MockVehicle and its manual clock.
+
+#[path = "common/mapping.rs"]
+mod mapping;
+#[path = "common/rover_mock.rs"]
+mod rover_mock;
+
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::trace::TraceEvent;
+use mavtempo::vehicle::goals::GoalBatch;
+use mavtempo::vehicle::mock::{Outcome, Scripted};
+use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict, VehicleEvent};
+use rover_mock::{events, executive, executive_with, fate, launches, nominal_moves, rover, run};
+
+/// A picture of a new target `east`, `north` metres from home (the window is the whole mission).
+fn picture(name: &str, east: f64, north: f64, priority: u32) -> GoalRequest {
+    GoalRequest {
+        name: name.into(),
+        kind: GoalKind::PictureOf,
+        proposition: format!("picture_of({name}_loc)"),
+        location: Some(GoalLocation {
+            name: format!("{name}_loc"),
+            new: true,
+            at: Enu::new(east, north, 0.0),
+            lat: 0.0,
+            lon: 0.0,
+        }),
+        priority,
+        start_window_s: (0.0, 1_800.0),
+        duration_s: (0.0, f64::INFINITY),
+        d_achiev_s: 60.0,
+    }
+}
+
+/// The nominal rover_two mission; `goal`, if any, is requested 10 s into the first move.
+fn mission(goal: Option<GoalRequest>) -> mavtempo::exec::mission::MissionReport {
+    let mut ex = executive();
+    let mut v = rover();
+    nominal_moves(&mut v);
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    let mut goal = goal;
+    run(&mut ex, &mut v, move |v, at, task| {
+        if task == "move" {
+            if let Some(g) = goal.take() {
+                v.at(at + 10_000, Scripted::Goals(vec![g]));
+            }
+        }
+    })
+}
+
+/// The plan's actions (task and arguments) and goals: what a failed insertion must leave as it was.
+fn plan_text(ex: &Executive) -> (Vec<String>, usize, usize) {
+    let actions = ex.plan.live_actions().map(|a| ex.action_text(a)).collect();
+    (actions, ex.plan.goals.len(), ex.plan.problem.goals.len())
+}
+
+/// The repair parts of cycles at `now` until the insertions are over (at most `max` cycles), answering the
+/// uploads as a cycle does.
+fn insertion_cycles(ex: &mut Executive, now: i64, max: usize) -> usize {
+    for n in 1..=max {
+        ex.repair_phase(now, &|| now);
+        ex.answer_goal_batches();
+        if ex.insertions.is_empty() {
+            return n;
+        }
+    }
+    panic!("insertions still in progress after {max} cycles");
+}
+
+#[test]
+fn a_far_goal_is_rejected_first_and_the_mission_goes_on_as_without_it() {
+    let base = mission(None);
+    assert_eq!(
+        (fate(&base, "g1"), fate(&base, "g2")),
+        (Fate::Achieved, Fate::Achieved)
+    );
+    for (east, north) in [(500.0, 0.0), (50_000.0, 0.0), (0.0, 3_000_000.0)] {
+        let r = mission(Some(picture("g6", east, north, 1)));
+        let what = format!("far goal at ({east}, {north}) m");
+        // The goals held: as without the far goal, with the same actions launched.
+        assert_eq!(r.end, base.end, "{what}: {:?}", r.goals);
+        assert_eq!(
+            (fate(&r, "g1"), fate(&r, "g2")),
+            (Fate::Achieved, Fate::Achieved),
+            "{what}: {:?}",
+            r.goals
+        );
+        assert_eq!(launches(&r), launches(&base), "{what}");
+        // The far goal: rejected, with the planner's reason.
+        let g6 = r
+            .goals
+            .iter()
+            .find(|g| g.name == "g6")
+            .expect("g6 reported");
+        assert_eq!(g6.fate, Fate::Rejected, "{what}");
+        assert!(
+            g6.reason.contains("plan repair") && g6.reason.contains("kept as it was"),
+            "{what}: {}",
+            g6.reason
+        );
+        // Nothing stopped, nothing aborted, no complete replanning.
+        let ev = events(&r);
+        assert!(
+            !ev.iter().any(|(_, e)| matches!(
+                e,
+                TraceEvent::Stop { .. } | TraceEvent::Abort { .. } | TraceEvent::Replan { .. }
+            )),
+            "{what}"
+        );
+        assert_eq!(r.counters.replans, 0, "{what}");
+        // Bounded: at most the insertion's cycles of μ·n steps.
+        let cfg = rover_mock::rover_config();
+        let per_cycle = (cfg.repair_max_steps.unwrap_or(0) as f64 * cfg.repair_share).ceil() as u64;
+        assert!(
+            r.counters.insertion_steps <= u64::from(cfg.goal_insertion_cycles) * per_cycle,
+            "{what}: {} steps",
+            r.counters.insertion_steps
+        );
+    }
+}
+
+#[test]
+fn a_failed_insertion_leaves_the_plan_as_it_was_and_says_why() {
+    let mut ex = executive();
+    let before = plan_text(&ex);
+    let (batch, mut rx) = GoalBatch::new(vec![picture("g6", 50_000.0, 0.0, 1)]);
+    ex.integrate(VehicleEvent::Goals(batch), 0);
+    insertion_cycles(&mut ex, 0, 3);
+    match rx.try_recv().expect("answered").as_slice() {
+        [GoalVerdict::Rejected(r)] => {
+            assert!(r.starts_with("plan repair found no plan with it"), "{r}")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(plan_text(&ex), before);
+    assert!(ex.abort.is_none());
+    assert!(ex.goal_fates().iter().any(|f| f.name == "g6"
+        && f.fate == Fate::Rejected
+        && f.reason.contains("search exhausted")));
+}
+
+/// An insertion longer than the cycle in which the upload arrived: the upload is answered "verdict to
+/// follow" at once, the verdict comes later; past `goal_insertion_cycles` the goal is rejected.
+#[test]
+fn an_insertion_longer_than_a_cycle_is_answered_then_decided() {
+    let slow = |cycles| ExecConfig {
+        // μ·n = 1 step per cycle.
+        repair_max_steps: Some(1),
+        goal_insertion_cycles: cycles,
+        ..rover_mock::rover_config()
+    };
+    // p3 (24, 6) is reachable: accepted after some cycles.
+    let mut ex = executive_with(slow(200));
+    let (batch, mut rx, mut later) = GoalBatch::with_later(vec![
+        picture("g6", 24.0, 6.0, 1),
+        picture("g7", 1.0, 1.0, 1),
+    ]);
+    ex.integrate(VehicleEvent::Goals(batch), 0);
+    ex.repair_phase(0, &|| 0);
+    ex.answer_goal_batches();
+    assert_eq!(
+        rx.try_recv().expect("answered after the first cycle"),
+        vec![GoalVerdict::Inserting, GoalVerdict::Inserting]
+    );
+    let cycles = insertion_cycles(&mut ex, 0, 400);
+    assert!(cycles > 1);
+    let mut verdicts = Vec::new();
+    while let Ok(v) = later.try_recv() {
+        verdicts.push(v);
+    }
+    assert_eq!(
+        verdicts,
+        vec![(0, GoalVerdict::Accepted), (1, GoalVerdict::Accepted)]
+    );
+    assert!(ex.goal_batches.is_empty(), "settled uploads are forgotten");
+    // With a single cycle, the same goal is rejected and the plan kept.
+    let mut ex = executive_with(slow(1));
+    let before = plan_text(&ex);
+    let (batch, mut rx) = GoalBatch::new(vec![picture("g6", 24.0, 6.0, 1)]);
+    ex.integrate(VehicleEvent::Goals(batch), 0);
+    insertion_cycles(&mut ex, 0, 1);
+    match rx.try_recv().expect("answered").as_slice() {
+        [GoalVerdict::Rejected(r)] => assert!(r.contains("within 1 cycles (1 steps)"), "{r}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(plan_text(&ex), before);
+}
+
+/// Goals wait for their insertion one at a time, the highest priority first, and a far one among them
+/// costs only itself.
+#[test]
+fn new_goals_are_inserted_highest_priority_first_each_on_its_own() {
+    let mut ex = executive();
+    let goals = vec![
+        picture("g6", 24.0, 6.0, 1),
+        picture("g7", 50_000.0, 0.0, 3),
+        picture("g8", 34.0, 0.0, 2),
+    ];
+    let (batch, mut rx, mut later) = GoalBatch::with_later(goals);
+    ex.integrate(VehicleEvent::Goals(batch), 0);
+    let order: Vec<&str> = ex.insertions.iter().map(|i| i.goal.name.as_str()).collect();
+    assert_eq!(order, ["g7", "g8", "g6"]);
+    insertion_cycles(&mut ex, 0, 10);
+    // Answered after the first cycle; the verdicts of the goals then still waiting follow.
+    let mut verdicts = rx.try_recv().expect("answered");
+    while let Ok((i, v)) = later.try_recv() {
+        verdicts[i] = v;
+    }
+    assert!(
+        matches!(verdicts[1], GoalVerdict::Rejected(_)),
+        "{verdicts:?}"
+    );
+    assert_eq!(
+        (&verdicts[0], &verdicts[2]),
+        (&GoalVerdict::Accepted, &GoalVerdict::Accepted)
+    );
+    let decided: Vec<String> = ex
+        .pending_trace
+        .iter()
+        .filter_map(|e| match e {
+            TraceEvent::GoalAccepted { goal } | TraceEvent::GoalRejected { goal, .. } => {
+                Some(goal.clone())
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(decided, ["g7", "g8", "g6"]);
+}
