@@ -151,6 +151,12 @@ impl Executive {
                 self.next_insertion()
             }
             _ => {
+                if cycles == 1 {
+                    // Re-rooted next cycle with limited discrepancy search (see `root_insertion`).
+                    if let Some(ins) = self.insertions.front_mut() {
+                        ins.search = None;
+                    }
+                }
                 self.trace(TraceEvent::RepairStep {
                     steps,
                     outcome: "inserting a new goal".into(),
@@ -186,7 +192,14 @@ impl Executive {
         };
         let id = request(&mut root, ins.goal.clone(), now, &running).map_err(|e| e.to_string())?;
         ins.id = Some(id);
-        ins.search = Some(Search::depth_first(root));
+        // The first cycle searches as plan repair does (chronological depth-first: local, usually quick);
+        // later ones with limited discrepancy search, so that one early wrong choice (e.g. where a download
+        // for a fourth picture goes) does not use up the attempt's cycles.
+        ins.search = Some(if ins.cycles == 0 {
+            Search::depth_first(root)
+        } else {
+            Search::new(root)
+        });
         Ok(())
     }
 
