@@ -225,14 +225,22 @@ fn assert_interrupted_report(r: &serde_json::Value, signal: &str) {
     assert!(r["cycles"].as_array().is_some_and(|c| !c.is_empty()));
 }
 
-#[test]
-fn sigterm_during_run_holds_the_rover_writes_the_report_and_a_whole_tlog() {
-    let dir = tempfile::TempDir::new().expect("temp dir");
-    let (_sim, port) = sim("5");
-    let (mut run, out, _err) = run(port, "5", dir.path());
+/// `run` against `sim` (both at 5×), with its report and `.tlog` in `dir`, once a move has started after the
+/// `.tlog` passed 8 KiB: the rover is moving (GUIDED) when a signal comes.
+struct Moving {
+    sim: Reap,
+    run: Reap,
+    /// Kept open: the child's stdout is read until the test ends.
+    _out: mpsc::Receiver<String>,
+    err: mpsc::Receiver<String>,
+    seen: Vec<String>,
+}
+
+fn moving(dir: &Path) -> Moving {
+    let (sim, port) = sim("5");
+    let (run, out, err) = run(port, "5", dir);
     let mut seen = Vec::new();
-    // A move starts after the .tlog passed 8 KiB: the rover is moving (GUIDED) when the signal comes.
-    let tlog = dir.path().join("run.tlog");
+    let tlog = dir.join("run.tlog");
     wait_line_once(
         &out,
         "START move(",
@@ -240,6 +248,26 @@ fn sigterm_during_run_holds_the_rover_writes_the_report_and_a_whole_tlog() {
         Duration::from_secs(120),
         &mut seen,
     );
+    Moving {
+        sim,
+        run,
+        _out: out,
+        err,
+        seen,
+    }
+}
+
+#[test]
+fn sigterm_during_run_holds_the_rover_writes_the_report_and_a_whole_tlog() {
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    // Every pipe stays read until the end: a closed one would fail the child's next print.
+    let Moving {
+        sim: _sim,
+        mut run,
+        _out,
+        err: _err,
+        ..
+    } = moving(dir.path());
     send_signal(&run.0, libc::SIGTERM);
     let status = wait_exit(&mut run.0, Duration::from_secs(30));
     assert_eq!(status.code(), Some(143), "{status:?}");
@@ -265,17 +293,13 @@ fn sigterm_during_run_holds_the_rover_writes_the_report_and_a_whole_tlog() {
 #[test]
 fn a_second_signal_exits_at_once_with_whole_frames_in_the_tlog() {
     let dir = tempfile::TempDir::new().expect("temp dir");
-    let (sim, port) = sim("5");
-    let (mut run, out, err) = run(port, "5", dir.path());
-    let mut seen = Vec::new();
-    let tlog = dir.path().join("run.tlog");
-    wait_line_once(
-        &out,
-        "START move(",
-        &mut || past_8_kib(&tlog),
-        Duration::from_secs(120),
-        &mut seen,
-    );
+    let Moving {
+        sim,
+        mut run,
+        _out,
+        err,
+        mut seen,
+    } = moving(dir.path());
     // A vehicle that no longer answers: the orderly stop would wait for its HOLD for seconds.
     send_signal(&sim.0, libc::SIGSTOP);
     send_signal(&run.0, libc::SIGINT);

@@ -11,9 +11,9 @@ use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::goals::GoalBatch;
-use mavtempo::vehicle::mock::{Outcome, Scripted};
+use mavtempo::vehicle::mock::Scripted;
 use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict, VehicleEvent};
-use rover_mock::{events, executive, executive_with, fate, launches, nominal_moves, rover, run};
+use rover_mock::{events, executive, executive_with, fate, launches, nominal_rover, run};
 
 /// A picture of a new target `east`, `north` metres from home (the window is the whole mission).
 fn picture(name: &str, east: f64, north: f64, priority: u32) -> GoalRequest {
@@ -38,12 +38,7 @@ fn picture(name: &str, east: f64, north: f64, priority: u32) -> GoalRequest {
 /// The nominal rover_two mission; `goal`, if any, is requested 10 s into the first move.
 fn mission(goal: Option<GoalRequest>) -> mavtempo::exec::mission::MissionReport {
     let mut ex = executive();
-    let mut v = rover();
-    nominal_moves(&mut v);
-    v.script(
-        "take_picture",
-        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
-    );
+    let mut v = nominal_rover();
     let mut goal = goal;
     run(&mut ex, &mut v, move |v, at, task| {
         if task == "move" {

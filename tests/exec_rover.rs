@@ -15,17 +15,12 @@ use mavtempo::exec::mission::MissionEnd;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::mock::{Outcome, Scripted};
 use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, ResourceLevel, StateValue};
-use rover_mock::{events, executive, fate, launches, nominal_moves, rover, run};
+use rover_mock::{events, executive, fate, launches, nominal_moves, nominal_rover, rover, run};
 
 #[test]
 fn nominal_mission_achieves_both_goals_without_repair() {
     let mut ex = executive();
-    let mut v = rover();
-    nominal_moves(&mut v);
-    v.script(
-        "take_picture",
-        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
-    );
+    let mut v = nominal_rover();
     let r = run(&mut ex, &mut v, |_, _, _| {});
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
     assert_eq!(
@@ -192,12 +187,7 @@ fn e3_e4_new_goals_accepted_and_achieved_or_rejected_by_the_acceptance_test() {
 #[test]
 fn e6_battery_drop_while_moving_brings_a_recharge_before_the_next_move() {
     let mut ex = executive();
-    let mut v = rover();
-    nominal_moves(&mut v);
-    v.script(
-        "take_picture",
-        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
-    );
+    let mut v = nominal_rover();
     v.script(
         "recharge_battery",
         Outcome::nominal(120_000).with_level("BATTERY", 14.0),

@@ -173,20 +173,10 @@ impl Peers {
 mod tests {
     use super::*;
     use crate::vehicle::frame::Encoder;
-    use mavlink::dialects::ardupilotmega::{
-        MavAutopilot, MavMissionResult, MavMissionType, MavModeFlag, MavState, MavType,
-        HEARTBEAT_DATA, MISSION_ACK_DATA,
-    };
+    use mavlink::dialects::ardupilotmega::{MavMissionResult, MavMissionType, MISSION_ACK_DATA};
 
     fn heartbeat() -> MavMessage {
-        MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: 0,
-            mavtype: MavType::MAV_TYPE_GCS,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
-            base_mode: MavModeFlag::empty(),
-            system_status: MavState::MAV_STATE_ACTIVE,
-            mavlink_version: 3,
-        })
+        crate::vehicle::goal_client::gcs_heartbeat()
     }
 
     fn ack_to(system: u8) -> MavMessage {

@@ -131,6 +131,17 @@ pub fn fate(r: &MissionReport, name: &str) -> Fate {
         .unwrap_or(Fate::Pending)
 }
 
+/// The rover of the nominal mission: [`nominal_moves`] and pictures of 0.9 slot (storage 2.1 after each).
+pub fn nominal_rover() -> MockVehicle {
+    let mut v = rover();
+    nominal_moves(&mut v);
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
+    v
+}
+
 /// base → p2 (19 m) then p2 → p1 (12.8 m) at 0.45 m/s.
 pub fn nominal_moves(v: &mut MockVehicle) {
     v.script("move", Outcome::nominal(42_000).with_level("BATTERY", 80.5));
