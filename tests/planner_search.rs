@@ -198,7 +198,9 @@ fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
 #[test]
 fn next_is_backtrack_predicts_the_next_step() {
     let d = common::rover();
-    let p = common::fig2_low_battery(&d);
+    // g2's picture within the first minute: the tour must begin at p2, which the search finds only after
+    // backtracking.
+    let p = common::fig2_with_g2_window(&d, "60s");
     let root = mavtempo::plan::PartialPlan::new(std::sync::Arc::new(d), std::sync::Arc::new(p))
         .expect("root plan");
     let mut peeking = mavtempo::planner::Search::new(root.clone());

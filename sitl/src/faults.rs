@@ -58,6 +58,7 @@ impl FaultEngine {
             if w.on != Some(ev.kind)
                 || w.value.is_some_and(|v| v != ev.value)
                 || !w.is_near(ev.at_m)
+                || w.after_s.is_some_and(|a| now_ms < secs_to_ms(a))
             {
                 continue;
             }
@@ -270,6 +271,27 @@ mod tests {
         assert!(e.due(10_000).is_empty());
         e.on_event(pic([25.5, -9.0]), 11_000);
         assert_eq!(e.due(11_000).len(), 1);
+    }
+
+    #[test]
+    fn a_trigger_after_a_time_counts_only_later_events() {
+        // "A battery drop during a move late in the mission", whichever move that is.
+        let mut e = FaultEngine::new(&[spec(Trigger {
+            on: Some(EventKind::Moving),
+            after_s: Some(450.0),
+            occurrence: 1,
+            ..Trigger::default()
+        })]);
+        let moving = SimEvent {
+            kind: EventKind::Moving,
+            value: 0,
+            at_m: [0.0, 0.0],
+        };
+        e.on_event(moving, 100_000);
+        e.on_event(moving, 449_999);
+        assert!(e.due(500_000).is_empty());
+        e.on_event(moving, 450_000);
+        assert_eq!(e.due(450_000).len(), 1);
     }
 
     #[test]

@@ -179,6 +179,9 @@ pub struct Trigger {
     /// "the picture of p2", whichever capture that is in the plan's order.
     pub near_m: Option<[f64; 2]>,
     pub within_m: Option<f64>,
+    /// Only events at or after this simulated time (seconds since the start) count: "a move late in the
+    /// mission", whichever move that is in the plan's order.
+    pub after_s: Option<f64>,
 }
 
 /// How close an event must be to a trigger's `near_m` when `within_m` is not given.
@@ -364,6 +367,9 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
         || t.within_m.is_some_and(|r| !(r.is_finite() && r >= 0.0))
     {
         return Err("`when`: near_m must be finite and within_m finite and >= 0".into());
+    }
+    if t.after_s.is_some_and(|a| !(a.is_finite() && a >= 0.0)) {
+        return Err("`when`: after_s must be finite and >= 0".into());
     }
     let prob = |p: f64| (0.0..=1.0).contains(&p);
     match &f.fault {

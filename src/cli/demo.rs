@@ -1,7 +1,7 @@
 //! `mavtempo demo [--speedup N] [--report FILE]`: seed 1 §4's exploration rover (Fig. 2) executed by the
 //! executive against the built-in SITL, in process, over real sockets. The faults come from the SITL's
-//! scenario (sitl/scenarios/fig2.toml): e1 the first picture fails, e2 rough ground on the way to p2,
-//! e5 a slow download, e6 a battery drop on the third move; e3/e4, the new goals g6 and g7, are uploaded
+//! scenario (sitl/scenarios/fig2.toml): e1 the first picture fails, e2 the camera hangs on the picture of
+//! p2, e5 a slow download, e6 a battery drop on the first move after 400 s; e3/e4, the new goals g6 and g7, are uploaded
 //! over MAVLink by a simulated ground station while the first download runs. SIGINT / SIGTERM stop it
 //! safely (see [`super::shutdown`]). Wiring and printing only.
 

@@ -184,8 +184,12 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
         .collect();
     // The action's end effects: a reported value replaces the expected one (links established by an
     // effect the report contradicts are broken); a failed action's unreported end effects did not happen;
-    // an interrupted action did end, its unreported end effects hold.
+    // an interrupted preemptive action did end (what it achieved is what preemption means), its unreported
+    // end effects hold; a non-preemptive action cut off (a picture that hung until the abort) did not
+    // complete, its unreported end effects did not happen.
     let et = ex.plan.action(a).end;
+    let preemptive =
+        ex.plan.domain.task(ex.plan.action(a).task).preemption != Preemption::NonPreemptive;
     for &e in &ex.plan.action(a).events.clone() {
         let ev = ex.plan.event(e);
         if ev.at != et {
@@ -203,7 +207,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
             .find(|(at, args, _)| *at == attr && same_instance(args));
         let happened = match report {
             Some((_, _, v)) => ex.plan.bindings.necessarily_equal(ev.to, (*v).into()),
-            None => r.status == crate::vehicle::ReportStatus::Interrupted,
+            None => preemptive && r.status == crate::vehicle::ReportStatus::Interrupted,
         };
         if happened {
             continue;

@@ -29,8 +29,8 @@ pub enum Flaw {
     Reservoir(ReservoirConflict),
 }
 
-/// A threat candidate's events at or above this many undecided by the bounds are decided by one pair of
-/// shortest-path searches from the event rather than one search each.
+/// A threat candidate's event (or link) with at least this many candidates undecided by the bounds has them
+/// decided by one pair of shortest-path trees rather than one search each.
 const BATCH: usize = 16;
 
 /// The timepoints whose order decides a threat candidate: the threatening event's, the link's
@@ -41,6 +41,14 @@ struct ThreatWindow {
     establisher: Timepoint,
     cond_end: Timepoint,
     end_delay: Time,
+}
+
+fn threat_verdict(resolved: bool) -> ThreatCheck {
+    if resolved {
+        ThreatCheck::Resolved
+    } else {
+        ThreatCheck::Threat
+    }
 }
 
 /// Whether a threat candidate is (still) a threat.
@@ -119,12 +127,13 @@ impl PartialPlan {
     /// The live threats (marks resolved candidates done).
     ///
     /// Candidates the bounds cannot decide are answered by shortest paths; when one event has many of them
-    /// (a plan just built, or candidates recomputed by the executive: ~n per event), two searches from that
-    /// event answer them all instead of one search per candidate. The answers are the same.
+    /// (a new action's events, a plan just built, or candidates recomputed by the executive: ~n per event),
+    /// two searches from that event answer them all instead of one search per candidate; likewise two
+    /// searches from a link's ends for a new link's candidates. The answers are the same.
     pub fn live_threats(&mut self) -> Vec<(EventId, LinkId)> {
         let pending = self.threats.pending();
         let mut verdicts: Vec<(usize, ThreatCheck)> = Vec::with_capacity(pending.len());
-        let mut by_event: BTreeMap<EventId, Vec<(usize, ThreatWindow)>> = BTreeMap::new();
+        let mut open: Vec<(usize, ThreatWindow)> = Vec::new();
         for i in pending {
             let c = self.threats.get(i);
             let w = match self.threat_window(c.a, c.b) {
@@ -140,14 +149,27 @@ impl PartialPlan {
             match (first, second) {
                 (Some(true), _) | (_, Some(true)) => verdicts.push((i, ThreatCheck::Resolved)),
                 (Some(false), Some(false)) => verdicts.push((i, ThreatCheck::Threat)),
-                _ => by_event.entry(c.a).or_default().push((i, w)),
+                _ => open.push((i, w)),
             }
         }
+        // The candidates the bounds leave open, answered in batches: those sharing an event (a new action's
+        // events against the links already there), then those sharing a link (a new link against the
+        // events already there), then one by one.
+        let mut by_event: BTreeMap<EventId, Vec<(usize, ThreatWindow)>> = BTreeMap::new();
+        for (i, w) in open {
+            by_event
+                .entry(self.threats.get(i).a)
+                .or_default()
+                .push((i, w));
+        }
+        let mut by_link: BTreeMap<LinkId, Vec<(usize, ThreatWindow)>> = BTreeMap::new();
         for group in by_event.into_values() {
             if group.len() < BATCH {
-                for (i, _) in group {
-                    let c = self.threats.get(i);
-                    verdicts.push((i, self.check_threat(c.a, c.b)));
+                for (i, w) in group {
+                    by_link
+                        .entry(self.threats.get(i).b)
+                        .or_default()
+                        .push((i, w));
                 }
                 continue;
             }
@@ -159,14 +181,24 @@ impl PartialPlan {
             for (i, w) in group {
                 let resolved =
                     to[w.establisher.index()] < 0 || from[w.cond_end.index()] < 1 - w.end_delay;
-                verdicts.push((
-                    i,
-                    if resolved {
-                        ThreatCheck::Resolved
-                    } else {
-                        ThreatCheck::Threat
-                    },
-                ));
+                verdicts.push((i, threat_verdict(resolved)));
+            }
+        }
+        for group in by_link.into_values() {
+            if group.len() < BATCH {
+                for (i, _) in group {
+                    let c = self.threats.get(i);
+                    verdicts.push((i, self.check_threat(c.a, c.b)));
+                }
+                continue;
+            }
+            // The same two distances, from the link's establisher and to its condition's end.
+            let (est, end) = (group[0].1.establisher, group[0].1.cond_end);
+            let (from_est, to_end) = (self.stn.distances_from(est), self.stn.distances_to(end));
+            for (i, w) in group {
+                let resolved =
+                    from_est[w.event.index()] < 0 || to_end[w.event.index()] < 1 - w.end_delay;
+                verdicts.push((i, threat_verdict(resolved)));
             }
         }
         verdicts.sort_unstable_by_key(|&(i, _)| i);

@@ -1,4 +1,5 @@
-//! Problems shared by the planner tests.
+//! Problems shared by the planner tests (each test crate uses some of them).
+#![allow(dead_code)]
 
 use std::path::Path;
 
@@ -18,4 +19,12 @@ pub fn fig2_low_battery(d: &Domain) -> Problem {
             "resource BATTERY: level 35, capacity 100;",
         );
     mavtempo::lang::parse_problem("fig2-low-battery", &text, d).expect("problem parses")
+}
+
+/// Fig. 2 with g2's picture to start within `window` (e.g. `60s`) instead of 4 min.
+pub fn fig2_with_g2_window(d: &Domain, window: &str) -> Problem {
+    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("shipped problem");
+    let changed = text.replace("st in [0, 4min];", &format!("st in [0, {window}];"));
+    assert_ne!(changed, text, "g2's window is in the shipped problem");
+    mavtempo::lang::parse_problem("fig2-g2-window", &changed, d).expect("problem parses")
 }
