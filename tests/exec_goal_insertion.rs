@@ -95,7 +95,9 @@ fn a_far_goal_is_rejected_first_and_the_mission_goes_on_as_without_it() {
             .expect("g6 reported");
         assert_eq!(g6.fate, Fate::Rejected, "{what}");
         assert!(
-            g6.reason.contains("plan repair") && g6.reason.contains("kept as it was"),
+            g6.reason.contains("plan repair")
+                && g6.reason.contains("kept as it was")
+                && g6.reason.contains("the last dead end"),
             "{what}: {}",
             g6.reason
         );

@@ -294,3 +294,47 @@ fn equal_goals_the_newest_is_abandoned_first() {
     plan.remove_goal(GoalId::from_index(1));
     assert_eq!(goal_to_reject(&plan), Some(GoalId::from_index(4)));
 }
+
+/// A goal that cannot be achieved even alone (a target 500 m away: the last leg alone needs 250 % of the
+/// battery) is rejected before the first attempt, with why — even at the highest priority — and the
+/// replanning keeps every other goal instead of abandoning them one attempt at a time.
+#[test]
+fn an_unreachable_goal_is_rejected_first_with_why_and_the_others_are_kept() {
+    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("fig2");
+    let anchor = "object p5: location at (40, 10);";
+    assert!(text.contains(anchor), "p5 is in the shipped problem");
+    let mut text = text.replace(
+        anchor,
+        &format!("{anchor}\nobject far: location at (500, 0);"),
+    );
+    text.push_str(
+        "\ngoal gfar priority 5 {\n    hold(PICTURE(far): true, (st, et));\n    \
+         st in [0, 30min];\n    achieve 60s;\n}\n",
+    );
+    let d = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
+    let p = parse_problem("fig2-far.ixt", &text, &d).expect("problem parses");
+    let plan = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mut ex = Executive::new(plan, ExecConfig::default());
+    let result = ex.replan(&|| 0, &mut |_| {});
+    assert!(
+        matches!(result, mavtempo::exec::replan::ReplanResult::Plan(_)),
+        "{result:?}"
+    );
+    for g in ex.goal_fates() {
+        if g.name == "gfar" {
+            assert_eq!(g.fate, mavtempo::exec::executive::Fate::Rejected);
+            assert!(
+                g.reason.contains("cannot be achieved") && g.reason.contains("BATTERY"),
+                "{}",
+                g.reason
+            );
+        } else {
+            assert_eq!(
+                g.fate,
+                mavtempo::exec::executive::Fate::Pending,
+                "{}",
+                g.name
+            );
+        }
+    }
+}

@@ -130,6 +130,10 @@ impl Executive {
         ins.steps += steps;
         ins.cycles += 1;
         let (total, cycles) = (ins.steps, ins.cycles);
+        // What the search last ran into: the reason a rejection gives beside the budget.
+        let why = search
+            .last_rejection()
+            .map_or(String::new(), |r| format!("; the last dead end: {r}"));
         self.counters.repair_steps += steps;
         self.counters.insertion_steps += steps;
         match outcome {
@@ -139,14 +143,14 @@ impl Executive {
             }
             Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
                 self.reject_insertion(&format!(
-                    "plan repair found no plan with it ({r}); the plan is kept as it was"
+                    "plan repair found no plan with it ({r}{why}); the plan is kept as it was"
                 ));
                 self.next_insertion()
             }
             _ if cycles >= self.cfg.goal_insertion_cycles => {
                 self.reject_insertion(&format!(
-                    "plan repair did not insert it within {cycles} cycles ({total} steps); the plan is \
-                     kept as it was"
+                    "plan repair did not insert it within {cycles} cycles ({total} steps{why}); the plan \
+                     is kept as it was"
                 ));
                 self.next_insertion()
             }

@@ -10,8 +10,10 @@
 //! flexibility `st_ub − d_achiev`, then the newest — S_t is refreshed (the paper's suggested improvement),
 //! and a new attempt starts. Every attempt is bounded in steps as well (a stepped simulator's clock does not
 //! move while it plans), each half the previous one's ([`attempt_cap`]), so a whole replanning — and the
-//! memory its searches take — is bounded too. A new goal whose insertion attempt is in progress is not in
-//! the plan yet (src/exec/goal_insertion.rs): it never competes with the goals held.
+//! memory its searches take — is bounded too. Before the first attempt, a goal that cannot be achieved even
+//! alone (src/planner/reachability.rs) is rejected at once with why, instead of costing the goals after it
+//! an attempt each. A new goal whose insertion attempt is in progress is not in the plan yet
+//! (src/exec/goal_insertion.rs): it never competes with the goals held.
 
 use std::sync::Arc;
 
@@ -19,6 +21,7 @@ use super::executive::{Executive, Fate};
 use super::trace::TraceEvent;
 use crate::model::{Fact, GoalId, ObjectId, Problem, Time, Value};
 use crate::plan::{PartialPlan, PlanError, TimeFloor};
+use crate::planner::reachability::{unreachable_goals, STEPS_PER_GOAL};
 use crate::planner::{Search, StepOutcome};
 use crate::stn::{Timepoint, INF};
 
@@ -232,6 +235,16 @@ impl Executive {
                 self.reject_goal(g, &reason);
             }
             dropped.extend(ext.incoherent.iter().copied());
+            let mut ext = ext;
+            if attempt == 1 {
+                // A goal no plan achieves even alone is rejected at once, with why, rather than costing
+                // every goal after it an attempt.
+                for u in unreachable_goals(&ext.plan, STEPS_PER_GOAL) {
+                    self.reject_goal(u.goal, &u.to_string());
+                    ext.plan.remove_goal(u.goal);
+                    dropped.push(u.goal);
+                }
+            }
             let t_end = ext.t_end;
             if !ext.plan.goals.iter().any(|g| g.active) {
                 return ReplanResult::NoGoals(ext.plan);

@@ -10,6 +10,7 @@
 
 pub mod bench;
 pub mod hierarchy;
+pub mod reachability;
 pub mod resolvers;
 pub mod select;
 pub mod suite;
@@ -97,6 +98,9 @@ pub struct Search {
     discrepancy_limit: u32,
     /// Whether the current iteration left a resolver out for the limit.
     cut: bool,
+    /// Why the last resolver rejected was rejected, or the last flaw found without any (for explaining a
+    /// failure: [`reachability`]).
+    last_rejection: Option<String>,
 }
 
 impl Search {
@@ -114,6 +118,7 @@ impl Search {
             status: Status::Running,
             discrepancy_limit: 0,
             cut: false,
+            last_rejection: None,
         }
     }
 
@@ -153,6 +158,11 @@ impl Search {
 
     pub fn into_plan(self) -> PartialPlan {
         self.plan
+    }
+
+    /// Why the last resolver the search rejected was rejected (or the last flaw it found without any).
+    pub fn last_rejection(&self) -> Option<&str> {
+        self.last_rejection.as_deref()
     }
 
     /// Planning steps done.
@@ -327,7 +337,14 @@ impl Search {
                     }
                     Err(e) => {
                         tracing::trace!(resolver = ?r, error = %e, "resolver rejected");
-                        self.plan.restore(level)
+                        self.plan.restore(level);
+                        if let Some(top) = self.stack.last() {
+                            self.last_rejection = Some(format!(
+                                "{} for {}: {e}",
+                                r.text(&self.plan),
+                                self.plan.flaw_text(&top.flaw)
+                            ));
+                        }
                     }
                 }
             } else {
@@ -336,6 +353,12 @@ impl Search {
                 };
                 self.plan.restore(top.level);
                 self.backtracks += 1;
+                if top.resolvers.is_empty() {
+                    self.last_rejection = Some(format!(
+                        "no resolver for {}",
+                        self.plan.flaw_text(&top.flaw)
+                    ));
+                }
                 if self.stack.is_empty() && self.cut {
                     // The limited tree is exhausted: the next iteration, from the root.
                     self.cut = false;
@@ -390,17 +413,27 @@ pub enum PlanFailure {
     /// The root plan could not be built (e.g. a goal window outside the horizon).
     #[error("invalid problem: {0}")]
     Root(String),
+    /// A goal no plan achieves, found before the search ([`reachability`]).
+    #[error(transparent)]
+    Unreachable(#[from] reachability::Unreachable),
     #[error(transparent)]
     Search(#[from] FailReason),
 }
 
-/// Plans `problem` from scratch within `budget`.
+/// Plans `problem` from scratch within `budget`, after refusing at once a goal that cannot be achieved
+/// even alone ([`reachability`]).
 pub fn solve(
     domain: std::sync::Arc<crate::model::Domain>,
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
     let root = PartialPlan::new(domain, problem).map_err(|e| PlanFailure::Root(e.to_string()))?;
+    if let Some(u) = reachability::unreachable_goals(&root, reachability::STEPS_PER_GOAL)
+        .into_iter()
+        .next()
+    {
+        return Err(u.into());
+    }
     let mut search = Search::new(root);
     match search.run(budget) {
         StepOutcome::Solved => Ok(Planned {

@@ -67,6 +67,34 @@ pub enum Resolver {
 }
 
 impl Resolver {
+    /// What the resolver does, for failure reasons.
+    pub fn text(&self, plan: &PartialPlan) -> String {
+        match self {
+            Resolver::Link { event, .. } => {
+                format!(
+                    "a causal link from {}",
+                    plan.owner_text(plan.event(*event).owner)
+                )
+            }
+            Resolver::Insert { task, .. } => {
+                format!("inserting {}", plan.domain.task(*task).name)
+            }
+            Resolver::InsertProducer { task, resource, .. } => format!(
+                "inserting {} to produce {}",
+                plan.domain.task(*task).name,
+                plan.domain.resource(*resource).name
+            ),
+            Resolver::Order { .. } => "an ordering".into(),
+            Resolver::Separate(..) | Resolver::Unify(..) => "a binding".into(),
+            Resolver::CapQuantity { action, .. } | Resolver::RaiseQuantity { action, .. } => {
+                format!(
+                    "bounding the quantity of {}",
+                    plan.owner_text(crate::plan::Owner::Action(*action))
+                )
+            }
+        }
+    }
+
     /// Whether applying it inserts an action.
     pub fn inserts(&self) -> bool {
         matches!(
