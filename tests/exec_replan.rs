@@ -1,5 +1,6 @@
 //! Complete replanning (seed 1 §3.6): P_ti extraction, T_end, goal rejection order.
 
+mod common;
 #[path = "common/mapping.rs"]
 mod mapping;
 
@@ -300,19 +301,8 @@ fn equal_goals_the_newest_is_abandoned_first() {
 /// replanning keeps every other goal instead of abandoning them one attempt at a time.
 #[test]
 fn an_unreachable_goal_is_rejected_first_with_why_and_the_others_are_kept() {
-    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("fig2");
-    let anchor = "object p5: location at (40, 10);";
-    assert!(text.contains(anchor), "p5 is in the shipped problem");
-    let mut text = text.replace(
-        anchor,
-        &format!("{anchor}\nobject far: location at (500, 0);"),
-    );
-    text.push_str(
-        "\ngoal gfar priority 5 {\n    hold(PICTURE(far): true, (st, et));\n    \
-         st in [0, 30min];\n    achieve 60s;\n}\n",
-    );
     let d = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
-    let p = parse_problem("fig2-far.ixt", &text, &d).expect("problem parses");
+    let p = common::fig2_with_far_target(&d, 500.0, 5);
     let plan = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
     let mut ex = Executive::new(plan, ExecConfig::default());
     let result = ex.replan(&|| 0, &mut |_| {});

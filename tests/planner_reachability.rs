@@ -5,32 +5,15 @@ mod common;
 
 use std::sync::Arc;
 
-use mavtempo::model::Domain;
 use mavtempo::plan::PartialPlan;
 use mavtempo::planner::reachability::{unreachable_goals, STEPS_PER_GOAL};
 use mavtempo::planner::{solve, Budget, PlanFailure};
-
-/// Fig. 2 with one more target `east` metres from home and a picture goal of it.
-fn fig2_with_target(d: &Domain, east: f64) -> mavtempo::model::Problem {
-    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("shipped problem");
-    let anchor = "object p5: location at (40, 10);";
-    assert!(text.contains(anchor), "p5 is in the shipped problem");
-    let mut changed = text.replace(
-        anchor,
-        &format!("{anchor}\nobject far: location at ({east}, 0);"),
-    );
-    changed.push_str(
-        "\ngoal gfar priority 1 {\n    hold(PICTURE(far): true, (st, et));\n    \
-         st in [0, 30min];\n    achieve 60s;\n}\n",
-    );
-    mavtempo::lang::parse_problem("fig2-far", &changed, d).expect("problem parses")
-}
 
 #[test]
 fn a_target_beyond_the_battery_is_refused_at_once_and_named() {
     let d = Arc::new(common::rover());
     // 500 m at 0.5 % per metre: 250 % of a 100 % battery for the last leg alone.
-    let p = Arc::new(fig2_with_target(&d, 500.0));
+    let p = Arc::new(common::fig2_with_far_target(&d, 500.0, 1));
     match solve(d, p, Budget::steps(200_000)) {
         Err(PlanFailure::Unreachable(u)) => {
             assert_eq!(u.name, "gfar");
@@ -66,7 +49,7 @@ fn a_window_closing_before_the_target_can_be_reached_is_refused_and_named() {
 fn reachable_goals_are_not_refused() {
     let d = Arc::new(common::rover());
     // A target 60 m away (30 % of the battery) is reachable alone: nothing is refused.
-    let p = Arc::new(fig2_with_target(&d, 60.0));
+    let p = Arc::new(common::fig2_with_far_target(&d, 60.0, 1));
     let root = PartialPlan::new(d.clone(), p).expect("root plan");
     assert_eq!(unreachable_goals(&root, STEPS_PER_GOAL), Vec::new());
     let p = Arc::new(common::fig2_with_g2_window(&d, "90s"));

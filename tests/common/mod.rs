@@ -28,3 +28,19 @@ pub fn fig2_with_g2_window(d: &Domain, window: &str) -> Problem {
     assert_ne!(changed, text, "g2's window is in the shipped problem");
     mavtempo::lang::parse_problem("fig2-g2-window", &changed, d).expect("problem parses")
 }
+
+/// Fig. 2 with one more target `east` metres from home and a picture goal `gfar` of it, of `priority`.
+pub fn fig2_with_far_target(d: &Domain, east: f64, priority: u32) -> Problem {
+    let text = std::fs::read_to_string("domains/rover/problems/fig2.ixt").expect("shipped problem");
+    let anchor = "object p5: location at (40, 10);";
+    assert!(text.contains(anchor), "p5 is in the shipped problem");
+    let mut changed = text.replace(
+        anchor,
+        &format!("{anchor}\nobject far: location at ({east}, 0);"),
+    );
+    changed.push_str(&format!(
+        "\ngoal gfar priority {priority} {{\n    hold(PICTURE(far): true, (st, et));\n    \
+         st in [0, 30min];\n    achieve 60s;\n}}\n"
+    ));
+    mavtempo::lang::parse_problem("fig2-far", &changed, d).expect("problem parses")
+}
