@@ -267,8 +267,12 @@ pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
         return;
     };
     let own = own_event(plan, *c);
+    // d(condition end, x) for every x, shared by every candidate link of this condition.
+    let from_end = (rs.len() >= DOOM_SHARED).then(|| plan.stn.distances_from(plan.cond(*c).to));
     rs.retain(|r| match r {
-        Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
+        Resolver::Link { cond, event } => {
+            !link_doomed_with(plan, *event, *cond, own, from_end.as_deref())
+        }
         _ => true,
     });
     order_links_by_support(plan, *c, rs);
@@ -343,6 +347,23 @@ fn link_doomed(
     c: CondId,
     own: Option<crate::plan::EventId>,
 ) -> bool {
+    link_doomed_with(plan, e, c, own, None)
+}
+
+/// Candidate links of one condition at or above which [`refine`] computes the distances from the
+/// condition's end once for all of them.
+const DOOM_SHARED: usize = 8;
+
+/// [`link_doomed`], with `from_end[x]` = d(end of `c`, x) when known: an event can follow the condition iff
+/// that distance reaches the condition's end delay, so only the events that cannot need a search for the
+/// other order.
+fn link_doomed_with(
+    plan: &PartialPlan,
+    e: crate::plan::EventId,
+    c: CondId,
+    own: Option<crate::plan::EventId>,
+    from_end: Option<&[Time]>,
+) -> bool {
     let cond = plan.cond(c);
     let b = &plan.bindings;
     let te = plan.event(e).at;
@@ -366,9 +387,13 @@ fn link_doomed(
         }
         // Doomed only if neither order is possible: the bounds first (either proving an order possible
         // settles it), a search only for what they leave open.
+        let after = possibly_by_bounds(plan, cond.to, ev2.at, cond.end_delay())
+            .or_else(|| from_end.map(|d| d[ev2.at.index()] >= cond.end_delay()));
+        if after == Some(true) {
+            return false;
+        }
         let before = possibly_by_bounds(plan, ev2.at, te, 1);
-        let after = possibly_by_bounds(plan, cond.to, ev2.at, cond.end_delay());
-        if before == Some(true) || after == Some(true) {
+        if before == Some(true) {
             return false;
         }
         let impossible = |bounds: Option<bool>, from, to, delay| {
