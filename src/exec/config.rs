@@ -117,6 +117,18 @@ pub enum ConfigError {
     StepCap(&'static str),
 }
 
+impl ConfigError {
+    /// The key of `[exec]` the error is about.
+    pub fn key(&self) -> &'static str {
+        match self {
+            ConfigError::Timestep(_) => "timestep_ms",
+            ConfigError::Share(_) => "repair_share",
+            ConfigError::Slack(_) => "replan_slack_ms",
+            ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
+        }
+    }
+}
+
 impl ExecConfig {
     pub fn validate(&self) -> Result<(), ConfigError> {
         if self.timestep_ms <= 0 {

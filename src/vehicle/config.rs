@@ -13,21 +13,13 @@ use super::geo::Home;
 use super::safe_stop::OnShutdown;
 use super::types::GoalKind;
 
+/// A configuration that cannot be used: unreadable, or wrong at `file:line:col` (the line shown).
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
-    #[error("{path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("{path}: {message}")]
-    Parse { path: String, message: String },
-    #[error("{path}: {key}: {reason}")]
-    Invalid {
-        path: String,
-        key: String,
-        reason: String,
-    },
+    #[error("{0}")]
+    Read(#[from] srctext::ReadError),
+    #[error("{0}")]
+    At(Box<srctext::Located>),
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -45,10 +37,9 @@ pub struct VehicleConfig {
     /// Task name of the domain → binding.
     #[serde(default)]
     pub actions: BTreeMap<String, Binding>,
-    /// The executive's `[exec]` table, kept raw: the executive reads it (`crate::exec::config::ExecConfig`),
-    /// it is allowed here so that one file holds both and is parsed once (errors keep their lines).
+    /// The executive's `[exec]` table, read from the same text so that its errors keep their lines.
     #[serde(default)]
-    pub exec: Option<toml::Table>,
+    pub exec: Option<crate::exec::config::ExecConfig>,
     /// Where the configuration was read from (not a key of the file): for `file:line` in messages.
     #[serde(skip)]
     pub source: Option<ConfigSource>,
@@ -66,33 +57,8 @@ impl ConfigSource {
     /// The 1-based line where the key path `key` (`actions.survey.area`) is written; when it is not written
     /// (a default, a missing binding), the line of the closest written table or key above it, if any.
     pub fn line_of(&self, key: &str) -> Option<usize> {
-        use toml_edit::{Item, Value};
-        let doc = toml_edit::ImDocument::parse(self.text.as_str()).ok()?;
-        let mut best = None;
-        let mut item: Option<&Item> = None;
-        for seg in key.split('.') {
-            let found = match item {
-                None => doc.as_table().get_key_value(seg),
-                Some(Item::Table(t)) => t.get_key_value(seg),
-                Some(Item::Value(Value::InlineTable(t))) => t.get_key_value(seg),
-                Some(_) => None,
-            };
-            let Some((k, v)) = found else { break };
-            // An implicit table (`actions` of `[actions.move]`) is written nowhere of its own.
-            let implicit = matches!(v, Item::Table(t) if t.is_implicit());
-            if let (false, Some(span)) = (implicit, k.span().or_else(|| v.span())) {
-                best = Some(span.start);
-            }
-            item = Some(v);
-        }
-        let pos = best?.min(self.text.len());
-        Some(
-            self.text.as_bytes()[..pos]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count()
-                + 1,
-        )
+        let pos = srctext::toml_file::key_offset(&self.text, key)?;
+        Some(srctext::locate(&self.origin, &self.text, pos, "").line)
     }
 }
 
@@ -336,20 +302,26 @@ fn d_poll() -> u64 {
 
 impl VehicleConfig {
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = srctext::read(path)?;
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parses and validates; `origin` names the source in errors.
+    /// Parses and validates, the `[exec]` table too; `origin` names the source in errors.
     pub fn parse(text: &str, origin: &str) -> Result<Self, ConfigError> {
-        let mut cfg: VehicleConfig = toml::from_str(text).map_err(|e| ConfigError::Parse {
-            path: origin.to_string(),
-            message: e.to_string().trim_end().to_string(),
-        })?;
-        cfg.validate(origin)?;
+        let mut cfg: VehicleConfig =
+            srctext::toml_file::parse(origin, text).map_err(|e| ConfigError::At(Box::new(e)))?;
+        let exec = cfg.exec.as_ref().map_or(Ok(()), |e| {
+            // The executive's messages name their key already.
+            e.validate()
+                .map_err(|e| (format!("exec.{}", e.key()), e.to_string()))
+        });
+        cfg.validate()
+            .map_err(|(key, reason)| (key.clone(), format!("{key}: {reason}")))
+            .and(exec)
+            .map_err(|(key, message)| {
+                let e = srctext::toml_file::at_key(origin, text, &key, message);
+                ConfigError::At(Box::new(e))
+            })?;
         cfg.source = Some(ConfigSource {
             origin: origin.to_string(),
             text: text.to_string(),
@@ -357,12 +329,9 @@ impl VehicleConfig {
         Ok(cfg)
     }
 
-    fn validate(&self, origin: &str) -> Result<(), ConfigError> {
-        let invalid = |key: String, reason: &str| ConfigError::Invalid {
-            path: origin.to_string(),
-            key,
-            reason: reason.to_string(),
-        };
+    /// The first semantic error: the key path it is about and why.
+    fn validate(&self) -> Result<(), (String, String)> {
+        let invalid = |key: String, reason: &str| (key, reason.to_string());
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
@@ -374,11 +343,11 @@ impl VehicleConfig {
                 ));
             }
         }
-        if !(-90.0..=90.0).contains(&self.home.lat) || !(-180.0..=180.0).contains(&self.home.lon) {
-            return Err(invalid(
-                "home".into(),
-                "lat must be in [-90, 90] and lon in [-180, 180]",
-            ));
+        if !(-90.0..=90.0).contains(&self.home.lat) {
+            return Err(invalid("home.lat".into(), "must be in [-90, 90]"));
+        }
+        if !(-180.0..=180.0).contains(&self.home.lon) {
+            return Err(invalid("home.lon".into(), "must be in [-180, 180]"));
         }
         for (task, b) in &self.actions {
             let key = |k: &str| format!("actions.{task}.{k}");
