@@ -224,7 +224,7 @@ fn malformed_configs_name_the_key() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("unknown field `radius`"), "{err}");
-    assert!(err.to_string().starts_with("c.toml: "), "{err}");
+    assert!(err.to_string().starts_with("c.toml:34:1: error: "), "{err}");
     let err = VehicleConfig::parse(
         &base.replace("kind = \"sample\"", "kind = \"dance\""),
         "c.toml",
@@ -236,9 +236,12 @@ fn malformed_configs_name_the_key() {
         "c.toml",
     )
     .unwrap_err();
-    assert_eq!(
-        err.to_string(),
-        "c.toml: actions.survey.spacing_m: must be > 0"
+    let err = err.to_string();
+    assert!(
+        err.starts_with("c.toml:")
+            && err
+                .contains(": error: actions.survey.spacing_m: must be > 0\n    spacing_m = 0.0\n"),
+        "{err}"
     );
     let err = VehicleConfig::parse(
         &base.replace("[link]\n", "[link]\nsigning_key = \"abc\"\n"),
@@ -247,7 +250,7 @@ fn malformed_configs_name_the_key() {
     .unwrap_err();
     assert!(
         err.to_string()
-            .starts_with("c.toml: link.signing_key: expected 64 hex digits"),
+            .starts_with("c.toml:7:15: error: link.signing_key: expected 64 hex digits"),
         "{err}"
     );
     let err = VehicleConfig::parse(&base.replace("hold = 4\n", ""), "c.toml").unwrap_err();
@@ -280,7 +283,7 @@ fn shutdown_mode_and_goal_sysids_are_read_and_checked() {
         let err = parse("[link]\n", &format!("[link]\ngoal_sysids = {bad}\n")).unwrap_err();
         assert!(
             err.to_string()
-                .starts_with("c.toml: link.goal_sysids: system ids 1 to 255"),
+                .starts_with("c.toml:7:15: error: link.goal_sysids: system ids 1 to 255"),
             "{bad}: {err}"
         );
     }

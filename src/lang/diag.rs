@@ -156,25 +156,17 @@ impl<'a> Source<'a> {
     }
 }
 
-/// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte.
+/// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte (see [`srctext::decode`]).
 pub fn decode<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, Diagnostics> {
-    match std::str::from_utf8(bytes) {
-        // An editor's byte-order mark is not part of the text.
-        Ok(s) => Ok(s.strip_prefix('\u{feff}').unwrap_or(s)),
-        Err(e) => {
-            let valid = e.valid_up_to();
-            // The prefix is valid UTF-8 by construction.
-            let prefix = std::str::from_utf8(&bytes[..valid]).unwrap_or("");
-            let d = Source::new(file, prefix).error_at(
-                valid,
-                format!(
-                    "invalid UTF-8 (byte 0x{:02x}): source files must be UTF-8 text",
-                    bytes[valid]
-                ),
-            );
-            Err(Diagnostics(vec![d]))
-        }
-    }
+    srctext::decode(file, bytes).map_err(|e| {
+        Diagnostics(vec![Diagnostic {
+            file: e.file,
+            line: e.line,
+            col: e.col,
+            message: e.message,
+            source_line: e.source_line,
+        }])
+    })
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
+use super::binding_table::BindingTable;
 use super::geo::Home;
 use super::safe_stop::OnShutdown;
 use super::types::GoalKind;
@@ -34,9 +35,12 @@ pub struct VehicleConfig {
     pub resources: ResourceNames,
     #[serde(default)]
     pub mapping: Mapping,
-    /// Task name of the domain → binding.
-    #[serde(default)]
+    /// Task name of the domain → binding (from `tables`, once parsed).
+    #[serde(skip)]
     pub actions: BTreeMap<String, Binding>,
+    /// `[actions.*]` as written (see [`super::binding_table`]).
+    #[serde(default, rename = "actions")]
+    tables: BTreeMap<String, BindingTable>,
     /// The executive's `[exec]` table, read from the same text so that its errors keep their lines.
     #[serde(default)]
     pub exec: Option<crate::exec::config::ExecConfig>,
@@ -208,57 +212,41 @@ pub struct ServoStep {
     pub hold_ms: u64,
 }
 
-/// How a task is realised and how its end is recognised.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+/// How a task is realised and how its end is recognised (read through [`BindingTable`]).
+#[derive(Debug, Clone)]
 pub enum Binding {
     /// GUIDED `DO_REPOSITION` to the location argument `to`; done within `acceptance_radius_m`;
     /// interrupted by HOLD (the report gives the reached position as state variable `position`).
     Move {
-        #[serde(default = "d_to")]
         to: String,
-        #[serde(default = "d_radius")]
         acceptance_radius_m: f64,
-        #[serde(default = "d_speed")]
         speed_m_s: f64,
-        #[serde(default = "d_position")]
         position_variable: String,
         /// When set, the move is also done only within this vertical distance (an AUV reaching a depth);
         /// unset, only the horizontal distance counts (a ground vehicle does not control its altitude).
-        #[serde(default)]
         vertical_acceptance_m: Option<f64>,
     },
     /// A lawnmower mission over a rectangle centred on the location argument `area`, run in AUTO;
     /// done on the last MISSION_ITEM_REACHED.
     Survey {
-        #[serde(default = "d_area")]
         area: String,
         width_m: f64,
         height_m: f64,
         spacing_m: f64,
-        #[serde(default = "d_position")]
         position_variable: String,
     },
     /// IMAGE_START_CAPTURE; done on CAMERA_IMAGE_CAPTURED, failed on capture_result 0 or timeout.
-    TakePicture {
-        #[serde(default)]
-        camera_id: u8,
-        #[serde(default = "d_picture_timeout")]
-        timeout_ms: u64,
-    },
+    TakePicture { camera_id: u8, timeout_ms: u64 },
     /// A DO_SET_SERVO sequence; done when the last step's hold time has elapsed.
     Sample { steps: Vec<ServoStep> },
     /// RTL; done within `acceptance_radius_m` of home.
     ReturnHome {
-        #[serde(default = "d_radius")]
         acceptance_radius_m: f64,
-        #[serde(default = "d_position")]
         position_variable: String,
     },
     /// HOLD until the battery reaches `until_percent`, or the number argument `level_arg` when one is named.
     Recharge {
         until_percent: f64,
-        #[serde(default)]
         level_arg: Option<String>,
     },
     /// The vehicle's downlink command (COMMAND_LONG `command`); done when used storage falls to
@@ -266,38 +254,13 @@ pub enum Binding {
     /// over: the downlink is stopped and what was sent is freed, maybe less than planned).
     Download {
         command: u16,
-        #[serde(default)]
         until_used: f64,
-        #[serde(default)]
         max_ms: Option<u64>,
-        #[serde(default = "d_poll")]
         poll_ms: u64,
     },
     /// A task the autopilot has no counterpart for (e.g. turning a pan-and-tilt unit it does not drive, a
     /// software initialisation): nothing is sent, the action ends `duration_ms` after its start.
     Timed { duration_ms: u64 },
-}
-
-fn d_to() -> String {
-    "to".into()
-}
-fn d_area() -> String {
-    "area".into()
-}
-fn d_position() -> String {
-    "position".into()
-}
-fn d_radius() -> f64 {
-    3.0
-}
-fn d_speed() -> f64 {
-    -1.0
-}
-fn d_picture_timeout() -> u64 {
-    10_000
-}
-fn d_poll() -> u64 {
-    1000
 }
 
 impl VehicleConfig {
@@ -315,6 +278,18 @@ impl VehicleConfig {
             e.validate()
                 .map_err(|e| (format!("exec.{}", e.key()), e.to_string()))
         });
+        let tables = std::mem::take(&mut cfg.tables);
+        for (task, table) in tables {
+            let binding = table.into_binding().map_err(|(key, reason)| {
+                let path = format!("actions.{task}.{key}");
+                let path = path.trim_end_matches('.');
+                let message = format!("{path}: {reason}");
+                ConfigError::At(Box::new(srctext::toml_file::at_key(
+                    origin, text, path, message,
+                )))
+            })?;
+            cfg.actions.insert(task, binding);
+        }
         cfg.validate()
             .map_err(|(key, reason)| (key.clone(), format!("{key}: {reason}")))
             .and(exec)

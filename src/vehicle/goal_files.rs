@@ -26,9 +26,15 @@ pub struct GoalFile {
 /// Reads a `.plan` or `.waypoints` file, chosen by extension (else by content).
 pub fn load(path: &Path) -> Result<GoalFile, FileError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| FileError {
-        place: name.clone(),
-        message: e.to_string(),
+    let text = srctext::read(path).map_err(|e| match e {
+        srctext::ReadError::Utf8(at) => FileError {
+            place: format!("{}:{}:{}", at.file, at.line, at.col),
+            message: at.message,
+        },
+        srctext::ReadError::Io { path, source } => FileError {
+            place: path,
+            message: source.to_string(),
+        },
     })?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if ext == "plan" || (ext != "waypoints" && text.trim_start().starts_with('{')) {

@@ -43,8 +43,8 @@ pub fn key_offset(text: &str, key: &str) -> Option<usize> {
             break;
         };
         // An implicit table (`actions` of `[actions.move]`) is written nowhere of its own.
-        if let Some(at) = next.span().or(key_at) {
-            best = Some(at);
+        if !next.is_implicit() {
+            best = next.span().or(key_at).or(best);
         }
         node = next;
     }
@@ -81,10 +81,16 @@ impl<'a> Node<'a> {
         }
     }
 
+    fn is_implicit(self) -> bool {
+        match self {
+            Node::Table(t) | Node::Item(Item::Table(t)) => t.is_implicit(),
+            _ => false,
+        }
+    }
+
     /// Where this is written, if it is written at all.
     fn span(self) -> Option<usize> {
         let span = match self {
-            Node::Table(t) if t.is_implicit() => None,
             Node::Table(t) => t.span(),
             Node::Item(Item::Table(t)) => return Node::Table(t).span(),
             Node::Item(i) => i.span(),
