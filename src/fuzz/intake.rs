@@ -1,0 +1,171 @@
+//! The MAVLink goal intake under arbitrary frames: an input is a list of records `[op, len, payload...]`;
+//! most ops give a message id whose payload is decoded by the dialect as the link decodes a CRC-valid
+//! frame (undecodable items go to `unparsable_item`, as on the link), others feed the bytes to the frame
+//! decoder as a stream, decide a pending upload or move the clock. Seeds are well-formed uploads.
+
+use mavlink::dialects::ardupilotmega::*;
+use mavlink::{MavHeader, MavlinkVersion, Message};
+
+use crate::vehicle::driver::COMPANION_COMPONENT;
+use crate::vehicle::frame::FrameDecoder;
+use crate::vehicle::geo::Home;
+use crate::vehicle::goals::KnownLocations;
+use crate::vehicle::intake::GoalIntake;
+use crate::vehicle::items::MissionItem;
+use crate::vehicle::{Enu, GoalVerdict};
+
+const SYS: u8 = 1;
+/// The message ids the ops name (op % 16 below 11), the mission protocol first.
+const IDS: [u32; 11] = [44, 73, 39, 43, 51, 40, 47, 45, 0, 76, 253];
+
+fn intake() -> GoalIntake {
+    let mut known = KnownLocations::new(Home {
+        lat: 43.5615,
+        lon: 1.4778,
+        alt: 0.0,
+    });
+    known.objects.push(("p1".into(), Enu::new(10.0, 5.0, 0.0)));
+    GoalIntake::new(known, 1).allowing(None)
+}
+
+/// One record: the op, the sender's system id and the payload.
+fn record(op: u8, msg: &MavMessage) -> Vec<u8> {
+    let mut payload = [0u8; 255];
+    let n = msg.ser(MavlinkVersion::V2, &mut payload);
+    let mut v = vec![op, n as u8];
+    v.extend_from_slice(&payload[..n]);
+    v
+}
+
+/// Seeds: uploads of 1 to 3 goals (waypoints, a picture, return home), cleared, downloaded, re-requested.
+pub fn corpus() -> Vec<Vec<u8>> {
+    let target = (SYS, COMPANION_COMPONENT);
+    let count = |n: u16| {
+        MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: n,
+            target_system: SYS,
+            target_component: COMPANION_COMPONENT,
+            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            opaque_id: 0,
+        })
+    };
+    let mut picture = MissionItem::waypoint(43.5616, 1.4779, 0.0);
+    picture.command = 2000; // IMAGE_START_CAPTURE
+    let items = [
+        MissionItem::waypoint(43.5616, 1.4779, 0.0),
+        picture,
+        MissionItem::waypoint(43.5617, 1.4781, 5.0),
+    ];
+    let mut out = Vec::new();
+    for n in 1..=items.len() {
+        let mut seed = record(0, &count(n as u16));
+        for (seq, it) in items[..n].iter().enumerate() {
+            if let Some(d) = it.to_int(seq as u16, target, MavMissionType::MAV_MISSION_TYPE_MISSION)
+            {
+                seed.extend(record(1, &MavMessage::MISSION_ITEM_INT(d)));
+            }
+        }
+        seed.extend([DECIDE, 0]);
+        seed.extend(record(
+            3,
+            &MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
+                target_system: SYS,
+                target_component: COMPANION_COMPONENT,
+                mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            }),
+        ));
+        seed.extend([TICK, 2, 0xdc, 0x05]);
+        out.push(seed);
+    }
+    out
+}
+
+const DECIDE: u8 = 11;
+const TICK: u8 = 12;
+const STREAM: u8 = 13;
+
+/// Runs one input through the intake; a panic is the only failure.
+pub fn run(bytes: &[u8]) -> Result<(), String> {
+    let mut intake = intake();
+    let mut decoder = FrameDecoder::default();
+    let mut out = Vec::new();
+    let mut pending = None;
+    let mut now = 0u64;
+    let mut rest = bytes;
+    while let [op, len, tail @ ..] = rest {
+        let n = usize::from(*len).min(tail.len());
+        let (payload, next) = tail.split_at(n);
+        rest = next;
+        // The high bits pick the sender: mostly the ground station, sometimes another system.
+        let header = MavHeader {
+            system_id: [255, 255, 255, 7][usize::from(op >> 6)],
+            component_id: 190,
+            sequence: 0,
+        };
+        match op & 0x0f {
+            DECIDE => {
+                if let Some(p) = pending.take() {
+                    let verdicts = match payload.first().map(|b| b % 3) {
+                        Some(0) | None => vec![GoalVerdict::Accepted],
+                        Some(1) => vec![GoalVerdict::Rejected("no".into())],
+                        Some(_) => vec![GoalVerdict::Inserting; 4],
+                    };
+                    intake.decided(p, &verdicts, &mut out);
+                }
+            }
+            TICK => {
+                let dt = payload.iter().fold(0u64, |a, b| (a << 8) | u64::from(*b));
+                now = now.saturating_add(dt);
+                intake.tick(now, &mut out);
+            }
+            STREAM => {
+                decoder.push(payload);
+                while let Some(frame) = decoder.next_frame() {
+                    feed(
+                        &mut intake,
+                        frame.header(),
+                        frame.message_id,
+                        frame.payload(),
+                        now,
+                        &mut out,
+                        &mut pending,
+                    );
+                }
+            }
+            k => {
+                let id = IDS[usize::from(k) % IDS.len()];
+                feed(
+                    &mut intake,
+                    header,
+                    id,
+                    payload,
+                    now,
+                    &mut out,
+                    &mut pending,
+                );
+            }
+        }
+        out.clear();
+    }
+    Ok(())
+}
+
+/// A frame's payload as the link handles it: decoded and handled, or an undecodable item answered.
+fn feed(
+    intake: &mut GoalIntake,
+    header: MavHeader,
+    id: u32,
+    payload: &[u8],
+    now: u64,
+    out: &mut Vec<MavMessage>,
+    pending: &mut Option<crate::vehicle::intake::PendingDecision>,
+) {
+    match MavMessage::parse(MavlinkVersion::V2, id, payload) {
+        Ok(msg) => {
+            if let Some(p) = intake.handle(header, &msg, SYS, now, out) {
+                *pending = Some(p);
+            }
+        }
+        Err(_) => intake.unparsable_item(header, id, payload, SYS, out),
+    }
+}
