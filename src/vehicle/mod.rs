@@ -35,6 +35,7 @@ pub mod safe_stop;
 pub mod telemetry;
 pub mod tlog;
 pub mod types;
+pub mod wire_float;
 
 pub use api::{Vehicle, VehicleError};
 pub use link::MavlinkVehicle;
