@@ -194,6 +194,15 @@ fn every_kind_of_error_is_reported_at_its_line_and_column() {
             "system ids",
         ),
         (
+            "range",
+            "link.address",
+            "\"tcpout:localhost\"",
+            "address = \"tcpout:localhost\"",
+            Some(8),
+            false,
+            "expected HOST:PORT",
+        ),
+        (
             "nan",
             "home.lon",
             "nan",

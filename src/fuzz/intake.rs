@@ -86,6 +86,13 @@ const STREAM: u8 = 13;
 
 /// Runs one input through the intake; a panic is the only failure.
 pub fn run(bytes: &[u8]) -> Result<(), String> {
+    decisions(bytes);
+    Ok(())
+}
+
+/// Runs one input through the intake: how many uploads were completed and put to the decider.
+pub fn decisions(bytes: &[u8]) -> usize {
+    let mut decided = 0;
     let mut intake = intake();
     let mut decoder = FrameDecoder::default();
     let mut out = Vec::new();
@@ -105,6 +112,7 @@ pub fn run(bytes: &[u8]) -> Result<(), String> {
         match op & 0x0f {
             DECIDE => {
                 if let Some(p) = pending.take() {
+                    decided += 1;
                     let verdicts = match payload.first().map(|b| b % 3) {
                         Some(0) | None => vec![GoalVerdict::Accepted],
                         Some(1) => vec![GoalVerdict::Rejected("no".into())],
@@ -147,7 +155,7 @@ pub fn run(bytes: &[u8]) -> Result<(), String> {
         }
         out.clear();
     }
-    Ok(())
+    decided
 }
 
 /// A frame's payload as the link handles it: decoded and handled, or an undecodable item answered.

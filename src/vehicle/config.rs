@@ -307,6 +307,8 @@ impl VehicleConfig {
     /// The first semantic error: the key path it is about and why.
     fn validate(&self) -> Result<(), (String, String)> {
         let invalid = |key: String, reason: &str| (key, reason.to_string());
+        super::endpoint::Address::parse(&self.link.address)
+            .map_err(|r| invalid("link.address".into(), &r))?;
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
