@@ -44,11 +44,21 @@ fn written_at(text: &str, marker: &str) -> (usize, usize) {
     (i + 1, line[..value].chars().count() + 1)
 }
 
+/// What is tested, the key path, the new value as TOML, the mutated line's marker, the line expected (when
+/// the shipped file has it), whether the error points at the key rather than the value, part of the message.
+type Case = (
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    Option<usize>,
+    bool,
+    &'static str,
+);
+
 #[test]
 fn every_kind_of_error_is_reported_at_its_line_and_column() {
-    // (what, key path, new value as TOML, the mutated line's marker, expected line, whether the error
-    // points at the key rather than the value, part of the message)
-    let cases: &[(&str, &str, &str, &str, Option<usize>, bool, &str)] = &[
+    let cases: &[Case] = &[
         (
             "type",
             "link.command_retries",

@@ -72,8 +72,7 @@ impl Streams {
         if !SENDABLE.contains(&id) {
             return MavResult::MAV_RESULT_FAILED;
         }
-        if !interval_us.is_finite() || (id == HEARTBEAT && (interval_us < 0.0 || interval_us > 1e6))
-        {
+        if !interval_us.is_finite() || (id == HEARTBEAT && !(0.0..=1e6).contains(&interval_us)) {
             return MavResult::MAV_RESULT_DENIED;
         }
         if interval_us < 0.0 {
