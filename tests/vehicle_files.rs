@@ -289,3 +289,38 @@ fn shutdown_mode_and_goal_sysids_are_read_and_checked() {
     }
     assert!(parse("[link]\n", "[link]\ngoal_sysids = [256]\n").is_err());
 }
+
+#[test]
+fn goal_files_refuse_non_finite_numbers_absurd_homes_and_bad_bytes() {
+    let err = parse_plan(
+        &PLAN.replace("[43.5616, 1.4847, 150]", "[214.0, 1.4847, 150]"),
+        "g.plan",
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("g.plan: mission.plannedHomePosition: home: latitude"),
+        "{err}"
+    );
+    for bad in ["nan", "inf", "-inf", "1e999"] {
+        let text = WAYPOINTS.replace("43.5620", bad);
+        assert_ne!(text, WAYPOINTS);
+        let err = parse_waypoints(&text, "w.waypoints").unwrap_err();
+        assert!(err.to_string().contains("is not a number"), "{bad}: {err}");
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("g.waypoints");
+    std::fs::write(
+        &path,
+        b"QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t4\xe93\t1\t0\t1\n",
+    )
+    .expect("write");
+    let err = mavtempo::vehicle::goal_files::load(&path).unwrap_err();
+    assert!(
+        err.to_string().starts_with(&format!(
+            "{}:2:19: invalid UTF-8 (byte 0xe9)",
+            path.display()
+        )),
+        "{err}"
+    );
+}
