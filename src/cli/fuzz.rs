@@ -83,7 +83,7 @@ pub fn run(args: FuzzArgs) -> ExitCode {
             r.failures
         );
         for k in &r.kinds {
-            println!("  {} x {}", k.count, k.message.lines().next().unwrap_or(""));
+            println!("  {} x {}", k.count, k.message.replace('\n', " "));
             for p in &k.saved {
                 println!("    saved {}", p.display());
             }

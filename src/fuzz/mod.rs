@@ -108,8 +108,35 @@ thread_local! {
 /// Runs `execs` mutated inputs of `target` from `seed`; failing inputs go to `save`.
 pub fn run(target: Target, execs: u64, seed: u64, save: &Path) -> Report {
     let corpus = target.corpus();
-    let mut rng =
-        ChaCha8Rng::seed_from_u64(seed ^ (target as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let stream = seed ^ (target as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    let exec = |i: &[u8]| target.exec(i);
+    let (seconds, slowest, failures, kinds) =
+        run_fn(target.name(), &corpus, &exec, execs, stream, save);
+    Report {
+        target,
+        seed,
+        execs,
+        seconds,
+        execs_per_s: execs as f64 / seconds.max(1e-9),
+        slowest_ms: slowest.as_secs_f64() * 1e3,
+        failures,
+        kinds,
+    }
+}
+
+/// What [`run_fn`] found: seconds, the slowest input, failures and their kinds.
+type Outcome = (f64, Duration, u64, Vec<Failure>);
+
+/// The loop behind [`run`], for any harness.
+fn run_fn(
+    name: &str,
+    corpus: &[Vec<u8>],
+    exec: &dyn Fn(&[u8]) -> Result<(), String>,
+    execs: u64,
+    seed: u64,
+    save: &Path,
+) -> Outcome {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut input = Vec::new();
     let mut kinds: BTreeMap<String, Failure> = BTreeMap::new();
     let mut failures = 0;
@@ -134,10 +161,10 @@ pub fn run(target: Target, execs: u64, seed: u64, save: &Path) -> Report {
                     input.extend((0..rng.gen_range(0..256)).map(|_| rng.gen::<u8>()));
                 }
             } else {
-                mutate::mutate(&mut rng, base, &corpus, &mut input);
+                mutate::mutate(&mut rng, base, corpus, &mut input);
             }
             let t = Instant::now();
-            let result = catch_unwind(AssertUnwindSafe(|| target.exec(&input)));
+            let result = catch_unwind(AssertUnwindSafe(|| exec(&input)));
             slowest = slowest.max(t.elapsed());
             let message = match result {
                 Ok(Ok(())) => continue,
@@ -154,7 +181,7 @@ pub fn run(target: Target, execs: u64, seed: u64, save: &Path) -> Report {
             });
             kind.count += 1;
             if kind.saved.len() < SAVED_PER_KIND {
-                let path = save.join(format!("{}-{seed}-{i}.bin", target.name()));
+                let path = save.join(format!("{name}-{seed}-{i}.bin"));
                 if std::fs::create_dir_all(save)
                     .and_then(|()| std::fs::write(&path, &input))
                     .is_ok()
@@ -165,17 +192,8 @@ pub fn run(target: Target, execs: u64, seed: u64, save: &Path) -> Report {
         }
     });
     std::panic::set_hook(hook);
-    let seconds = start.elapsed().as_secs_f64();
-    Report {
-        target,
-        seed,
-        execs,
-        seconds,
-        execs_per_s: execs as f64 / seconds.max(1e-9),
-        slowest_ms: slowest.as_secs_f64() * 1e3,
-        failures,
-        kinds: kinds.into_values().collect(),
-    }
+    let kinds = kinds.into_values().collect();
+    (start.elapsed().as_secs_f64(), slowest, failures, kinds)
 }
 
 /// Replays one saved input: `Err` with the failure when it still fails.
@@ -198,4 +216,42 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 fn signature(message: &str) -> String {
     let first = message.lines().next().unwrap_or("");
     first.chars().filter(|c| !c.is_ascii_digit()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn panics_are_caught_counted_by_kind_and_saved() {
+        let dir = std::env::temp_dir().join(format!("mavtempo-fuzz-test-{}", std::process::id()));
+        let corpus = vec![b"abcdefgh".to_vec()];
+        let exec = |i: &[u8]| -> Result<(), String> {
+            if i.contains(&b'[') {
+                panic!("bracket at {}", i.len());
+            }
+            if i.is_empty() {
+                return Err("empty".into());
+            }
+            Ok(())
+        };
+        let (_, _, failures, kinds) = run_fn("t", &corpus, &exec, 3_000, 3, &dir);
+        let total: u64 = kinds.iter().map(|k| k.count).sum();
+        assert!(failures > 0 && total == failures, "{failures} {kinds:?}");
+        let bracket = kinds.iter().find(|k| k.message.contains("bracket at"));
+        let saved = bracket.map(|k| k.saved.clone()).unwrap_or_default();
+        assert!(
+            !saved.is_empty() && saved.len() <= SAVED_PER_KIND,
+            "{kinds:?}"
+        );
+        for p in &saved {
+            let input = std::fs::read(p).unwrap_or_default();
+            assert!(
+                input.contains(&b'['),
+                "{} holds the failing input",
+                p.display()
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
