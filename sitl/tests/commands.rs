@@ -179,14 +179,7 @@ async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
         "{gpi} GLOBAL_POSITION_INT in 2 s at 10 Hz"
     );
     // Stop everything with REQUEST_DATA_STREAM(ALL, stop).
-    gcs.send(MavMessage::REQUEST_DATA_STREAM(REQUEST_DATA_STREAM_DATA {
-        req_message_rate: 0,
-        target_system: 1,
-        target_component: 1,
-        req_stream_id: MavDataStream::MAV_DATA_STREAM_ALL,
-        start_stop: 0,
-    }))
-    .await;
+    gcs.stop_all_streams().await;
     gcs.sync().await;
     sim.step(Duration::from_secs(3)).await.expect("step");
     let seen = gcs.sync().await;
@@ -453,14 +446,7 @@ async fn heartbeat_cannot_be_switched_off() {
         MavResult::MAV_RESULT_ACCEPTED,
         "GLOBAL_POSITION_INT may stop"
     );
-    a.send(MavMessage::REQUEST_DATA_STREAM(REQUEST_DATA_STREAM_DATA {
-        req_message_rate: 0,
-        target_system: 1,
-        target_component: 1,
-        req_stream_id: MavDataStream::MAV_DATA_STREAM_ALL,
-        start_stop: 0,
-    }))
-    .await;
+    a.stop_all_streams().await;
     a.sync().await;
     b.sync().await;
     sim.step(Duration::from_secs(3)).await.expect("step");

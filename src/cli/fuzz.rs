@@ -11,8 +11,8 @@ use crate::fuzz::{self, Target};
 #[derive(Args, Debug)]
 pub struct FuzzArgs {
     /// What to fuzz: domain, problem, config (vehicle + [exec]), scenario, goals, intake, or all.
-    #[arg(long, default_value = "all")]
-    pub target: TargetArg,
+    #[arg(long, default_value = "all", value_parser = targets)]
+    pub target: Targets,
     /// Executions per target.
     #[arg(long, default_value_t = 100_000)]
     pub execs: u64,
@@ -29,29 +29,20 @@ pub struct FuzzArgs {
     pub replay: Option<PathBuf>,
 }
 
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum TargetArg {
-    Domain,
-    Problem,
-    Config,
-    Scenario,
-    Goals,
-    Intake,
-    All,
-}
+/// The targets `--target` names (a newtype: clap reads a bare `Vec` as a repeated option).
+#[derive(Debug, Clone)]
+pub struct Targets(Vec<Target>);
 
-impl TargetArg {
-    fn targets(self) -> Vec<Target> {
-        match self {
-            TargetArg::Domain => vec![Target::Domain],
-            TargetArg::Problem => vec![Target::Problem],
-            TargetArg::Config => vec![Target::Config],
-            TargetArg::Scenario => vec![Target::Scenario],
-            TargetArg::Goals => vec![Target::Goals],
-            TargetArg::Intake => vec![Target::Intake],
-            TargetArg::All => Target::ALL.to_vec(),
-        }
+/// `all`, or one target's name.
+fn targets(s: &str) -> Result<Targets, String> {
+    if s == "all" {
+        return Ok(Targets(Target::ALL.to_vec()));
     }
+    <Target as clap::ValueEnum>::from_str(s, false)
+        .map(|t| Targets(vec![t]))
+        .map_err(|_| {
+            format!("`{s}`: expected all, domain, problem, config, scenario, goals or intake")
+        })
 }
 
 pub fn run(args: FuzzArgs) -> ExitCode {
@@ -63,7 +54,7 @@ pub fn run(args: FuzzArgs) -> ExitCode {
         .clone()
         .unwrap_or_else(|| std::env::temp_dir().join("mavtempo-fuzz"));
     let mut failed = false;
-    for target in args.target.targets() {
+    for &target in &args.target.0 {
         let r = fuzz::run(target, args.execs, args.seed, &save);
         failed |= r.failures > 0;
         if args.json {
@@ -97,7 +88,7 @@ pub fn run(args: FuzzArgs) -> ExitCode {
 }
 
 fn replay(args: &FuzzArgs, file: &std::path::Path) -> ExitCode {
-    let [target] = args.target.targets()[..] else {
+    let [target] = args.target.0[..] else {
         eprintln!("mavtempo fuzz --replay: name one --target");
         return ExitCode::FAILURE;
     };

@@ -758,7 +758,7 @@ fn numeric_contradictions(ctx: &mut Ctx<'_>, s: &Scope<'_>, cs: &[NumConstraint]
                 *span,
                 format!(
                     "{name} divides the duration here, so its domain must be bounded and exclude 0 (e.g. `[0.3, 1.5]`), found {}",
-                    show(&domain)
+                    crate::model::show_bounds(&domain.lb, &domain.ub)
                 ),
             );
         }
@@ -780,21 +780,6 @@ fn numeric_contradictions(ctx: &mut Ctx<'_>, s: &Scope<'_>, cs: &[NumConstraint]
             );
         }
     }
-}
-
-/// A numeric domain as written: `[0, 1.5]`, `]-oo, 2]`.
-fn show(d: &NumInterval) -> String {
-    let lb = match d.lb {
-        Bound::Closed(v) => format!("[{v}"),
-        Bound::Open(v) => format!("]{v}"),
-        Bound::Inf => "]-oo".into(),
-    };
-    let ub = match d.ub {
-        Bound::Closed(v) => format!("{v}]"),
-        Bound::Open(v) => format!("{v}["),
-        Bound::Inf => "+oo[".into(),
-    };
-    format!("{lb}, {ub}")
 }
 
 fn is_const(e: &Expr) -> bool {
