@@ -263,6 +263,25 @@ pub enum Binding {
     Timed { duration_ms: u64 },
 }
 
+/// The longest duration a configuration may give, ms: a week (longer ones overflow clock arithmetic).
+const MAX_MS: u64 = 7 * 24 * 3_600_000;
+const TOO_LONG: &str = "at most a week (604800000 ms)";
+
+/// A binding's durations in ms, with their keys.
+fn binding_ms(b: &Binding) -> Vec<(&'static str, u64)> {
+    match b {
+        Binding::TakePicture { timeout_ms, .. } => vec![("timeout_ms", *timeout_ms)],
+        Binding::Sample { steps } => steps.iter().map(|s| ("steps", s.hold_ms)).collect(),
+        Binding::Download {
+            max_ms, poll_ms, ..
+        } => {
+            vec![("max_ms", max_ms.unwrap_or(0)), ("poll_ms", *poll_ms)]
+        }
+        Binding::Timed { duration_ms } => vec![("duration_ms", *duration_ms)],
+        _ => Vec::new(),
+    }
+}
+
 impl VehicleConfig {
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
         let text = srctext::read(path)?;
@@ -326,8 +345,23 @@ impl VehicleConfig {
         if !(-180.0..=180.0).contains(&self.home.lon) {
             return Err(invalid("home.lon".into(), "must be in [-180, 180]"));
         }
+        let l = &self.link;
+        let link_ms = [
+            ("heartbeat_timeout_ms", l.heartbeat_timeout_ms),
+            ("command_ack_timeout_ms", l.command_ack_timeout_ms),
+            ("mission_timeout_ms", l.mission_timeout_ms),
+            ("reconnect_ms", l.reconnect_ms),
+        ];
+        for (k, ms) in link_ms {
+            if ms > MAX_MS {
+                return Err(invalid(format!("link.{k}"), TOO_LONG));
+            }
+        }
         for (task, b) in &self.actions {
             let key = |k: &str| format!("actions.{task}.{k}");
+            if let Some((k, _)) = binding_ms(b).into_iter().find(|(_, ms)| *ms > MAX_MS) {
+                return Err(invalid(key(k), TOO_LONG));
+            }
             match b {
                 Binding::Move {
                     acceptance_radius_m,
