@@ -16,7 +16,7 @@ pub enum SimError {
     BadHome(String),
     #[error("bad speed-up {0}: must be within [0.001, 1000000]")]
     BadSpeedup(f64),
-    #[error("cannot read scenario {0}")]
+    #[error("scenario: {0}")]
     ScenarioRead(#[from] srctext::ReadError),
     #[error("bad scenario {path}: {reason}")]
     Scenario { path: String, reason: String },

@@ -85,7 +85,7 @@ pub fn decode<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, Located> {
 /// Why a text file could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
-    #[error("{path}: {source}")]
+    #[error("cannot read {path}: {source}")]
     Io {
         path: String,
         source: std::io::Error,
