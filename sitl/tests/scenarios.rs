@@ -116,3 +116,55 @@ fn a_scenario_that_is_not_utf8_names_the_byte() {
         "{err}"
     );
 }
+
+/// Every leaf value of every shipped scenario given the wrong type in turn: the error shows that key's line.
+#[test]
+fn a_wrong_type_anywhere_in_a_scenario_is_reported_on_its_own_line() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).expect("scenarios dir") {
+        let path = entry.expect("entry").path();
+        let text = std::fs::read_to_string(&path).expect("scenario");
+        let base: toml_edit::DocumentMut = text.parse().expect("parses");
+        for (table, key) in leaves(&base) {
+            let mut doc = base.clone();
+            let old = doc[table.as_str()][key.as_str()].as_value().cloned();
+            let new = if old.is_some_and(|v| v.is_str()) {
+                "7"
+            } else {
+                "\"x\""
+            };
+            doc[table.as_str()][key.as_str()] = toml_edit::Item::Value(new.parse().expect("value"));
+            let err = sitl::Scenario::parse(&doc.to_string(), "s.toml")
+                .err()
+                .unwrap_or_else(|| panic!("{table}.{key} = {new}: accepted"))
+                .to_string();
+            assert!(
+                err.lines()
+                    .nth(1)
+                    .is_some_and(|l| l.contains(&format!("{key} = {new}"))),
+                "{}: {table}.{key} = {new}: the error shows another line\n{err}",
+                path.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "only {checked} keys");
+}
+
+/// (table, key) of the scalar values of the plain tables.
+fn leaves(doc: &toml_edit::DocumentMut) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for (t, item) in doc.as_table().iter() {
+        if let toml_edit::Item::Table(table) = item {
+            for (k, v) in table.iter() {
+                if v.as_value()
+                    .is_some_and(|v| !v.is_array() && !v.is_inline_table())
+                {
+                    out.push((t.to_string(), k.to_string()));
+                }
+            }
+        }
+    }
+    out
+}
