@@ -37,6 +37,17 @@ fn the_intake_seeds_reach_the_decider() {
 }
 
 #[test]
+fn generated_uploads_often_reach_the_decider() {
+    use rand::SeedableRng;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
+    let reached = (0..1_000)
+        .filter(|_| fuzz::intake::decisions(&fuzz::intake::generate(&mut rng)) > 0)
+        .count();
+    // Edge values refuse many uploads on the way; enough must get through to exercise the decision.
+    assert!((100..1_000).contains(&reached), "{reached} of 1000");
+}
+
+#[test]
 fn a_bad_input_is_replayed_as_a_failure_only_if_it_fails() {
     // Non-UTF-8 text is an error located in the text, not a failure of the harness.
     assert_eq!(

@@ -5,6 +5,8 @@
 
 use mavlink::dialects::ardupilotmega::*;
 use mavlink::{MavHeader, MavlinkVersion, Message};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
 
 use crate::vehicle::driver::COMPANION_COMPONENT;
 use crate::vehicle::frame::FrameDecoder;
@@ -77,6 +79,115 @@ pub fn corpus() -> Vec<Vec<u8>> {
         seed.extend([TICK, 2, 0xdc, 0x05]);
         out.push(seed);
     }
+    out
+}
+
+/// An upload built field by field, in the wire layout of MISSION_COUNT and MISSION_ITEM_INT, with edge
+/// values (NaN, ±inf, latitude 214°, unknown commands and frames, wrong targets, sequence gaps) and the
+/// other ops interleaved.
+pub fn generate(rng: &mut ChaCha8Rng) -> Vec<u8> {
+    const FLOATS: [f32; 9] = [
+        0.0,
+        1.0,
+        -1.0,
+        600.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        3.4e38,
+        1e-40,
+    ];
+    const COORDS: [i32; 7] = [
+        435_616_000,
+        14_779_000,
+        0,
+        2_140_000_000,
+        i32::MIN,
+        i32::MAX,
+        -900_000_001,
+    ];
+    const COMMANDS: [u16; 9] = [16, 20, 21, 2000, 183, 31_000, 31_011, 0, 65_535];
+    // Mostly sane values, so that a good share of uploads reaches the decider; edge values now and then.
+    let pick_f = |rng: &mut ChaCha8Rng| {
+        if rng.gen_bool(0.1) {
+            FLOATS[rng.gen_range(0..FLOATS.len())]
+        } else {
+            rng.gen_range(0f32..10.0)
+        }
+    };
+    let target = |rng: &mut ChaCha8Rng| {
+        if rng.gen_bool(0.97) {
+            [SYS, COMPANION_COMPONENT]
+        } else {
+            [rng.gen_range(0..3), rng.gen()]
+        }
+    };
+    let mut out = Vec::new();
+    let n: u16 = if rng.gen_bool(0.9) {
+        rng.gen_range(1..6)
+    } else {
+        rng.gen()
+    };
+    let mut count = n.to_le_bytes().to_vec();
+    count.extend(target(rng));
+    count.push(if rng.gen_bool(0.97) { 0 } else { rng.gen() });
+    out.extend([0, count.len() as u8]);
+    out.extend(count);
+    for seq in 0..n.min(8) {
+        let mut item = Vec::with_capacity(38);
+        for _ in 0..4 {
+            item.extend(pick_f(rng).to_le_bytes());
+        }
+        for near in [435_616_000, 14_779_000] {
+            let c = match rng.gen_range(0..10) {
+                0 => COORDS[rng.gen_range(0..COORDS.len())],
+                1 => rng.gen(),
+                _ => near + rng.gen_range(-3_000..3_000),
+            };
+            item.extend(c.to_le_bytes());
+        }
+        item.extend(pick_f(rng).to_le_bytes());
+        let seq = if rng.gen_bool(0.95) {
+            seq
+        } else {
+            rng.gen_range(0..10)
+        };
+        item.extend(seq.to_le_bytes());
+        let command = match rng.gen_range(0..10) {
+            0 => COMMANDS[rng.gen_range(0..COMMANDS.len())],
+            1 => rng.gen(),
+            2..=4 => 2000,
+            _ => 16,
+        };
+        item.extend(command.to_le_bytes());
+        item.extend(target(rng));
+        item.push(if rng.gen_bool(0.9) {
+            3
+        } else {
+            [0, 6, 10, 11, 255][rng.gen_range(0..5)]
+        });
+        item.extend([
+            rng.gen_range(0..2),
+            rng.gen_range(0..2),
+            if rng.gen_bool(0.95) { 0 } else { rng.gen() },
+        ]);
+        // MAVLink 2 trims trailing zeros: sometimes a shorter payload.
+        if rng.gen_bool(0.05) {
+            item.truncate(rng.gen_range(20..=item.len()));
+        }
+        out.extend([1, item.len() as u8]);
+        out.extend(item);
+        if rng.gen_bool(0.1) {
+            out.extend([TICK, 2, rng.gen(), rng.gen()]);
+        }
+        if rng.gen_bool(0.05) {
+            let op: u8 = rng.gen_range(0..16) | (rng.gen_range(0..4) << 6);
+            let len = rng.gen_range(0..40u8);
+            out.extend([op, len]);
+            out.extend((0..len).map(|_| rng.gen::<u8>()));
+        }
+    }
+    out.extend([DECIDE, 1, rng.gen()]);
     out
 }
 

@@ -103,6 +103,8 @@ const SAVED_PER_KIND: usize = 5;
 thread_local! {
     /// The last panic's message and place, kept by the silent hook.
     static LAST_PANIC: RefCell<Option<String>> = const { RefCell::new(None) };
+    /// Set while this thread runs a harness: its panics are recorded, not printed.
+    static FUZZING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
 /// Runs `execs` mutated inputs of `target` from `seed`; failing inputs go to `save`.
@@ -110,8 +112,17 @@ pub fn run(target: Target, execs: u64, seed: u64, save: &Path) -> Report {
     let corpus = target.corpus();
     let stream = seed ^ (target as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
     let exec = |i: &[u8]| target.exec(i);
-    let (seconds, slowest, failures, kinds) =
-        run_fn(target.name(), &corpus, &exec, execs, stream, save);
+    let generate: Option<&Generator> = match target {
+        Target::Intake => Some(&intake::generate),
+        _ => None,
+    };
+    let harness = Harness {
+        name: target.name(),
+        corpus: &corpus,
+        exec: &exec,
+        generate,
+    };
+    let (seconds, slowest, failures, kinds) = run_fn(&harness, execs, stream, save);
     Report {
         target,
         seed,
@@ -127,33 +138,53 @@ pub fn run(target: Target, execs: u64, seed: u64, save: &Path) -> Report {
 /// What [`run_fn`] found: seconds, the slowest input, failures and their kinds.
 type Outcome = (f64, Duration, u64, Vec<Failure>);
 
+/// Structured generation of a whole input from the random stream.
+type Generator = dyn Fn(&mut ChaCha8Rng) -> Vec<u8>;
+
+/// What [`run_fn`] fuzzes: its name (for saved files), seeds, the execution and an optional generator.
+struct Harness<'a> {
+    name: &'a str,
+    corpus: &'a [Vec<u8>],
+    exec: &'a dyn Fn(&[u8]) -> Result<(), String>,
+    generate: Option<&'a Generator>,
+}
+
 /// The loop behind [`run`], for any harness.
-fn run_fn(
-    name: &str,
-    corpus: &[Vec<u8>],
-    exec: &dyn Fn(&[u8]) -> Result<(), String>,
-    execs: u64,
-    seed: u64,
-    save: &Path,
-) -> Outcome {
+fn run_fn(h: &Harness<'_>, execs: u64, seed: u64, save: &Path) -> Outcome {
+    let Harness {
+        name,
+        corpus,
+        exec,
+        generate,
+    } = *h;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut input = Vec::new();
     let mut kinds: BTreeMap<String, Failure> = BTreeMap::new();
     let mut failures = 0;
     let mut slowest = Duration::ZERO;
     let start = Instant::now();
-    let hook = std::panic::take_hook();
-    // Silenced: a failing input is reported once, in the summary, not as a backtrace per execution.
-    std::panic::set_hook(Box::new(|info| {
-        LAST_PANIC.with(|l| *l.borrow_mut() = Some(info.to_string()));
+    // Silenced on this thread only: a failing input is reported once, in the summary, not as a backtrace
+    // per execution; a panic elsewhere (another test of the same binary) still goes to the previous hook.
+    let previous = std::sync::Arc::new(std::panic::take_hook());
+    let forward = previous.clone();
+    FUZZING.with(|f| f.set(true));
+    std::panic::set_hook(Box::new(move |info| {
+        if FUZZING.with(|f| f.get()) {
+            LAST_PANIC.with(|l| *l.borrow_mut() = Some(info.to_string()));
+        } else {
+            forward(info);
+        }
     }));
     // The parsers log what they refuse; millions of inputs would flood the terminal.
     let quiet = tracing::subscriber::NoSubscriber::default();
     tracing::subscriber::with_default(quiet, || {
         for i in 0..execs {
-            // Every 16th input is a seed as shipped (or a fresh random one), the rest mutations.
+            // Every 16th input is a seed as shipped (or a fresh random one), a quarter generated when the
+            // harness has a generator, the rest mutations.
             let base = &corpus[rng.gen_range(0..corpus.len())];
-            if i % 16 == 0 {
+            if let (Some(g), 2) = (generate, i % 4) {
+                input = g(&mut rng);
+            } else if i % 16 == 0 {
                 input.clear();
                 if rng.gen_bool(0.5) {
                     input.extend_from_slice(base);
@@ -191,7 +222,9 @@ fn run_fn(
             }
         }
     });
-    std::panic::set_hook(hook);
+    FUZZING.with(|f| f.set(false));
+    // Back to the previous hook (the one that forwarded to it is dropped).
+    std::panic::set_hook(Box::new(move |info| previous(info)));
     let kinds = kinds.into_values().collect();
     (start.elapsed().as_secs_f64(), slowest, failures, kinds)
 }
@@ -235,7 +268,13 @@ mod tests {
             }
             Ok(())
         };
-        let (_, _, failures, kinds) = run_fn("t", &corpus, &exec, 3_000, 3, &dir);
+        let h = Harness {
+            name: "t",
+            corpus: &corpus,
+            exec: &exec,
+            generate: None,
+        };
+        let (_, _, failures, kinds) = run_fn(&h, 3_000, 3, &dir);
         let total: u64 = kinds.iter().map(|k| k.count).sum();
         assert!(failures > 0 && total == failures, "{failures} {kinds:?}");
         let bracket = kinds.iter().find(|k| k.message.contains("bracket at"));
