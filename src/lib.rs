@@ -5,6 +5,7 @@
 pub mod cli;
 pub mod dispatch;
 pub mod exec;
+pub mod fuzz;
 pub mod lang;
 pub mod model;
 pub mod plan;

@@ -236,3 +236,41 @@ fn run_refuses_a_mismatched_config_before_planning_or_connecting() {
     assert!(!stdout.contains("planning"), "{stdout}");
     assert!(!stderr.contains("heartbeat"), "{stderr}");
 }
+
+/// A bad `[exec]` value and a non-UTF-8 byte in a configuration: `check --config` and `run` exit non-zero
+/// with the file, line and column, and show the line.
+#[test]
+fn config_errors_exit_non_zero_at_their_line_and_column() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = std::fs::read_to_string(root().join("config/sitl-rover.toml")).expect("config");
+    let lines = text.lines().count();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        format!("{text}\n[exec]\ntimestep_ms = 1300\nrepair_share = nan\n"),
+    )
+    .expect("write");
+    let at = format!("{}:{}:16: error: ", bad.display(), lines + 4);
+    let domain = root().join("domains/rover/rover.ixt");
+    let problem = root().join("domains/rover/problems/fig2.ixt");
+    let (d, p) = (domain.to_string_lossy(), problem.to_string_lossy());
+    let cfg = bad.to_string_lossy();
+    let (ok, _, err) = mavtempo(&["check", "--config", &cfg, &d]);
+    assert!(
+        !ok && err.contains(&at) && err.contains("repair_share = nan"),
+        "{err}"
+    );
+    let (ok, _, err) = mavtempo(&["run", "--config", &cfg, &d, &p]);
+    assert!(!ok && err.contains(&at), "{err}");
+    let mut bytes = text.into_bytes();
+    bytes[0] = 0xc0;
+    std::fs::write(&bad, bytes).expect("write");
+    let (ok, _, err) = mavtempo(&["check", "--config", &cfg, &d]);
+    assert!(
+        !ok && err.contains(&format!(
+            "{}:1:1: error: invalid UTF-8 (byte 0xc0)",
+            bad.display()
+        )),
+        "{err}"
+    );
+}

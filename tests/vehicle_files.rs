@@ -224,7 +224,7 @@ fn malformed_configs_name_the_key() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("unknown field `radius`"), "{err}");
-    assert!(err.to_string().starts_with("c.toml: "), "{err}");
+    assert!(err.to_string().starts_with("c.toml:34:1: error: "), "{err}");
     let err = VehicleConfig::parse(
         &base.replace("kind = \"sample\"", "kind = \"dance\""),
         "c.toml",
@@ -236,9 +236,12 @@ fn malformed_configs_name_the_key() {
         "c.toml",
     )
     .unwrap_err();
-    assert_eq!(
-        err.to_string(),
-        "c.toml: actions.survey.spacing_m: must be > 0"
+    let err = err.to_string();
+    assert!(
+        err.starts_with("c.toml:")
+            && err
+                .contains(": error: actions.survey.spacing_m: must be > 0\n    spacing_m = 0.0\n"),
+        "{err}"
     );
     let err = VehicleConfig::parse(
         &base.replace("[link]\n", "[link]\nsigning_key = \"abc\"\n"),
@@ -247,7 +250,7 @@ fn malformed_configs_name_the_key() {
     .unwrap_err();
     assert!(
         err.to_string()
-            .starts_with("c.toml: link.signing_key: expected 64 hex digits"),
+            .starts_with("c.toml:7:15: error: link.signing_key: expected 64 hex digits"),
         "{err}"
     );
     let err = VehicleConfig::parse(&base.replace("hold = 4\n", ""), "c.toml").unwrap_err();
@@ -280,9 +283,44 @@ fn shutdown_mode_and_goal_sysids_are_read_and_checked() {
         let err = parse("[link]\n", &format!("[link]\ngoal_sysids = {bad}\n")).unwrap_err();
         assert!(
             err.to_string()
-                .starts_with("c.toml: link.goal_sysids: system ids 1 to 255"),
+                .starts_with("c.toml:7:15: error: link.goal_sysids: system ids 1 to 255"),
             "{bad}: {err}"
         );
     }
     assert!(parse("[link]\n", "[link]\ngoal_sysids = [256]\n").is_err());
+}
+
+#[test]
+fn goal_files_refuse_non_finite_numbers_absurd_homes_and_bad_bytes() {
+    let err = parse_plan(
+        &PLAN.replace("[43.5616, 1.4847, 150]", "[214.0, 1.4847, 150]"),
+        "g.plan",
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("g.plan: mission.plannedHomePosition: home: latitude"),
+        "{err}"
+    );
+    for bad in ["nan", "inf", "-inf", "1e999"] {
+        let text = WAYPOINTS.replace("43.5620", bad);
+        assert_ne!(text, WAYPOINTS);
+        let err = parse_waypoints(&text, "w.waypoints").unwrap_err();
+        assert!(err.to_string().contains("is not a number"), "{bad}: {err}");
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("g.waypoints");
+    std::fs::write(
+        &path,
+        b"QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t4\xe93\t1\t0\t1\n",
+    )
+    .expect("write");
+    let err = mavtempo::vehicle::goal_files::load(&path).unwrap_err();
+    assert!(
+        err.to_string().starts_with(&format!(
+            "{}:2:19: invalid UTF-8 (byte 0xe9)",
+            path.display()
+        )),
+        "{err}"
+    );
 }

@@ -16,14 +16,13 @@ pub enum SimError {
     BadHome(String),
     #[error("bad speed-up {0}: must be within [0.001, 1000000]")]
     BadSpeedup(f64),
-    #[error("cannot read scenario {path}: {source}")]
-    ScenarioRead {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error("scenario: {0}")]
+    ScenarioRead(#[from] srctext::ReadError),
     #[error("bad scenario {path}: {reason}")]
     Scenario { path: String, reason: String },
+    /// A scenario file wrong at `file:line:col` (the line shown).
+    #[error("bad scenario {0}")]
+    ScenarioAt(Box<srctext::Located>),
     #[error("the simulator has stopped")]
     Stopped,
 }

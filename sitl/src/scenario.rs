@@ -289,68 +289,107 @@ pub enum FailResult {
 impl Scenario {
     /// Reads and checks a scenario file.
     pub fn load(path: &std::path::Path) -> Result<Self, SimError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SimError::ScenarioRead {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = srctext::read(path)?;
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parses and checks scenario text; `origin` names it in errors.
+    /// Parses and checks scenario text; `origin` names it in errors, each at its `line:col`.
     pub fn parse(text: &str, origin: &str) -> Result<Self, SimError> {
-        let scenario: Scenario = toml::from_str(text).map_err(|e| SimError::Scenario {
-            path: origin.to_string(),
-            reason: e.to_string(),
-        })?;
-        scenario.check().map_err(|reason| SimError::Scenario {
-            path: origin.to_string(),
-            reason,
+        let at = |e| SimError::ScenarioAt(Box::new(e));
+        let scenario: Scenario = srctext::toml_file::parse(origin, text).map_err(at)?;
+        scenario.check_keys().map_err(|(key, reason)| {
+            at(srctext::toml_file::at_key(
+                origin,
+                text,
+                &key,
+                format!("{key}: {reason}"),
+            ))
         })?;
         Ok(scenario)
     }
 
+    /// The first problem as one message.
     pub(crate) fn check(&self) -> Result<(), String> {
+        self.check_keys()
+            .map_err(|(key, reason)| format!("{key}: {reason}"))
+    }
+
+    /// The first problem: the key path it is about (`slow_zones.1`) and why.
+    fn check_keys(&self) -> Result<(), (String, String)> {
+        let bad = |key: &str, reason: &str| Err((key.to_string(), reason.to_string()));
         let c = &self.camera;
         if !(c.size_min_mib > 0.0 && c.size_min_mib <= c.size_max_mib) {
-            return Err("camera: need 0 < size_min_mib <= size_max_mib".into());
+            return bad(
+                "camera.size_min_mib",
+                "need 0 < size_min_mib <= size_max_mib",
+            );
         }
         if c.storage_capacity_mib <= 0.0 {
-            return Err("camera.storage_capacity_mib must be > 0".into());
+            return bad("camera.storage_capacity_mib", "must be > 0");
         }
         let v = &self.vehicle;
         if !(v.speed_mps > 0.0 && v.max_speed_mps >= v.speed_mps && v.accel_mps2 > 0.0) {
-            return Err("vehicle: need 0 < speed_mps <= max_speed_mps and accel_mps2 > 0".into());
+            return bad(
+                "vehicle.speed_mps",
+                "need 0 < speed_mps <= max_speed_mps and accel_mps2 > 0",
+            );
         }
         if v.turn_rate_dps <= 0.0 || v.wp_radius_m <= 0.0 {
-            return Err("vehicle: turn_rate_dps and wp_radius_m must be > 0".into());
+            return bad(
+                "vehicle.turn_rate_dps",
+                "turn_rate_dps and wp_radius_m must be > 0",
+            );
         }
         if !(0.0..=100.0).contains(&self.battery.initial_pct) {
-            return Err("battery.initial_pct must be in [0, 100]".into());
+            return bad("battery.initial_pct", "must be in [0, 100]");
         }
-        for (i, z) in self.slow_zones.iter().chain(&self.sunlit_zones).enumerate() {
-            check_zone(z).map_err(|e| format!("zone {i}: {e}"))?;
+        for (name, zones) in [
+            ("slow_zones", &self.slow_zones),
+            ("sunlit_zones", &self.sunlit_zones),
+        ] {
+            for (i, z) in zones.iter().enumerate() {
+                check_zone(z).map_err(|(key, e)| {
+                    let path = format!("{name}.{i}.{key}");
+                    (path.trim_end_matches('.').to_string(), e)
+                })?;
+            }
         }
-        for w in &self.visibility_windows {
+        for (i, w) in self.visibility_windows.iter().enumerate() {
             if !(w.start_s < w.end_s && w.rate_mib_per_s >= 0.0) {
-                return Err(format!(
-                    "visibility window [{}, {}]: need start_s < end_s and rate_mib_per_s >= 0",
-                    w.start_s, w.end_s
+                return Err((
+                    format!("visibility_windows.{i}"),
+                    format!(
+                        "[{}, {}]: need start_s < end_s and rate_mib_per_s >= 0",
+                        w.start_s, w.end_s
+                    ),
                 ));
             }
         }
         for (i, f) in self.faults.iter().enumerate() {
-            check_fault(f).map_err(|e| format!("faults[{i}]: {e}"))?;
+            check_fault(f).map_err(|e| (format!("faults.{i}"), e))?;
         }
         Ok(())
     }
 }
 
-fn check_zone(z: &Zone) -> Result<(), String> {
+/// A zone's first problem: the key it is about and why.
+fn check_zone(z: &Zone) -> Result<(), (&'static str, String)> {
     if z.center_m.is_some() == z.center.is_some() {
-        return Err("give exactly one of center_m = [north, east] or center = [lat, lon]".into());
+        return Err((
+            "",
+            "give exactly one of center_m = [north, east] or center = [lat, lon]".into(),
+        ));
+    }
+    if z.center.is_some_and(|[lat, lon]| {
+        !((-90.0..=90.0).contains(&lat) && (-180.0..=180.0).contains(&lon))
+    }) {
+        return Err((
+            "center",
+            "[lat, lon]: lat must be in [-90, 90] and lon in [-180, 180]".into(),
+        ));
     }
     if z.radius_m <= 0.0 || !(0.0..=1.0).contains(&z.speed_factor) {
-        return Err("need radius_m > 0 and speed_factor in [0, 1]".into());
+        return Err(("", "need radius_m > 0 and speed_factor in [0, 1]".into()));
     }
     Ok(())
 }
@@ -373,7 +412,7 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
     }
     let prob = |p: f64| (0.0..=1.0).contains(&p);
     match &f.fault {
-        Fault::SlowZone { zone } => check_zone(zone),
+        Fault::SlowZone { zone } => check_zone(zone).map_err(|(key, e)| format!("{key} {e}")),
         Fault::PictureDuration { capture_time_s, .. }
             if !(capture_time_s.is_finite()
                 && *capture_time_s >= 0.0

@@ -179,14 +179,7 @@ async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
         "{gpi} GLOBAL_POSITION_INT in 2 s at 10 Hz"
     );
     // Stop everything with REQUEST_DATA_STREAM(ALL, stop).
-    gcs.send(MavMessage::REQUEST_DATA_STREAM(REQUEST_DATA_STREAM_DATA {
-        req_message_rate: 0,
-        target_system: 1,
-        target_component: 1,
-        req_stream_id: MavDataStream::MAV_DATA_STREAM_ALL,
-        start_stop: 0,
-    }))
-    .await;
+    gcs.stop_all_streams().await;
     gcs.sync().await;
     sim.step(Duration::from_secs(3)).await.expect("step");
     let seen = gcs.sync().await;
@@ -412,4 +405,63 @@ async fn absurd_targets_are_refused_and_the_vehicle_goes_on() {
     );
     let (r, _) = gcs.reposition(&good, true, 0.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+}
+
+/// One peer cannot silence the vehicle for the others: SET_MESSAGE_INTERVAL stopping HEARTBEAT (-1), slowing
+/// it below 1 Hz or with a NaN interval is DENIED, REQUEST_DATA_STREAM ALL stop leaves it on, and both
+/// peers keep receiving HEARTBEAT; a sane interval on another message is still accepted.
+#[tokio::test]
+async fn heartbeat_cannot_be_switched_off() {
+    let (sim, mut a) = start("").await;
+    let mut b = Gcs::connect(sim.local_addr()).await;
+    b.sysid = 254;
+    for interval in [-1.0, 5e6, f32::NAN] {
+        let (r, _) = a
+            .command_long(
+                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+                [0.0, interval, 0.0, 0.0, 0.0, 0.0, 0.0],
+            )
+            .await;
+        assert_eq!(
+            r,
+            MavResult::MAV_RESULT_DENIED,
+            "HEARTBEAT interval {interval}"
+        );
+    }
+    let (r, _) = a
+        .command_long(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [33.0, f32::INFINITY, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await;
+    assert_eq!(r, MavResult::MAV_RESULT_DENIED, "an infinite interval");
+    let (r, _) = a
+        .command_long(
+            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
+            [33.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        )
+        .await;
+    assert_eq!(
+        r,
+        MavResult::MAV_RESULT_ACCEPTED,
+        "GLOBAL_POSITION_INT may stop"
+    );
+    a.stop_all_streams().await;
+    a.sync().await;
+    b.sync().await;
+    sim.step(Duration::from_secs(3)).await.expect("step");
+    for (name, peer) in [("a", &mut a), ("b", &mut b)] {
+        let msgs = peer.sync().await;
+        let beats = msgs
+            .iter()
+            .filter(|m| matches!(m, MavMessage::HEARTBEAT(_)))
+            .count();
+        assert!(beats >= 2, "peer {name}: {beats} heartbeats in 3 s");
+        assert!(
+            !msgs
+                .iter()
+                .any(|m| matches!(m, MavMessage::GLOBAL_POSITION_INT(_))),
+            "peer {name}: GLOBAL_POSITION_INT was stopped"
+        );
+    }
 }

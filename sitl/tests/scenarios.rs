@@ -28,3 +28,143 @@ fn a_missing_scenario_file_is_a_clear_error() {
         sitl::Scenario::load(std::path::Path::new("/nonexistent/x.toml")).expect_err("missing");
     assert!(err.to_string().contains("/nonexistent/x.toml"), "{err}");
 }
+
+#[test]
+fn scenario_errors_are_reported_at_line_and_column() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/fig2.toml");
+    let text = std::fs::read_to_string(&path).expect("fig2.toml");
+    // (line as shipped, its replacement, expected line:col, part of the message)
+    let cases = [
+        (
+            "speed_mps = 0.45",
+            "speed_mps = nan",
+            "13:13",
+            "not a finite number",
+        ),
+        (
+            "speed_mps = 0.45",
+            "speed_mps = \"fast\"",
+            "13:13",
+            "invalid type",
+        ),
+        (
+            "accel_mps2 = 0.5",
+            "accel_mps = 0.5",
+            "15:1",
+            "unknown field `accel_mps`",
+        ),
+        (
+            "initial_pct = 90.0",
+            "initial_pct = 150.0",
+            "19:15",
+            "battery.initial_pct: must be in [0, 100]",
+        ),
+        (
+            "center_m = [0.0, 0.0]",
+            "center = [214.0, 0.0]",
+            "32:10",
+            "sunlit_zones.0.center: [lat, lon]",
+        ),
+        (
+            "end_s = 960.0",
+            "end_s = 100.0",
+            "36:1",
+            "visibility_windows.0",
+        ),
+    ];
+    for (from, to, at, message) in cases {
+        let bad = text.replacen(from, to, 1);
+        assert_ne!(bad, text, "{from} is in fig2.toml");
+        let err = sitl::Scenario::parse(&bad, "fig2.toml")
+            .expect_err(to)
+            .to_string();
+        assert!(
+            err.starts_with(&format!("bad scenario fig2.toml:{at}: error: "))
+                && err.contains(message),
+            "{to}: want {at} {message}, got\n{err}"
+        );
+        assert!(
+            err.contains(&format!(
+                "\n    {}",
+                bad.lines()
+                    .nth(
+                        at.split(':')
+                            .next()
+                            .and_then(|l| l.parse::<usize>().ok())
+                            .unwrap_or(1)
+                            - 1
+                    )
+                    .unwrap_or("")
+            )),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn a_scenario_that_is_not_utf8_names_the_byte() {
+    let dir = std::env::temp_dir().join(format!("sitl-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("bad.toml");
+    std::fs::write(&path, b"[vehicle]\nspeed_mps = 1.0 # caf\xe9\n").expect("write");
+    let err = sitl::Scenario::load(&path)
+        .expect_err("not UTF-8")
+        .to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        err.contains("bad.toml:2:22: error: invalid UTF-8 (byte 0xe9)"),
+        "{err}"
+    );
+}
+
+/// Every leaf value of every shipped scenario given the wrong type in turn: the error shows that key's line.
+#[test]
+fn a_wrong_type_anywhere_in_a_scenario_is_reported_on_its_own_line() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).expect("scenarios dir") {
+        let path = entry.expect("entry").path();
+        let text = std::fs::read_to_string(&path).expect("scenario");
+        let base: toml_edit::DocumentMut = text.parse().expect("parses");
+        for (table, key) in leaves(&base) {
+            let mut doc = base.clone();
+            let old = doc[table.as_str()][key.as_str()].as_value().cloned();
+            let new = if old.is_some_and(|v| v.is_str()) {
+                "7"
+            } else {
+                "\"x\""
+            };
+            doc[table.as_str()][key.as_str()] = toml_edit::Item::Value(new.parse().expect("value"));
+            let err = sitl::Scenario::parse(&doc.to_string(), "s.toml")
+                .err()
+                .unwrap_or_else(|| panic!("{table}.{key} = {new}: accepted"))
+                .to_string();
+            assert!(
+                err.lines()
+                    .nth(1)
+                    .is_some_and(|l| l.contains(&format!("{key} = {new}"))),
+                "{}: {table}.{key} = {new}: the error shows another line\n{err}",
+                path.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "only {checked} keys");
+}
+
+/// (table, key) of the scalar values of the plain tables.
+fn leaves(doc: &toml_edit::DocumentMut) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for (t, item) in doc.as_table().iter() {
+        if let toml_edit::Item::Table(table) = item {
+            for (k, v) in table.iter() {
+                if v.as_value()
+                    .is_some_and(|v| !v.is_array() && !v.is_inline_table())
+                {
+                    out.push((t.to_string(), k.to_string()));
+                }
+            }
+        }
+    }
+    out
+}

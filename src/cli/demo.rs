@@ -230,7 +230,7 @@ pub struct DemoRun {
 }
 
 fn read(path: &Path) -> Result<String, String> {
-    std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+    srctext::read(path).map_err(|e| e.to_string())
 }
 
 fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {

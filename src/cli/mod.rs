@@ -7,6 +7,7 @@ mod check;
 pub mod demo;
 mod dispatch_arg;
 mod experiment;
+mod fuzz;
 mod goal;
 mod mission_out;
 mod plan;
@@ -43,6 +44,8 @@ pub enum Command {
     Demo(demo::DemoArgs),
     /// Experiments: `experiment dispatch` compares the dispatch policies under random goal arrivals.
     Experiment(experiment::ExperimentArgs),
+    /// Fuzz the parsers and the goal intake with seeded mutations of the shipped files; failing inputs saved.
+    Fuzz(fuzz::FuzzArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
     /// Plan a problem and execute it live on a MAVLink vehicle (plan repair, replanning, goal uploads).
@@ -63,6 +66,7 @@ pub fn main() -> ExitCode {
         Command::Plan(args) => plan::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Experiment(args) => experiment::run(args),
+        Command::Fuzz(args) => fuzz::run(args),
         Command::Goal(args) => goal::run(args),
         Command::Run(args) => run::run(args),
         Command::Sim(args) => sim::run(args),

@@ -105,11 +105,11 @@ impl Default for ExecConfig {
 /// A bad `[exec]` table.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ConfigError {
-    #[error("exec.timestep_ms must be positive, got {0}")]
+    #[error("exec.timestep_ms must be in ]0, 3600000] (an hour), got {0}")]
     Timestep(Time),
     #[error("exec.repair_share must be in ]0, 1], got {0}")]
     Share(f64),
-    #[error("exec.replan_slack_ms must be >= 0, got {0}")]
+    #[error("exec.replan_slack_ms must be in [0, 3600000] (an hour), got {0}")]
     Slack(Time),
     #[error("exec.{0} must be at least 1")]
     Positive(&'static str),
@@ -117,15 +117,30 @@ pub enum ConfigError {
     StepCap(&'static str),
 }
 
+const HOUR_MS: Time = 3_600_000;
+
+impl ConfigError {
+    /// The key of `[exec]` the error is about.
+    pub fn key(&self) -> &'static str {
+        match self {
+            ConfigError::Timestep(_) => "timestep_ms",
+            ConfigError::Share(_) => "repair_share",
+            ConfigError::Slack(_) => "replan_slack_ms",
+            ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
+        }
+    }
+}
+
 impl ExecConfig {
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if self.timestep_ms <= 0 {
+        // An hour at most: a cycle or a slack past it is a typo, and huge values overflow time sums.
+        if self.timestep_ms <= 0 || self.timestep_ms > HOUR_MS {
             return Err(ConfigError::Timestep(self.timestep_ms));
         }
         if !(self.repair_share > 0.0 && self.repair_share <= 1.0) {
             return Err(ConfigError::Share(self.repair_share));
         }
-        if self.replan_slack_ms < 0 {
+        if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
             return Err(ConfigError::Slack(self.replan_slack_ms));
         }
         if self.same_failure_limit == 0 {

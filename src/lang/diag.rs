@@ -68,25 +68,29 @@ impl Diagnostics {
     }
 }
 
+impl From<srctext::Located> for Diagnostic {
+    fn from(e: srctext::Located) -> Self {
+        Diagnostic {
+            file: e.file,
+            line: e.line,
+            col: e.col,
+            message: e.message,
+            source_line: e.source_line,
+        }
+    }
+}
+
+/// `file:line:col: error: message`, the line and a caret, as every located error ([`srctext::Located`]).
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "{}:{}:{}: error: {}",
-            self.file, self.line, self.col, self.message
-        )?;
-        if !self.source_line.is_empty() {
-            writeln!(f, "    {}", self.source_line)?;
-            // Keep tabs so the caret lines up under tab-indented text.
-            let pad: String = self
-                .source_line
-                .chars()
-                .take(self.col.saturating_sub(1))
-                .map(|c| if c == '\t' { '\t' } else { ' ' })
-                .collect();
-            writeln!(f, "    {pad}^")?;
-        }
-        Ok(())
+        let located = srctext::Located {
+            file: self.file.clone(),
+            line: self.line,
+            col: self.col,
+            message: self.message.clone(),
+            source_line: self.source_line.clone(),
+        };
+        writeln!(f, "{located}")
     }
 }
 
@@ -125,29 +129,7 @@ impl<'a> Source<'a> {
 
     /// A diagnostic at byte offset `pos` (clamped to the text and to a char boundary).
     pub fn error_at(&self, pos: usize, message: impl Into<String>) -> Diagnostic {
-        let mut pos = pos.min(self.text.len());
-        while !self.text.is_char_boundary(pos) {
-            pos -= 1;
-        }
-        let before = &self.text[..pos];
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let line = before.matches('\n').count() + 1;
-        let col = self.text[line_start..pos].chars().count() + 1;
-        let line_end = self.text[line_start..]
-            .find('\n')
-            .map_or(self.text.len(), |i| line_start + i);
-        let source_line = self.text[line_start..line_end]
-            .trim_end_matches('\r')
-            .chars()
-            .map(|c| if c.is_control() && c != '\t' { '?' } else { c })
-            .collect();
-        Diagnostic {
-            file: self.file.to_string(),
-            line,
-            col,
-            message: message.into(),
-            source_line,
-        }
+        srctext::locate(self.file, self.text, pos, message).into()
     }
 
     /// A diagnostic at the start of `span`.
@@ -156,25 +138,9 @@ impl<'a> Source<'a> {
     }
 }
 
-/// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte.
+/// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte (see [`srctext::decode`]).
 pub fn decode<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, Diagnostics> {
-    match std::str::from_utf8(bytes) {
-        // An editor's byte-order mark is not part of the text.
-        Ok(s) => Ok(s.strip_prefix('\u{feff}').unwrap_or(s)),
-        Err(e) => {
-            let valid = e.valid_up_to();
-            // The prefix is valid UTF-8 by construction.
-            let prefix = std::str::from_utf8(&bytes[..valid]).unwrap_or("");
-            let d = Source::new(file, prefix).error_at(
-                valid,
-                format!(
-                    "invalid UTF-8 (byte 0x{:02x}): source files must be UTF-8 text",
-                    bytes[valid]
-                ),
-            );
-            Err(Diagnostics(vec![d]))
-        }
-    }
+    srctext::decode(file, bytes).map_err(|e| Diagnostics(vec![e.into()]))
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 
 use std::collections::HashMap;
 
+use crate::model::Bound;
 use crate::model::{
     AttrId, Binding, Domain, Event, Hold, NumConstraint, NumInterval, NumTerm, NumVar, NumVarId,
     ObjectId, Preemption, ResourceKind, ResourceUsage, SymVar, SymVarId, Task, TemporalConstraint,
@@ -493,6 +494,15 @@ fn constrain_in(
             return;
         };
         if let Some(iv) = eval::time_interval(ctx, i, Clock(None)) {
+            // A task that may last 0 ms is scheduled so by the planner, and its holds over an empty
+            // (st, et) then meet the next change at the same instant, which the plan checker refuses.
+            if (from, to) == (task.start, task.end) && iv.min_ms().is_none_or(|lb| lb <= 0) {
+                ctx.err(
+                    span,
+                    "a task's duration needs a lower bound above 0 (e.g. `(et - st) in ]0, 60]` or `[1, +oo[`)",
+                );
+                return;
+            }
             if !stn.add(from, to, iv) {
                 ctx.err(span, "contradictory temporal constraints: no schedule satisfies this with the task's other constraints");
             }
@@ -716,8 +726,43 @@ fn numeric_definition(
 }
 
 /// Constant numeric constraints that can never hold, once every domain is known (declarations may follow
-/// their uses): `?x = c` with `c` outside the domain of `?x`, `a <= b` between constants with `a > b`.
+/// their uses): `?x = c` with `c` outside the domain of `?x`, `a <= b` between constants with `a > b`;
+/// and a duration defined as a quotient (`?dist = ?speed * ?duration`) by a factor that may be 0 or is
+/// unbounded, for which the planner finds durations near 0 that its checker then refuses.
 fn numeric_contradictions(ctx: &mut Ctx<'_>, s: &Scope<'_>, cs: &[NumConstraint], spans: &[Span]) {
+    let durations: Vec<NumVarId> = cs
+        .iter()
+        .filter_map(|c| match c {
+            NumConstraint::Duration { var, .. } => Some(*var),
+            _ => None,
+        })
+        .collect();
+    for (c, span) in cs.iter().zip(spans) {
+        let NumConstraint::Product { a, b, .. } = c else {
+            continue;
+        };
+        let factor = match (a, b) {
+            (NumTerm::Var(d), f) | (f, NumTerm::Var(d)) if durations.contains(d) => f,
+            _ => continue,
+        };
+        let (name, domain) = match factor {
+            NumTerm::Var(v) => match s.num.get(v.index()) {
+                Some(v) => (format!("`?{}`", v.name), v.domain),
+                None => continue,
+            },
+            NumTerm::Const(k) => (k.to_string(), NumInterval::closed(*k, *k)),
+        };
+        let unbounded = matches!(domain.lb, Bound::Inf) || matches!(domain.ub, Bound::Inf);
+        if unbounded || domain.contains(0.0) {
+            ctx.err(
+                *span,
+                format!(
+                    "{name} divides the duration here, so its domain must be bounded and exclude 0 (e.g. `[0.3, 1.5]`), found {}",
+                    crate::model::show_bounds(&domain.lb, &domain.ub)
+                ),
+            );
+        }
+    }
     for (c, span) in cs.iter().zip(spans) {
         let bad = match *c {
             NumConstraint::Equal(NumTerm::Var(v), NumTerm::Const(k))

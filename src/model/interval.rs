@@ -177,6 +177,21 @@ mod tests {
     }
 }
 
+/// An interval in the language's notation from its bounds: `[a, b]`, `]a, +oo[`.
+pub fn show_bounds<T: std::fmt::Display>(lb: &Bound<T>, ub: &Bound<T>) -> String {
+    let lb = match lb {
+        Bound::Closed(v) => format!("[{v}"),
+        Bound::Open(v) => format!("]{v}"),
+        Bound::Inf => "]-oo".to_string(),
+    };
+    let ub = match ub {
+        Bound::Closed(v) => format!("{v}]"),
+        Bound::Open(v) => format!("{v}["),
+        Bound::Inf => "+oo[".to_string(),
+    };
+    format!("{lb}, {ub}")
+}
+
 /// The language's notation in seconds, e.g. `[0 s, 330 s]`, `]2 s, +oo[`.
 impl std::fmt::Display for TimeInterval {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

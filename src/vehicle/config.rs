@@ -9,25 +9,18 @@ use std::path::Path;
 
 use serde::Deserialize;
 
+use super::binding_table::BindingTable;
 use super::geo::Home;
 use super::safe_stop::OnShutdown;
 use super::types::GoalKind;
 
+/// A configuration that cannot be used: unreadable, or wrong at `file:line:col` (the line shown).
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
-    #[error("{path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("{path}: {message}")]
-    Parse { path: String, message: String },
-    #[error("{path}: {key}: {reason}")]
-    Invalid {
-        path: String,
-        key: String,
-        reason: String,
-    },
+    #[error("{0}")]
+    Read(#[from] srctext::ReadError),
+    #[error("{0}")]
+    At(Box<srctext::Located>),
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -42,13 +35,15 @@ pub struct VehicleConfig {
     pub resources: ResourceNames,
     #[serde(default)]
     pub mapping: Mapping,
-    /// Task name of the domain → binding.
-    #[serde(default)]
+    /// Task name of the domain → binding (from `tables`, once parsed).
+    #[serde(skip)]
     pub actions: BTreeMap<String, Binding>,
-    /// The executive's `[exec]` table, kept raw: the executive reads it (`crate::exec::config::ExecConfig`),
-    /// it is allowed here so that one file holds both and is parsed once (errors keep their lines).
+    /// `[actions.*]` as written (see [`super::binding_table`]).
+    #[serde(default, rename = "actions")]
+    tables: BTreeMap<String, BindingTable>,
+    /// The executive's `[exec]` table, read from the same text so that its errors keep their lines.
     #[serde(default)]
-    pub exec: Option<toml::Table>,
+    pub exec: Option<crate::exec::config::ExecConfig>,
     /// Where the configuration was read from (not a key of the file): for `file:line` in messages.
     #[serde(skip)]
     pub source: Option<ConfigSource>,
@@ -66,33 +61,8 @@ impl ConfigSource {
     /// The 1-based line where the key path `key` (`actions.survey.area`) is written; when it is not written
     /// (a default, a missing binding), the line of the closest written table or key above it, if any.
     pub fn line_of(&self, key: &str) -> Option<usize> {
-        use toml_edit::{Item, Value};
-        let doc = toml_edit::ImDocument::parse(self.text.as_str()).ok()?;
-        let mut best = None;
-        let mut item: Option<&Item> = None;
-        for seg in key.split('.') {
-            let found = match item {
-                None => doc.as_table().get_key_value(seg),
-                Some(Item::Table(t)) => t.get_key_value(seg),
-                Some(Item::Value(Value::InlineTable(t))) => t.get_key_value(seg),
-                Some(_) => None,
-            };
-            let Some((k, v)) = found else { break };
-            // An implicit table (`actions` of `[actions.move]`) is written nowhere of its own.
-            let implicit = matches!(v, Item::Table(t) if t.is_implicit());
-            if let (false, Some(span)) = (implicit, k.span().or_else(|| v.span())) {
-                best = Some(span.start);
-            }
-            item = Some(v);
-        }
-        let pos = best?.min(self.text.len());
-        Some(
-            self.text.as_bytes()[..pos]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count()
-                + 1,
-        )
+        let pos = srctext::toml_file::key_offset(&self.text, key)?;
+        Some(srctext::locate(&self.origin, &self.text, pos, "").line)
     }
 }
 
@@ -242,57 +212,41 @@ pub struct ServoStep {
     pub hold_ms: u64,
 }
 
-/// How a task is realised and how its end is recognised.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+/// How a task is realised and how its end is recognised (read through [`BindingTable`]).
+#[derive(Debug, Clone)]
 pub enum Binding {
     /// GUIDED `DO_REPOSITION` to the location argument `to`; done within `acceptance_radius_m`;
     /// interrupted by HOLD (the report gives the reached position as state variable `position`).
     Move {
-        #[serde(default = "d_to")]
         to: String,
-        #[serde(default = "d_radius")]
         acceptance_radius_m: f64,
-        #[serde(default = "d_speed")]
         speed_m_s: f64,
-        #[serde(default = "d_position")]
         position_variable: String,
         /// When set, the move is also done only within this vertical distance (an AUV reaching a depth);
         /// unset, only the horizontal distance counts (a ground vehicle does not control its altitude).
-        #[serde(default)]
         vertical_acceptance_m: Option<f64>,
     },
     /// A lawnmower mission over a rectangle centred on the location argument `area`, run in AUTO;
     /// done on the last MISSION_ITEM_REACHED.
     Survey {
-        #[serde(default = "d_area")]
         area: String,
         width_m: f64,
         height_m: f64,
         spacing_m: f64,
-        #[serde(default = "d_position")]
         position_variable: String,
     },
     /// IMAGE_START_CAPTURE; done on CAMERA_IMAGE_CAPTURED, failed on capture_result 0 or timeout.
-    TakePicture {
-        #[serde(default)]
-        camera_id: u8,
-        #[serde(default = "d_picture_timeout")]
-        timeout_ms: u64,
-    },
+    TakePicture { camera_id: u8, timeout_ms: u64 },
     /// A DO_SET_SERVO sequence; done when the last step's hold time has elapsed.
     Sample { steps: Vec<ServoStep> },
     /// RTL; done within `acceptance_radius_m` of home.
     ReturnHome {
-        #[serde(default = "d_radius")]
         acceptance_radius_m: f64,
-        #[serde(default = "d_position")]
         position_variable: String,
     },
     /// HOLD until the battery reaches `until_percent`, or the number argument `level_arg` when one is named.
     Recharge {
         until_percent: f64,
-        #[serde(default)]
         level_arg: Option<String>,
     },
     /// The vehicle's downlink command (COMMAND_LONG `command`); done when used storage falls to
@@ -300,11 +254,8 @@ pub enum Binding {
     /// over: the downlink is stopped and what was sent is freed, maybe less than planned).
     Download {
         command: u16,
-        #[serde(default)]
         until_used: f64,
-        #[serde(default)]
         max_ms: Option<u64>,
-        #[serde(default = "d_poll")]
         poll_ms: u64,
     },
     /// A task the autopilot has no counterpart for (e.g. turning a pan-and-tilt unit it does not drive, a
@@ -312,44 +263,59 @@ pub enum Binding {
     Timed { duration_ms: u64 },
 }
 
-fn d_to() -> String {
-    "to".into()
-}
-fn d_area() -> String {
-    "area".into()
-}
-fn d_position() -> String {
-    "position".into()
-}
-fn d_radius() -> f64 {
-    3.0
-}
-fn d_speed() -> f64 {
-    -1.0
-}
-fn d_picture_timeout() -> u64 {
-    10_000
-}
-fn d_poll() -> u64 {
-    1000
+/// The longest duration a configuration may give, ms: a week (longer ones overflow clock arithmetic).
+const MAX_MS: u64 = 7 * 24 * 3_600_000;
+const TOO_LONG: &str = "at most a week (604800000 ms)";
+
+/// A binding's durations in ms, with their keys.
+fn binding_ms(b: &Binding) -> Vec<(&'static str, u64)> {
+    match b {
+        Binding::TakePicture { timeout_ms, .. } => vec![("timeout_ms", *timeout_ms)],
+        Binding::Sample { steps } => steps.iter().map(|s| ("steps", s.hold_ms)).collect(),
+        Binding::Download {
+            max_ms, poll_ms, ..
+        } => {
+            vec![("max_ms", max_ms.unwrap_or(0)), ("poll_ms", *poll_ms)]
+        }
+        Binding::Timed { duration_ms } => vec![("duration_ms", *duration_ms)],
+        _ => Vec::new(),
+    }
 }
 
 impl VehicleConfig {
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = srctext::read(path)?;
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parses and validates; `origin` names the source in errors.
+    /// Parses and validates, the `[exec]` table too; `origin` names the source in errors.
     pub fn parse(text: &str, origin: &str) -> Result<Self, ConfigError> {
-        let mut cfg: VehicleConfig = toml::from_str(text).map_err(|e| ConfigError::Parse {
-            path: origin.to_string(),
-            message: e.to_string().trim_end().to_string(),
-        })?;
-        cfg.validate(origin)?;
+        let mut cfg: VehicleConfig =
+            srctext::toml_file::parse(origin, text).map_err(|e| ConfigError::At(Box::new(e)))?;
+        let exec = cfg.exec.as_ref().map_or(Ok(()), |e| {
+            // The executive's messages name their key already.
+            e.validate()
+                .map_err(|e| (format!("exec.{}", e.key()), e.to_string()))
+        });
+        let tables = std::mem::take(&mut cfg.tables);
+        for (task, table) in tables {
+            let binding = table.into_binding().map_err(|(key, reason)| {
+                let path = format!("actions.{task}.{key}");
+                let path = path.trim_end_matches('.');
+                let message = format!("{path}: {reason}");
+                ConfigError::At(Box::new(srctext::toml_file::at_key(
+                    origin, text, path, message,
+                )))
+            })?;
+            cfg.actions.insert(task, binding);
+        }
+        cfg.validate()
+            .map_err(|(key, reason)| (key.clone(), format!("{key}: {reason}")))
+            .and(exec)
+            .map_err(|(key, message)| {
+                let e = srctext::toml_file::at_key(origin, text, &key, message);
+                ConfigError::At(Box::new(e))
+            })?;
         cfg.source = Some(ConfigSource {
             origin: origin.to_string(),
             text: text.to_string(),
@@ -357,12 +323,11 @@ impl VehicleConfig {
         Ok(cfg)
     }
 
-    fn validate(&self, origin: &str) -> Result<(), ConfigError> {
-        let invalid = |key: String, reason: &str| ConfigError::Invalid {
-            path: origin.to_string(),
-            key,
-            reason: reason.to_string(),
-        };
+    /// The first semantic error: the key path it is about and why.
+    fn validate(&self) -> Result<(), (String, String)> {
+        let invalid = |key: String, reason: &str| (key, reason.to_string());
+        super::endpoint::Address::parse(&self.link.address)
+            .map_err(|r| invalid("link.address".into(), &r))?;
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
@@ -374,14 +339,29 @@ impl VehicleConfig {
                 ));
             }
         }
-        if !(-90.0..=90.0).contains(&self.home.lat) || !(-180.0..=180.0).contains(&self.home.lon) {
-            return Err(invalid(
-                "home".into(),
-                "lat must be in [-90, 90] and lon in [-180, 180]",
-            ));
+        if !(-90.0..=90.0).contains(&self.home.lat) {
+            return Err(invalid("home.lat".into(), "must be in [-90, 90]"));
+        }
+        if !(-180.0..=180.0).contains(&self.home.lon) {
+            return Err(invalid("home.lon".into(), "must be in [-180, 180]"));
+        }
+        let l = &self.link;
+        let link_ms = [
+            ("heartbeat_timeout_ms", l.heartbeat_timeout_ms),
+            ("command_ack_timeout_ms", l.command_ack_timeout_ms),
+            ("mission_timeout_ms", l.mission_timeout_ms),
+            ("reconnect_ms", l.reconnect_ms),
+        ];
+        for (k, ms) in link_ms {
+            if ms > MAX_MS {
+                return Err(invalid(format!("link.{k}"), TOO_LONG));
+            }
         }
         for (task, b) in &self.actions {
             let key = |k: &str| format!("actions.{task}.{k}");
+            if let Some((k, _)) = binding_ms(b).into_iter().find(|(_, ms)| *ms > MAX_MS) {
+                return Err(invalid(key(k), TOO_LONG));
+            }
             match b {
                 Binding::Move {
                     acceptance_radius_m,

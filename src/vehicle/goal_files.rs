@@ -26,9 +26,15 @@ pub struct GoalFile {
 /// Reads a `.plan` or `.waypoints` file, chosen by extension (else by content).
 pub fn load(path: &Path) -> Result<GoalFile, FileError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| FileError {
-        place: name.clone(),
-        message: e.to_string(),
+    let text = srctext::read(path).map_err(|e| match e {
+        srctext::ReadError::Utf8(at) => FileError {
+            place: format!("{}:{}:{}", at.file, at.line, at.col),
+            message: at.message,
+        },
+        srctext::ReadError::Io { path, source } => FileError {
+            place: path,
+            message: source.to_string(),
+        },
     })?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     if ext == "plan" || (ext != "waypoints" && text.trim_start().starts_with('{')) {
@@ -36,6 +42,14 @@ pub fn load(path: &Path) -> Result<GoalFile, FileError> {
     } else {
         parse_waypoints(&text, &name)
     }
+}
+
+/// Why a home position cannot be a place, if it cannot.
+fn absurd_home(h: &Home) -> Option<&'static str> {
+    let ok =
+        (-90.0..=90.0).contains(&h.lat) && (-180.0..=180.0).contains(&h.lon) && h.alt.is_finite();
+    (!ok)
+        .then_some("home: latitude must be in [-90, 90], longitude in [-180, 180], altitude finite")
 }
 
 fn at_path(name: &str, path: &str, message: impl Into<String>) -> FileError {
@@ -89,11 +103,15 @@ pub fn parse_plan(text: &str, name: &str) -> Result<GoalFile, FileError> {
                     )
                 })
             };
-            Some(Home {
+            let home = Home {
                 lat: num(0)?,
                 lon: num(1)?,
                 alt: if a.len() > 2 { num(2)? } else { 0.0 },
-            })
+            };
+            if let Some(why) = absurd_home(&home) {
+                return Err(at_path(name, "mission.plannedHomePosition", why));
+            }
+            Some(home)
         }
         Some(_) => {
             return Err(at_path(
@@ -257,11 +275,15 @@ pub fn parse_waypoints(text: &str, name: &str) -> Result<GoalFile, FileError> {
             .collect::<Result<_, _>>()?;
         let autocontinue = int(11, "AUTOCONTINUE", 1.0)? == 1.0;
         if index == 0.0 {
-            home = Some(Home {
+            let h = Home {
                 lat: p[4],
                 lon: p[5],
                 alt: p[6],
-            });
+            };
+            if let Some(why) = absurd_home(&h) {
+                return Err(at(i, fields[8].1, why.into()));
+            }
+            home = Some(h);
             continue;
         }
         items.push(MissionItem {

@@ -127,7 +127,7 @@ pub fn items_to_goals(
             c if c == MavCmd::MAV_CMD_NAV_LOITER_TIME as u16 => {
                 // Loiter time = how long the position must hold, unless attributes said otherwise.
                 if attrs.duration.0 == 0.0 {
-                    attrs.duration.0 = f64::from(item.params[0]).max(0.0);
+                    attrs.duration.0 = super::wire_float::widen(item.params[0]).max(0.0);
                 }
                 GoalKind::BeAt
             }
@@ -159,7 +159,7 @@ pub fn items_to_goals(
                     MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
                 ));
             }
-            Some(known.resolve(&name, item.x, item.y, f64::from(item.z)))
+            Some(known.resolve(&name, item.x, item.y, super::wire_float::widen(item.z)))
         } else {
             None
         };

@@ -13,6 +13,7 @@
 pub mod actions;
 pub mod api;
 pub mod bench;
+pub mod binding_table;
 pub mod commands;
 pub mod config;
 pub mod config_check;
@@ -34,6 +35,7 @@ pub mod safe_stop;
 pub mod telemetry;
 pub mod tlog;
 pub mod types;
+pub mod wire_float;
 
 pub use api::{Vehicle, VehicleError};
 pub use link::MavlinkVehicle;

@@ -60,7 +60,7 @@ impl Telemetry {
             }
             MavMessage::STORAGE_INFORMATION(s) => {
                 self.clock(u64::from(s.time_boot_ms));
-                let total = f64::from(s.total_capacity);
+                let total = super::wire_float::widen(s.total_capacity);
                 if let (Some(old), Some(name)) = (self.storage_total, &names.storage) {
                     if (old - total).abs() > 1e-6 {
                         events.push(VehicleEvent::Capacity(CapacityChange {
@@ -71,8 +71,8 @@ impl Telemetry {
                     }
                 }
                 self.storage_total = Some(total);
-                self.storage_used = Some(f64::from(s.used_capacity));
-                let avail = f64::from(s.available_capacity);
+                self.storage_used = Some(super::wire_float::widen(s.used_capacity));
+                let avail = super::wire_float::widen(s.available_capacity);
                 if self.storage_available != Some(avail) {
                     self.storage_available = Some(avail);
                     if let Some(name) = &names.storage {

@@ -144,14 +144,8 @@ impl Autopilot {
                 MavResult::MAV_RESULT_ACCEPTED
             }
             MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL => {
-                if self
-                    .streams
+                self.streams
                     .set_interval_us(c.p[0] as u32, c.p[1], self.now_ms)
-                {
-                    MavResult::MAV_RESULT_ACCEPTED
-                } else {
-                    MavResult::MAV_RESULT_FAILED
-                }
             }
             MavCmd::MAV_CMD_REQUEST_MESSAGE => return self.request_message(&c, c.p[0] as u32),
             MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => {

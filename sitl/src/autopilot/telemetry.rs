@@ -66,9 +66,14 @@ impl Default for Streams {
 
 impl Streams {
     /// SET_MESSAGE_INTERVAL semantics: -1 stops, 0 restores the default, > 0 is the interval in us.
-    pub fn set_interval_us(&mut self, id: u32, interval_us: f32, now_ms: u64) -> bool {
+    /// Refused (DENIED): an interval that is not a number, and HEARTBEAT stopped or slower than 1 Hz — it
+    /// is every peer's sign that the vehicle is there, and one peer's request would silence it for all.
+    pub fn set_interval_us(&mut self, id: u32, interval_us: f32, now_ms: u64) -> MavResult {
         if !SENDABLE.contains(&id) {
-            return false;
+            return MavResult::MAV_RESULT_FAILED;
+        }
+        if !interval_us.is_finite() || (id == HEARTBEAT && !(0.0..=1e6).contains(&interval_us)) {
+            return MavResult::MAV_RESULT_DENIED;
         }
         if interval_us < 0.0 {
             self.active.remove(&id);
@@ -82,11 +87,12 @@ impl Streams {
             let ms = ((interval_us / 1000.0).round() as u64).max(1);
             self.active.insert(id, (ms, now_ms));
         }
-        true
+        MavResult::MAV_RESULT_ACCEPTED
     }
 
+    /// REQUEST_DATA_STREAM: HEARTBEAT is no data stream (ArduPilot sends it whatever the rates).
     pub fn set_rate_hz(&mut self, ids: &[u32], hz: u16, now_ms: u64) {
-        for &id in ids {
+        for &id in ids.iter().filter(|&&id| id != HEARTBEAT) {
             if hz == 0 {
                 self.active.remove(&id);
             } else {

@@ -82,6 +82,18 @@ impl Gcs {
         self.wr.write_all(&buf).await.expect("write");
     }
 
+    /// REQUEST_DATA_STREAM(ALL, stop): every data stream off.
+    pub async fn stop_all_streams(&mut self) {
+        self.send(MavMessage::REQUEST_DATA_STREAM(REQUEST_DATA_STREAM_DATA {
+            req_message_rate: 0,
+            target_system: 1,
+            target_component: 1,
+            req_stream_id: MavDataStream::MAV_DATA_STREAM_ALL,
+            start_stop: 0,
+        }))
+        .await;
+    }
+
     /// The first message satisfying `f`: from the backlog, else waiting (wall time, bounded).
     pub async fn expect<T>(
         &mut self,

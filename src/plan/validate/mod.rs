@@ -140,18 +140,7 @@ impl Ctx<'_> {
 
 /// `[a, b]`, `]a, +oo[` ... for messages.
 pub(super) fn show_interval(i: &TimeInterval) -> String {
-    use crate::model::Bound;
-    let lb = match i.lb {
-        Bound::Closed(v) => format!("[{v}"),
-        Bound::Open(v) => format!("]{v}"),
-        Bound::Inf => "]-oo".to_string(),
-    };
-    let ub = match i.ub {
-        Bound::Closed(v) => format!("{v}]"),
-        Bound::Open(v) => format!("{v}["),
-        Bound::Inf => "+oo[".to_string(),
-    };
-    format!("{lb}, {ub}")
+    crate::model::show_bounds(&i.lb, &i.ub)
 }
 
 /// `[lb, ub]` with `None` as infinite.

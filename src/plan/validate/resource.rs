@@ -10,6 +10,11 @@ use crate::model::{NumTerm, ResourceId, ResourceKind, ResourceSetup, Time, Usage
 use super::numeric::Iv;
 use super::{Ctx, Violation};
 
+/// The tolerance on a reservoir's level: the planner's envelope (src/plan/envelope.rs `EPS`) lets a level
+/// exceed its bound by this much, so the checker does too — else plans the planner calls safe are refused
+/// for rounding alone (3.0000000477 > 3).
+pub const LEVEL_TOLERANCE: f64 = 1e-6;
+
 /// One usage at the schedule.
 struct Usage {
     who: String,
@@ -170,7 +175,7 @@ fn reservoir(name: &str, setup: &ResourceSetup, usages: &[Usage], out: &mut Vec<
     }
     steps.sort_by_key(|s| (s.time, s.rank));
     let (mut low, mut high) = (setup.level, setup.level);
-    let eps = 1e-9;
+    let eps = LEVEL_TOLERANCE;
     let mut below_reported = false;
     let mut above_reported = false;
     let initial_cap = setup.capacity_at(0);
@@ -346,6 +351,24 @@ mod tests {
             ),
             "{v:?}"
         );
+    }
+
+    #[test]
+    fn f32_rounding_is_within_the_planners_tolerance_and_more_is_not() {
+        // A card filled with f32 levels off the wire: 3.0000000477 is the planner's 3 (its envelope's
+        // tolerance), so the checker agrees; a real overflow by a thousandth is still refused.
+        let s = setup(3.0, vec![(0, 3.0)]);
+        let near = f64::from(0.8f32) * 4.0 - 0.2;
+        assert!(near > 3.0);
+        let ok = [u("dl", Kind::Produce(5, false), (0.0, near - 3.0 + 0.0))];
+        assert!(run(&s, &ok, false).is_empty(), "{:?}", run(&s, &ok, false));
+        let over = setup(near, vec![(0, 3.0)]);
+        assert!(run(&over, &[], false).is_empty());
+        let bad = setup(3.001, vec![(0, 3.0)]);
+        assert!(matches!(
+            run(&bad, &[], false).as_slice(),
+            [Violation::ResourceOverCapacity { .. }]
+        ));
     }
 
     #[test]
