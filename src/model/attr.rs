@@ -31,6 +31,11 @@ impl LogicalAttr {
     }
 }
 
+/// The tolerance on a reservoir's level, one for the planner's envelope and the checker: a level may exceed
+/// its bound by this much (rounding), else plans the planner calls safe are refused for rounding alone
+/// (3.0000000477 > 3).
+pub const LEVEL_TOLERANCE: f64 = 1e-6;
+
 /// Unary or reservoir (seed 1 §2.2: borrowings over an interval, consumptions and productions at an instant).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum ResourceKind {

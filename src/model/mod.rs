@@ -23,7 +23,7 @@ mod problem;
 mod task;
 mod types;
 
-pub use attr::{LogicalAttr, ResourceAttr, ResourceKind, Value};
+pub use attr::{LogicalAttr, ResourceAttr, ResourceKind, Value, LEVEL_TOLERANCE};
 pub use display::interval_string;
 pub use domain::Domain;
 pub use geo::{GeoPoint, Position};

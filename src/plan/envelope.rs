@@ -54,8 +54,8 @@ pub struct ReservoirConflict {
     pub reset: Option<Timepoint>,
 }
 
-/// Numeric tolerance on levels.
-const EPS: f64 = 1e-6;
+/// Numeric tolerance on levels: the checker's.
+const EPS: f64 = crate::model::LEVEL_TOLERANCE;
 
 struct Change {
     usage: UsageId,

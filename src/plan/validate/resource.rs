@@ -10,10 +10,7 @@ use crate::model::{NumTerm, ResourceId, ResourceKind, ResourceSetup, Time, Usage
 use super::numeric::Iv;
 use super::{Ctx, Violation};
 
-/// The tolerance on a reservoir's level: the planner's envelope (src/plan/envelope.rs `EPS`) lets a level
-/// exceed its bound by this much, so the checker does too — else plans the planner calls safe are refused
-/// for rounding alone (3.0000000477 > 3).
-pub const LEVEL_TOLERANCE: f64 = 1e-6;
+pub use crate::model::LEVEL_TOLERANCE;
 
 /// One usage at the schedule.
 struct Usage {
