@@ -153,23 +153,17 @@ impl LinkFaults {
         self.quality
     }
 
-    /// An incoming frame: dropped in a blackout or by loss.
-    pub fn accept_inbound(&mut self, now_ms: u64) -> bool {
-        if self.in_blackout(now_ms) {
-            self.dropped += 1;
-            return false;
-        }
-        if let Some(q) = self.quality(now_ms) {
-            if q.loss > 0.0 && self.rng.gen_bool(q.loss) {
-                self.dropped += 1;
-                return false;
-            }
-        }
-        true
+    /// An incoming frame's fate: the radio loses, duplicates and reorders both ways.
+    pub fn inbound(&mut self, now_ms: u64) -> Delivery {
+        self.delivery(now_ms)
     }
 
     /// An outgoing frame's fate.
     pub fn outbound(&mut self, now_ms: u64) -> Delivery {
+        self.delivery(now_ms)
+    }
+
+    fn delivery(&mut self, now_ms: u64) -> Delivery {
         if self.in_blackout(now_ms) {
             self.dropped += 1;
             return Delivery::Drop;
@@ -292,7 +286,7 @@ mod tests {
         let mut l = LinkFaults::new(ChaCha8Rng::seed_from_u64(1));
         l.blackout(1000, 2.0);
         assert_eq!(l.outbound(2999), Delivery::Drop);
-        assert!(!l.accept_inbound(2000));
+        assert_eq!(l.inbound(2000), Delivery::Drop);
         assert_eq!(l.outbound(3000), Delivery::Once);
     }
 }

@@ -286,6 +286,9 @@ impl Driver {
         let cfg = &self.cfg;
         self.tel
             .update(msg, &cfg.home, &cfg.resources, &mut self.events);
+        if let Some(t) = self.tel.time_boot_ms {
+            self.cmds.set_vehicle_time(t);
+        }
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
         }
