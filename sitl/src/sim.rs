@@ -282,7 +282,8 @@ impl Runner {
     }
 
     fn receive(&mut self, frame: Inbound) {
-        match self.ap.link_faults.inbound(self.ap.now_ms()) {
+        let msg_id = mavlink::Message::message_id(&frame.msg);
+        match self.ap.link_faults.inbound(self.ap.now_ms(), msg_id) {
             Delivery::Drop => {}
             Delivery::Once => self.handle_then_held(frame),
             Delivery::Twice => {

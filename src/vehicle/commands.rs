@@ -51,6 +51,17 @@ impl Command {
     }
 }
 
+/// Commands that set the vehicle's mode (DO_REPOSITION switches to GUIDED): the latest one counts.
+fn changes_mode(cmd: MavCmd) -> bool {
+    matches!(
+        cmd,
+        MavCmd::MAV_CMD_DO_SET_MODE
+            | MavCmd::MAV_CMD_DO_REPOSITION
+            | MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH
+            | MavCmd::MAV_CMD_MISSION_START
+    )
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub enum CommandOutcome {
     Accepted,
@@ -111,6 +122,11 @@ impl CommandClient {
     }
 
     pub fn send(&mut self, token: Token, cmd: Command, now: u64, out: &mut Vec<MavMessage>) {
+        if changes_mode(cmd.id()) {
+            // The vehicle is told where to be now: an older mode command still re-sent (a HOLD whose ACK
+            // was lost) would undo this one.
+            self.pending.retain(|p| !changes_mode(p.cmd.id()));
+        }
         out.push(cmd.message());
         self.pending.push(Pending {
             token,
@@ -133,6 +149,7 @@ impl CommandClient {
         ack: &COMMAND_ACK_DATA,
         now: u64,
     ) -> Option<(Token, MavCmd, CommandOutcome)> {
+        tracing::debug!(command = ?ack.command, result = ?ack.result, vnow = self.vnow, "COMMAND_ACK");
         let i = self
             .pending
             .iter()
@@ -185,6 +202,7 @@ impl CommandClient {
             p.tries += 1;
             p.sent_ms = now;
             p.sent_vms = vnow;
+            tracing::debug!(command = ?p.cmd.id(), try_ = p.tries, vnow, "no COMMAND_ACK: re-sent");
             out.push(p.cmd.message());
             true
         });

@@ -289,6 +289,14 @@ impl Driver {
         if let Some(t) = self.tel.time_boot_ms {
             self.cmds.set_vehicle_time(t);
         }
+        if matches!(
+            msg,
+            MavMessage::SYSTEM_TIME(_) | MavMessage::GLOBAL_POSITION_INT(_)
+        ) {
+            // The vehicle's clock moved: ACKs overdue in its time are re-sent now, not at the next wall tick
+            // (a simulator may run minutes between two).
+            self.expire_commands(now);
+        }
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
         }
@@ -304,6 +312,13 @@ impl Driver {
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+    }
+
+    /// Re-sends the commands whose ACK is overdue; those given up on end their runs.
+    fn expire_commands(&mut self, now: u64) {
+        for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
+            self.command_outcome(token, cmd, outcome, now);
         }
     }
 
@@ -334,9 +349,7 @@ impl Driver {
             self.link = Link::Lost;
             self.events.push(VehicleEvent::Link(LinkStatus::Lost));
         }
-        for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
-            self.command_outcome(token, cmd, outcome, now);
-        }
+        self.expire_commands(now);
         if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
             self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
         }

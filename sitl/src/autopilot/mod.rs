@@ -4,6 +4,7 @@
 
 mod auto;
 mod commands;
+mod command_memory;
 mod mission;
 mod modes;
 mod payload_ops;
@@ -82,6 +83,8 @@ pub struct Autopilot {
     upload: Option<Upload>,
     streams: Streams,
     command_failures: Vec<(u16, MavResult, u32)>,
+    /// The last command of each kind and its answer: duplicates and re-sent copies answered again.
+    cmd_memory: command_memory::CommandMemory,
     nav_blocked_until_ms: u64,
     was_moving: bool,
     exhausted_reported: bool,
@@ -139,6 +142,7 @@ impl Autopilot {
             upload: None,
             streams: Streams::default(),
             command_failures: Vec::new(),
+            cmd_memory: Default::default(),
             nav_blocked_until_ms: 0,
             was_moving: false,
             exhausted_reported: false,
@@ -228,8 +232,10 @@ impl Autopilot {
             return;
         }
         match &f.msg {
-            MavMessage::COMMAND_LONG(m) => self.on_command(Cmd::from_long(from, m)),
-            MavMessage::COMMAND_INT(m) => self.on_command(Cmd::from_int(from, m)),
+            MavMessage::COMMAND_LONG(m) => {
+                self.on_command(Cmd::from_long(from, f.header.sequence, m))
+            }
+            MavMessage::COMMAND_INT(m) => self.on_command(Cmd::from_int(from, f.header.sequence, m)),
             MavMessage::SET_MODE(m) => self.on_set_mode(from, m),
             MavMessage::MISSION_COUNT(m) => self.on_mission_count(from, m),
             MavMessage::MISSION_ITEM_INT(m) => self.on_item_int(from, m),

@@ -1,0 +1,83 @@
+//! Idempotent command answers over a lossy radio: the last command of each kind from each sender and the
+//! result it was acknowledged with. A frame the link duplicated (same sequence number) or a re-sent
+//! COMMAND_LONG (`confirmation` > 0, same parameters) is answered with that result again instead of being
+//! executed twice: the re-sent capture does not take a second picture, the re-sent downlink start is told
+//! IN_PROGRESS rather than TEMPORARILY_REJECTED, a HOLD re-sent after its ACK was lost does not override the
+//! move commanded since.
+
+use std::collections::HashMap;
+
+use mavlink::dialects::ardupilotmega::{MavCmd, MavResult};
+
+use super::commands::Cmd;
+
+/// What a command was answered with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Answer {
+    pub result: MavResult,
+    pub progress: u8,
+}
+
+#[derive(Debug, Clone)]
+struct Entry {
+    p: [f32; 7],
+    int: Option<(i32, i32)>,
+    seq: u8,
+    answer: Option<Answer>,
+}
+
+/// Key: sender's system and component, command id.
+type Key = (u8, u8, u32);
+
+#[derive(Debug, Default)]
+pub struct CommandMemory {
+    last: HashMap<Key, Entry>,
+}
+
+fn key(c: &Cmd) -> Key {
+    (c.from.sysid, c.from.compid, c.command as u32)
+}
+
+impl CommandMemory {
+    /// The answer to give again when `c` is a duplicate or a re-sent copy of the last command of its kind;
+    /// otherwise `c` is remembered as the command now executed.
+    pub fn repeat(&mut self, c: &Cmd) -> Option<Answer> {
+        let k = key(c);
+        let int = c.int.map(|(x, y, _)| (x, y));
+        let again = self.last.get(&k).filter(|e| {
+            let same = e.p.iter().zip(&c.p).all(|(a, b)| a.to_bits() == b.to_bits()) && e.int == int;
+            same && (e.seq == c.seq || c.confirmation > 0)
+        });
+        if let Some(answer) = again.and_then(|e| e.answer) {
+            return Some(answer);
+        }
+        self.last.insert(
+            k,
+            Entry {
+                p: c.p,
+                int,
+                seq: c.seq,
+                answer: None,
+            },
+        );
+        None
+    }
+
+    /// The last command of its kind from this sender was answered (again, for a long-running one: its
+    /// final ACK). Only what was done is answered again: a refused command is executed again when re-sent
+    /// (nothing happened the first time).
+    pub fn answered(&mut self, sysid: u8, compid: u8, command: MavCmd, answer: Answer) {
+        if let Some(e) = self.last.get_mut(&(sysid, compid, command as u32)) {
+            let done = matches!(
+                answer.result,
+                MavResult::MAV_RESULT_ACCEPTED | MavResult::MAV_RESULT_IN_PROGRESS
+            );
+            e.answer = done.then_some(answer);
+        }
+    }
+
+    /// A reboot forgets everything.
+    pub fn clear(&mut self) {
+        self.last.clear();
+    }
+}
