@@ -3,6 +3,7 @@
 
 use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, COMMAND_INT_DATA};
 
+use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
 use super::config::{Binding, Mode, VehicleConfig};
 use super::geo::deg_e7;
@@ -57,6 +58,16 @@ impl Ctx<'_> {
             MavCmd::MAV_CMD_REQUEST_MESSAGE,
             self.target,
             [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.cmds.send(u64::MAX, cmd, self.now, self.out);
+    }
+
+    fn request_capture_status(&mut self) {
+        // MAV_CMD_REQUEST_MESSAGE(CAMERA_CAPTURE_STATUS = 262); fire and forget.
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_REQUEST_MESSAGE,
+            self.target,
+            [262.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         );
         self.cmds.send(u64::MAX, cmd, self.now, self.out);
     }
@@ -115,6 +126,8 @@ pub struct Run {
     last_poll: u64,
     /// The end of a capture waiting for its storage level.
     pending: Option<End>,
+    /// A picture's end from the camera's status, should its CAMERA_IMAGE_CAPTURED be lost.
+    capture: Option<CaptureEvidence>,
 }
 
 /// How long (vehicle ms) a picture's report waits for STORAGE_INFORMATION.
@@ -157,6 +170,7 @@ impl Run {
             mode_seen: false,
             last_poll: ctx.vnow,
             pending: None,
+            capture: None,
         };
         let id = start.id;
         match binding {
@@ -197,6 +211,8 @@ impl Run {
                     [f32::from(*camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
                 );
                 ctx.command(id, cmd);
+                run.capture = Some(CaptureEvidence::new(ctx.vnow));
+                ctx.request_capture_status();
             }
             Binding::Sample { steps } => {
                 run.servo(ctx, 0, steps[0].servo, steps[0].pwm);
@@ -320,13 +336,14 @@ impl Run {
             CommandOutcome::Rejected(r) => {
                 return Some(self.failed(ctx, format!("{what} refused: {}", result_name(r))))
             }
-            CommandOutcome::TimedOut { tries } => {
+            CommandOutcome::TimedOut { tries } if !self.command_took_effect(ctx, cmd) => {
                 return Some(self.failed(
                     ctx,
                     format!("no COMMAND_ACK for {what} after {tries} tries"),
                 ))
             }
-            CommandOutcome::Accepted => {}
+            // Its ACKs were lost, but telemetry shows it done: go on as if acknowledged.
+            CommandOutcome::TimedOut { .. } | CommandOutcome::Accepted => {}
         }
         match self.phase {
             Phase::Arming => {
@@ -363,6 +380,17 @@ impl Run {
                 None
             }
             _ => None,
+        }
+    }
+
+    /// Telemetry shows what an unacknowledged command asked for: armed, or in the mode this run expects.
+    fn command_took_effect(&self, ctx: &Ctx, cmd: MavCmd) -> bool {
+        match cmd {
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => ctx.tel.armed,
+            MavCmd::MAV_CMD_DO_SET_MODE | MavCmd::MAV_CMD_DO_REPOSITION => {
+                self.expect_mode.is_some() && ctx.tel.custom_mode == self.expect_mode
+            }
+            _ => false,
         }
     }
 
@@ -420,7 +448,12 @@ impl Run {
                 Some(self.failed(ctx, format!("autopilot error: {text}")))
             }
             MavMessage::CAMERA_IMAGE_CAPTURED(c)
-                if matches!(self.binding, Binding::TakePicture { .. }) =>
+                if matches!(self.binding, Binding::TakePicture { .. })
+                    && !matches!(self.phase, Phase::Stored(_))
+                    && self
+                        .capture
+                        .as_ref()
+                        .is_none_or(|e| e.is_current(u64::from(c.time_boot_ms))) =>
             {
                 ctx.request_storage();
                 self.pending = Some(if c.capture_result.bits() == 1 {
@@ -431,6 +464,24 @@ impl Run {
                         format!("image {} not captured (capture_result 0)", c.image_index),
                     )
                 });
+                self.phase = Phase::Stored(ctx.vnow);
+                None
+            }
+            MavMessage::CAMERA_CAPTURE_STATUS(c) if !matches!(self.phase, Phase::Stored(_)) => {
+                let status = CaptureStatus {
+                    time_ms: u64::from(c.time_boot_ms),
+                    capturing: c.image_status & 1 == 1,
+                    count: c.image_count,
+                };
+                let end = match self.capture.as_mut()?.observe(status)? {
+                    Verdict::Captured => End::nominal(),
+                    Verdict::NoImage => self.failed(
+                        ctx,
+                        "the camera is idle again with no new image (CAMERA_CAPTURE_STATUS)".into(),
+                    ),
+                };
+                ctx.request_storage();
+                self.pending = Some(end);
                 self.phase = Phase::Stored(ctx.vnow);
                 None
             }
@@ -486,6 +537,12 @@ impl Run {
                     ctx,
                     format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms"),
                 ))
+            }
+            (Binding::TakePicture { .. }, _) => {
+                if self.capture.as_mut().is_some_and(|e| e.poll_due(ctx.vnow)) {
+                    ctx.request_capture_status();
+                }
+                None
             }
             (Binding::Sample { steps }, Phase::Holding(i, until)) if ctx.vnow >= until => {
                 if i + 1 == steps.len() {

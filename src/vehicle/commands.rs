@@ -10,6 +10,9 @@ use mavlink::dialects::ardupilotmega::{
 /// How far back the vehicle's clock must jump to be taken for a reboot.
 pub const REBOOT_CLOCK_JUMP_MS: u64 = 5_000;
 
+/// While the vehicle is heard, a command is tried this many times more than its configured tries.
+pub const HEARD_RETRY_FACTOR: u32 = 3;
+
 /// Who asked for a command (an action id, or an internal request).
 pub type Token = u64;
 
@@ -162,6 +165,13 @@ impl CommandClient {
                 self.pending[i].in_progress = true;
                 None
             }
+            // "Retrying later should work" (e.g. a downlink whose stop is still on its way): tried again
+            // after a timeout, as long as tries are left.
+            MavResult::MAV_RESULT_TEMPORARILY_REJECTED if self.pending[i].tries <= self.retries => {
+                self.pending[i].sent_ms = now;
+                self.pending[i].sent_vms = self.vnow;
+                None
+            }
             MavResult::MAV_RESULT_ACCEPTED => {
                 let p = self.pending.remove(i);
                 Some((p.token, ack.command, CommandOutcome::Accepted))
@@ -188,7 +198,18 @@ impl CommandClient {
             if p.in_progress || waited < timeout {
                 return true;
             }
-            if p.tries > retries {
+            // The vehicle is heard (its clock ran the wait out) but not answering this command: a lossy
+            // radio, not a dead link. Tried longer, within a bound.
+            let heard = vnow.saturating_sub(p.sent_vms) >= timeout;
+            let limit = if heard {
+                retries
+                    .saturating_add(1)
+                    .saturating_mul(HEARD_RETRY_FACTOR)
+                    .saturating_sub(1)
+            } else {
+                retries
+            };
+            if p.tries > limit {
                 gave_up.push((
                     p.token,
                     p.cmd.id(),
@@ -285,8 +306,43 @@ mod tests {
         c.set_vehicle_time(500);
         assert!(c.tick(150, &mut out).is_empty());
         assert_eq!(out.len(), 2);
-        c.set_vehicle_time(2_500);
+        // The vehicle is heard but does not answer: tried (1 + 1) x 3 times in all, then given up.
+        for (i, t) in [2_500, 4_500, 6_500, 8_500].into_iter().enumerate() {
+            c.set_vehicle_time(t);
+            assert!(c.tick(200, &mut out).is_empty());
+            assert_eq!(out.len(), 3 + i);
+        }
+        c.set_vehicle_time(10_500);
         assert_eq!(c.tick(200, &mut out).len(), 1, "then given up");
+    }
+
+    #[test]
+    fn temporarily_rejected_is_tried_again_while_tries_are_left() {
+        let mut c = CommandClient::new(100, 1);
+        let mut out = Vec::new();
+        c.send(
+            2,
+            Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [1.0; 7]),
+            0,
+            &mut out,
+        );
+        let busy = ack(
+            MavCmd::MAV_CMD_USER_1,
+            MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
+        );
+        assert_eq!(c.on_ack(&busy, 10), None);
+        assert!(c.tick(109, &mut out).is_empty());
+        assert!(c.tick(110, &mut out).is_empty());
+        assert_eq!(out.len(), 2, "re-sent after a timeout");
+        assert_eq!(
+            c.on_ack(&busy, 120),
+            Some((
+                2,
+                MavCmd::MAV_CMD_USER_1,
+                CommandOutcome::Rejected(MavResult::MAV_RESULT_TEMPORARILY_REJECTED)
+            )),
+            "no tries left"
+        );
     }
 
     #[test]

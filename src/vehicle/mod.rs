@@ -13,6 +13,7 @@
 pub mod actions;
 pub mod api;
 pub mod bench;
+pub mod capture_evidence;
 pub mod commands;
 pub mod config;
 pub mod config_check;

@@ -45,7 +45,11 @@ impl CommandMemory {
         let k = key(c);
         let int = c.int.map(|(x, y, _)| (x, y));
         let again = self.last.get(&k).filter(|e| {
-            let same = e.p.iter().zip(&c.p).all(|(a, b)| a.to_bits() == b.to_bits()) && e.int == int;
+            let same =
+                e.p.iter()
+                    .zip(&c.p)
+                    .all(|(a, b)| a.to_bits() == b.to_bits())
+                    && e.int == int;
             same && (e.seq == c.seq || c.confirmation > 0)
         });
         if let Some(answer) = again.and_then(|e| e.answer) {

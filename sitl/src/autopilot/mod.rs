@@ -3,8 +3,8 @@
 //! ticks and produces frames; it never touches a socket (see `sim.rs`).
 
 mod auto;
-mod commands;
 mod command_memory;
+mod commands;
 mod mission;
 mod modes;
 mod payload_ops;
@@ -235,7 +235,9 @@ impl Autopilot {
             MavMessage::COMMAND_LONG(m) => {
                 self.on_command(Cmd::from_long(from, f.header.sequence, m))
             }
-            MavMessage::COMMAND_INT(m) => self.on_command(Cmd::from_int(from, f.header.sequence, m)),
+            MavMessage::COMMAND_INT(m) => {
+                self.on_command(Cmd::from_int(from, f.header.sequence, m))
+            }
             MavMessage::SET_MODE(m) => self.on_set_mode(from, m),
             MavMessage::MISSION_COUNT(m) => self.on_mission_count(from, m),
             MavMessage::MISSION_ITEM_INT(m) => self.on_item_int(from, m),
