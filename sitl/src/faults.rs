@@ -214,6 +214,11 @@ impl LinkFaults {
         }
     }
 
+    /// A reboot: the frames held back for reordering are lost with the radio's buffers.
+    pub fn drop_held(&mut self) {
+        self.held.clear();
+    }
+
     pub fn hold(&mut self, peer: PeerId, bytes: Vec<u8>) {
         self.held.insert(peer, bytes);
     }

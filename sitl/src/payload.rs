@@ -59,6 +59,12 @@ impl Camera {
         }
     }
 
+    /// A restart: the captures under way are lost.
+    pub fn cancel(&mut self) {
+        self.pending.clear();
+        self.hung = false;
+    }
+
     /// A capture is under way (or hung).
     pub fn capturing(&self) -> bool {
         self.hung || !self.pending.is_empty()

@@ -128,7 +128,17 @@ pub struct Run {
     pending: Option<End>,
     /// A picture's end from the camera's status, should its CAMERA_IMAGE_CAPTURED be lost.
     capture: Option<CaptureEvidence>,
+    /// Times the run was commanded again after an autopilot restart.
+    resumes: u32,
+    /// When (vehicle ms) a heartbeat showed the vehicle disarmed under this run.
+    disarmed_since: Option<u64>,
 }
+
+/// How long (vehicle ms) a run disarmed under it waits for the restart that explains it before failing.
+const DISARM_GRACE_MS: u64 = 1_500;
+
+/// An action is commanded again after at most this many autopilot restarts; the next one fails it.
+pub const MAX_RESUMES: u32 = 3;
 
 /// How long (vehicle ms) a picture's report waits for STORAGE_INFORMATION.
 const STORAGE_WAIT_MS: u64 = 2_000;
@@ -171,6 +181,8 @@ impl Run {
             last_poll: ctx.vnow,
             pending: None,
             capture: None,
+            resumes: 0,
+            disarmed_since: None,
         };
         let id = start.id;
         match binding {
@@ -383,6 +395,62 @@ impl Run {
         }
     }
 
+    /// The autopilot restarted under this run: the run is commanded again from the start of its protocol
+    /// (the vehicle kept its position, so a move goes on from where it stopped).
+    pub fn resume(&mut self, ctx: &mut Ctx) -> Option<End> {
+        self.resumes += 1;
+        if self.resumes > MAX_RESUMES {
+            return Some(self.failed(
+                ctx,
+                format!("the autopilot restarted {} times under it", self.resumes),
+            ));
+        }
+        ctx.cmds.cancel(self.id);
+        self.mode_seen = false;
+        self.disarmed_since = None;
+        let id = self.id;
+        match &self.binding {
+            Binding::Move { .. } | Binding::ReturnHome { .. } | Binding::Survey { .. } => {
+                // Disarmed at boot: arming first; its ACK re-sends the move, RTL or AUTO start.
+                ctx.arm(id);
+                self.phase = Phase::Arming;
+            }
+            Binding::TakePicture { camera_id, .. } => {
+                let cmd = Command::long(
+                    MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+                    ctx.target,
+                    [f32::from(*camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+                );
+                ctx.command(id, cmd);
+                self.started_ms = ctx.vnow;
+                self.capture = Some(CaptureEvidence::new(ctx.vnow));
+                self.pending = None;
+                self.phase = Phase::Starting;
+                ctx.request_capture_status();
+            }
+            Binding::Sample { steps } => {
+                let first = steps[0];
+                self.servo(ctx, 0, first.servo, first.pwm);
+            }
+            Binding::Recharge { .. } => {
+                let hold = ctx.cfg.modes.hold;
+                ctx.set_mode(id, hold);
+                self.phase = Phase::Starting;
+            }
+            Binding::Download { command, .. } => {
+                if let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) {
+                    ctx.command(
+                        id,
+                        Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+                    );
+                    self.phase = Phase::Starting;
+                }
+            }
+            Binding::Timed { .. } => {}
+        }
+        None
+    }
+
     /// Telemetry shows what an unacknowledged command asked for: armed, or in the mode this run expects.
     fn command_took_effect(&self, ctx: &Ctx, cmd: MavCmd) -> bool {
         match cmd {
@@ -425,6 +493,19 @@ impl Run {
     pub fn on_message(&mut self, ctx: &mut Ctx, msg: &MavMessage) -> Option<End> {
         match msg {
             MavMessage::HEARTBEAT(h) => {
+                let armed = h.base_mode.contains(
+                    mavlink::dialects::ardupilotmega::MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED,
+                );
+                let needs_arming = matches!(
+                    self.binding,
+                    Binding::Move { .. } | Binding::ReturnHome { .. } | Binding::Survey { .. }
+                );
+                if !armed && needs_arming && self.mode_seen {
+                    // Disarmed under a move: a restart (its clock, in the messages that follow, says so and
+                    // the run is resumed) or someone else's doing (the run fails after a grace period).
+                    self.disarmed_since.get_or_insert(ctx.vnow);
+                    return None;
+                }
                 if let Some(m) = self.expect_mode {
                     if h.custom_mode == m {
                         self.mode_seen = true;
@@ -499,6 +580,13 @@ impl Run {
 
     /// Time passed / telemetry changed: recognise ends that are states (position, battery, storage).
     pub fn on_tick(&mut self, ctx: &mut Ctx) -> Option<End> {
+        if self
+            .disarmed_since
+            .is_some_and(|t| ctx.vnow.saturating_sub(t) >= DISARM_GRACE_MS)
+        {
+            let mode = ctx.tel.custom_mode.unwrap_or(0);
+            return Some(self.failed(ctx, format!("the vehicle disarmed (mode {mode})")));
+        }
         match (&self.binding, self.phase) {
             (
                 Binding::Move {

@@ -289,6 +289,9 @@ impl Driver {
         if let Some(t) = self.tel.time_boot_ms {
             self.cmds.set_vehicle_time(t);
         }
+        if self.tel.take_restart() {
+            self.resume_after_restart(now);
+        }
         if matches!(
             msg,
             MavMessage::SYSTEM_TIME(_) | MavMessage::GLOBAL_POSITION_INT(_)
@@ -312,6 +315,21 @@ impl Driver {
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+    }
+
+    /// The autopilot restarted: it forgot what it was doing (disarmed, in its boot mode). Each running action
+    /// is commanded again from where the vehicle is — armed, put back in its mode, its move, capture or
+    /// downlink re-sent — as many times as `restart_resumes` allows, then it fails with the restart as reason.
+    fn resume_after_restart(&mut self, now: u64) {
+        tracing::warn!(
+            running = self.runs.len(),
+            "autopilot restarted: resuming the running actions"
+        );
+        self.events.push(VehicleEvent::Link(LinkStatus::Restarted));
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.resume(ctx));
         }
     }
 

@@ -34,6 +34,17 @@ pub struct CommandMemory {
     last: HashMap<Key, Entry>,
 }
 
+/// Commands that ask for a message: harmless to do twice, and a re-sent one wants the message.
+fn is_request(cmd: MavCmd) -> bool {
+    matches!(
+        cmd,
+        MavCmd::MAV_CMD_REQUEST_MESSAGE
+            | MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES
+            | MavCmd::MAV_CMD_GET_HOME_POSITION
+            | MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL
+    )
+}
+
 fn key(c: &Cmd) -> Key {
     (c.from.sysid, c.from.compid, c.command as u32)
 }
@@ -42,6 +53,10 @@ impl CommandMemory {
     /// The answer to give again when `c` is a duplicate or a re-sent copy of the last command of its kind;
     /// otherwise `c` is remembered as the command now executed.
     pub fn repeat(&mut self, c: &Cmd) -> Option<Answer> {
+        if is_request(c.command) {
+            // Asking again is asking for the message again: always answered in full.
+            return None;
+        }
         let k = key(c);
         let int = c.int.map(|(x, y, _)| (x, y));
         let again = self.last.get(&k).filter(|e| {

@@ -64,6 +64,8 @@ pub struct Autopilot {
     params: VehicleParams,
     // state
     now_ms: u64,
+    /// Sim time of the last (re)boot: time_boot_ms counts from it.
+    booted_ms: u64,
     kin: Kinematics,
     mode: Mode,
     armed: bool,
@@ -120,6 +122,7 @@ impl Autopilot {
             frame,
             params: s.vehicle.clone(),
             now_ms: 0,
+            booted_ms: 0,
             kin: Kinematics::default(),
             mode: Mode::Manual,
             armed: false,
@@ -433,7 +436,29 @@ impl Autopilot {
                 .link_faults
                 .set_quality(self.now_ms, loss, duplicate, reorder, duration_s),
             Fault::DownlinkRate { mib_per_s } => self.downlink_rate_override = Some(mib_per_s),
+            Fault::Reboot { silent_s } => self.reboot(silent_s),
         }
+    }
+
+    /// A restart: silent for `silent_s`, then booted afresh where the vehicle stands (see
+    /// [`Fault::Reboot`]).
+    fn reboot(&mut self, silent_s: f64) {
+        self.link_faults.blackout(self.now_ms, silent_s);
+        self.link_faults.drop_held();
+        self.booted_ms = later(self.now_ms, silent_s);
+        if self.armed {
+            self.armed = false;
+            self.emit_event(EventKind::Disarmed, 0);
+        }
+        self.mode = Mode::Manual;
+        self.guided_target = None;
+        self.speed_override = None;
+        self.exec = Exec::default();
+        self.downlink = None;
+        self.camera.cancel();
+        self.upload = None;
+        self.streams = Streams::default();
+        self.cmd_memory.clear();
     }
 
     /// A read-only picture of the vehicle for tests and the demo.

@@ -132,7 +132,7 @@ pub fn data_stream_ids(stream: MavDataStream) -> Vec<u32> {
 
 impl Autopilot {
     pub(super) fn time_boot_ms(&self) -> u32 {
-        self.now_ms as u32
+        self.now_ms.saturating_sub(self.booted_ms) as u32
     }
 
     /// Sends the streams due now.
