@@ -459,7 +459,8 @@ when = { on = "moving", occurrence = 2 }
 fault = { kind = "reboot", silent_s = 4.0 }
 "#;
         let s = Scenario::parse(text, "inline").expect("valid scenario");
-        assert_eq!(s.faults.len(), 9);
+        assert_eq!(s.faults.len(), 10);
+        assert_eq!(s.faults[9].fault, Fault::Reboot { silent_s: 4.0 });
         assert_eq!(s.camera.storage_capacity_mib, 9.0);
         assert_eq!(s.faults[3].when.occurrence, 2);
     }
