@@ -9,7 +9,7 @@
 #     -x  speed-up (paced at N×; "step" for the stepped, deterministic clock)
 #     -u  with the ground station's g6/g7 upload (default: --no-upload)
 #     -o  where scenarios and JSON reports go (default: a temporary directory)
-# Needs a release build (cargo build --release) and jq. Exit 1 if a run fails to end.
+# Needs a release build (cargo build --release; MAVTEMPO_BIN=path overrides it) and jq. Exit 1 if a run fails to end.
 set -euo pipefail
 
 levels="0 0.2 0.4"
@@ -32,7 +32,7 @@ while getopts "l:s:d:r:x:uo:" opt; do
   esac
 done
 root=$(cd "$(dirname "$0")/.." && pwd)
-bin=${CARGO_TARGET_DIR:-$root/target}/release/mavtempo
+bin=${MAVTEMPO_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/mavtempo}
 [ -x "$bin" ] || { echo "no $bin: cargo build --release first" >&2; exit 2; }
 out=${out:-$(mktemp -d)}
 mkdir -p "$out"

@@ -53,21 +53,19 @@ impl Ctx<'_> {
     }
 
     fn request_storage(&mut self) {
-        // MAV_CMD_REQUEST_MESSAGE(STORAGE_INFORMATION = 261); fire and forget (no owner waits on it).
-        let cmd = Command::long(
-            MavCmd::MAV_CMD_REQUEST_MESSAGE,
-            self.target,
-            [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        );
-        self.cmds.send(u64::MAX, cmd, self.now, self.out);
+        self.request_message(261); // STORAGE_INFORMATION
     }
 
     fn request_capture_status(&mut self) {
-        // MAV_CMD_REQUEST_MESSAGE(CAMERA_CAPTURE_STATUS = 262); fire and forget.
+        self.request_message(262); // CAMERA_CAPTURE_STATUS
+    }
+
+    /// MAV_CMD_REQUEST_MESSAGE; fire and forget (no owner waits on it).
+    fn request_message(&mut self, msg_id: u16) {
         let cmd = Command::long(
             MavCmd::MAV_CMD_REQUEST_MESSAGE,
             self.target,
-            [262.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [f32::from(msg_id), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         );
         self.cmds.send(u64::MAX, cmd, self.now, self.out);
     }
@@ -215,17 +213,7 @@ impl Run {
                 }
                 run.phase = Phase::Uploading;
             }
-            Binding::TakePicture { camera_id, .. } => {
-                // p3 = 1 image, p4 = 0: no sequence number.
-                let cmd = Command::long(
-                    MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
-                    ctx.target,
-                    [f32::from(*camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-                );
-                ctx.command(id, cmd);
-                run.capture = Some(CaptureEvidence::new(ctx.vnow));
-                ctx.request_capture_status();
-            }
+            Binding::TakePicture { camera_id, .. } => run.start_capture(ctx, *camera_id),
             Binding::Sample { steps } => {
                 run.servo(ctx, 0, steps[0].servo, steps[0].pwm);
             }
@@ -251,17 +239,22 @@ impl Run {
                 ctx.set_mode(id, hold);
             }
             Binding::Timed { .. } => run.phase = Phase::Running,
-            Binding::Download { command, .. } => {
-                let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) else {
-                    return Err(format!("command {command} unknown to the dialect"));
-                };
-                ctx.command(
-                    id,
-                    Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
-                );
-            }
+            Binding::Download { command, .. } => start_download(ctx, id, *command)?,
         }
         Ok(run)
+    }
+
+    /// IMAGE_START_CAPTURE of one image, and the camera's status asked for (the count before it).
+    fn start_capture(&mut self, ctx: &mut Ctx, camera_id: u8) {
+        // p3 = 1 image, p4 = 0: no sequence number.
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+            ctx.target,
+            [f32::from(camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        ctx.command(self.id, cmd);
+        self.capture = Some(CaptureEvidence::new(ctx.vnow));
+        ctx.request_capture_status();
     }
 
     fn arm_or(&mut self, ctx: &mut Ctx, then: fn(&mut Run, &mut Ctx)) {
@@ -416,17 +409,11 @@ impl Run {
                 self.phase = Phase::Arming;
             }
             Binding::TakePicture { camera_id, .. } => {
-                let cmd = Command::long(
-                    MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
-                    ctx.target,
-                    [f32::from(*camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-                );
-                ctx.command(id, cmd);
+                let camera = *camera_id;
                 self.started_ms = ctx.vnow;
-                self.capture = Some(CaptureEvidence::new(ctx.vnow));
                 self.pending = None;
                 self.phase = Phase::Starting;
-                ctx.request_capture_status();
+                self.start_capture(ctx, camera);
             }
             Binding::Sample { steps } => {
                 let first = steps[0];
@@ -438,11 +425,7 @@ impl Run {
                 self.phase = Phase::Starting;
             }
             Binding::Download { command, .. } => {
-                if let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) {
-                    ctx.command(
-                        id,
-                        Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
-                    );
+                if start_download(ctx, id, *command).is_ok() {
                     self.phase = Phase::Starting;
                 }
             }
@@ -728,6 +711,18 @@ impl Run {
             state: self.state_values(ctx),
         }
     }
+}
+
+/// The downlink's start: its command with p1 = 1.
+fn start_download(ctx: &mut Ctx, id: ActionId, command: u16) -> Result<(), String> {
+    let Some(cmd) = num_traits::FromPrimitive::from_u16(command) else {
+        return Err(format!("command {command} unknown to the dialect"));
+    };
+    ctx.command(
+        id,
+        Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+    );
+    Ok(())
 }
 
 fn result_name(r: MavResult) -> &'static str {
