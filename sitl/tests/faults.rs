@@ -483,5 +483,13 @@ async fn a_resent_capture_is_answered_again_not_taken_twice() {
         gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    run_until(&sim, 30, |s| s.pictures_ok == 2).await;
+    let s = run_until(&sim, 30, |s| s.pictures_ok == 2).await;
+    // Long after, the same request re-sent (its first copy lost on the way) is a new picture too.
+    run_until(&sim, 30, |x| x.time_ms >= s.time_ms + 20_000).await;
+    gcs.send(capture(1)).await;
+    assert_eq!(
+        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    run_until(&sim, 30, |s| s.pictures_ok == 3).await;
 }

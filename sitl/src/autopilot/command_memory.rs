@@ -3,7 +3,7 @@
 //! COMMAND_LONG (`confirmation` > 0, same parameters) is answered with that result again instead of being
 //! executed twice: the re-sent capture does not take a second picture, the re-sent downlink start is told
 //! IN_PROGRESS rather than TEMPORARILY_REJECTED, a HOLD re-sent after its ACK was lost does not override the
-//! move commanded since.
+//! move commanded since. A re-sent copy must come soon after the previous one, with a higher `confirmation`.
 
 use std::collections::HashMap;
 
@@ -23,8 +23,16 @@ struct Entry {
     p: [f32; 7],
     int: Option<(i32, i32)>,
     seq: u8,
+    /// The highest `confirmation` seen of it, and when (sim ms) its last copy came.
+    confirmation: u8,
+    seen_ms: u64,
     answer: Option<Answer>,
 }
+
+/// A re-sent copy comes within this long (sim ms) of the previous one (the sender's ACK timeout, with
+/// margin); later, the same command re-sent is a new request whose first copy was lost (e.g. the next
+/// picture, taken with the same parameters).
+pub const RESEND_WINDOW_MS: u64 = 5_000;
 
 /// Key: sender's system and component, command id.
 type Key = (u8, u8, u32);
@@ -52,23 +60,29 @@ fn key(c: &Cmd) -> Key {
 impl CommandMemory {
     /// The answer to give again when `c` is a duplicate or a re-sent copy of the last command of its kind;
     /// otherwise `c` is remembered as the command now executed.
-    pub fn repeat(&mut self, c: &Cmd) -> Option<Answer> {
+    pub fn repeat(&mut self, c: &Cmd, now_ms: u64) -> Option<Answer> {
         if is_request(c.command) {
             // Asking again is asking for the message again: always answered in full.
             return None;
         }
         let k = key(c);
         let int = c.int.map(|(x, y, _)| (x, y));
-        let again = self.last.get(&k).filter(|e| {
-            let same =
-                e.p.iter()
+        if let Some(e) = self.last.get_mut(&k) {
+            let same = e.int == int
+                && e.p
+                    .iter()
                     .zip(&c.p)
-                    .all(|(a, b)| a.to_bits() == b.to_bits())
-                    && e.int == int;
-            same && (e.seq == c.seq || c.confirmation > 0)
-        });
-        if let Some(answer) = again.and_then(|e| e.answer) {
-            return Some(answer);
+                    .all(|(a, b)| a.to_bits() == b.to_bits());
+            let duplicate = e.seq == c.seq;
+            let resent = c.confirmation > e.confirmation
+                && now_ms.saturating_sub(e.seen_ms) <= RESEND_WINDOW_MS;
+            if same && (duplicate || resent) {
+                e.confirmation = e.confirmation.max(c.confirmation);
+                e.seen_ms = now_ms;
+                if let Some(answer) = e.answer {
+                    return Some(answer);
+                }
+            }
         }
         self.last.insert(
             k,
@@ -76,6 +90,8 @@ impl CommandMemory {
                 p: c.p,
                 int,
                 seq: c.seq,
+                confirmation: c.confirmation,
+                seen_ms: now_ms,
                 answer: None,
             },
         );

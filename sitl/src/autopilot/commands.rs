@@ -75,7 +75,7 @@ impl Autopilot {
     }
 
     pub(super) fn on_command(&mut self, c: Cmd) {
-        if let Some(a) = self.cmd_memory.repeat(&c) {
+        if let Some(a) = self.cmd_memory.repeat(&c, self.now_ms) {
             // A duplicate or a re-sent copy of what was done: answered again, not done twice.
             self.ack(&c, a.result, a.progress);
             return;
