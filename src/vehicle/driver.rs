@@ -288,6 +288,7 @@ impl Driver {
             .update(msg, &cfg.home, &cfg.resources, &mut self.events);
         if let Some(t) = self.tel.time_boot_ms {
             self.cmds.set_vehicle_time(t);
+            self.mission.set_vehicle_time(t);
         }
         if self.tel.take_restart() {
             self.resume_after_restart(now);
@@ -296,9 +297,10 @@ impl Driver {
             msg,
             MavMessage::SYSTEM_TIME(_) | MavMessage::GLOBAL_POSITION_INT(_)
         ) {
-            // The vehicle's clock moved: ACKs overdue in its time are re-sent now, not at the next wall tick
-            // (a simulator may run minutes between two).
+            // The vehicle's clock moved: ACKs and mission answers overdue in its time are re-sent now, not
+            // at the next wall tick (a simulator may run minutes between two).
             self.expire_commands(now);
+            self.expire_mission(now);
         }
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
@@ -330,6 +332,13 @@ impl Driver {
         let ids: Vec<ActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.resume(ctx));
+        }
+    }
+
+    /// Re-sends the mission message whose answer is overdue; a transfer given up on ends its run.
+    fn expire_mission(&mut self, now: u64) {
+        if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
         }
     }
 
@@ -368,9 +377,7 @@ impl Driver {
             self.events.push(VehicleEvent::Link(LinkStatus::Lost));
         }
         self.expire_commands(now);
-        if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
-            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
-        }
+        self.expire_mission(now);
         let ids: Vec<ActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
