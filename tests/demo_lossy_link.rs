@@ -103,3 +103,31 @@ fn a_restart_mid_move_resumes_the_move() {
         "the same moves as the clean run, none repeated"
     );
 }
+
+/// Navigation fails for good 5 s in: the replanning that ends the mission (no goal left) is in the report,
+/// with its abort and every goal_rejected event (they used to be lost with the mission's end).
+#[test]
+fn the_replanning_that_ends_a_mission_is_in_its_report() {
+    let run = fig2(
+        r#"
+[[faults]]
+when = { at_s = 5.0 }
+fault = { kind = "nav_fails", duration_s = 5000.0 }
+"#,
+        1,
+    );
+    assert_eq!(run.report.end, MissionEnd::NoGoals);
+    let events: Vec<&TraceEvent> = run.report.cycles.iter().flat_map(|c| &c.events).collect();
+    let rejected: Vec<&String> = events
+        .iter()
+        .filter_map(|e| match e {
+            TraceEvent::GoalRejected { goal, reason } if !reason.is_empty() => Some(goal),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(rejected.len(), run.report.goals.len(), "{rejected:?}");
+    assert!(events.iter().any(|e| matches!(e, TraceEvent::Abort { .. })));
+    assert!(events
+        .iter()
+        .any(|e| matches!(e, TraceEvent::Replan { .. })));
+}
