@@ -517,7 +517,7 @@ impl Run {
                     && self
                         .capture
                         .as_ref()
-                        .is_none_or(|e| e.is_current(u64::from(c.time_boot_ms))) =>
+                        .is_none_or(|e| e.is_current(ctx.tel.vehicle_time(c.time_boot_ms))) =>
             {
                 ctx.request_storage();
                 self.pending = Some(if c.capture_result.bits() == 1 {
@@ -533,7 +533,7 @@ impl Run {
             }
             MavMessage::CAMERA_CAPTURE_STATUS(c) if !matches!(self.phase, Phase::Stored(_)) => {
                 let status = CaptureStatus {
-                    time_ms: u64::from(c.time_boot_ms),
+                    time_ms: ctx.tel.vehicle_time(c.time_boot_ms),
                     capturing: c.image_status & 1 == 1,
                     count: c.image_count,
                 };

@@ -146,6 +146,11 @@ impl Telemetry {
         }
     }
 
+    /// A time_boot_ms the autopilot sent, on our clock (which runs on across its restarts).
+    pub fn vehicle_time(&self, time_boot_ms: u32) -> u64 {
+        u64::from(time_boot_ms).saturating_add(self.boot_offset_ms)
+    }
+
     /// True once after the autopilot restarted (its clock went back).
     pub fn take_restart(&mut self) -> bool {
         std::mem::take(&mut self.restarted)
