@@ -10,6 +10,7 @@
 #     -x  speed-up (paced at N×; "step" for the stepped, deterministic clock)
 #     -u  with the ground station's g6/g7 upload (default: --no-upload)
 #     -o  where scenarios and JSON reports go (default: a temporary directory)
+#     -f  a TOML file of more [[faults]] added to every run's scenario (e.g. a reboot)
 # Needs a release build (cargo build --release; MAVTEMPO_BIN=path overrides it) and jq. Exit 1 if a run fails to end.
 set -euo pipefail
 
@@ -20,7 +21,8 @@ reorder=0.05
 speedup=20
 upload=--no-upload
 out=""
-while getopts "l:s:d:r:x:uo:" opt; do
+more_faults=/dev/null
+while getopts "l:s:d:r:x:uo:f:" opt; do
   case $opt in
     l) levels=$OPTARG ;;
     s) seeds=$OPTARG ;;
@@ -29,7 +31,8 @@ while getopts "l:s:d:r:x:uo:" opt; do
     x) speedup=$OPTARG ;;
     u) upload="" ;;
     o) out=$OPTARG ;;
-    *) sed -n 2,12p "$0"; exit 2 ;;
+    f) more_faults=$OPTARG ;;
+    *) sed -n 2,14p "$0"; exit 2 ;;
   esac
 done
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -54,6 +57,7 @@ for l in $levels; do
   { cat "$root/sitl/scenarios/fig2.toml"
     printf '\n[[faults]]\nwhen = { at_s = 0.0 }\n'
     printf 'fault = { kind = "link_quality", loss = %s, duplicate = %s, reorder = %s }\n' "$l" "$dup" "$reorder"
+    cat "$more_faults"
   } >"$scen"
   same=0; n=0
   for s in $seeds; do
