@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use rand::Rng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::link::PeerId;
@@ -102,7 +102,12 @@ struct Quality {
 
 #[derive(Debug)]
 pub struct LinkFaults {
+    /// Outbound fates: the simulator's frames are the same run after run.
     rng: ChaCha8Rng,
+    /// Inbound fates, one stream per message id: how many heartbeats a companion sends depends on its wall
+    /// clock, and must not change which of its commands get through.
+    inbound_seed: u64,
+    inbound_rngs: HashMap<u32, ChaCha8Rng>,
     blackout_until_ms: u64,
     quality: Option<Quality>,
     held: HashMap<PeerId, Vec<u8>>,
@@ -110,8 +115,10 @@ pub struct LinkFaults {
 }
 
 impl LinkFaults {
-    pub fn new(rng: ChaCha8Rng) -> Self {
+    pub fn new(mut rng: ChaCha8Rng) -> Self {
         Self {
+            inbound_seed: rng.gen(),
+            inbound_rngs: HashMap::new(),
             rng,
             blackout_until_ms: 0,
             quality: None,
@@ -154,31 +161,48 @@ impl LinkFaults {
         self.quality
     }
 
-    /// An incoming frame: dropped in a blackout or by loss.
-    pub fn accept_inbound(&mut self, now_ms: u64) -> bool {
-        if self.in_blackout(now_ms) {
-            self.dropped += 1;
-            return false;
-        }
-        if let Some(q) = self.quality(now_ms) {
-            if q.loss > 0.0 && self.rng.gen_bool(q.loss) {
-                self.dropped += 1;
-                return false;
-            }
-        }
-        true
+    /// An incoming frame's fate (message `msg_id`): the radio loses, duplicates and reorders both ways.
+    pub fn inbound(&mut self, now_ms: u64, msg_id: u32) -> Delivery {
+        let Some(q) = self.usable(now_ms) else {
+            return Delivery::Drop;
+        };
+        let seed = self.inbound_seed ^ u64::from(msg_id).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let draw: f64 = match q {
+            Some(_) => self
+                .inbound_rngs
+                .entry(msg_id)
+                .or_insert_with(|| ChaCha8Rng::seed_from_u64(seed))
+                .gen(),
+            None => 1.0,
+        };
+        self.fate(q, draw)
     }
 
     /// An outgoing frame's fate.
     pub fn outbound(&mut self, now_ms: u64) -> Delivery {
+        let Some(q) = self.usable(now_ms) else {
+            return Delivery::Drop;
+        };
+        let draw: f64 = match q {
+            Some(_) => self.rng.gen(),
+            None => 1.0,
+        };
+        self.fate(q, draw)
+    }
+
+    /// None in a blackout (the frame is dropped), else the link's quality if degraded.
+    fn usable(&mut self, now_ms: u64) -> Option<Option<Quality>> {
         if self.in_blackout(now_ms) {
             self.dropped += 1;
-            return Delivery::Drop;
+            return None;
         }
-        let Some(q) = self.quality(now_ms) else {
+        Some(self.quality(now_ms))
+    }
+
+    fn fate(&mut self, q: Option<Quality>, draw: f64) -> Delivery {
+        let Some(q) = q else {
             return Delivery::Once;
         };
-        let draw: f64 = self.rng.gen();
         if draw < q.loss {
             self.dropped += 1;
             Delivery::Drop
@@ -189,6 +213,11 @@ impl LinkFaults {
         } else {
             Delivery::Once
         }
+    }
+
+    /// A reboot: the frames held back for reordering are lost with the radio's buffers.
+    pub fn drop_held(&mut self) {
+        self.held.clear();
     }
 
     pub fn hold(&mut self, peer: PeerId, bytes: Vec<u8>) {
@@ -204,7 +233,6 @@ impl LinkFaults {
 mod tests {
     use super::*;
     use crate::scenario::Trigger;
-    use rand::SeedableRng;
 
     fn spec(when: Trigger) -> FaultSpec {
         FaultSpec {
@@ -314,7 +342,7 @@ mod tests {
         let mut l = LinkFaults::new(ChaCha8Rng::seed_from_u64(1));
         l.blackout(1000, 2.0);
         assert_eq!(l.outbound(2999), Delivery::Drop);
-        assert!(!l.accept_inbound(2000));
+        assert_eq!(l.inbound(2000, 0), Delivery::Drop);
         assert_eq!(l.outbound(3000), Delivery::Once);
     }
 }

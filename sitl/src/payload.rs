@@ -41,6 +41,8 @@ pub struct Camera {
     pub hang_next: u32,
     /// Injected capture times still to apply, in order.
     pub duration_next: Vec<f64>,
+    /// A capture hung: the camera says it is capturing until it is asked again.
+    hung: bool,
 }
 
 impl Camera {
@@ -53,11 +55,24 @@ impl Camera {
             fail_next: 0,
             hang_next: 0,
             duration_next: Vec::new(),
+            hung: false,
         }
+    }
+
+    /// A restart: the captures under way are lost.
+    pub fn cancel(&mut self) {
+        self.pending.clear();
+        self.hung = false;
+    }
+
+    /// A capture is under way (or hung).
+    pub fn capturing(&self) -> bool {
+        self.hung || !self.pending.is_empty()
     }
 
     /// Schedules `count` pictures `interval_s` apart; returns their image indices.
     pub fn start(&mut self, now_ms: u64, count: u32, interval_s: f64) -> Vec<i32> {
+        self.hung = false;
         let capture_s = if self.duration_next.is_empty() {
             self.params.capture_time_s
         } else {
@@ -96,6 +111,7 @@ impl Camera {
                 .gen_range(self.params.size_min_mib..=self.params.size_max_mib);
             if self.hang_next > 0 {
                 self.hang_next -= 1;
+                self.hung = true;
                 tracing::debug!(index, "camera: capture hangs");
             } else if self.fail_next > 0 {
                 self.fail_next -= 1;

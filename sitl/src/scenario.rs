@@ -275,6 +275,18 @@ pub enum Fault {
     },
     /// The downlink rate becomes `mib_per_s` (sub-production of a download).
     DownlinkRate { mib_per_s: f64 },
+    /// The autopilot restarts, as ArduPilot does after a brown-out or a watchdog: nothing in or out for
+    /// `silent_s`, then it boots with its clock (time_boot_ms) from 0, disarmed, in its initial mode
+    /// (MANUAL), the running command (guided target, capture, downlink) forgotten; the vehicle stays where
+    /// it stopped and the mission stored on it is kept.
+    Reboot {
+        #[serde(default = "default_reboot_silence")]
+        silent_s: f64,
+    },
+}
+
+fn default_reboot_silence() -> f64 {
+    3.0
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
@@ -437,6 +449,9 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
         } if !(prob(*loss) && prob(*duplicate) && prob(*reorder)) => {
             Err("link_quality: loss, duplicate and reorder must be in [0, 1]".into())
         }
+        Fault::Reboot { silent_s } if *silent_s < 0.0 => {
+            Err("reboot: silent_s must be >= 0".into())
+        }
         Fault::DownlinkRate { mib_per_s } if *mib_per_s < 0.0 => {
             Err("downlink_rate: mib_per_s must be >= 0".into())
         }
@@ -483,9 +498,14 @@ fault = { kind = "link_quality", loss = 0.1, duplicate = 0.05, reorder = 0.05 }
 [[faults]]
 when = { on = "downlink_started" }
 fault = { kind = "downlink_rate", mib_per_s = 0.1 }
+
+[[faults]]
+when = { on = "moving", occurrence = 2 }
+fault = { kind = "reboot", silent_s = 4.0 }
 "#;
         let s = Scenario::parse(text, "inline").expect("valid scenario");
-        assert_eq!(s.faults.len(), 9);
+        assert_eq!(s.faults.len(), 10);
+        assert_eq!(s.faults[9].fault, Fault::Reboot { silent_s: 4.0 });
         assert_eq!(s.camera.storage_capacity_mib, 9.0);
         assert_eq!(s.faults[3].when.occurrence, 2);
     }

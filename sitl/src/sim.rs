@@ -188,6 +188,7 @@ pub async fn spawn(config: SimConfig) -> Result<SimHandle, SimError> {
         snap: snap_tx,
         mode: config.clock,
         speedup: config.speedup,
+        held_inbound: None,
     };
     let task = tokio::spawn(run.run());
     tracing::info!(%local_addr, speedup = config.speedup, "sitl: running");
@@ -213,6 +214,8 @@ struct Runner {
     snap: watch::Sender<Snapshot>,
     mode: ClockMode,
     speedup: f64,
+    /// An inbound frame held back by the link's reordering.
+    held_inbound: Option<Inbound>,
 }
 
 impl Runner {
@@ -279,12 +282,34 @@ impl Runner {
     }
 
     fn receive(&mut self, frame: Inbound) {
-        if self.ap.link_faults.accept_inbound(self.ap.now_ms()) {
-            self.ap.handle(frame);
+        let msg_id = mavlink::Message::message_id(&frame.msg);
+        match self.ap.link_faults.inbound(self.ap.now_ms(), msg_id) {
+            Delivery::Drop => {}
+            Delivery::Once => self.handle_then_held(frame),
+            Delivery::Twice => {
+                self.ap.handle(frame.clone());
+                self.handle_then_held(frame);
+            }
+            // Held back until the next frame that gets through, which overtakes it.
+            Delivery::Reorder => match self.held_inbound.take() {
+                Some(prev) => {
+                    self.ap.handle(frame);
+                    self.ap.handle(prev);
+                }
+                None => self.held_inbound = Some(frame),
+            },
         }
         self.flush();
         // After the flush: a client seeing this count also sees the replies in `sent`.
         self.frames.received.fetch_add(1, Ordering::AcqRel);
+    }
+
+    /// Handles `frame`, then the frame held back for reordering, which it overtook.
+    fn handle_then_held(&mut self, frame: Inbound) {
+        self.ap.handle(frame);
+        if let Some(prev) = self.held_inbound.take() {
+            self.ap.handle(prev);
+        }
     }
 
     fn publish(&mut self) {

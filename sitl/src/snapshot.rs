@@ -3,7 +3,7 @@
 
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Snapshot {
-    /// Sim time since boot (what `time_boot_ms` carries).
+    /// Sim time since the simulation started (`time_boot_ms` until a `reboot` fault restarts that).
     pub time_ms: u64,
     pub lat: f64,
     pub lon: f64,

@@ -301,6 +301,9 @@ fault = { kind = "link_quality", reorder = 1.0 }
     )
     .await;
     sim.step(Duration::from_secs(5)).await.expect("step");
+    // Inbound frames are reordered too: this one is held back, and overtaken by the sync's command.
+    gcs.send(MavMessage::HEARTBEAT(HEARTBEAT_DATA::default()))
+        .await;
     let seqs: Vec<u8> = gcs
         .sync_frames()
         .await
@@ -395,4 +398,98 @@ async fn injected_faults_apply_at_once() {
         MavResult::MAV_RESULT_ACCEPTED,
         "48% still arms"
     );
+}
+
+#[tokio::test]
+async fn reboot_goes_silent_then_boots_disarmed_in_manual_where_it_stood() {
+    let (sim, mut gcs) = start(
+        r#"[[faults]]
+when = { at_s = 5.0 }
+fault = { kind = "reboot", silent_s = 3.0 }
+"#,
+    )
+    .await;
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    let (r, _) = gcs.reposition(&waypoint(HOME, 30.0, 0.0), true, 0.0).await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    let moving = run_until(&sim, 10, |s| s.time_ms >= 4_900).await;
+    assert!(moving.armed && moving.speed_mps > 0.1, "{moving:?}");
+    let down = run_until(&sim, 10, |s| s.time_ms >= 5_100).await;
+    assert!(down.link_blackout && !down.armed, "{down:?}");
+    assert_eq!(down.mode, "MANUAL");
+    let halted = run_until(&sim, 10, |s| s.time_ms >= 9_000).await;
+    let up = run_until(&sim, 10, |s| s.time_ms >= 10_000).await;
+    assert!(!up.link_blackout && !up.armed, "{up:?}");
+    // Disarmed, it coasted to a halt and stays where it stopped, short of the target.
+    assert!(up.speed_mps < 0.01, "{up:?}");
+    assert!(
+        (up.north_m - halted.north_m).abs() < 0.01,
+        "{halted:?} {up:?}"
+    );
+    assert!(up.north_m > moving.north_m && up.north_m < 29.0, "{up:?}");
+    gcs.drain();
+    sim.step(Duration::from_millis(1_500)).await.expect("step");
+    let msgs = gcs.sync().await;
+    let clock: Vec<u32> = msgs
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::SYSTEM_TIME(t) => Some(t.time_boot_ms),
+            MavMessage::GLOBAL_POSITION_INT(p) => Some(p.time_boot_ms),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        !clock.is_empty() && clock.iter().all(|&t| t < 4_000),
+        "time_boot_ms from 0 again: {clock:?}"
+    );
+    // Re-armed and moving again on the same commands.
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    let (r, _) = gcs.reposition(&waypoint(HOME, 30.0, 0.0), true, 0.0).await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    run_until(&sim, 120, |s| s.north_m > 29.0).await;
+}
+
+#[tokio::test]
+async fn a_resent_capture_is_answered_again_not_taken_twice() {
+    let (sim, mut gcs) = start("").await;
+    let capture = |confirmation| {
+        MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1: 1.0,
+            param3: 1.0,
+            command: MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+            target_system: 1,
+            target_component: 1,
+            confirmation,
+            ..Default::default()
+        })
+    };
+    gcs.send(capture(0)).await;
+    assert_eq!(
+        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    // Its ACK was lost, say: the companion sends it again with confirmation 1.
+    gcs.send(capture(1)).await;
+    assert_eq!(
+        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    let s = run_until(&sim, 30, |s| s.pictures_ok + s.pictures_failed > 0).await;
+    run_until(&sim, 30, |x| x.time_ms >= s.time_ms + 15_000).await;
+    assert_eq!(sim.snapshot().pictures_ok, 1, "one picture, not two");
+    // A new request (confirmation 0) is a new picture.
+    gcs.send(capture(0)).await;
+    assert_eq!(
+        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    let s = run_until(&sim, 30, |s| s.pictures_ok == 2).await;
+    // Long after, the same request re-sent (its first copy lost on the way) is a new picture too.
+    run_until(&sim, 30, |x| x.time_ms >= s.time_ms + 20_000).await;
+    gcs.send(capture(1)).await;
+    assert_eq!(
+        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    run_until(&sim, 30, |s| s.pictures_ok == 3).await;
 }

@@ -70,6 +70,9 @@ pub struct DemoArgs {
     /// When the `--upload` file is uploaded: seconds of mission time.
     #[arg(long, default_value_t = 100.0)]
     pub upload_at: f64,
+    /// Seeds the simulator's picture sizes and link faults (loss, duplication, reordering).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Print only the summary, not the per-cycle trace.
     #[arg(long)]
     pub quiet: bool,
@@ -101,6 +104,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
             items: UploadItems::File(file),
         }),
         max_steps: args.max_steps,
+        seed: args.seed,
         dispatch: args.dispatch.dispatch,
         interrupt: interrupt.clone(),
     };
@@ -167,6 +171,8 @@ pub struct DemoSetup {
     pub timed_upload: Option<TimedUpload>,
     /// Planning steps for the initial plan.
     pub max_steps: u64,
+    /// Seeds the simulator's picture sizes and link faults.
+    pub seed: u64,
     pub dispatch: PolicyKind,
     /// Stops the mission when requested (a signal); the vehicle is then made safe.
     pub interrupt: Interrupt,
@@ -185,6 +191,7 @@ impl Default for DemoSetup {
             upload: true,
             timed_upload: None,
             max_steps: 200_000,
+            seed: 1,
             dispatch: PolicyKind::default(),
             interrupt: Interrupt::default(),
         }
@@ -275,6 +282,7 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
     }
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;
+    spec.seed = setup.seed;
     spec.first_goal_number = problem.goals.len() as u32 + 1;
     Ok((spec, scenario_name))
 }

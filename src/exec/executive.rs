@@ -178,6 +178,24 @@ impl Executive {
         self.pending_trace.push(e);
     }
 
+    /// The events traced since the last cycle (an abort, a replanning and its rejections) as a record of
+    /// their own at `now`, when there are any: how a mission that ends between cycles keeps them.
+    pub fn flush_trace(&mut self, now: Time) -> Option<CycleRecord> {
+        if self.pending_trace.is_empty() {
+            return None;
+        }
+        let c = CycleRecord {
+            index: self.cycles.len() as u64 + 1,
+            time_ms: now,
+            sense_us: 0,
+            repair_us: 0,
+            act_us: 0,
+            events: std::mem::take(&mut self.pending_trace),
+        };
+        self.cycles.push(c.clone());
+        Some(c)
+    }
+
     /// The action's name with its grounded parameters, e.g. `move(base, p1)`.
     pub fn action_text(&self, a: ActionId) -> String {
         self.action_text_in(&self.plan, a)

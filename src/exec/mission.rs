@@ -263,6 +263,10 @@ pub fn run_mission<V: Vehicle>(
         }
     };
     let duration_ms = pacer.now(v.inner);
+    if let Some(c) = ex.flush_trace(duration_ms) {
+        // The last abort and the replanning that ended the mission (its rejections) are in the report.
+        observe(ex, &c);
+    }
     log.report(ex, end, duration_ms)
 }
 

@@ -3,6 +3,7 @@
 
 use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, COMMAND_INT_DATA};
 
+use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
 use super::config::{Binding, Mode, VehicleConfig};
 use super::geo::deg_e7;
@@ -52,11 +53,19 @@ impl Ctx<'_> {
     }
 
     fn request_storage(&mut self) {
-        // MAV_CMD_REQUEST_MESSAGE(STORAGE_INFORMATION = 261); fire and forget (no owner waits on it).
+        self.request_message(261); // STORAGE_INFORMATION
+    }
+
+    fn request_capture_status(&mut self) {
+        self.request_message(262); // CAMERA_CAPTURE_STATUS
+    }
+
+    /// MAV_CMD_REQUEST_MESSAGE; fire and forget (no owner waits on it).
+    fn request_message(&mut self, msg_id: u16) {
         let cmd = Command::long(
             MavCmd::MAV_CMD_REQUEST_MESSAGE,
             self.target,
-            [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [f32::from(msg_id), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         );
         self.cmds.send(u64::MAX, cmd, self.now, self.out);
     }
@@ -115,7 +124,19 @@ pub struct Run {
     last_poll: u64,
     /// The end of a capture waiting for its storage level.
     pending: Option<End>,
+    /// A picture's end from the camera's status, should its CAMERA_IMAGE_CAPTURED be lost.
+    capture: Option<CaptureEvidence>,
+    /// Times the run was commanded again after an autopilot restart.
+    resumes: u32,
+    /// When (vehicle ms) a heartbeat showed the vehicle disarmed under this run.
+    disarmed_since: Option<u64>,
 }
+
+/// How long (vehicle ms) a run disarmed under it waits for the restart that explains it before failing.
+const DISARM_GRACE_MS: u64 = 1_500;
+
+/// An action is commanded again after at most this many autopilot restarts; the next one fails it.
+pub const MAX_RESUMES: u32 = 3;
 
 /// How long (vehicle ms) a picture's report waits for STORAGE_INFORMATION.
 const STORAGE_WAIT_MS: u64 = 2_000;
@@ -157,6 +178,9 @@ impl Run {
             mode_seen: false,
             last_poll: ctx.vnow,
             pending: None,
+            capture: None,
+            resumes: 0,
+            disarmed_since: None,
         };
         let id = start.id;
         match binding {
@@ -189,15 +213,7 @@ impl Run {
                 }
                 run.phase = Phase::Uploading;
             }
-            Binding::TakePicture { camera_id, .. } => {
-                // p3 = 1 image, p4 = 0: no sequence number.
-                let cmd = Command::long(
-                    MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
-                    ctx.target,
-                    [f32::from(*camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-                );
-                ctx.command(id, cmd);
-            }
+            Binding::TakePicture { camera_id, .. } => run.start_capture(ctx, *camera_id),
             Binding::Sample { steps } => {
                 run.servo(ctx, 0, steps[0].servo, steps[0].pwm);
             }
@@ -223,17 +239,22 @@ impl Run {
                 ctx.set_mode(id, hold);
             }
             Binding::Timed { .. } => run.phase = Phase::Running,
-            Binding::Download { command, .. } => {
-                let Some(cmd) = num_traits::FromPrimitive::from_u16(*command) else {
-                    return Err(format!("command {command} unknown to the dialect"));
-                };
-                ctx.command(
-                    id,
-                    Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
-                );
-            }
+            Binding::Download { command, .. } => start_download(ctx, id, *command)?,
         }
         Ok(run)
+    }
+
+    /// IMAGE_START_CAPTURE of one image, and the camera's status asked for (the count before it).
+    fn start_capture(&mut self, ctx: &mut Ctx, camera_id: u8) {
+        // p3 = 1 image, p4 = 0: no sequence number.
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+            ctx.target,
+            [f32::from(camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        ctx.command(self.id, cmd);
+        self.capture = Some(CaptureEvidence::new(ctx.vnow));
+        ctx.request_capture_status();
     }
 
     fn arm_or(&mut self, ctx: &mut Ctx, then: fn(&mut Run, &mut Ctx)) {
@@ -320,13 +341,14 @@ impl Run {
             CommandOutcome::Rejected(r) => {
                 return Some(self.failed(ctx, format!("{what} refused: {}", result_name(r))))
             }
-            CommandOutcome::TimedOut { tries } => {
+            CommandOutcome::TimedOut { tries } if !self.command_took_effect(ctx, cmd) => {
                 return Some(self.failed(
                     ctx,
                     format!("no COMMAND_ACK for {what} after {tries} tries"),
                 ))
             }
-            CommandOutcome::Accepted => {}
+            // Its ACKs were lost, but telemetry shows it done: go on as if acknowledged.
+            CommandOutcome::TimedOut { .. } | CommandOutcome::Accepted => {}
         }
         match self.phase {
             Phase::Arming => {
@@ -366,6 +388,63 @@ impl Run {
         }
     }
 
+    /// The autopilot restarted under this run: the run is commanded again from the start of its protocol
+    /// (the vehicle kept its position, so a move goes on from where it stopped).
+    pub fn resume(&mut self, ctx: &mut Ctx) -> Option<End> {
+        self.resumes += 1;
+        if self.resumes > MAX_RESUMES {
+            return Some(self.failed(
+                ctx,
+                format!("the autopilot restarted {} times under it", self.resumes),
+            ));
+        }
+        ctx.cmds.cancel(self.id);
+        self.mode_seen = false;
+        self.disarmed_since = None;
+        let id = self.id;
+        match &self.binding {
+            Binding::Move { .. } | Binding::ReturnHome { .. } | Binding::Survey { .. } => {
+                // Disarmed at boot: arming first; its ACK re-sends the move, RTL or AUTO start.
+                ctx.arm(id);
+                self.phase = Phase::Arming;
+            }
+            Binding::TakePicture { camera_id, .. } => {
+                let camera = *camera_id;
+                self.started_ms = ctx.vnow;
+                self.pending = None;
+                self.phase = Phase::Starting;
+                self.start_capture(ctx, camera);
+            }
+            Binding::Sample { steps } => {
+                let first = steps[0];
+                self.servo(ctx, 0, first.servo, first.pwm);
+            }
+            Binding::Recharge { .. } => {
+                let hold = ctx.cfg.modes.hold;
+                ctx.set_mode(id, hold);
+                self.phase = Phase::Starting;
+            }
+            Binding::Download { command, .. } => {
+                if start_download(ctx, id, *command).is_ok() {
+                    self.phase = Phase::Starting;
+                }
+            }
+            Binding::Timed { .. } => {}
+        }
+        None
+    }
+
+    /// Telemetry shows what an unacknowledged command asked for: armed, or in the mode this run expects.
+    fn command_took_effect(&self, ctx: &Ctx, cmd: MavCmd) -> bool {
+        match cmd {
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => ctx.tel.armed,
+            MavCmd::MAV_CMD_DO_SET_MODE | MavCmd::MAV_CMD_DO_REPOSITION => {
+                self.expect_mode.is_some() && ctx.tel.custom_mode == self.expect_mode
+            }
+            _ => false,
+        }
+    }
+
     fn start_auto(&mut self, ctx: &mut Ctx) {
         // Start from the first real item (0 is home), then AUTO.
         let cmd = Command::long(
@@ -397,6 +476,19 @@ impl Run {
     pub fn on_message(&mut self, ctx: &mut Ctx, msg: &MavMessage) -> Option<End> {
         match msg {
             MavMessage::HEARTBEAT(h) => {
+                let armed = h.base_mode.contains(
+                    mavlink::dialects::ardupilotmega::MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED,
+                );
+                let needs_arming = matches!(
+                    self.binding,
+                    Binding::Move { .. } | Binding::ReturnHome { .. } | Binding::Survey { .. }
+                );
+                if !armed && needs_arming && self.mode_seen {
+                    // Disarmed under a move: a restart (its clock, in the messages that follow, says so and
+                    // the run is resumed) or someone else's doing (the run fails after a grace period).
+                    self.disarmed_since.get_or_insert(ctx.vnow);
+                    return None;
+                }
                 if let Some(m) = self.expect_mode {
                     if h.custom_mode == m {
                         self.mode_seen = true;
@@ -420,7 +512,12 @@ impl Run {
                 Some(self.failed(ctx, format!("autopilot error: {text}")))
             }
             MavMessage::CAMERA_IMAGE_CAPTURED(c)
-                if matches!(self.binding, Binding::TakePicture { .. }) =>
+                if matches!(self.binding, Binding::TakePicture { .. })
+                    && !matches!(self.phase, Phase::Stored(_))
+                    && self
+                        .capture
+                        .as_ref()
+                        .is_none_or(|e| e.is_current(ctx.tel.vehicle_time(c.time_boot_ms))) =>
             {
                 ctx.request_storage();
                 self.pending = Some(if c.capture_result.bits() == 1 {
@@ -431,6 +528,24 @@ impl Run {
                         format!("image {} not captured (capture_result 0)", c.image_index),
                     )
                 });
+                self.phase = Phase::Stored(ctx.vnow);
+                None
+            }
+            MavMessage::CAMERA_CAPTURE_STATUS(c) if !matches!(self.phase, Phase::Stored(_)) => {
+                let status = CaptureStatus {
+                    time_ms: ctx.tel.vehicle_time(c.time_boot_ms),
+                    capturing: c.image_status & 1 == 1,
+                    count: c.image_count,
+                };
+                let end = match self.capture.as_mut()?.observe(status)? {
+                    Verdict::Captured => End::nominal(),
+                    Verdict::NoImage => self.failed(
+                        ctx,
+                        "the camera is idle again with no new image (CAMERA_CAPTURE_STATUS)".into(),
+                    ),
+                };
+                ctx.request_storage();
+                self.pending = Some(end);
                 self.phase = Phase::Stored(ctx.vnow);
                 None
             }
@@ -448,6 +563,13 @@ impl Run {
 
     /// Time passed / telemetry changed: recognise ends that are states (position, battery, storage).
     pub fn on_tick(&mut self, ctx: &mut Ctx) -> Option<End> {
+        if self
+            .disarmed_since
+            .is_some_and(|t| ctx.vnow.saturating_sub(t) >= DISARM_GRACE_MS)
+        {
+            let mode = ctx.tel.custom_mode.unwrap_or(0);
+            return Some(self.failed(ctx, format!("the vehicle disarmed (mode {mode})")));
+        }
         match (&self.binding, self.phase) {
             (
                 Binding::Move {
@@ -486,6 +608,12 @@ impl Run {
                     ctx,
                     format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms"),
                 ))
+            }
+            (Binding::TakePicture { .. }, _) => {
+                if self.capture.as_mut().is_some_and(|e| e.poll_due(ctx.vnow)) {
+                    ctx.request_capture_status();
+                }
+                None
             }
             (Binding::Sample { steps }, Phase::Holding(i, until)) if ctx.vnow >= until => {
                 if i + 1 == steps.len() {
@@ -583,6 +711,18 @@ impl Run {
             state: self.state_values(ctx),
         }
     }
+}
+
+/// The downlink's start: its command with p1 = 1.
+fn start_download(ctx: &mut Ctx, id: ActionId, command: u16) -> Result<(), String> {
+    let Some(cmd) = num_traits::FromPrimitive::from_u16(command) else {
+        return Err(format!("command {command} unknown to the dialect"));
+    };
+    ctx.command(
+        id,
+        Command::long(cmd, ctx.target, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+    );
+    Ok(())
 }
 
 fn result_name(r: MavResult) -> &'static str {

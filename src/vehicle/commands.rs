@@ -1,9 +1,17 @@
 //! Command protocol client: COMMAND_LONG / COMMAND_INT → COMMAND_ACK, re-sent on ACK timeout (COMMAND_LONG with
 //! `confirmation` incremented), IN_PROGRESS extending the wait, a give-up after the configured retries.
+//! The timeout runs on the wall clock and on the vehicle's (time_boot_ms), whichever passes it first: a
+//! simulator run faster than real time gets its lost ACKs re-sent in its own time, not 20 times later.
 
 use mavlink::dialects::ardupilotmega::{
     MavCmd, MavMessage, MavResult, COMMAND_ACK_DATA, COMMAND_INT_DATA, COMMAND_LONG_DATA,
 };
+
+/// How far back the vehicle's clock must jump to be taken for a reboot.
+pub const REBOOT_CLOCK_JUMP_MS: u64 = 5_000;
+
+/// While the vehicle is heard, a command is tried this many times more than its configured tries.
+pub const HEARD_RETRY_FACTOR: u32 = 3;
 
 /// Who asked for a command (an action id, or an internal request).
 pub type Token = u64;
@@ -46,6 +54,17 @@ impl Command {
     }
 }
 
+/// Commands that set the vehicle's mode (DO_REPOSITION switches to GUIDED): the latest one counts.
+fn changes_mode(cmd: MavCmd) -> bool {
+    matches!(
+        cmd,
+        MavCmd::MAV_CMD_DO_SET_MODE
+            | MavCmd::MAV_CMD_DO_REPOSITION
+            | MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH
+            | MavCmd::MAV_CMD_MISSION_START
+    )
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub enum CommandOutcome {
     Accepted,
@@ -62,6 +81,8 @@ struct Pending {
     token: Token,
     cmd: Command,
     sent_ms: u64,
+    /// The vehicle's clock when sent.
+    sent_vms: u64,
     tries: u32,
     /// IN_PROGRESS received: wait for the final ACK without re-sending (the action's own timeout governs).
     in_progress: bool,
@@ -72,6 +93,8 @@ pub struct CommandClient {
     pending: Vec<Pending>,
     pub ack_timeout_ms: u64,
     pub retries: u32,
+    /// The vehicle's clock (ms since its boot), as telemetry last gave it.
+    vnow: u64,
 }
 
 impl CommandClient {
@@ -80,15 +103,39 @@ impl CommandClient {
             pending: Vec::new(),
             ack_timeout_ms,
             retries,
+            vnow: 0,
         }
     }
 
+    /// The vehicle's clock advanced (or restarted, after a reboot: waits restart from there).
+    /// A frame reordered on the link may carry a slightly older time: only a clock far behind is a reboot.
+    pub fn set_vehicle_time(&mut self, vnow: u64) {
+        if vnow.saturating_add(REBOOT_CLOCK_JUMP_MS) < self.vnow {
+            for p in &mut self.pending {
+                p.sent_vms = vnow;
+            }
+            self.vnow = vnow;
+        }
+        self.vnow = self.vnow.max(vnow);
+    }
+
+    /// Commands sent and not yet answered.
+    pub fn pending(&self) -> usize {
+        self.pending.len()
+    }
+
     pub fn send(&mut self, token: Token, cmd: Command, now: u64, out: &mut Vec<MavMessage>) {
+        if changes_mode(cmd.id()) {
+            // The vehicle is told where to be now: an older mode command still re-sent (a HOLD whose ACK
+            // was lost) would undo this one.
+            self.pending.retain(|p| !changes_mode(p.cmd.id()));
+        }
         out.push(cmd.message());
         self.pending.push(Pending {
             token,
             cmd,
             sent_ms: now,
+            sent_vms: self.vnow,
             tries: 1,
             in_progress: false,
         });
@@ -105,6 +152,7 @@ impl CommandClient {
         ack: &COMMAND_ACK_DATA,
         now: u64,
     ) -> Option<(Token, MavCmd, CommandOutcome)> {
+        tracing::debug!(command = ?ack.command, result = ?ack.result, vnow = self.vnow, "COMMAND_ACK");
         let i = self
             .pending
             .iter()
@@ -113,7 +161,15 @@ impl CommandClient {
             MavResult::MAV_RESULT_IN_PROGRESS => {
                 // Still working: re-sending would start it again.
                 self.pending[i].sent_ms = now;
+                self.pending[i].sent_vms = self.vnow;
                 self.pending[i].in_progress = true;
+                None
+            }
+            // "Retrying later should work" (e.g. a downlink whose stop is still on its way): tried again
+            // after a timeout, as long as tries are left.
+            MavResult::MAV_RESULT_TEMPORARILY_REJECTED if self.pending[i].tries <= self.retries => {
+                self.pending[i].sent_ms = now;
+                self.pending[i].sent_vms = self.vnow;
                 None
             }
             MavResult::MAV_RESULT_ACCEPTED => {
@@ -134,12 +190,26 @@ impl CommandClient {
         out: &mut Vec<MavMessage>,
     ) -> Vec<(Token, MavCmd, CommandOutcome)> {
         let mut gave_up = Vec::new();
-        let (timeout, retries) = (self.ack_timeout_ms, self.retries);
+        let (timeout, retries, vnow) = (self.ack_timeout_ms, self.retries, self.vnow);
         self.pending.retain_mut(|p| {
-            if p.in_progress || now.saturating_sub(p.sent_ms) < timeout {
+            let waited = now
+                .saturating_sub(p.sent_ms)
+                .max(vnow.saturating_sub(p.sent_vms));
+            if p.in_progress || waited < timeout {
                 return true;
             }
-            if p.tries > retries {
+            // The vehicle is heard (its clock ran the wait out) but not answering this command: a lossy
+            // radio, not a dead link. Tried longer, within a bound.
+            let heard = vnow.saturating_sub(p.sent_vms) >= timeout;
+            let limit = if heard {
+                retries
+                    .saturating_add(1)
+                    .saturating_mul(HEARD_RETRY_FACTOR)
+                    .saturating_sub(1)
+            } else {
+                retries
+            };
+            if p.tries > limit {
                 gave_up.push((
                     p.token,
                     p.cmd.id(),
@@ -152,6 +222,8 @@ impl CommandClient {
             }
             p.tries += 1;
             p.sent_ms = now;
+            p.sent_vms = vnow;
+            tracing::debug!(command = ?p.cmd.id(), try_ = p.tries, vnow, "no COMMAND_ACK: re-sent");
             out.push(p.cmd.message());
             true
         });
@@ -205,6 +277,71 @@ mod tests {
                 MavCmd::MAV_CMD_DO_SET_MODE,
                 CommandOutcome::TimedOut { tries: 3 }
             )]
+        );
+    }
+
+    #[test]
+    fn the_vehicle_clock_times_out_a_lost_ack_before_the_wall_clock() {
+        // A simulator at 20x: 2 s of vehicle time pass in 100 ms of wall time.
+        let mut c = CommandClient::new(2_000, 1);
+        let mut out = Vec::new();
+        c.set_vehicle_time(10_000);
+        c.send(
+            3,
+            Command::long(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, (1, 1), [0.0; 7]),
+            0,
+            &mut out,
+        );
+        c.set_vehicle_time(11_999);
+        assert!(c.tick(50, &mut out).is_empty());
+        assert_eq!(out.len(), 1, "not yet: 1,999 ms of vehicle time");
+        c.set_vehicle_time(12_000);
+        assert!(c.tick(100, &mut out).is_empty());
+        assert_eq!(
+            out.len(),
+            2,
+            "re-sent after 2 s of vehicle time, 0.1 s of wall time"
+        );
+        // A reboot restarts the vehicle's clock: the wait restarts from there, not from 12 s.
+        c.set_vehicle_time(500);
+        assert!(c.tick(150, &mut out).is_empty());
+        assert_eq!(out.len(), 2);
+        // The vehicle is heard but does not answer: tried (1 + 1) x 3 times in all, then given up.
+        for (i, t) in [2_500, 4_500, 6_500, 8_500].into_iter().enumerate() {
+            c.set_vehicle_time(t);
+            assert!(c.tick(200, &mut out).is_empty());
+            assert_eq!(out.len(), 3 + i);
+        }
+        c.set_vehicle_time(10_500);
+        assert_eq!(c.tick(200, &mut out).len(), 1, "then given up");
+    }
+
+    #[test]
+    fn temporarily_rejected_is_tried_again_while_tries_are_left() {
+        let mut c = CommandClient::new(100, 1);
+        let mut out = Vec::new();
+        c.send(
+            2,
+            Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [1.0; 7]),
+            0,
+            &mut out,
+        );
+        let busy = ack(
+            MavCmd::MAV_CMD_USER_1,
+            MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
+        );
+        assert_eq!(c.on_ack(&busy, 10), None);
+        assert!(c.tick(109, &mut out).is_empty());
+        assert!(c.tick(110, &mut out).is_empty());
+        assert_eq!(out.len(), 2, "re-sent after a timeout");
+        assert_eq!(
+            c.on_ack(&busy, 120),
+            Some((
+                2,
+                MavCmd::MAV_CMD_USER_1,
+                CommandOutcome::Rejected(MavResult::MAV_RESULT_TEMPORARILY_REJECTED)
+            )),
+            "no tries left"
         );
     }
 

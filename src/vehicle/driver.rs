@@ -286,6 +286,22 @@ impl Driver {
         let cfg = &self.cfg;
         self.tel
             .update(msg, &cfg.home, &cfg.resources, &mut self.events);
+        if let Some(t) = self.tel.time_boot_ms {
+            self.cmds.set_vehicle_time(t);
+            self.mission.set_vehicle_time(t);
+        }
+        if self.tel.take_restart() {
+            self.resume_after_restart(now);
+        }
+        if matches!(
+            msg,
+            MavMessage::SYSTEM_TIME(_) | MavMessage::GLOBAL_POSITION_INT(_)
+        ) {
+            // The vehicle's clock moved: ACKs and mission answers overdue in its time are re-sent now, not
+            // at the next wall tick (a simulator may run minutes between two).
+            self.expire_commands(now);
+            self.expire_mission(now);
+        }
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
         }
@@ -301,6 +317,35 @@ impl Driver {
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+    }
+
+    /// The autopilot restarted: it forgot what it was doing (disarmed, in its boot mode). Each running action
+    /// is commanded again from where the vehicle is — armed, put back in its mode, its move, capture or
+    /// downlink re-sent — as many times as `restart_resumes` allows, then it fails with the restart as reason.
+    fn resume_after_restart(&mut self, now: u64) {
+        tracing::warn!(
+            running = self.runs.len(),
+            "autopilot restarted: resuming the running actions"
+        );
+        self.events.push(VehicleEvent::Link(LinkStatus::Restarted));
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.resume(ctx));
+        }
+    }
+
+    /// Re-sends the mission message whose answer is overdue; a transfer given up on ends its run.
+    fn expire_mission(&mut self, now: u64) {
+        if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+        }
+    }
+
+    /// Re-sends the commands whose ACK is overdue; those given up on end their runs.
+    fn expire_commands(&mut self, now: u64) {
+        for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
+            self.command_outcome(token, cmd, outcome, now);
         }
     }
 
@@ -331,12 +376,8 @@ impl Driver {
             self.link = Link::Lost;
             self.events.push(VehicleEvent::Link(LinkStatus::Lost));
         }
-        for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
-            self.command_outcome(token, cmd, outcome, now);
-        }
-        if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
-            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
-        }
+        self.expire_commands(now);
+        self.expire_mission(now);
         let ids: Vec<ActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));

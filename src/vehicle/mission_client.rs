@@ -39,6 +39,8 @@ struct Running {
     op: Op,
     last_sent: MavMessage,
     last_ms: u64,
+    /// The vehicle's clock when last sent: the timeout runs on either clock, as for commands.
+    last_vms: u64,
     retries_left: u32,
 }
 
@@ -48,6 +50,8 @@ pub struct MissionClient {
     pub timeout_ms: u64,
     pub retries: u32,
     running: Option<Running>,
+    /// The vehicle's clock (ms since its boot, kept running across restarts), as telemetry last gave it.
+    vnow: u64,
 }
 
 impl MissionClient {
@@ -57,7 +61,13 @@ impl MissionClient {
             timeout_ms,
             retries,
             running: None,
+            vnow: 0,
         }
+    }
+
+    /// The vehicle's clock advanced.
+    pub fn set_vehicle_time(&mut self, vnow: u64) {
+        self.vnow = self.vnow.max(vnow);
     }
 
     pub fn busy(&self) -> bool {
@@ -81,6 +91,7 @@ impl MissionClient {
             op,
             last_sent: first,
             last_ms: now,
+            last_vms: self.vnow,
             retries_left: self.retries,
         });
         true
@@ -145,6 +156,7 @@ impl MissionClient {
             out.push(msg.clone());
             r.last_sent = msg;
             r.last_ms = now;
+            r.last_vms = self.vnow;
             r.retries_left = self.retries;
         }
     }
@@ -294,7 +306,10 @@ impl MissionClient {
     /// Re-sends the last message on timeout; fails the transfer after the retries.
     pub fn tick(&mut self, now: u64, out: &mut Vec<MavMessage>) -> Option<(Token, MissionOutcome)> {
         let r = self.running.as_mut()?;
-        if now.saturating_sub(r.last_ms) < self.timeout_ms {
+        let waited = now
+            .saturating_sub(r.last_ms)
+            .max(self.vnow.saturating_sub(r.last_vms));
+        if waited < self.timeout_ms {
             return None;
         }
         if r.retries_left == 0 {
@@ -310,7 +325,36 @@ impl MissionClient {
         }
         r.retries_left -= 1;
         r.last_ms = now;
+        r.last_vms = self.vnow;
         out.push(r.last_sent.clone());
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_unanswered_upload_is_re_sent_on_the_vehicle_clock_then_fails() {
+        let mut c = MissionClient::new((1, 1), 3_000, 1);
+        let mut out = Vec::new();
+        c.set_vehicle_time(1_000);
+        assert!(c.upload(9, vec![MissionItem::waypoint(43.0, 1.0, 0.0)], 0, &mut out));
+        c.set_vehicle_time(3_999);
+        assert_eq!(c.tick(10, &mut out), None);
+        assert_eq!(out.len(), 1);
+        // 3 s of vehicle time in 20 ms of wall time (a simulator at 150x): MISSION_COUNT again.
+        c.set_vehicle_time(4_000);
+        assert_eq!(c.tick(20, &mut out), None);
+        assert!(matches!(
+            out.as_slice(),
+            [MavMessage::MISSION_COUNT(_), MavMessage::MISSION_COUNT(_)]
+        ));
+        c.set_vehicle_time(7_000);
+        assert!(matches!(
+            c.tick(30, &mut out),
+            Some((9, MissionOutcome::Failed(r))) if r.contains("upload timed out")
+        ));
     }
 }

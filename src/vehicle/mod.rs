@@ -14,6 +14,7 @@ pub mod actions;
 pub mod api;
 pub mod bench;
 pub mod binding_table;
+pub mod capture_evidence;
 pub mod commands;
 pub mod config;
 pub mod config_check;

@@ -21,6 +21,17 @@ pub struct Telemetry {
     pub armed: bool,
     pub mission_current: Option<(u16, u16)>,
     has_battery_status: bool,
+    /// The autopilot's own time_boot_ms, last received.
+    raw_boot_ms: Option<u64>,
+    /// Added to the autopilot's time after a restart, so that `time_boot_ms` runs on.
+    boot_offset_ms: u64,
+    /// The autopilot restarted (its clock went back) and the driver has not yet dealt with it.
+    restarted: bool,
+    /// The last SYSTEM_TIME: UTC (us) and our clock then. After a restart, the UTC clock (GPS time, which
+    /// a restart does not reset) tells how long the autopilot was silent, and our clock skips it too.
+    last_utc: Option<(u64, u64)>,
+    /// A restart whose silence is not yet accounted for (until the next SYSTEM_TIME).
+    silence_unknown: bool,
 }
 
 impl Telemetry {
@@ -50,7 +61,10 @@ impl Telemetry {
                     ));
                 }
             }
-            MavMessage::SYSTEM_TIME(t) => self.clock(u64::from(t.time_boot_ms)),
+            MavMessage::SYSTEM_TIME(t) => {
+                self.clock(u64::from(t.time_boot_ms));
+                self.utc(t.time_unix_usec);
+            }
             MavMessage::BATTERY_STATUS(b) if b.battery_remaining >= 0 => {
                 self.has_battery_status = true;
                 self.battery(f64::from(b.battery_remaining), names, events);
@@ -89,10 +103,57 @@ impl Telemetry {
     }
 
     fn clock(&mut self, ms: u64) {
+        if self
+            .raw_boot_ms
+            .is_some_and(|raw| ms.saturating_add(super::commands::REBOOT_CLOCK_JUMP_MS) < raw)
+        {
+            // The autopilot restarted: its clock counts from 0 again; ours runs on from where it was.
+            self.boot_offset_ms = self.time_boot_ms.unwrap_or(0).saturating_sub(ms);
+            self.restarted = true;
+            self.silence_unknown = true;
+            tracing::warn!(
+                time_boot_ms = ms,
+                "the autopilot's clock went back: it restarted"
+            );
+        }
+        if self.raw_boot_ms.is_none_or(|raw| ms > raw) || self.restarted {
+            self.raw_boot_ms = Some(ms);
+        }
+        let ms = ms.saturating_add(self.boot_offset_ms);
         // Monotonic: a late message must not move the executive's clock back.
         if ms > 0 && self.time_boot_ms.is_none_or(|t| ms > t) {
             self.time_boot_ms = Some(ms);
         }
+    }
+
+    /// After a restart, moves our clock on by the silence the UTC clock shows (bounded by it: never back).
+    fn utc(&mut self, utc_us: u64) {
+        if utc_us == 0 {
+            return;
+        }
+        if self.silence_unknown {
+            if let (Some((u0, e0)), Some(now)) = (self.last_utc, self.time_boot_ms) {
+                let est = e0.saturating_add(utc_us.saturating_sub(u0) / 1000);
+                if est > now {
+                    self.boot_offset_ms = self.boot_offset_ms.saturating_add(est - now);
+                    self.time_boot_ms = Some(est);
+                }
+            }
+            self.silence_unknown = false;
+        }
+        if let Some(now) = self.time_boot_ms {
+            self.last_utc = Some((utc_us, now));
+        }
+    }
+
+    /// A time_boot_ms the autopilot sent, on our clock (which runs on across its restarts).
+    pub fn vehicle_time(&self, time_boot_ms: u32) -> u64 {
+        u64::from(time_boot_ms).saturating_add(self.boot_offset_ms)
+    }
+
+    /// True once after the autopilot restarted (its clock went back).
+    pub fn take_restart(&mut self) -> bool {
+        std::mem::take(&mut self.restarted)
     }
 
     fn battery(&mut self, level: f64, names: &ResourceNames, events: &mut Vec<VehicleEvent>) {

@@ -141,6 +141,8 @@ pub enum LinkStatus {
     Lost,
     /// Heartbeats again after a loss.
     Recovered,
+    /// The autopilot restarted (its clock went back): the running actions were commanded again.
+    Restarted,
 }
 
 /// An exogenous alteration of a resource capacity (seed 1 §3.3), e.g. a partial loss of storage.

@@ -2,6 +2,7 @@
 
 use mavlink::dialects::ardupilotmega::*;
 
+use super::command_memory::Answer;
 use super::telemetry::{self, data_stream_ids};
 use super::{Autopilot, Mode, Sender};
 use crate::physics::Target;
@@ -18,12 +19,18 @@ pub struct Cmd {
     pub p: [f32; 7],
     /// COMMAND_INT x / y (degrees ×1e7) and frame; None for COMMAND_LONG.
     pub int: Option<(i32, i32, MavFrame)>,
+    /// The frame's sequence number (a duplicate on the link has the same).
+    pub seq: u8,
+    /// COMMAND_LONG's re-send count (0 for COMMAND_INT).
+    pub confirmation: u8,
 }
 
 impl Cmd {
-    pub fn from_long(from: Sender, m: &COMMAND_LONG_DATA) -> Self {
+    pub fn from_long(from: Sender, seq: u8, m: &COMMAND_LONG_DATA) -> Self {
         Self {
             from,
+            seq,
+            confirmation: m.confirmation,
             command: m.command,
             p: [
                 m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7,
@@ -32,9 +39,11 @@ impl Cmd {
         }
     }
 
-    pub fn from_int(from: Sender, m: &COMMAND_INT_DATA) -> Self {
+    pub fn from_int(from: Sender, seq: u8, m: &COMMAND_INT_DATA) -> Self {
         Self {
             from,
+            seq,
+            confirmation: 0,
             command: m.command,
             p: [
                 m.param1, m.param2, m.param3, m.param4, m.x as f32, m.y as f32, m.z,
@@ -50,6 +59,8 @@ impl Autopilot {
     }
 
     pub(super) fn ack_to(&mut self, to: Sender, command: MavCmd, result: MavResult, progress: u8) {
+        self.cmd_memory
+            .answered(to.sysid, to.compid, command, Answer { result, progress });
         self.send_to(
             to.peer,
             MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
@@ -64,6 +75,11 @@ impl Autopilot {
     }
 
     pub(super) fn on_command(&mut self, c: Cmd) {
+        if let Some(a) = self.cmd_memory.repeat(&c, self.now_ms) {
+            // A duplicate or a re-sent copy of what was done: answered again, not done twice.
+            self.ack(&c, a.result, a.progress);
+            return;
+        }
         let id = c.command as u32;
         self.emit_event(EventKind::Command, i64::from(id));
         if let Some(i) = self

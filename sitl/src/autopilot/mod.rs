@@ -3,6 +3,7 @@
 //! ticks and produces frames; it never touches a socket (see `sim.rs`).
 
 mod auto;
+mod command_memory;
 mod commands;
 mod mission;
 mod modes;
@@ -63,6 +64,8 @@ pub struct Autopilot {
     params: VehicleParams,
     // state
     now_ms: u64,
+    /// Sim time of the last (re)boot: time_boot_ms counts from it.
+    booted_ms: u64,
     kin: Kinematics,
     mode: Mode,
     armed: bool,
@@ -82,6 +85,8 @@ pub struct Autopilot {
     upload: Option<Upload>,
     streams: Streams,
     command_failures: Vec<(u16, MavResult, u32)>,
+    /// The last command of each kind and its answer: duplicates and re-sent copies answered again.
+    cmd_memory: command_memory::CommandMemory,
     nav_blocked_until_ms: u64,
     was_moving: bool,
     exhausted_reported: bool,
@@ -117,6 +122,7 @@ impl Autopilot {
             frame,
             params: s.vehicle.clone(),
             now_ms: 0,
+            booted_ms: 0,
             kin: Kinematics::default(),
             mode: Mode::Manual,
             armed: false,
@@ -139,6 +145,7 @@ impl Autopilot {
             upload: None,
             streams: Streams::default(),
             command_failures: Vec::new(),
+            cmd_memory: Default::default(),
             nav_blocked_until_ms: 0,
             was_moving: false,
             exhausted_reported: false,
@@ -228,8 +235,12 @@ impl Autopilot {
             return;
         }
         match &f.msg {
-            MavMessage::COMMAND_LONG(m) => self.on_command(Cmd::from_long(from, m)),
-            MavMessage::COMMAND_INT(m) => self.on_command(Cmd::from_int(from, m)),
+            MavMessage::COMMAND_LONG(m) => {
+                self.on_command(Cmd::from_long(from, f.header.sequence, m))
+            }
+            MavMessage::COMMAND_INT(m) => {
+                self.on_command(Cmd::from_int(from, f.header.sequence, m))
+            }
             MavMessage::SET_MODE(m) => self.on_set_mode(from, m),
             MavMessage::MISSION_COUNT(m) => self.on_mission_count(from, m),
             MavMessage::MISSION_ITEM_INT(m) => self.on_item_int(from, m),
@@ -425,7 +436,29 @@ impl Autopilot {
                 .link_faults
                 .set_quality(self.now_ms, loss, duplicate, reorder, duration_s),
             Fault::DownlinkRate { mib_per_s } => self.downlink_rate_override = Some(mib_per_s),
+            Fault::Reboot { silent_s } => self.reboot(silent_s),
         }
+    }
+
+    /// A restart: silent for `silent_s`, then booted afresh where the vehicle stands (see
+    /// [`Fault::Reboot`]).
+    fn reboot(&mut self, silent_s: f64) {
+        self.link_faults.blackout(self.now_ms, silent_s);
+        self.link_faults.drop_held();
+        self.booted_ms = later(self.now_ms, silent_s);
+        if self.armed {
+            self.armed = false;
+            self.emit_event(EventKind::Disarmed, 0);
+        }
+        self.mode = Mode::Manual;
+        self.guided_target = None;
+        self.speed_override = None;
+        self.exec = Exec::default();
+        self.downlink = None;
+        self.camera.cancel();
+        self.upload = None;
+        self.streams = Streams::default();
+        self.cmd_memory.clear();
     }
 
     /// A read-only picture of the vehicle for tests and the demo.

@@ -21,6 +21,7 @@ pub const BATTERY_STATUS: u32 = 147;
 pub const AUTOPILOT_VERSION: u32 = 148;
 pub const HOME_POSITION: u32 = 242;
 pub const STORAGE_INFORMATION: u32 = 261;
+pub const CAMERA_CAPTURE_STATUS: u32 = 262;
 
 /// Messages sent at 1 Hz (sim time) by default; others only on request or by interval.
 const DEFAULT_STREAMS: [u32; 8] = [
@@ -35,7 +36,7 @@ const DEFAULT_STREAMS: [u32; 8] = [
 ];
 
 /// Every message the sim can send on request or at an interval.
-pub const SENDABLE: [u32; 12] = [
+pub const SENDABLE: [u32; 13] = [
     HEARTBEAT,
     SYS_STATUS,
     SYSTEM_TIME,
@@ -48,6 +49,7 @@ pub const SENDABLE: [u32; 12] = [
     AUTOPILOT_VERSION,
     HOME_POSITION,
     STORAGE_INFORMATION,
+    CAMERA_CAPTURE_STATUS,
 ];
 
 #[derive(Debug, Clone)]
@@ -136,7 +138,7 @@ pub fn data_stream_ids(stream: MavDataStream) -> Vec<u32> {
 
 impl Autopilot {
     pub(super) fn time_boot_ms(&self) -> u32 {
-        self.now_ms as u32
+        self.now_ms.saturating_sub(self.booted_ms) as u32
     }
 
     /// Sends the streams due now.
@@ -279,6 +281,18 @@ impl Autopilot {
                 storage_usage: StorageUsageFlag::STORAGE_USAGE_FLAG_SET
                     | StorageUsageFlag::STORAGE_USAGE_FLAG_PHOTO,
             }),
+            // The camera's own account (the autopilot-attached camera 1): a capture under way, and the
+            // images captured so far, for a companion that missed a CAMERA_IMAGE_CAPTURED.
+            CAMERA_CAPTURE_STATUS => {
+                MavMessage::CAMERA_CAPTURE_STATUS(CAMERA_CAPTURE_STATUS_DATA {
+                    time_boot_ms: self.time_boot_ms(),
+                    available_capacity: self.storage.available() as f32,
+                    image_status: u8::from(self.camera.capturing()),
+                    image_count: i32::try_from(self.pictures_ok).unwrap_or(i32::MAX),
+                    camera_device_id: 1,
+                    ..Default::default()
+                })
+            }
             _ => return None,
         })
     }
