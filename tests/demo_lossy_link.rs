@@ -68,8 +68,14 @@ fn a_lossy_radio_costs_no_goal() {
     assert_eq!(clean.report.end, MissionEnd::Finished);
     let lossy = fig2(LOSSY, 7);
     assert_eq!(lossy.report.end, MissionEnd::Finished);
-    assert_eq!(achieved(&lossy), achieved(&clean));
-    assert!(!achieved(&clean).is_empty());
+    // Every goal of the clean run is kept; the lossy run may achieve more (with seed 7, g2 as well, which
+    // the clean run loses to the replanning time limit).
+    let (kept, clean_goals) = (achieved(&lossy), achieved(&clean));
+    assert!(
+        clean_goals.iter().all(|g| kept.contains(g)),
+        "{kept:?} against the clean run's {clean_goals:?}"
+    );
+    assert!(!clean_goals.is_empty());
     // Every goal not achieved has its goal_rejected event in the report, with the reason.
     let rejected: Vec<&String> = lossy
         .report
