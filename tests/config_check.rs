@@ -396,3 +396,55 @@ fn domain_declarations_keep_their_lines() {
     let text = std::fs::read_to_string("domains/rover/rover.ixt").expect("rover domain");
     assert_eq!(r, Some(Some(line(&text, "resource BATTERY:"))));
 }
+
+#[test]
+fn observed_state_names_are_checked_against_the_domain() {
+    let text = include_str!("../config/ardupilot-rover.toml");
+    let d = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
+    let with = |from: &str, to: &str| {
+        assert!(text.contains(from), "{from:?} not in the config");
+        let edited = text.replacen(from, to, 1);
+        let cfg = VehicleConfig::parse(&edited, "rover.toml").unwrap_or_else(|e| panic!("{e}"));
+        let found = check(&cfg, &d, None).err().unwrap_or_default();
+        (edited, found)
+    };
+    let shipped = "moving = { attribute = \"ROBOT_STATUS\", yes = \"MOVING\", no = \"STILL\" }";
+    let (edited, found) = with(
+        shipped,
+        "moving = { attribute = \"ROBOT_STATE\", yes = \"MOVING\", no = \"STILL\" }",
+    );
+    let issue = find(&found, "state.moving.attribute");
+    assert!(
+        matches!(&issue.kind, IssueKind::UnknownAttribute { name, .. } if name == "ROBOT_STATE")
+    );
+    assert_eq!(issue.line, Some(line(&edited, "ROBOT_STATE")));
+    // A value that is not of the attribute's type, with the values it has.
+    let (_, found) = with(
+        shipped,
+        "moving = { attribute = \"ROBOT_STATUS\", yes = \"DRIVING\", no = \"STILL\" }",
+    );
+    let issue = find(&found, "state.moving");
+    assert!(
+        matches!(&issue.kind, IssueKind::UnknownValue { value, known, .. } if value == "DRIVING" && known == "STILL, MOVING"),
+        "{issue}"
+    );
+    // An attribute with parameters cannot be an observed state.
+    let (_, found) = with(
+        shipped,
+        "moving = { attribute = \"PICTURE\", yes = \"true\", no = \"false\" }",
+    );
+    assert!(matches!(
+        &find(&found, "state.moving.attribute").kind,
+        IssueKind::WrongAttribute { .. }
+    ));
+    // A mode that is not a key of [modes] is refused at parse time, at its line.
+    let edited = text.replacen(
+        shipped,
+        &format!("{shipped}\nmode = {{ attribute = \"ROBOT_STATUS\", values = {{ loiter = \"STILL\" }} }}"),
+        1,
+    );
+    let err = VehicleConfig::parse(&edited, "rover.toml")
+        .expect_err("loiter is no mode of [modes]")
+        .to_string();
+    assert!(err.contains("state.mode.values.loiter"), "{err}");
+}

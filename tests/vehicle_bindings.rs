@@ -12,12 +12,22 @@ use mavtempo::vehicle::{
     ActionStart, Arg, Enu, LinkStatus, ReportStatus, StateValue, VehicleEvent,
 };
 
+const FIXTURE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/tests/fixtures/vehicle/bindings.toml"
+);
+
 fn config() -> VehicleConfig {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/fixtures/vehicle/bindings.toml"
-    );
-    VehicleConfig::load(std::path::Path::new(path)).expect("shipped config parses")
+    VehicleConfig::load(std::path::Path::new(FIXTURE)).expect("shipped config parses")
+}
+
+/// The fixture for a PX4 autopilot (the same bindings).
+fn px4_config() -> VehicleConfig {
+    let text = std::fs::read_to_string(FIXTURE).expect("fixture readable");
+    let cfg = VehicleConfig::parse(&format!("autopilot = \"px4\"\n{text}"), "px4 fixture")
+        .expect("fixture parses");
+    assert_eq!(cfg.autopilot, mavtempo::vehicle::config::Autopilot::Px4);
+    cfg
 }
 
 /// A scripted ArduPilot-like autopilot: answers commands and the mission protocol, holds a position.
@@ -32,6 +42,9 @@ struct Autopilot {
     upload_count: Option<u16>,
     /// CAMERA_IMAGE_CAPTURED result to send, or none at all.
     capture: Option<bool>,
+    /// Confirm pictures as ArduPilot's camera library does: CAMERA_FEEDBACK, no CAMERA_IMAGE_CAPTURED.
+    feedback: bool,
+    images: u16,
     answer_commands: bool,
 }
 
@@ -45,6 +58,8 @@ impl Autopilot {
             mission: Vec::new(),
             upload_count: None,
             capture: Some(true),
+            feedback: false,
+            images: 0,
             answer_commands: true,
         }
     }
@@ -90,6 +105,17 @@ impl Autopilot {
                         }
                     }
                     replies.push(ack(c.command, result));
+                    let captured = c.command == MavCmd::MAV_CMD_IMAGE_START_CAPTURE
+                        && result == MavResult::MAV_RESULT_ACCEPTED;
+                    if captured && self.feedback {
+                        self.images += 1;
+                        replies.push(MavMessage::CAMERA_FEEDBACK(CAMERA_FEEDBACK_DATA {
+                            img_idx: self.images,
+                            completed_captures: self.images,
+                            ..Default::default()
+                        }));
+                        continue;
+                    }
                     if let (
                         MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
                         MavResult::MAV_RESULT_ACCEPTED,
@@ -188,8 +214,12 @@ const AP: MavHeader = MavHeader {
 
 impl Bench {
     fn new() -> Self {
+        Self::with(config())
+    }
+
+    fn with(cfg: VehicleConfig) -> Self {
         let mut b = Self {
-            d: Driver::new(config()),
+            d: Driver::new(cfg),
             ap: Autopilot::new(),
             now: 0,
             events: Vec::new(),
@@ -633,4 +663,242 @@ fn unknown_task_and_bad_arguments_are_refused_at_start() {
         )
         .unwrap_err();
     assert!(e.to_string().contains("location argument `to`"), "{e}");
+}
+
+/// GLOBAL_POSITION_INT at `at`, moving east at `speed` m/s, at vehicle time `ms`.
+fn moving(cfg: &VehicleConfig, at: Enu, speed: f64, ms: u32) -> MavMessage {
+    let MavMessage::GLOBAL_POSITION_INT(mut p) = position(cfg, at) else {
+        unreachable!()
+    };
+    p.vy = (speed * 100.0) as i16;
+    p.time_boot_ms = ms;
+    MavMessage::GLOBAL_POSITION_INT(p)
+}
+
+fn commands(ap: &Autopilot) -> Vec<(MavCmd, f32, f32)> {
+    ap.seen
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::COMMAND_LONG(c) => Some((c.command, c.param1, c.param2)),
+            MavMessage::COMMAND_INT(c) => Some((c.command, c.param1, c.param2)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn ardupilot_gets_the_move_speed_by_do_change_speed_once_in_guided() {
+    let mut b = Bench::new();
+    b.start(1, "slow_move", to(Enu::new(30.0, 0.0, 0.0)));
+    // ArduPilot fails DO_REPOSITION with a speed from GUIDED's Stop submode: no speed in it, then
+    // DO_CHANGE_SPEED (ground speed) after its ACK.
+    let cmds = commands(&b.ap);
+    assert_eq!(
+        cmds,
+        vec![
+            (MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, 1.0, 0.0),
+            (MavCmd::MAV_CMD_DO_REPOSITION, -1.0, 1.0),
+            (MavCmd::MAV_CMD_DO_CHANGE_SPEED, 1.0, 0.45),
+        ]
+    );
+    // A move without a speed of its own sends none.
+    let mut b = Bench::new();
+    b.start(2, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    assert!(!commands(&b.ap)
+        .iter()
+        .any(|c| c.0 == MavCmd::MAV_CMD_DO_CHANGE_SPEED));
+}
+
+#[test]
+fn px4_gets_the_move_speed_in_do_reposition() {
+    let mut b = Bench::with(px4_config());
+    b.start(1, "slow_move", to(Enu::new(30.0, 0.0, 0.0)));
+    let cmds = commands(&b.ap);
+    assert!(
+        cmds.contains(&(MavCmd::MAV_CMD_DO_REPOSITION, 0.45, 1.0)),
+        "{cmds:?}"
+    );
+    assert!(!cmds.iter().any(|c| c.0 == MavCmd::MAV_CMD_DO_CHANGE_SPEED));
+}
+
+#[test]
+fn a_refused_speed_does_not_fail_the_move() {
+    let mut b = Bench::new();
+    b.ap.results.push((
+        MavCmd::MAV_CMD_DO_CHANGE_SPEED,
+        MavResult::MAV_RESULT_FAILED,
+    ));
+    let dest = Enu::new(30.0, 0.0, 0.0);
+    b.start(1, "slow_move", to(dest));
+    assert!(
+        b.report(1).is_none(),
+        "the move goes on at the autopilot's speed"
+    );
+    let cfg = config();
+    b.feed(position(&cfg, dest));
+    assert_eq!(b.report(1).expect("report").status, ReportStatus::Nominal);
+}
+
+#[test]
+fn a_picture_ends_on_camera_feedback_as_ardupilot_confirms_it() {
+    let mut b = Bench::new();
+    b.ap.feedback = true;
+    b.start(4, "take_picture", vec![]);
+    b.feed(storage(1.0));
+    let r = b.report(4).expect("report on CAMERA_FEEDBACK");
+    assert_eq!(r.status, ReportStatus::Nominal);
+    // A second picture is not confirmed by the first one's feedback, sent again late.
+    b.ap.capture = None;
+    b.ap.answer_commands = true;
+    b.ap.feedback = false;
+    b.start(5, "take_picture", vec![]);
+    b.feed(MavMessage::CAMERA_FEEDBACK(CAMERA_FEEDBACK_DATA {
+        img_idx: 1,
+        completed_captures: 1,
+        ..Default::default()
+    }));
+    b.feed(storage(1.0));
+    assert!(
+        b.report(5).is_none(),
+        "an old feedback is not this picture's"
+    );
+    b.feed(MavMessage::CAMERA_FEEDBACK(CAMERA_FEEDBACK_DATA {
+        img_idx: 2,
+        completed_captures: 2,
+        ..Default::default()
+    }));
+    b.feed(storage(2.0));
+    assert_eq!(b.report(5).expect("report").status, ReportStatus::Nominal);
+}
+
+#[test]
+fn a_failed_move_is_reported_once_still_with_the_observed_state() {
+    let cfg = config();
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    b.feed(b.ap.heartbeat()); // GUIDED seen
+    b.feed(moving(&cfg, Enu::new(10.0, 0.0, 0.0), 0.5, 2_000));
+    b.ap.mode = 4; // a foreign HOLD: the rover brakes
+    b.feed(b.ap.heartbeat());
+    assert!(b.report(1).is_none(), "still moving: the report waits");
+    b.feed(moving(&cfg, Enu::new(10.3, 0.0, 0.0), 0.1, 3_000));
+    let r = b.report(1).expect("report once still");
+    assert_eq!(r.status, ReportStatus::Failed);
+    assert!(r
+        .reason
+        .as_deref()
+        .unwrap_or("")
+        .contains("foreign mode change"));
+    assert!(
+        r.state
+            .contains(&("STATUS".to_string(), StateValue::Symbol("STILL".into()))),
+        "{:?}",
+        r.state
+    );
+    assert!(
+        matches!(r.state[0], (ref v, StateValue::Position(p)) if v == "position" && (p.east - 10.3).abs() < 0.1)
+    );
+}
+
+#[test]
+fn a_failed_move_still_moving_after_the_settle_time_says_so() {
+    let cfg = config();
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    b.feed(b.ap.heartbeat());
+    b.feed(moving(&cfg, Enu::new(10.0, 0.0, 0.0), 0.5, 2_000));
+    b.ap.mode = 0; // someone drives it by hand
+    b.feed(b.ap.heartbeat());
+    b.feed(moving(&cfg, Enu::new(12.0, 0.0, 0.0), 0.5, 6_000));
+    assert!(b.report(1).is_none());
+    b.feed(moving(&cfg, Enu::new(13.0, 0.0, 0.0), 0.5, 7_001));
+    let r = b.report(1).expect("report after settle_ms");
+    assert!(
+        r.state
+            .contains(&("STATUS".to_string(), StateValue::Symbol("MOVING".into()))),
+        "{:?}",
+        r.state
+    );
+}
+
+#[test]
+fn an_interrupted_move_reports_no_moving_value() {
+    // A preempted move ended as its task says (its end effects hold): only where it stopped is reported.
+    let cfg = config();
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    b.feed(moving(&cfg, Enu::new(10.0, 0.0, 0.0), 0.5, 2_000));
+    b.d.stop(1, b.now).expect("running");
+    b.settle();
+    let r = b.report(1).expect("report at once");
+    assert_eq!(r.status, ReportStatus::Interrupted);
+    assert!(!r.state.iter().any(|(v, _)| v == "STATUS"), "{:?}", r.state);
+}
+
+fn system_time(ms: u32) -> MavMessage {
+    MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
+        time_unix_usec: 0,
+        time_boot_ms: ms,
+    })
+}
+
+fn statustext(severity: MavSeverity, text: &str) -> MavMessage {
+    let mut t = [0u8; 50];
+    t[..text.len()].copy_from_slice(text.as_bytes());
+    MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+        severity,
+        text: t.into(),
+        id: 0,
+        chunk_seq: 0,
+    })
+}
+
+#[test]
+fn readiness_waits_for_a_fix_then_retries_arm_with_a_backoff_until_accepted() {
+    let cfg = config();
+    let mut b = Bench::new();
+    b.feed(system_time(1_000));
+    b.d.begin_ready(b.now);
+    b.settle();
+    assert!(commands(&b.ap).is_empty(), "no ARM before a position fix");
+    // lat = lon = 0: no fix yet.
+    b.feed(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+        time_boot_ms: 2_000,
+        ..Default::default()
+    }));
+    assert!(commands(&b.ap).is_empty());
+    b.ap.results.push((
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        MavResult::MAV_RESULT_FAILED,
+    ));
+    b.ap.results.push((
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        MavResult::MAV_RESULT_FAILED,
+    ));
+    b.feed(moving(&cfg, Enu::new(0.0, 0.0, 0.0), 0.0, 3_000));
+    b.feed(statustext(
+        MavSeverity::MAV_SEVERITY_CRITICAL,
+        "PreArm: EKF3 waiting for GPS config data",
+    ));
+    let arms = |ap: &Autopilot| {
+        commands(ap)
+            .iter()
+            .filter(|c| c.0 == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM)
+            .count()
+    };
+    assert_eq!(arms(&b.ap), 1);
+    b.feed(system_time(3_900));
+    assert_eq!(arms(&b.ap), 1, "backing off 1 s");
+    b.feed(system_time(4_000));
+    assert_eq!(arms(&b.ap), 2);
+    b.feed(system_time(5_900));
+    assert_eq!(arms(&b.ap), 2, "backing off 2 s");
+    b.feed(system_time(6_000));
+    assert_eq!(arms(&b.ap), 3);
+    let r = b.d.readiness().expect("waiting").report().clone();
+    assert!(r.ready, "{r:?}");
+    assert_eq!(r.arm_attempts, 3);
+    assert_eq!(r.fix_after_ms, Some(2_000));
+    assert!(r.refusals.iter().any(|t| t.contains("EKF3")), "{r:?}");
+    assert!(b.ap.armed);
 }

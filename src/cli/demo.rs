@@ -316,6 +316,12 @@ pub fn run_demo(
     let (spec, scenario_name) = session_spec(setup, &problem)?;
     say(&format!("SITL scenario: {scenario_name}"));
     let mut session = SitlSession::start(&domain, &problem, spec)?;
+    if let Some(r) = &session.ready {
+        say(&format!(
+            "vehicle ready: {}",
+            super::mission_out::ready_line(r)
+        ));
+    }
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
     say(&format!(
         "SITL vehicle at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",

@@ -116,3 +116,21 @@ pub fn write_report(path: &Path, r: &MissionReport) -> Result<(), String> {
     let text = serde_json::to_string_pretty(r).map_err(|e| format!("report serialisation: {e}"))?;
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
+
+/// One line on how the vehicle became ready (`run`, `demo`).
+pub fn ready_line(r: &crate::vehicle::readiness::ReadyReport) -> String {
+    let secs =
+        |ms: Option<u64>| ms.map_or("?".to_string(), |m| format!("{:.1}", m as f64 / 1000.0));
+    let mut line = format!(
+        "position fix after {} s, armed after {} s ({} ARM attempts)",
+        secs(r.fix_after_ms),
+        secs(r.armed_after_ms),
+        r.arm_attempts
+    );
+    if r.arm_attempts > 1 {
+        if let Some(last) = r.refusals.last() {
+            line.push_str(&format!("; refused before: {last}"));
+        }
+    }
+    line
+}

@@ -180,6 +180,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
         },
         first_goal_number: first + goals.len() as u32,
     };
+    let ready_limit_s = checked.vehicle.ready.timeout_s;
     let mut vehicle =
         MavlinkVehicle::connect_blocking(checked.vehicle, opts).map_err(|e| e.to_string())?;
     if let Some(flush) = vehicle.tlog_flusher() {
@@ -196,8 +197,24 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
+    if ready_limit_s > 0.0 {
+        println!(
+            "vehicle up; waiting for a position fix and arming (at most {ready_limit_s} s)..."
+        );
+        // The limit runs on the vehicle's clock; the wall bound only covers a clock that stops.
+        let wall = Duration::from_secs_f64(ready_limit_s / args.speedup + 30.0);
+        let report = vehicle.wait_ready((ready_limit_s * 1000.0) as u64, wall, &mut |_| {
+            std::thread::sleep(Duration::from_millis(20));
+            interrupt.signal_name().is_none()
+        });
+        not_interrupted(interrupt)?;
+        if !report.ready {
+            return Err(report.why_not(ready_limit_s));
+        }
+        println!("{}", super::mission_out::ready_line(&report));
+    }
     let origin = vehicle.now_ms();
-    println!("vehicle up; mission starts at vehicle time {origin} ms");
+    println!("vehicle ready; mission starts at vehicle time {origin} ms");
     let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
     let mut printer = TracePrinter::default();
     let quiet = args.quiet;

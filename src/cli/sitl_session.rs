@@ -11,6 +11,7 @@ use crate::model::{Domain, Problem};
 use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::geo::Home;
 use crate::vehicle::link::{Decider, LinkOptions};
+use crate::vehicle::readiness::ReadyReport;
 use crate::vehicle::{MavlinkVehicle, Vehicle};
 
 const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");
@@ -23,6 +24,8 @@ pub const LEVEL_TOLERANCE: f64 = 2.0;
 /// simulator and the runtime go.
 pub struct SitlSession {
     pub vehicle: MavlinkVehicle,
+    /// How the vehicle became ready (a fix, arming accepted) before the mission; `None`: not waited for.
+    pub ready: Option<ReadyReport>,
     pub sim: Arc<sitl::SimHandle>,
     /// The effective home (the problem's, else the configuration's).
     pub home: Home,
@@ -113,6 +116,7 @@ impl SitlSession {
             first_goal_number: spec.first_goal_number,
             ..LinkOptions::default()
         };
+        let ready_limit_s = cfg.ready.timeout_s;
         let vehicle = rt
             .block_on(MavlinkVehicle::connect(cfg, opts))
             .map_err(|e| e.to_string())?;
@@ -122,6 +126,7 @@ impl SitlSession {
             .to_string();
         let stepped = spec.speedup.is_none();
         link_up(&rt, &sim, &vehicle, stepped)?;
+        let ready = wait_ready(&rt, &sim, &vehicle, spec.speedup, ready_limit_s)?;
         let origin_ms = if stepped {
             sim.now_ms()
         } else {
@@ -129,6 +134,7 @@ impl SitlSession {
         };
         Ok(SitlSession {
             vehicle,
+            ready,
             sim,
             home,
             mapping: checked.mapping,
@@ -160,6 +166,45 @@ fn stepper(
         Duration::from_secs(10),
         gate,
     )
+}
+
+/// Waits (stepping the simulator when stepped) for the vehicle to be ready: a fix, arming accepted, as
+/// `run` does on a real autopilot; an error says why not, after `limit_s` of sim time.
+fn wait_ready(
+    rt: &tokio::runtime::Runtime,
+    sim: &Arc<sitl::SimHandle>,
+    vehicle: &MavlinkVehicle,
+    speedup: Option<f64>,
+    limit_s: f64,
+) -> Result<Option<ReadyReport>, String> {
+    if limit_s <= 0.0 {
+        return Ok(None);
+    }
+    let limit_ms = (limit_s * 1000.0) as u64;
+    let report = if speedup.is_none() {
+        let pacer = stepper(sim, rt.handle().clone(), sim.now_ms(), Arc::default());
+        vehicle.wait_ready(limit_ms, Duration::from_secs(60), &mut |v| match pacer
+            .step_settled(v, 100)
+        {
+            Ok(_) => true,
+            Err(e) => {
+                tracing::warn!("sitl step: {e}");
+                false
+            }
+        })
+    } else {
+        // Paced: the limit runs on the sim's clock; the wall bound only covers a clock that stops.
+        let wall = Duration::from_secs_f64(limit_s / speedup.unwrap_or(1.0).max(0.01) + 30.0);
+        vehicle.wait_ready(limit_ms, wall, &mut |_| {
+            std::thread::sleep(Duration::from_millis(10));
+            true
+        })
+    };
+    if report.ready {
+        Ok(Some(report))
+    } else {
+        Err(report.why_not(limit_s))
+    }
 }
 
 /// Steps (or waits for) the simulator until the vehicle's clock runs: the link is up. Stepped, the

@@ -5,7 +5,7 @@ use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, 
 
 use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
-use super::config::{Binding, Mode, VehicleConfig};
+use super::config::{Autopilot, Binding, Mode, VehicleConfig};
 use super::geo::deg_e7;
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
@@ -126,10 +126,16 @@ pub struct Run {
     pending: Option<End>,
     /// A picture's end from the camera's status, should its CAMERA_IMAGE_CAPTURED be lost.
     capture: Option<CaptureEvidence>,
+    /// A failed motion waiting (until the vehicle ms given) for the vehicle to be still before its report.
+    settling: Option<(u64, End)>,
+    /// Its settling is over (a report taken from it is not held again).
+    settled: bool,
     /// Times the run was commanded again after an autopilot restart.
     resumes: u32,
     /// When (vehicle ms) a heartbeat showed the vehicle disarmed under this run.
     disarmed_since: Option<u64>,
+    /// A picture: the index of the camera's last CAMERA_FEEDBACK before the capture was commanded.
+    feedback_before: Option<u16>,
 }
 
 /// How long (vehicle ms) a run disarmed under it waits for the restart that explains it before failing.
@@ -181,6 +187,9 @@ impl Run {
             capture: None,
             resumes: 0,
             disarmed_since: None,
+            feedback_before: None,
+            settling: None,
+            settled: false,
         };
         let id = start.id;
         match binding {
@@ -254,6 +263,7 @@ impl Run {
         );
         ctx.command(self.id, cmd);
         self.capture = Some(CaptureEvidence::new(ctx.vnow));
+        self.feedback_before = ctx.tel.camera_feedback_index;
         ctx.request_capture_status();
     }
 
@@ -272,9 +282,15 @@ impl Run {
             return;
         };
         let (lat, lon, alt) = ctx.cfg.home.to_global(goal);
+        // ArduPilot enters GUIDED in its Stop submode, where a speed cannot be set: DO_REPOSITION with a
+        // speed then fails. It goes without one, and DO_CHANGE_SPEED follows its ACK (`speed_after_ack`).
+        let speed = match ctx.cfg.autopilot {
+            Autopilot::Ardupilot => -1.0,
+            Autopilot::Px4 => *speed_m_s as f32,
+        };
         // DO_REPOSITION over COMMAND_INT; param2 = MAV_DO_REPOSITION_FLAGS_CHANGE_MODE (switch to GUIDED).
         let cmd = Command::Int(COMMAND_INT_DATA {
-            param1: *speed_m_s as f32,
+            param1: speed,
             param2: 1.0,
             param3: 0.0,
             param4: f32::NAN,
@@ -291,6 +307,22 @@ impl Run {
         ctx.command(self.id, cmd);
     }
 
+    /// ArduPilot: the move's speed, once DO_REPOSITION put the rover in GUIDED's waypoint submode
+    /// (DO_CHANGE_SPEED, ground speed; the speed holds until GUIDED is entered again).
+    fn speed_after_ack(&self, ctx: &mut Ctx) {
+        let Binding::Move { speed_m_s, .. } = self.binding else {
+            return;
+        };
+        if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
+            let cmd = Command::long(
+                MavCmd::MAV_CMD_DO_CHANGE_SPEED,
+                ctx.target,
+                [1.0, speed_m_s as f32, -1.0, 0.0, 0.0, 0.0, 0.0],
+            );
+            ctx.command(self.id, cmd);
+        }
+    }
+
     fn servo(&mut self, ctx: &mut Ctx, step: usize, servo: u8, pwm: u16) {
         let cmd = Command::long(
             MavCmd::MAV_CMD_DO_SET_SERVO,
@@ -305,12 +337,13 @@ impl Run {
         End {
             status: ReportStatus::Failed,
             reason: Some(reason),
-            state: self.state_values(ctx),
+            state: self.state_values(ctx, true),
         }
     }
 
-    /// The action's state variables for a non-nominal report.
-    fn state_values(&self, ctx: &Ctx) -> Vec<(String, StateValue)> {
+    /// The action's state variables for a non-nominal report: a motion's reached position and what
+    /// telemetry says of the vehicle (`[state]`); `with_moving`: its moving/still value too.
+    fn state_values(&self, ctx: &Ctx, with_moving: bool) -> Vec<(String, StateValue)> {
         let pos_var = match &self.binding {
             Binding::Move {
                 position_variable, ..
@@ -327,7 +360,41 @@ impl Run {
         if let (Some(var), Some(p)) = (pos_var, ctx.tel.position) {
             v.push((var.clone(), StateValue::Position(p)));
         }
+        if pos_var.is_some() {
+            v.extend(ctx.cfg.state.values(ctx.tel, &ctx.cfg.modes, with_moving));
+        }
         v
+    }
+
+    /// A failed motion is reported once the vehicle is still (within `state.settle_ms`), so that its
+    /// report tells the state the vehicle is in, not the one it passes through while braking.
+    pub fn settle(&mut self, ctx: &mut Ctx, end: End) -> Option<End> {
+        let waits = !self.settled
+            && end.status == ReportStatus::Failed
+            && self.is_vehicle_motion()
+            && ctx.cfg.state.moving.is_some()
+            && ctx.cfg.state.is_moving(ctx.tel) == Some(true);
+        if !waits {
+            return Some(end);
+        }
+        ctx.cmds.cancel(self.id);
+        self.settling = Some((ctx.vnow.saturating_add(ctx.cfg.state.settle_ms), end));
+        None
+    }
+
+    /// The settled report of a failed motion, with the state as it is now.
+    fn settled(&mut self, ctx: &Ctx) -> Option<End> {
+        let (_, mut end) = self.settling.take()?;
+        self.settled = true;
+        end.state = self.state_values(ctx, true);
+        Some(end)
+    }
+
+    fn is_vehicle_motion(&self) -> bool {
+        matches!(
+            self.binding,
+            Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. }
+        )
     }
 
     pub fn on_command(
@@ -336,7 +403,21 @@ impl Run {
         cmd: MavCmd,
         outcome: CommandOutcome,
     ) -> Option<End> {
+        if self.settling.is_some() {
+            return None;
+        }
         let what = format!("{cmd:?}");
+        if cmd == MavCmd::MAV_CMD_DO_CHANGE_SPEED {
+            // The move goes on at the autopilot's own speed: its report will say it came early or late.
+            if let CommandOutcome::Rejected(_) | CommandOutcome::TimedOut { .. } = outcome {
+                tracing::warn!(
+                    id = self.id,
+                    ?outcome,
+                    "the move's speed was not taken: the autopilot's own speed"
+                );
+            }
+            return None;
+        }
         match outcome {
             CommandOutcome::Rejected(r) => {
                 return Some(self.failed(ctx, format!("{what} refused: {}", result_name(r))))
@@ -372,6 +453,7 @@ impl Run {
             }
             Phase::Starting => {
                 self.phase = Phase::Running;
+                self.speed_after_ack(ctx);
                 if let Binding::Download { .. } = self.binding {
                     ctx.request_storage();
                     self.last_poll = ctx.vnow;
@@ -457,6 +539,9 @@ impl Run {
     }
 
     pub fn on_mission(&mut self, ctx: &mut Ctx, outcome: MissionOutcome) -> Option<End> {
+        if self.settling.is_some() {
+            return None;
+        }
         match outcome {
             MissionOutcome::Uploaded if self.phase == Phase::Uploading => {
                 if ctx.tel.armed {
@@ -474,6 +559,9 @@ impl Run {
 
     /// A message from the autopilot while the run is active.
     pub fn on_message(&mut self, ctx: &mut Ctx, msg: &MavMessage) -> Option<End> {
+        if self.settling.is_some() {
+            return None;
+        }
         match msg {
             MavMessage::HEARTBEAT(h) => {
                 let armed = h.base_mode.contains(
@@ -519,17 +607,24 @@ impl Run {
                         .as_ref()
                         .is_none_or(|e| e.is_current(ctx.tel.vehicle_time(c.time_boot_ms))) =>
             {
-                ctx.request_storage();
-                self.pending = Some(if c.capture_result.bits() == 1 {
+                let end = if c.capture_result.bits() == 1 {
                     End::nominal()
                 } else {
                     self.failed(
                         ctx,
                         format!("image {} not captured (capture_result 0)", c.image_index),
                     )
-                });
-                self.phase = Phase::Stored(ctx.vnow);
-                None
+                };
+                self.stored(ctx, end)
+            }
+            // ArduPilot's camera library confirms a picture with CAMERA_FEEDBACK only (no
+            // CAMERA_IMAGE_CAPTURED): an image index past the one before the command is this picture.
+            MavMessage::CAMERA_FEEDBACK(f)
+                if matches!(self.binding, Binding::TakePicture { .. })
+                    && !matches!(self.phase, Phase::Stored(_))
+                    && self.feedback_before.is_none_or(|b| f.img_idx != b) =>
+            {
+                self.stored(ctx, End::nominal())
             }
             MavMessage::CAMERA_CAPTURE_STATUS(c) if !matches!(self.phase, Phase::Stored(_)) => {
                 let status = CaptureStatus {
@@ -544,10 +639,7 @@ impl Run {
                         "the camera is idle again with no new image (CAMERA_CAPTURE_STATUS)".into(),
                     ),
                 };
-                ctx.request_storage();
-                self.pending = Some(end);
-                self.phase = Phase::Stored(ctx.vnow);
-                None
+                self.stored(ctx, end)
             }
             MavMessage::STORAGE_INFORMATION(_) if matches!(self.phase, Phase::Stored(_)) => {
                 self.pending.take()
@@ -561,8 +653,24 @@ impl Run {
         }
     }
 
+    /// A capture ended: its report waits (at most [`STORAGE_WAIT_MS`]) for the storage level it left.
+    fn stored(&mut self, ctx: &mut Ctx, end: End) -> Option<End> {
+        ctx.request_storage();
+        self.pending = Some(end);
+        self.phase = Phase::Stored(ctx.vnow);
+        None
+    }
+
     /// Time passed / telemetry changed: recognise ends that are states (position, battery, storage).
     pub fn on_tick(&mut self, ctx: &mut Ctx) -> Option<End> {
+        if let Some((until, _)) = &self.settling {
+            let still = ctx.cfg.state.is_moving(ctx.tel) != Some(true);
+            return if still || ctx.vnow >= *until {
+                self.settled(ctx)
+            } else {
+                None
+            };
+        }
         if self
             .disarmed_since
             .is_some_and(|t| ctx.vnow.saturating_sub(t) >= DISARM_GRACE_MS)
@@ -606,7 +714,9 @@ impl Run {
             {
                 Some(self.failed(
                     ctx,
-                    format!("no CAMERA_IMAGE_CAPTURED within {timeout_ms} ms"),
+                    format!(
+                        "no capture confirmed (CAMERA_IMAGE_CAPTURED, CAMERA_FEEDBACK) within {timeout_ms} ms"
+                    ),
                 ))
             }
             (Binding::TakePicture { .. }, _) => {
@@ -689,6 +799,10 @@ impl Run {
     /// `END i_a`: stops the action; motion is stopped by HOLD, a downlink by its command with p1 = 0.
     /// The report is `Interrupted` with the state.
     pub fn stop(&mut self, ctx: &mut Ctx) -> End {
+        if let Some(end) = self.settled(ctx) {
+            // It had failed already: that is its report.
+            return end;
+        }
         ctx.cmds.cancel(self.id);
         self.stop_downlink(ctx);
         if matches!(
@@ -708,7 +822,8 @@ impl Run {
         End {
             status: ReportStatus::Interrupted,
             reason: Some("stopped (END)".into()),
-            state: self.state_values(ctx),
+            // An interrupted preemptive motion ended as preempted (its end effects hold): no moving value.
+            state: self.state_values(ctx, false),
         }
     }
 }
@@ -725,7 +840,7 @@ fn start_download(ctx: &mut Ctx, id: ActionId, command: u16) -> Result<(), Strin
     Ok(())
 }
 
-fn result_name(r: MavResult) -> &'static str {
+pub(crate) fn result_name(r: MavResult) -> &'static str {
     match r {
         MavResult::MAV_RESULT_DENIED => "DENIED",
         MavResult::MAV_RESULT_FAILED => "FAILED",

@@ -35,6 +35,12 @@ pub struct VehicleConfig {
     pub resources: ResourceNames,
     #[serde(default)]
     pub mapping: Mapping,
+    /// What telemetry says of the vehicle's state, and the domain attributes it sets.
+    #[serde(default)]
+    pub state: super::observed::ObservedState,
+    /// Waiting for the autopilot to be ready before the mission's first start.
+    #[serde(default)]
+    pub ready: ReadyConfig,
     /// Task name of the domain → binding (from `tables`, once parsed).
     #[serde(skip)]
     pub actions: BTreeMap<String, Binding>,
@@ -163,6 +169,43 @@ pub struct Modes {
     /// What a SIGINT / SIGTERM leaves the vehicle in: `hold` (default), `rtl` or `none` (as it is).
     #[serde(default)]
     pub on_shutdown: OnShutdown,
+}
+
+/// `[ready]`: how long `run` waits for a position fix and arming accepted before the mission starts.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReadyConfig {
+    /// Vehicle seconds; 0: do not wait (the first motion arms the vehicle itself).
+    #[serde(default = "d_ready_timeout")]
+    pub timeout_s: f64,
+}
+
+impl Default for ReadyConfig {
+    fn default() -> Self {
+        ReadyConfig {
+            timeout_s: d_ready_timeout(),
+        }
+    }
+}
+
+fn d_ready_timeout() -> f64 {
+    90.0
+}
+
+impl Modes {
+    /// The modes by their key in `[modes]`.
+    pub fn by_key(&self) -> Vec<(&'static str, Mode)> {
+        let mut v = vec![
+            ("hold", self.hold),
+            ("auto", self.auto),
+            ("guided", self.guided),
+            ("rtl", self.rtl),
+        ];
+        if let Some(m) = self.manual {
+            v.push(("manual", m));
+        }
+        v
+    }
 }
 
 /// The domain's reservoirs the vehicle's battery (percent) and storage levels are reported as; a level whose
@@ -356,6 +399,32 @@ impl VehicleConfig {
             if ms > MAX_MS {
                 return Err(invalid(format!("link.{k}"), TOO_LONG));
             }
+        }
+        let st = &self.state;
+        if !(st.still_below_m_s.is_finite() && st.still_below_m_s >= 0.0) {
+            return Err(invalid(
+                "state.still_below_m_s".into(),
+                "must be a speed >= 0",
+            ));
+        }
+        if st.settle_ms > MAX_MS {
+            return Err(invalid("state.settle_ms".into(), TOO_LONG));
+        }
+        if let Some(m) = &st.mode {
+            let known: Vec<&str> = self.modes.by_key().iter().map(|(k, _)| *k).collect();
+            if let Some(k) = m.values.keys().find(|k| !known.contains(&k.as_str())) {
+                return Err((
+                    format!("state.mode.values.{k}"),
+                    format!("not a mode of [modes] (they are: {})", known.join(", ")),
+                ));
+            }
+        }
+        let ready = self.ready.timeout_s;
+        if !(ready.is_finite() && (0.0..=(MAX_MS / 1000) as f64).contains(&ready)) {
+            return Err(invalid(
+                "ready.timeout_s".into(),
+                "seconds, from 0 (do not wait) to a week",
+            ));
         }
         for (task, b) in &self.actions {
             let key = |k: &str| format!("actions.{task}.{k}");

@@ -60,6 +60,12 @@ pub enum IssueKind {
         "type `{name}` is an enumeration; located objects need an object type (`type {name};`)"
     )]
     NotObjectType { name: String },
+    #[error("`{value}` is not a value of attribute `{attribute}` (its values: {known})")]
+    UnknownValue {
+        attribute: String,
+        value: String,
+        known: String,
+    },
     #[error("the problem has no object `{name}`")]
     UnknownObject { name: String },
     #[error("object `{name}` is a {found}, not a {expected}")]
@@ -191,6 +197,7 @@ pub fn check(
     let location_type = location_type(&mut issues, &cfg.mapping);
     bindings(&mut issues, cfg, location_type);
     resources(&mut issues, cfg);
+    observed_state(&mut issues, cfg);
     let mapping = mapping(&mut issues, &cfg.mapping, location_type, problem);
     let (home, home_from) = effective_home(&mut issues, cfg.home, problem);
     for w in issues
@@ -386,6 +393,55 @@ fn resources(issues: &mut Issues, cfg: &VehicleConfig) {
                 IssueKind::NotReservoir { name: name.clone() },
             ),
             Some(_) => {}
+        }
+    }
+}
+
+/// `[state]`: each observation sets an attribute without parameters, to constants of its value type.
+fn observed_state(issues: &mut Issues, cfg: &VehicleConfig) {
+    let d = issues.domain;
+    for (key, attribute, values) in cfg.state.named() {
+        let Some(attr) = d.attr_id(attribute) else {
+            issues.error(
+                format!("{key}.attribute"),
+                None,
+                IssueKind::UnknownAttribute {
+                    name: attribute.into(),
+                    known: names(d.attrs.iter().map(|a| a.name.as_str())),
+                },
+            );
+            continue;
+        };
+        let a = d.attr(attr);
+        if !a.params.is_empty() {
+            issues.error(
+                format!("{key}.attribute"),
+                a.line,
+                IssueKind::WrongAttribute {
+                    name: attribute.into(),
+                    reason: "an observed state is an attribute without parameters".into(),
+                },
+            );
+            continue;
+        }
+        let ty = d.ty(a.value_type);
+        for value in values {
+            let fits = d.object_id(value).is_some_and(|o| ty.members.contains(&o));
+            if !fits {
+                issues.error(
+                    key.clone(),
+                    a.line,
+                    IssueKind::UnknownValue {
+                        attribute: attribute.into(),
+                        value: value.into(),
+                        known: names(
+                            ty.members
+                                .iter()
+                                .map(|&o| d.objects[o.index()].name.as_str()),
+                        ),
+                    },
+                );
+            }
         }
     }
 }

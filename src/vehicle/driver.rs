@@ -14,6 +14,7 @@ use super::api::VehicleError;
 use super::commands::{Command, CommandClient, CommandOutcome, Token};
 use super::config::VehicleConfig;
 use super::mission_client::MissionClient;
+use super::readiness::{Readiness, ReadyAction};
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome};
 use super::telemetry::Telemetry;
 use super::types::{ActionId, ActionReport, ActionStart, LinkStatus, VehicleEvent};
@@ -40,6 +41,8 @@ pub const COMPANION_COMPONENT: u8 = 191;
 
 /// The owner of the safe stop's mode command (action ids are small; `u64::MAX` is "nobody").
 const SAFE_STOP_TOKEN: Token = u64::MAX - 1;
+/// The owner of the readiness wait's ARM commands.
+const READY_TOKEN: Token = u64::MAX - 2;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Link {
@@ -63,6 +66,7 @@ pub struct Driver {
     last_heartbeat_rx: u64,
     last_heartbeat_tx: Option<u64>,
     safe_stop: Option<SafeStop>,
+    readiness: Option<Readiness>,
 }
 
 /// The HEARTBEAT of the companion.
@@ -99,6 +103,7 @@ impl Driver {
             last_heartbeat_rx: 0,
             last_heartbeat_tx: None,
             safe_stop: None,
+            readiness: None,
         }
     }
 
@@ -156,7 +161,8 @@ impl Driver {
             return;
         };
         let mut ctx = ctx!(self, now);
-        if let Some(end) = f(run, &mut ctx) {
+        let end = f(run, &mut ctx).and_then(|end| run.settle(&mut ctx, end));
+        if let Some(end) = end {
             self.report(id, end);
         }
     }
@@ -242,7 +248,42 @@ impl Driver {
             .saturating_add(2_000)
     }
 
+    /// Starts waiting for the autopilot to be ready (a position fix, then arming accepted, ARM retried with
+    /// a backoff); [`Driver::readiness`] tells how it goes.
+    pub fn begin_ready(&mut self, now: u64) {
+        let vnow = self.tel.time_boot_ms.unwrap_or(now);
+        self.readiness = Some(Readiness::new(vnow));
+        self.drive_readiness(now);
+    }
+
+    pub fn readiness(&self) -> Option<&Readiness> {
+        self.readiness.as_ref()
+    }
+
+    fn drive_readiness(&mut self, now: u64) {
+        let Some(r) = &mut self.readiness else {
+            return;
+        };
+        let vnow = self.tel.time_boot_ms.unwrap_or(now);
+        if r.tick(vnow, self.tel.position.is_some(), self.tel.armed) == ReadyAction::Arm {
+            let target = self.target.unwrap_or((self.system_id, 1));
+            let cmd = Command::long(
+                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                target,
+                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            );
+            self.cmds.send(READY_TOKEN, cmd, now, &mut self.out);
+        }
+    }
+
     fn command_outcome(&mut self, token: Token, cmd: MavCmd, outcome: CommandOutcome, now: u64) {
+        if token == READY_TOKEN {
+            let vnow = self.tel.time_boot_ms.unwrap_or(now);
+            if let Some(r) = &mut self.readiness {
+                r.on_arm(vnow, outcome, self.tel.armed);
+            }
+            return;
+        }
         if token == SAFE_STOP_TOKEN {
             if let Some(s) = &mut self.safe_stop {
                 s.on_ack(outcome);
@@ -305,6 +346,12 @@ impl Driver {
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
         }
+        if let (Some(r), MavMessage::STATUSTEXT(t)) = (&mut self.readiness, msg) {
+            // WARNING or worse: ArduPilot's "PreArm: ..." and "Arm: ..." reasons are CRITICAL.
+            if (t.severity as u8) <= 4 {
+                r.on_text(t.text.to_str().unwrap_or("").trim_end_matches('\0'));
+            }
+        }
         if let MavMessage::COMMAND_ACK(ack) = msg {
             if let Some((token, cmd, outcome)) = self.cmds.on_ack(ack, now) {
                 self.command_outcome(token, cmd, outcome, now);
@@ -318,6 +365,7 @@ impl Driver {
             self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
         }
+        self.drive_readiness(now);
     }
 
     /// The autopilot restarted: it forgot what it was doing (disarmed, in its boot mode). Each running action
@@ -382,5 +430,6 @@ impl Driver {
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
         }
+        self.drive_readiness(now);
     }
 }

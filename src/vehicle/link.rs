@@ -21,6 +21,7 @@ use super::goal_answers::{answer_uploads, Awaiting, FollowUp};
 use super::goals::{GoalBatch, GoalDecider, KnownLocations, SyntacticDecider};
 use super::intake::{GoalIntake, PendingDecision};
 use super::peers::Peers;
+use super::readiness::ReadyReport;
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
 use super::tlog::TlogWriter;
 use super::types::{ActionId, ActionStart, VehicleEvent};
@@ -576,6 +577,48 @@ impl MavlinkVehicle {
                 return state.report();
             }
             pass_time(self);
+        }
+    }
+
+    /// Waits for the autopilot to be ready for the mission's first start: a position fix, then ARM accepted
+    /// (retried with a backoff while refused). Gives up after `limit_ms` of the vehicle's time, or after
+    /// `wall_limit` should its clock stop. `pass_time` runs between looks (a sleep on a live link; a step
+    /// of a stepped simulator) and returns false to stop waiting (a signal).
+    pub fn wait_ready(
+        &self,
+        limit_ms: u64,
+        wall_limit: Duration,
+        pass_time: &mut dyn FnMut(&MavlinkVehicle) -> bool,
+    ) -> ReadyReport {
+        let not_ready = || super::readiness::Readiness::new(0).report().clone();
+        let started = {
+            // A poisoned driver (a pump panicked) can command nothing.
+            let Ok(mut d) = self.shared.driver.lock() else {
+                return not_ready();
+            };
+            d.begin_ready(self.shared.clock_now());
+            self.deliver(&mut d);
+            d.telemetry().time_boot_ms.unwrap_or(0)
+        };
+        self.shared.notify.notify_one();
+        let deadline = Instant::now() + wall_limit;
+        loop {
+            let state = self.shared.driver.lock().ok().and_then(|d| {
+                let vnow = d.telemetry().time_boot_ms.unwrap_or(0);
+                d.readiness().map(|r| (r.report().clone(), vnow))
+            });
+            let Some((report, vnow)) = state else {
+                return not_ready();
+            };
+            if report.ready
+                || vnow.saturating_sub(started) >= limit_ms
+                || Instant::now() >= deadline
+            {
+                return report;
+            }
+            if !pass_time(self) {
+                return report;
+            }
         }
     }
 

@@ -6,6 +6,7 @@
 //! - `intake`, `goals`, `goal_files`, `goal_answers`: goal lists from a ground station or a file, and the
 //!   executive's answers;
 //! - `config_check`: a configuration checked against its domain, the executive's mapping resolved;
+//! - `readiness`: the autopilot ready (a fix, arming accepted) before the mission's first start;
 //! - `safe_stop`: the vehicle left safe when the companion is stopped by a signal;
 //! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
 //!   that pump bytes through the core.
@@ -31,7 +32,9 @@ pub mod items;
 pub mod link;
 pub mod mission_client;
 pub mod mock;
+pub mod observed;
 pub mod peers;
+pub mod readiness;
 pub mod safe_stop;
 pub mod telemetry;
 pub mod tlog;

@@ -20,6 +20,11 @@ pub struct Telemetry {
     pub custom_mode: Option<u32>,
     pub armed: bool,
     pub mission_current: Option<(u16, u16)>,
+    /// The image index of the camera's last CAMERA_FEEDBACK (ArduPilot's picture confirmation).
+    pub camera_feedback_index: Option<u16>,
+    /// Ground speed, m/s (VFR_HUD, else GLOBAL_POSITION_INT's velocity).
+    pub ground_speed: Option<f64>,
+    has_vfr_hud: bool,
     has_battery_status: bool,
     /// The autopilot's own time_boot_ms, last received.
     raw_boot_ms: Option<u64>,
@@ -52,6 +57,10 @@ impl Telemetry {
             }
             MavMessage::GLOBAL_POSITION_INT(p) => {
                 self.clock(u64::from(p.time_boot_ms));
+                if !self.has_vfr_hud {
+                    let (vx, vy) = (f64::from(p.vx) / 100.0, f64::from(p.vy) / 100.0);
+                    self.ground_speed = Some(vx.hypot(vy));
+                }
                 // (0, 0) until the GPS has a fix: never a position to plan from.
                 if p.lat != 0 || p.lon != 0 {
                     self.position = Some(home.to_local(
@@ -98,6 +107,11 @@ impl Telemetry {
                 }
             }
             MavMessage::MISSION_CURRENT(m) => self.mission_current = Some((m.seq, m.total)),
+            MavMessage::CAMERA_FEEDBACK(f) => self.camera_feedback_index = Some(f.img_idx),
+            MavMessage::VFR_HUD(v) if v.groundspeed.is_finite() => {
+                self.has_vfr_hud = true;
+                self.ground_speed = Some(f64::from(v.groundspeed.abs()));
+            }
             _ => {}
         }
     }
