@@ -26,6 +26,10 @@ pub struct SimArgs {
     /// Seed for picture sizes and link faults.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Autopilot behaviours: default, or ardupilot (as a real ArduPilot Rover). Replaces the
+    /// scenario's `[autopilot] profile`; the scenario's other `[autopilot]` keys still apply.
+    #[arg(long)]
+    pub profile: Option<String>,
 }
 
 pub fn run(args: SimArgs) -> ExitCode {
@@ -46,11 +50,16 @@ fn configure(args: &SimArgs) -> Result<sitl::SimConfig, String> {
         seed: args.seed,
         ..sitl::SimConfig::default()
     };
-    if let Some(home) = &args.home {
-        config.home = sitl::parse_home(home).map_err(|e| e.to_string())?;
-    }
     if let Some(path) = &args.scenario {
         config.scenario = sitl::Scenario::load(path).map_err(|e| e.to_string())?;
+    }
+    if let Some(home) = &args.home {
+        config.home = sitl::parse_home(home).map_err(|e| e.to_string())?;
+        // The command line wins over the scenario's [home].
+        config.scenario.home = None;
+    }
+    if let Some(profile) = &args.profile {
+        config.scenario.autopilot.profile = profile.parse()?;
     }
     config.validate().map_err(|e| e.to_string())?;
     Ok(config)
