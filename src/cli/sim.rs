@@ -112,3 +112,39 @@ async fn stopped() {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(profile: Option<&str>, home: Option<&str>) -> SimArgs {
+        SimArgs {
+            listen: "tcpin:127.0.0.1:0".into(),
+            speedup: 1.0,
+            vehicle: "rover".into(),
+            home: home.map(String::from),
+            scenario: Some(
+                [
+                    env!("CARGO_MANIFEST_DIR"),
+                    "sitl/scenarios/ardupilot-rover.toml",
+                ]
+                .iter()
+                .collect(),
+            ),
+            seed: 0,
+            profile: profile.map(String::from),
+        }
+    }
+
+    #[test]
+    fn profile_and_home_on_the_command_line_win_over_the_scenario() {
+        let cfg = configure(&args(None, None)).expect("valid");
+        assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Ardupilot);
+        assert_eq!(cfg.home_point().lat, 43.5616);
+        let cfg = configure(&args(Some("default"), Some("43.5,1.25"))).expect("valid");
+        assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Default);
+        assert_eq!((cfg.home_point().lat, cfg.home_point().lon), (43.5, 1.25));
+        let err = configure(&args(Some("px4"), None)).expect_err("unknown profile");
+        assert!(err.contains("unknown profile `px4`"), "{err}");
+    }
+}
