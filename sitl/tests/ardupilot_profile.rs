@@ -540,3 +540,44 @@ async fn the_shipped_ardupilot_rover_scenario_is_the_profile_at_its_home() {
     };
     assert!(cfg.validate().is_err());
 }
+
+/// A mission's camera items go through AP_Camera too: IMAGE_START_CAPTURE shoots (CAMERA_FEEDBACK),
+/// DO_DIGICAM_CONTROL only with its shooting command (param5) at 1.
+#[tokio::test]
+async fn mission_camera_items_follow_ap_camera() {
+    let (sim, mut gcs) = start(ARDUPILOT_READY).await;
+    let digicam = |shoot: i32| MISSION_ITEM_INT_DATA {
+        x: shoot,
+        ..item(MavCmd::MAV_CMD_DO_DIGICAM_CONTROL, [0.0; 4])
+    };
+    upload_ok(
+        &mut gcs,
+        &[
+            waypoint(HOME, 0.0, 0.0),
+            waypoint(HOME, 5.0, 0.0),
+            item(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 0.0]),
+            MISSION_ITEM_INT_DATA {
+                param1: 10.0,
+                ..waypoint(HOME, 10.0, 0.0)
+            },
+            digicam(0),
+            digicam(1),
+            waypoint(HOME, 20.0, 0.0),
+        ],
+    )
+    .await;
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
+    let s = run_until(&sim, 120, |s| s.mission_complete).await;
+    let feedbacks: Vec<u16> = gcs
+        .sync()
+        .await
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::CAMERA_FEEDBACK(f) => Some(f.img_idx),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(feedbacks, vec![1, 2], "{s:?}");
+    assert_eq!(s.pictures_ok, 2);
+}

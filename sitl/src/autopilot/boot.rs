@@ -18,8 +18,9 @@ const BOOT_CHECKS: [(f64, &str); 3] = [
 ];
 
 impl Autopilot {
+    /// `secs` have passed since boot (time_boot_ms stays 0 while a reboot is silent).
     fn booted_for(&self, secs: f64) -> bool {
-        u64::from(self.time_boot_ms()) >= secs_to_ms(secs) && self.now_ms >= self.booted_ms
+        u64::from(self.time_boot_ms()) >= secs_to_ms(secs)
     }
 
     /// The arming checks pass (ArduPilot profile: `ready_after_s` after boot).
