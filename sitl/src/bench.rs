@@ -187,7 +187,7 @@ pub async fn measure_speedup(
     leg_m: f64,
 ) -> Result<SpeedupReport, SimError> {
     let cfg = bench_config(speedup, ClockMode::Paced);
-    let frame = LocalFrame::new(cfg.home);
+    let frame = LocalFrame::new(cfg.home_point());
     let sim = crate::spawn(cfg).await?;
     let mut c = start_mission(&sim, &frame, waypoints, leg_m).await?;
     let (sim0, wall0) = (sim.now_ms(), Instant::now());

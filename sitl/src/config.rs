@@ -67,6 +67,15 @@ impl GeoPoint {
     };
 }
 
+impl From<crate::scenario::HomeParams> for GeoPoint {
+    fn from(h: crate::scenario::HomeParams) -> Self {
+        GeoPoint {
+            lat: h.lat,
+            lon: h.lon,
+        }
+    }
+}
+
 /// Parses `LAT,LON` in degrees.
 pub fn parse_home(s: &str) -> Result<GeoPoint, SimError> {
     let bad = || SimError::BadHome(s.to_string());
@@ -150,7 +159,25 @@ impl SimConfig {
         self.scenario.check().map_err(|reason| SimError::Scenario {
             path: "(config)".into(),
             reason,
-        })
+        })?;
+        // Two different homes are a mistake to report, not a choice to make silently.
+        match self.scenario.home {
+            Some(h) if self.home != GeoPoint::LAAS && self.home != GeoPoint::from(h) => {
+                Err(SimError::Scenario {
+                    path: "(config)".into(),
+                    reason: format!(
+                        "home: the scenario's {}, {} differs from the configured {}, {}",
+                        h.lat, h.lon, self.home.lat, self.home.lon
+                    ),
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Where the vehicle boots: the scenario's `[home]`, else `home`.
+    pub fn home_point(&self) -> GeoPoint {
+        self.scenario.home.map_or(self.home, GeoPoint::from)
     }
 }
 

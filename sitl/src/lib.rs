@@ -35,8 +35,9 @@ pub use autopilot::NAV_FAIL_TEXT;
 pub use config::{parse_home, ClockMode, GeoPoint, MissionRequestKind, SimConfig, VehicleKind};
 pub use error::SimError;
 pub use scenario::{
-    BatteryParams, CameraParams, EventKind, FailResult, Fault, FaultSpec, SamplerParams, Scenario,
-    Trigger, VehicleParams, VisibilityWindow, Zone,
+    AutopilotParams, BatteryParams, Behaviour, CameraBackend, CameraParams, EventKind, FailResult,
+    Fault, FaultSpec, HomeParams, Profile, SamplerParams, Scenario, Trigger, VehicleParams,
+    VisibilityWindow, Zone,
 };
 pub use sim::{spawn, SimClock, SimHandle};
 pub use snapshot::Snapshot;

@@ -70,6 +70,16 @@ impl Camera {
         self.hung || !self.pending.is_empty()
     }
 
+    /// Captures scheduled and not yet completed.
+    pub fn pending(&self) -> usize {
+        self.pending.len()
+    }
+
+    /// The index the next picture gets (= pictures triggered so far).
+    pub fn next_index(&self) -> i32 {
+        self.next_index
+    }
+
     /// Schedules `count` pictures `interval_s` apart; returns their image indices.
     pub fn start(&mut self, now_ms: u64, count: u32, interval_s: f64) -> Vec<i32> {
         self.hung = false;

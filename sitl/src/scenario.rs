@@ -8,6 +8,8 @@ use crate::error::SimError;
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
+    /// Where the vehicle boots; replaces [`crate::SimConfig::home`] (`mavtempo sim --home` replaces it).
+    pub home: Option<HomeParams>,
     #[serde(default)]
     pub vehicle: VehicleParams,
     #[serde(default)]
@@ -16,6 +18,9 @@ pub struct Scenario {
     pub camera: CameraParams,
     #[serde(default)]
     pub sampler: SamplerParams,
+    /// How closely the autopilot follows ArduPilot where the simple model differs (`[autopilot]`).
+    #[serde(default)]
+    pub autopilot: AutopilotParams,
     /// Terrain zones that slow the vehicle (obstacles, rough ground).
     #[serde(default)]
     pub slow_zones: Vec<Zone>,
@@ -128,6 +133,129 @@ impl Default for SamplerParams {
         }
     }
 }
+
+/// `[home]`: the vehicle's boot position, in degrees.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HomeParams {
+    pub lat: f64,
+    pub lon: f64,
+}
+
+/// A set of autopilot behaviours chosen at once.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Profile {
+    /// The simple model every scenario had so far: ready and with a GPS fix at boot, the camera
+    /// answers CAMERA_IMAGE_CAPTURED, speeds are accepted in any state.
+    #[default]
+    Default,
+    /// What a real ArduPilot Rover (4.7-dev) SITL does: arming refused for 20 s after boot, no
+    /// position for 10 s, AP_Camera (CAMERA_FEEDBACK), GUIDED submodes and their speed rules.
+    Ardupilot,
+}
+
+impl std::str::FromStr for Profile {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "default" => Ok(Self::Default),
+            "ardupilot" => Ok(Self::Ardupilot),
+            other => Err(format!("unknown profile `{other}` (default or ardupilot)")),
+        }
+    }
+}
+
+/// Which camera the autopilot drives.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum CameraBackend {
+    /// A MAVLink camera (camera protocol v2): CAMERA_IMAGE_CAPTURED per picture.
+    Mavlink,
+    /// ArduPilot's AP_Camera (CAM1_TYPE set, feedback on): CAMERA_FEEDBACK per picture stored,
+    /// no CAMERA_IMAGE_CAPTURED.
+    Ardupilot,
+    /// No camera configured: IMAGE_START_CAPTURE is FAILED.
+    None,
+}
+
+/// `[autopilot]`: a profile, and keys that override what it sets.
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct AutopilotParams {
+    pub profile: Profile,
+    /// Arming is refused (FAILED + "Arm: ..." texts) for this long after each boot.
+    pub ready_after_s: Option<f64>,
+    /// GLOBAL_POSITION_INT / GPS_RAW_INT read lat = lon = 0 for this long after each boot.
+    pub gps_fix_after_s: Option<f64>,
+    pub camera: Option<CameraBackend>,
+    /// GUIDED starts in its Stop submode; speeds follow ArduPilot's submode rules (see the README).
+    pub guided_submodes: Option<bool>,
+    /// STORAGE_INFORMATION is answered (ArduPilot itself has none: REQUEST_MESSAGE(261) is FAILED).
+    pub storage_information: Option<bool>,
+}
+
+/// The behaviours an [`AutopilotParams`] comes to: its profile's, overridden key by key.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Behaviour {
+    /// The profile the keys started from (it also sets the wording of arming refusals).
+    pub profile: Profile,
+    pub ready_after_s: f64,
+    pub gps_fix_after_s: f64,
+    pub camera: CameraBackend,
+    pub guided_submodes: bool,
+    pub storage_information: bool,
+}
+
+impl Profile {
+    pub fn behaviour(self) -> Behaviour {
+        match self {
+            Profile::Default => Behaviour {
+                profile: self,
+                ready_after_s: 0.0,
+                gps_fix_after_s: 0.0,
+                camera: CameraBackend::Mavlink,
+                guided_submodes: false,
+                storage_information: true,
+            },
+            // 20 s and 10 s as observed on ArduPilot Rover SITL; the storage stays answered so that
+            // a companion tracking it keeps working (see the README).
+            Profile::Ardupilot => Behaviour {
+                profile: self,
+                ready_after_s: 20.0,
+                gps_fix_after_s: 10.0,
+                camera: CameraBackend::Ardupilot,
+                guided_submodes: true,
+                storage_information: true,
+            },
+        }
+    }
+}
+
+impl AutopilotParams {
+    /// A profile with no key overridden.
+    pub fn profile(profile: Profile) -> Self {
+        Self {
+            profile,
+            ..Self::default()
+        }
+    }
+
+    pub fn behaviour(&self) -> Behaviour {
+        let p = self.profile.behaviour();
+        Behaviour {
+            profile: self.profile,
+            ready_after_s: self.ready_after_s.unwrap_or(p.ready_after_s),
+            gps_fix_after_s: self.gps_fix_after_s.unwrap_or(p.gps_fix_after_s),
+            camera: self.camera.unwrap_or(p.camera),
+            guided_submodes: self.guided_submodes.unwrap_or(p.guided_submodes),
+            storage_information: self.storage_information.unwrap_or(p.storage_information),
+        }
+    }
+}
+
+/// Longest boot delay accepted (a day): beyond it a delay is a typo, and ms stay far from overflow.
+const MAX_BOOT_DELAY_S: f64 = 86_400.0;
 
 /// A disc in the local frame (metres north/east of home) or around a lat/lon.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
@@ -351,6 +479,22 @@ impl Scenario {
                 "vehicle.turn_rate_dps",
                 "turn_rate_dps and wp_radius_m must be > 0",
             );
+        }
+        if let Some(h) = self.home {
+            if !(-90.0..=90.0).contains(&h.lat) {
+                return bad("home.lat", "must be in [-90, 90]");
+            }
+            if !(-180.0..=180.0).contains(&h.lon) {
+                return bad("home.lon", "must be in [-180, 180]");
+            }
+        }
+        for (key, delay) in [
+            ("autopilot.ready_after_s", self.autopilot.ready_after_s),
+            ("autopilot.gps_fix_after_s", self.autopilot.gps_fix_after_s),
+        ] {
+            if delay.is_some_and(|d| !(0.0..=MAX_BOOT_DELAY_S).contains(&d)) {
+                return bad(key, "must be in [0, 86400] seconds");
+            }
         }
         if !(0.0..=100.0).contains(&self.battery.initial_pct) {
             return bad("battery.initial_pct", "must be in [0, 100]");

@@ -41,12 +41,7 @@ fault = { kind = "command_fails", command = 192, result = "denied", count = 2 }
 }
 
 async fn capture(gcs: &mut Gcs) {
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
-            [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
+    let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
 }
 

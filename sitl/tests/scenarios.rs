@@ -75,14 +75,7 @@ fn scenario_errors_are_reported_at_line_and_column() {
     for (from, to, at, message) in cases {
         let bad = text.replacen(from, to, 1);
         assert_ne!(bad, text, "{from} is in fig2.toml");
-        let err = sitl::Scenario::parse(&bad, "fig2.toml")
-            .expect_err(to)
-            .to_string();
-        assert!(
-            err.starts_with(&format!("bad scenario fig2.toml:{at}: error: "))
-                && err.contains(message),
-            "{to}: want {at} {message}, got\n{err}"
-        );
+        let err = error_at(&bad, "fig2.toml", at, message);
         assert!(
             err.contains(&format!(
                 "\n    {}",
@@ -99,6 +92,18 @@ fn scenario_errors_are_reported_at_line_and_column() {
             "{err}"
         );
     }
+}
+
+/// Parses `bad` (named `origin`), which must fail at `at` (line:col) with `message`; the error.
+fn error_at(bad: &str, origin: &str, at: &str, message: &str) -> String {
+    let err = sitl::Scenario::parse(bad, origin)
+        .expect_err(message)
+        .to_string();
+    assert!(
+        err.starts_with(&format!("bad scenario {origin}:{at}: error: ")) && err.contains(message),
+        "want {at} {message}, got\n{err}"
+    );
+    err
 }
 
 #[test]
@@ -167,4 +172,57 @@ fn leaves(doc: &toml_edit::DocumentMut) -> Vec<(String, String)> {
         }
     }
     out
+}
+
+/// `[autopilot]` and `[home]` values out of range, or unknown, are reported at their line:col.
+#[test]
+fn bad_autopilot_and_home_values_are_reported_at_line_and_column() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/ardupilot-rover.toml");
+    let text = std::fs::read_to_string(&path).expect("ardupilot-rover.toml");
+    let line_of = |needle: &str| {
+        text.lines()
+            .position(|l| l.starts_with(needle))
+            .map(|i| i + 1)
+            .unwrap_or_else(|| panic!("{needle} is in ardupilot-rover.toml"))
+    };
+    let (home, profile) = (line_of("lat = "), line_of("profile = "));
+    // (shipped text, replacement, expected line:col, part of the message)
+    let cases = [
+        (
+            "profile = \"ardupilot\"",
+            "profile = \"px4\"",
+            format!("{profile}:11"),
+            "unknown variant `px4`",
+        ),
+        (
+            "profile = \"ardupilot\"",
+            "profile = \"ardupilot\"\ncamera = \"gopro\"",
+            format!("{}:10", profile + 1),
+            "unknown variant `gopro`",
+        ),
+        (
+            "profile = \"ardupilot\"",
+            "profile = \"ardupilot\"\nready_after_s = -1.0",
+            format!("{}:17", profile + 1),
+            "autopilot.ready_after_s: must be in [0, 86400] seconds",
+        ),
+        (
+            "profile = \"ardupilot\"",
+            "profile = \"ardupilot\"\ngps_fix = 3.0",
+            format!("{}:1", profile + 1),
+            "unknown field `gps_fix`",
+        ),
+        (
+            "lat = 43.5616",
+            "lat = 143.5616",
+            format!("{home}:7"),
+            "home.lat: must be in [-90, 90]",
+        ),
+    ];
+    for (from, to, at, message) in cases {
+        let bad = text.replacen(from, to, 1);
+        assert_ne!(bad, text, "{from} is in ardupilot-rover.toml");
+        error_at(&bad, "ap.toml", &at, message);
+    }
 }

@@ -26,6 +26,10 @@ pub struct SimArgs {
     /// Seed for picture sizes and link faults.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Autopilot behaviours: default, or ardupilot (as a real ArduPilot Rover). Replaces the
+    /// scenario's `[autopilot] profile`; the scenario's other `[autopilot]` keys still apply.
+    #[arg(long)]
+    pub profile: Option<String>,
 }
 
 pub fn run(args: SimArgs) -> ExitCode {
@@ -46,11 +50,16 @@ fn configure(args: &SimArgs) -> Result<sitl::SimConfig, String> {
         seed: args.seed,
         ..sitl::SimConfig::default()
     };
-    if let Some(home) = &args.home {
-        config.home = sitl::parse_home(home).map_err(|e| e.to_string())?;
-    }
     if let Some(path) = &args.scenario {
         config.scenario = sitl::Scenario::load(path).map_err(|e| e.to_string())?;
+    }
+    if let Some(home) = &args.home {
+        config.home = sitl::parse_home(home).map_err(|e| e.to_string())?;
+        // The command line wins over the scenario's [home].
+        config.scenario.home = None;
+    }
+    if let Some(profile) = &args.profile {
+        config.scenario.autopilot.profile = profile.parse()?;
     }
     config.validate().map_err(|e| e.to_string())?;
     Ok(config)
@@ -101,5 +110,41 @@ async fn stopped() {
         Err(_) => {
             let _ = tokio::signal::ctrl_c().await;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(profile: Option<&str>, home: Option<&str>) -> SimArgs {
+        SimArgs {
+            listen: "tcpin:127.0.0.1:0".into(),
+            speedup: 1.0,
+            vehicle: "rover".into(),
+            home: home.map(String::from),
+            scenario: Some(
+                [
+                    env!("CARGO_MANIFEST_DIR"),
+                    "sitl/scenarios/ardupilot-rover.toml",
+                ]
+                .iter()
+                .collect(),
+            ),
+            seed: 0,
+            profile: profile.map(String::from),
+        }
+    }
+
+    #[test]
+    fn profile_and_home_on_the_command_line_win_over_the_scenario() {
+        let cfg = configure(&args(None, None)).expect("valid");
+        assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Ardupilot);
+        assert_eq!(cfg.home_point().lat, 43.5616);
+        let cfg = configure(&args(Some("default"), Some("43.5,1.25"))).expect("valid");
+        assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Default);
+        assert_eq!((cfg.home_point().lat, cfg.home_point().lon), (43.5, 1.25));
+        let err = configure(&args(Some("px4"), None)).expect_err("unknown profile");
+        assert!(err.contains("unknown profile `px4`"), "{err}");
     }
 }

@@ -219,8 +219,7 @@ impl Autopilot {
     fn run_do(&mut self, seq: u16, it: &Item) {
         match it.command {
             MavCmd::MAV_CMD_DO_CHANGE_SPEED => {
-                if it.p[1] > 0.0 {
-                    self.speed_override = Some(f64::from(it.p[1]));
+                if self.change_speed(f64::from(it.p[1])) {
                     self.text(
                         MavSeverity::MAV_SEVERITY_INFO,
                         &format!("speed: {:.1} m/s", it.p[1]),
@@ -232,9 +231,10 @@ impl Autopilot {
                 self.set_servo(it.p[0] as u8, it.p[1] as u16);
             }
             MavCmd::MAV_CMD_IMAGE_START_CAPTURE => {
-                self.start_capture(it.p[2].max(1.0) as u32, f64::from(it.p[1]));
+                // A mission has no one to answer.
+                let _ = self.image_start_capture(it.p[0], it.p[1], it.p[2]);
             }
-            MavCmd::MAV_CMD_DO_DIGICAM_CONTROL => self.start_capture(1, 0.0),
+            MavCmd::MAV_CMD_DO_DIGICAM_CONTROL => self.digicam_control(it.param5),
             other => {
                 let id = other as u32;
                 self.text(

@@ -6,10 +6,14 @@ use super::command_memory::Answer;
 use super::telemetry::{self, data_stream_ids};
 use super::{Autopilot, Mode, Sender};
 use crate::physics::Target;
-use crate::scenario::EventKind;
+use crate::scenario::{CameraBackend, EventKind};
 
-/// `MAV_CMD_COMPONENT_ARM_DISARM` param2 that skips the prearm checks.
-const FORCE_ARM: f32 = 21196.0;
+/// `MAV_CMD_COMPONENT_ARM_DISARM` param2 values that skip the arming checks (ArduPilot's
+/// `magic_force_arm_value` and `magic_force_arm_disarm_value`).
+const FORCE_ARM: [f32; 2] = [2989.0, 21196.0];
+
+/// AR_WPNav::set_speed_max refuses anything slower.
+const WPNAV_SPEED_MIN: f64 = 0.05;
 
 /// A command from either message, positions kept as integers when they came as COMMAND_INT.
 #[derive(Debug, Clone)]
@@ -109,10 +113,12 @@ impl Autopilot {
             }
             MavCmd::MAV_CMD_COMPONENT_ARM_DISARM => {
                 if c.p[0] >= 0.5 {
-                    match self.arm(c.p[1] == FORCE_ARM) {
+                    match self.arm(FORCE_ARM.contains(&c.p[1])) {
                         Ok(()) => MavResult::MAV_RESULT_ACCEPTED,
-                        Err(reason) => {
-                            self.text(MavSeverity::MAV_SEVERITY_CRITICAL, reason);
+                        Err(reasons) => {
+                            for reason in reasons {
+                                self.text(MavSeverity::MAV_SEVERITY_CRITICAL, &reason);
+                            }
                             MavResult::MAV_RESULT_FAILED
                         }
                     }
@@ -139,24 +145,14 @@ impl Autopilot {
             MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT => self.set_mission_current(c.p[0] as i64),
             MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH => self.set_mode_result(Mode::Rtl),
             MavCmd::MAV_CMD_DO_REPOSITION => self.reposition(&c),
-            MavCmd::MAV_CMD_DO_CHANGE_SPEED => {
-                if c.p[1] > 0.0 {
-                    self.speed_override = Some(f64::from(c.p[1]));
-                    MavResult::MAV_RESULT_ACCEPTED
-                } else {
-                    MavResult::MAV_RESULT_DENIED
-                }
-            }
+            MavCmd::MAV_CMD_DO_CHANGE_SPEED => self.change_speed_command(&c),
             MavCmd::MAV_CMD_DO_SET_SERVO => {
                 self.set_servo(c.p[0] as u8, c.p[1] as u16);
                 MavResult::MAV_RESULT_ACCEPTED
             }
-            MavCmd::MAV_CMD_IMAGE_START_CAPTURE => {
-                self.start_capture(c.p[2].max(1.0) as u32, f64::from(c.p[1]));
-                MavResult::MAV_RESULT_ACCEPTED
-            }
+            MavCmd::MAV_CMD_IMAGE_START_CAPTURE => self.image_start_capture(c.p[0], c.p[1], c.p[2]),
             MavCmd::MAV_CMD_DO_DIGICAM_CONTROL => {
-                self.start_capture(1, 0.0);
+                self.digicam_control(c.p[4]);
                 MavResult::MAV_RESULT_ACCEPTED
             }
             MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL => {
@@ -177,13 +173,27 @@ impl Autopilot {
     }
 
     fn request_message(&mut self, c: &Cmd, id: u32) {
+        if id == telemetry::STORAGE_INFORMATION && !self.behaviour.storage_information {
+            // ArduPilot has no STORAGE_INFORMATION: an unknown id is FAILED.
+            self.ack(c, MavResult::MAV_RESULT_FAILED, 0);
+            return;
+        }
         match self.build(id) {
             Some(m) => {
                 self.ack(c, MavResult::MAV_RESULT_ACCEPTED, 0);
                 self.send_to(c.from.peer, m);
             }
+            // A message ArduPilot knows but has nothing for yet (no home before the fix, no
+            // camera) is ACCEPTED and not sent.
+            None if telemetry::SENDABLE.contains(&id) || self.knows_camera_feedback(id) => {
+                self.ack(c, MavResult::MAV_RESULT_ACCEPTED, 0)
+            }
             None => self.ack(c, MavResult::MAV_RESULT_UNSUPPORTED, 0),
         }
+    }
+
+    fn knows_camera_feedback(&self, id: u32) -> bool {
+        id == telemetry::CAMERA_FEEDBACK && self.behaviour.camera != CameraBackend::Mavlink
     }
 
     fn set_mode_result(&mut self, m: Mode) -> MavResult {
@@ -215,6 +225,11 @@ impl Autopilot {
         if place.is_some() || !c.p[0].is_finite() {
             return MavResult::MAV_RESULT_DENIED;
         }
+        let submodes = self.behaviour.guided_submodes;
+        // ArduPilot refuses (0, 0); the simple model reads it as "here".
+        if submodes && x == 0 && y == 0 {
+            return MavResult::MAV_RESULT_DENIED;
+        }
         let change_mode = (c.p[1] as u32) & 1 == 1;
         if self.mode != Mode::Guided {
             if !change_mode {
@@ -224,8 +239,70 @@ impl Autopilot {
                 return MavResult::MAV_RESULT_FAILED;
             }
         }
-        self.set_guided_target(x, y, c.p[6], f64::from(c.p[0]));
+        let speed = f64::from(c.p[0]);
+        if !submodes {
+            // The simple model: the speed goes with this target, whatever the state before.
+            self.set_guided_target(x, y, c.p[6], speed);
+            return MavResult::MAV_RESULT_ACCEPTED;
+        }
+        // handle_command_int_do_reposition sets the speed before the destination: from GUIDED's
+        // Stop submode (just entered, or no destination yet) that fails, the mode stays GUIDED and
+        // the destination is not set.
+        if speed > 0.0 && !self.set_desired_speed(speed) {
+            return MavResult::MAV_RESULT_FAILED;
+        }
+        self.set_guided_target(x, y, c.p[6], 0.0);
         MavResult::MAV_RESULT_ACCEPTED
+    }
+
+    /// MAV_CMD_DO_CHANGE_SPEED (p1 speed type, p2 m/s).
+    fn change_speed_command(&mut self, c: &Cmd) -> MavResult {
+        let speed = f64::from(c.p[1]);
+        if !self.behaviour.guided_submodes {
+            return if self.change_speed(speed) {
+                MavResult::MAV_RESULT_ACCEPTED
+            } else {
+                MavResult::MAV_RESULT_DENIED
+            };
+        }
+        // SPEED_TYPE: airspeed (0) is read as ground speed (1); climb (2), descent (3) and the
+        // enum end (4) are refused.
+        if matches!(c.p[0] as i64, 2..=4) {
+            return MavResult::MAV_RESULT_DENIED;
+        }
+        if self.change_speed(speed) {
+            MavResult::MAV_RESULT_ACCEPTED
+        } else {
+            MavResult::MAV_RESULT_FAILED
+        }
+    }
+
+    /// A speed change from a command or a mission item; false when refused. The simple model takes
+    /// any positive speed in any mode, until a reboot.
+    pub(super) fn change_speed(&mut self, speed: f64) -> bool {
+        if self.behaviour.guided_submodes {
+            return self.set_desired_speed(speed);
+        }
+        if speed > 0.0 {
+            self.speed_override = Some(speed);
+        }
+        speed > 0.0
+    }
+
+    /// Rover's `Mode::set_desired_speed`: AUTO and RTL set AR_WPNav's maximum speed, GUIDED only in
+    /// its WP submode (a destination given since GUIDED was entered), MANUAL and HOLD never. It lasts
+    /// until a navigating mode is entered again.
+    fn set_desired_speed(&mut self, speed: f64) -> bool {
+        let ok = speed >= WPNAV_SPEED_MIN
+            && match self.mode {
+                Mode::Auto | Mode::Rtl => true,
+                Mode::Guided => self.guided_target.is_some(),
+                Mode::Manual | Mode::Hold => false,
+            };
+        if ok {
+            self.speed_override = Some(speed);
+        }
+        ok
     }
 
     pub(super) fn set_guided_target(&mut self, lat_e7: i32, lon_e7: i32, alt: f32, speed: f64) {

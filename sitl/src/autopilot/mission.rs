@@ -23,6 +23,9 @@ pub struct Item {
     pub x: i32,
     pub y: i32,
     pub z: f32,
+    /// param5 as sent, for commands that carry a number there rather than a latitude
+    /// (DO_DIGICAM_CONTROL's shooting command).
+    pub param5: f32,
 }
 
 impl Item {
@@ -35,6 +38,7 @@ impl Item {
             x: m.x,
             y: m.y,
             z: m.z,
+            param5: m.x as f32,
         }
     }
 
@@ -55,6 +59,7 @@ impl Item {
             x: conv(m.x),
             y: conv(m.y),
             z: m.z,
+            param5: m.x,
         }
     }
 
@@ -134,6 +139,7 @@ impl Autopilot {
             x: e7(home.lat),
             y: e7(home.lon),
             z: 0.0,
+            param5: 0.0,
         }
     }
 

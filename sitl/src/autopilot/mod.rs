@@ -2,7 +2,9 @@
 //! executor, telemetry, payload and the effects of faults. It consumes decoded frames and sim
 //! ticks and produces frames; it never touches a socket (see `sim.rs`).
 
+mod ap_camera;
 mod auto;
+mod boot;
 mod command_memory;
 mod commands;
 mod mission;
@@ -26,7 +28,7 @@ use crate::geo::LocalFrame;
 use crate::link::{Inbound, PeerId};
 use crate::payload::{Camera, DownlinkRun, Sampler, Storage};
 use crate::physics::{Kinematics, Target};
-use crate::scenario::{EventKind, FailResult, Fault, VehicleParams};
+use crate::scenario::{Behaviour, EventKind, FailResult, Fault, VehicleParams};
 use crate::snapshot::Snapshot;
 use crate::time::later;
 use crate::world::{Disc, World};
@@ -62,6 +64,8 @@ pub struct Autopilot {
     epoch_unix_us: u64,
     frame: LocalFrame,
     params: VehicleParams,
+    /// Where the sim follows ArduPilot more closely than its simple model (`[autopilot]`).
+    behaviour: Behaviour,
     // state
     now_ms: u64,
     /// Sim time of the last (re)boot: time_boot_ms counts from it.
@@ -74,6 +78,8 @@ pub struct Autopilot {
     camera: Camera,
     downlink: Option<DownlinkRun>,
     downlink_rate_override: Option<f64>,
+    /// What AP_Camera reports (camera = "ardupilot").
+    ap_camera: ap_camera::ApCamera,
     sampler: Sampler,
     servos: [u16; 16],
     world: World,
@@ -107,7 +113,7 @@ const KEEP_TEXTS: usize = 32;
 impl Autopilot {
     pub fn new(cfg: &SimConfig) -> Self {
         let s = &cfg.scenario;
-        let frame = LocalFrame::new(cfg.home);
+        let frame = LocalFrame::new(cfg.home_point());
         // Independent streams so that link noise never shifts picture sizes.
         let camera_rng = ChaCha8Rng::seed_from_u64(cfg.seed ^ 0xC0FF_EE00_CAFE_0001);
         let link_rng = ChaCha8Rng::seed_from_u64(cfg.seed ^ 0x5EED_0000_11AA_0002);
@@ -121,6 +127,7 @@ impl Autopilot {
             epoch_unix_us: cfg.epoch_unix_us,
             frame,
             params: s.vehicle.clone(),
+            behaviour: s.autopilot.behaviour(),
             now_ms: 0,
             booted_ms: 0,
             kin: Kinematics::default(),
@@ -134,6 +141,7 @@ impl Autopilot {
             camera: Camera::new(&s.camera, camera_rng),
             downlink: None,
             downlink_rate_override: None,
+            ap_camera: ap_camera::ApCamera::default(),
             sampler: Sampler::new(&s.sampler),
             servos: [1500; 16],
             world: World::new(s, &frame),
@@ -321,6 +329,20 @@ impl Autopilot {
         if m == self.mode {
             return Ok(());
         }
+        // Without a fix ArduPilot has no position: armed, a mode that needs one cannot be entered
+        // (Mode::enter), and RTL has no home even disarmed (ModeRTL::_enter).
+        if !self.gps_fixed() && ((self.armed && m.navigates()) || m == Mode::Rtl) {
+            self.text(
+                MavSeverity::MAV_SEVERITY_WARNING,
+                "Flight mode change failed",
+            );
+            return Err("no position");
+        }
+        if self.behaviour.guided_submodes && m.navigates() {
+            // Entering AUTO, GUIDED or RTL initialises AR_WPNav at WP_SPEED: an earlier speed
+            // change is forgotten.
+            self.speed_override = None;
+        }
         self.mode = m;
         match m {
             Mode::Auto => {
@@ -338,12 +360,16 @@ impl Autopilot {
         Ok(())
     }
 
-    fn arm(&mut self, force: bool) -> Result<(), &'static str> {
+    /// Arms, or returns why not (one STATUSTEXT each).
+    fn arm(&mut self, force: bool) -> Result<(), Vec<String>> {
         if self.armed {
             return Ok(());
         }
-        if !force && !self.battery.can_arm() {
-            return Err("PreArm: Battery 1 below minimum arming capacity");
+        if !force {
+            let refusals = self.arm_refusals();
+            if !refusals.is_empty() {
+                return Err(refusals);
+            }
         }
         self.armed = true;
         self.emit_event(EventKind::Armed, 0);
@@ -456,6 +482,7 @@ impl Autopilot {
         self.exec = Exec::default();
         self.downlink = None;
         self.camera.cancel();
+        self.ap_camera = ap_camera::ApCamera::booted(self.camera.next_index());
         self.upload = None;
         self.streams = Streams::default();
         self.cmd_memory.clear();

@@ -5,7 +5,6 @@ use mavlink::dialects::ardupilotmega::*;
 
 use super::commands::Cmd;
 use super::Autopilot;
-use crate::geo::e7;
 use crate::payload::{CaptureOutcome, DownlinkRun, SamplerEvent};
 use crate::scenario::EventKind;
 
@@ -84,42 +83,17 @@ impl Autopilot {
 
     pub(super) fn step_payload(&mut self) {
         for o in self.camera.step(self.now_ms, &mut self.storage) {
-            let geo = self.frame.to_geo(self.kin.pos);
-            let (index, ok) = match o {
+            let (index, failure) = match o {
                 CaptureOutcome::Stored { index, .. } => {
                     self.pictures_ok += 1;
-                    (index, true)
+                    (index, None)
                 }
                 CaptureOutcome::Failed { index, reason } => {
                     self.pictures_failed += 1;
-                    self.text(MavSeverity::MAV_SEVERITY_ERROR, reason);
-                    (index, false)
+                    (index, Some(reason))
                 }
             };
-            self.send(
-                super::Dest::All,
-                MavMessage::CAMERA_IMAGE_CAPTURED(CAMERA_IMAGE_CAPTURED_DATA {
-                    time_utc: self.epoch_unix_us + self.now_ms * 1000,
-                    time_boot_ms: self.time_boot_ms(),
-                    lat: e7(geo.lat),
-                    lon: e7(geo.lon),
-                    alt: -(self.kin.depth * 1000.0) as i32,
-                    relative_alt: 0,
-                    q: [1.0, 0.0, 0.0, 0.0],
-                    image_index: index,
-                    camera_id: 1,
-                    capture_result: if ok {
-                        MavBool::MAV_BOOL_TRUE
-                    } else {
-                        MavBool::MAV_BOOL_FALSE
-                    },
-                    file_url: if ok {
-                        format!("sitl://img/{index:04}.jpg").as_str().into()
-                    } else {
-                        "".into()
-                    },
-                }),
-            );
+            self.report_picture(index, failure);
         }
         if let Some(ev) = self.sampler.step(self.now_ms, self.kin.is_still()) {
             let text = match ev {

@@ -22,6 +22,7 @@ pub const AUTOPILOT_VERSION: u32 = 148;
 pub const HOME_POSITION: u32 = 242;
 pub const STORAGE_INFORMATION: u32 = 261;
 pub const CAMERA_CAPTURE_STATUS: u32 = 262;
+pub const CAMERA_FEEDBACK: u32 = 180;
 
 /// Messages sent at 1 Hz (sim time) by default; others only on request or by interval.
 const DEFAULT_STREAMS: [u32; 8] = [
@@ -154,6 +155,7 @@ impl Autopilot {
     pub(super) fn build(&self, id: u32) -> Option<MavMessage> {
         let geo = self.frame.to_geo(self.kin.pos);
         let alt_mm = -(self.kin.depth * 1000.0).round() as i32;
+        let reported = self.reported_position_e7();
         Some(match id {
             HEARTBEAT => self.heartbeat(),
             SYS_STATUS => MavMessage::SYS_STATUS(SYS_STATUS_DATA {
@@ -169,6 +171,15 @@ impl Autopilot {
             SYSTEM_TIME => MavMessage::SYSTEM_TIME(SYSTEM_TIME_DATA {
                 time_unix_usec: self.epoch_unix_us + self.now_ms * 1000,
                 time_boot_ms: self.time_boot_ms(),
+            }),
+            GPS_RAW_INT if !self.gps_fixed() => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
+                time_usec: self.now_ms * 1000,
+                eph: u16::MAX,
+                epv: u16::MAX,
+                vel: u16::MAX,
+                cog: u16::MAX,
+                fix_type: GpsFixType::GPS_FIX_TYPE_NO_FIX,
+                ..Default::default()
             }),
             GPS_RAW_INT => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
                 time_usec: self.now_ms * 1000,
@@ -190,8 +201,8 @@ impl Autopilot {
             }),
             GLOBAL_POSITION_INT => MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
                 time_boot_ms: self.time_boot_ms(),
-                lat: e7(geo.lat),
-                lon: e7(geo.lon),
+                lat: reported.0,
+                lon: reported.1,
                 alt: alt_mm,
                 relative_alt: alt_mm,
                 vx: (self.kin.speed * self.kin.heading.cos() * 100.0).round() as i16,
@@ -256,6 +267,9 @@ impl Autopilot {
                 uid: 0x5349_544c,
                 ..Default::default()
             }),
+            // Home is set at the first fix; before it ArduPilot sends no HOME_POSITION.
+            HOME_POSITION if !self.gps_fixed() => return None,
+            STORAGE_INFORMATION if !self.behaviour.storage_information => return None,
             HOME_POSITION => {
                 let home = self.frame.origin();
                 MavMessage::HOME_POSITION(HOME_POSITION_DATA {
@@ -281,18 +295,8 @@ impl Autopilot {
                 storage_usage: StorageUsageFlag::STORAGE_USAGE_FLAG_SET
                     | StorageUsageFlag::STORAGE_USAGE_FLAG_PHOTO,
             }),
-            // The camera's own account (the autopilot-attached camera 1): a capture under way, and the
-            // images captured so far, for a companion that missed a CAMERA_IMAGE_CAPTURED.
-            CAMERA_CAPTURE_STATUS => {
-                MavMessage::CAMERA_CAPTURE_STATUS(CAMERA_CAPTURE_STATUS_DATA {
-                    time_boot_ms: self.time_boot_ms(),
-                    available_capacity: self.storage.available() as f32,
-                    image_status: u8::from(self.camera.capturing()),
-                    image_count: i32::try_from(self.pictures_ok).unwrap_or(i32::MAX),
-                    camera_device_id: 1,
-                    ..Default::default()
-                })
-            }
+            CAMERA_CAPTURE_STATUS => return self.capture_status(),
+            CAMERA_FEEDBACK => return self.last_feedback(),
             _ => return None,
         })
     }

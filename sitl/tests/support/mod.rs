@@ -156,15 +156,24 @@ impl Gcs {
 
     /// The STATUSTEXTs among `msgs`.
     pub fn texts(msgs: &[MavMessage]) -> Vec<String> {
+        Self::texts_with_severity(msgs)
+            .into_iter()
+            .map(|(_, t)| t)
+            .collect()
+    }
+
+    /// The STATUSTEXTs among `msgs` with their severity.
+    pub fn texts_with_severity(msgs: &[MavMessage]) -> Vec<(MavSeverity, String)> {
         msgs.iter()
             .filter_map(|m| match m {
-                MavMessage::STATUSTEXT(t) => Some(
+                MavMessage::STATUSTEXT(t) => Some((
+                    t.severity,
                     t.text
                         .to_str()
                         .unwrap_or("")
                         .trim_end_matches('\0')
                         .to_string(),
-                ),
+                )),
                 _ => None,
             })
             .collect()
@@ -262,6 +271,16 @@ impl Gcs {
             _ => None,
         })
         .await
+    }
+
+    /// IMAGE_START_CAPTURE with p1 camera id, p2 interval, p3 count; the result.
+    pub async fn image_start_capture(&mut self, p: [f32; 3]) -> MavResult {
+        self.command_long(
+            MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+            [p[0], p[1], p[2], 0.0, 0.0, 0.0, 0.0],
+        )
+        .await
+        .0
     }
 
     pub async fn set_mode(&mut self, mode: u32) -> MavResult {
