@@ -62,9 +62,11 @@ fi
 
 # Re-run inside a private network namespace with loopback up.
 if [ -z "${MAVTEMPO_IN_NETNS:-}" ]; then
+  no_camera=()
+  [ "$camera" = 0 ] && no_camera=(-n)
   exec unshare -n env MAVTEMPO_IN_NETNS=1 ARDUPILOT_VENV="$venv" MAVTEMPO_BIN="$bin" \
     "$0" -b "$bin_ap" -d "$defaults" -p "$problem" -g "$goals" -u "$upload_at" -m "$hold_move" \
-    -x "$speedup" $([ "$camera" = 0 ] && echo -n) -o "$out"
+    -x "$speedup" "${no_camera[@]}" -o "$out"
 fi
 ip link set lo up
 

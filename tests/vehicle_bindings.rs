@@ -854,51 +854,84 @@ fn statustext(severity: MavSeverity, text: &str) -> MavMessage {
 }
 
 #[test]
-fn readiness_waits_for_a_fix_then_retries_arm_with_a_backoff_until_accepted() {
+fn readiness_waits_for_a_fix_and_a_home_then_retries_arm_with_a_backoff_until_accepted() {
     let cfg = config();
     let mut b = Bench::new();
-    b.feed(system_time(1_000));
-    b.d.begin_ready(b.now);
-    b.settle();
-    assert!(commands(&b.ap).is_empty(), "no ARM before a position fix");
-    // lat = lon = 0: no fix yet.
-    b.feed(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
-        time_boot_ms: 2_000,
-        ..Default::default()
-    }));
-    assert!(commands(&b.ap).is_empty());
-    b.ap.results.push((
-        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-        MavResult::MAV_RESULT_FAILED,
-    ));
-    b.ap.results.push((
-        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-        MavResult::MAV_RESULT_FAILED,
-    ));
-    b.feed(moving(&cfg, Enu::new(0.0, 0.0, 0.0), 0.0, 3_000));
-    b.feed(statustext(
-        MavSeverity::MAV_SEVERITY_CRITICAL,
-        "PreArm: EKF3 waiting for GPS config data",
-    ));
     let arms = |ap: &Autopilot| {
         commands(ap)
             .iter()
             .filter(|c| c.0 == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM)
             .count()
     };
-    assert_eq!(arms(&b.ap), 1);
-    b.feed(system_time(3_900));
+    let home_requests = |ap: &Autopilot| {
+        commands(ap)
+            .iter()
+            .filter(|c| c.0 == MavCmd::MAV_CMD_REQUEST_MESSAGE && c.1 == 242.0)
+            .count()
+    };
+    b.feed(system_time(1_000));
+    b.d.begin_ready(b.now);
+    b.settle();
+    assert_eq!(arms(&b.ap), 0, "no ARM before a position fix");
+    assert_eq!(home_requests(&b.ap), 1, "HOME_POSITION asked for");
+    // lat = lon = 0: no fix yet.
+    b.feed(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+        time_boot_ms: 2_000,
+        ..Default::default()
+    }));
+    assert_eq!(arms(&b.ap), 0);
+    assert_eq!(home_requests(&b.ap), 2, "asked again a second later");
+    b.ap.results.push((
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        MavResult::MAV_RESULT_FAILED,
+    ));
+    b.ap.results.push((
+        MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+        MavResult::MAV_RESULT_FAILED,
+    ));
+    // A position, but no home: ArduPilot would refuse GUIDED ("Flight mode change failed").
+    b.feed(moving(&cfg, Enu::new(0.0, 0.0, 0.0), 0.0, 2_500));
+    assert_eq!(arms(&b.ap), 0, "no ARM before a home");
+    let (lat, lon, _) = cfg.home.to_global(Enu::default());
+    b.feed(MavMessage::HOME_POSITION(HOME_POSITION_DATA {
+        latitude: (lat * 1e7) as i32,
+        longitude: (lon * 1e7) as i32,
+        ..Default::default()
+    }));
+    b.feed(statustext(
+        MavSeverity::MAV_SEVERITY_CRITICAL,
+        "PreArm: EKF3 waiting for GPS config data",
+    ));
+    assert_eq!(arms(&b.ap), 1, "armed as soon as the home is known");
+    b.feed(system_time(3_400));
     assert_eq!(arms(&b.ap), 1, "backing off 1 s");
-    b.feed(system_time(4_000));
+    b.feed(system_time(3_500));
     assert_eq!(arms(&b.ap), 2);
-    b.feed(system_time(5_900));
+    b.feed(system_time(5_400));
     assert_eq!(arms(&b.ap), 2, "backing off 2 s");
-    b.feed(system_time(6_000));
+    b.feed(system_time(5_500));
     assert_eq!(arms(&b.ap), 3);
+    // Armed, but ArduPilot's EKF still holds a constant position: GUIDED would be refused, not ready.
+    let ekf = |flags: EkfStatusFlags| {
+        MavMessage::EKF_STATUS_REPORT(EKF_STATUS_REPORT_DATA {
+            flags,
+            ..Default::default()
+        })
+    };
+    b.feed(ekf(
+        EkfStatusFlags::EKF_PRED_POS_HORIZ_ABS | EkfStatusFlags::EKF_CONST_POS_MODE
+    ));
+    b.feed(b.ap.heartbeat());
+    assert!(!b.d.readiness().expect("waiting").report().ready);
+    b.feed(system_time(7_000));
+    b.feed(ekf(
+        EkfStatusFlags::EKF_POS_HORIZ_ABS | EkfStatusFlags::EKF_VELOCITY_HORIZ
+    ));
     let r = b.d.readiness().expect("waiting").report().clone();
     assert!(r.ready, "{r:?}");
     assert_eq!(r.arm_attempts, 3);
-    assert_eq!(r.fix_after_ms, Some(2_000));
+    assert_eq!(r.fix_after_ms, Some(1_500));
+    assert_eq!(r.navigation_after_ms, Some(6_000));
     assert!(r.refusals.iter().any(|t| t.contains("EKF3")), "{r:?}");
     assert!(b.ap.armed);
 }

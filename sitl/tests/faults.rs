@@ -198,6 +198,30 @@ fault = { kind = "nav_fails", duration_s = 5.0 }
     assert!((done.east_m - 30.0).abs() < 3.5);
 }
 
+#[tokio::test]
+async fn a_foreign_mode_change_holds_the_rover_mid_mission() {
+    let (sim, mut gcs) = start(
+        r#"[[faults]]
+when = { on = "moving", delay_s = 3.0 }
+fault = { kind = "mode_change", mode = 4 }
+"#,
+    )
+    .await;
+    let items = vec![waypoint(HOME, 0.0, 0.0), waypoint(HOME, 40.0, 0.0)];
+    upload_ok(&mut gcs, &items).await;
+    gcs.arm().await;
+    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
+    let held = run_until(&sim, 30, |s| s.mode == "HOLD").await;
+    assert!(
+        held.distance_m > 1.0 && held.distance_m < 30.0,
+        "{}",
+        held.distance_m
+    );
+    let stopped = run_until(&sim, 10, |s| s.speed_mps < 0.01).await;
+    assert!(!stopped.mission_complete);
+    assert!(stopped.armed, "a mode change does not disarm");
+}
+
 fn boot_times(msgs: &[MavMessage]) -> Vec<u32> {
     msgs.iter()
         .filter_map(|m| match m {

@@ -122,10 +122,11 @@ pub fn ready_line(r: &crate::vehicle::readiness::ReadyReport) -> String {
     let secs =
         |ms: Option<u64>| ms.map_or("?".to_string(), |m| format!("{:.1}", m as f64 / 1000.0));
     let mut line = format!(
-        "position fix after {} s, armed after {} s ({} ARM attempts)",
+        "position fix after {} s, armed after {} s ({} ARM attempts), navigating after {} s",
         secs(r.fix_after_ms),
         secs(r.armed_after_ms),
-        r.arm_attempts
+        r.arm_attempts,
+        secs(r.navigation_after_ms)
     );
     if r.arm_attempts > 1 {
         if let Some(last) = r.refusals.last() {

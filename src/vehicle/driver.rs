@@ -14,7 +14,7 @@ use super::api::VehicleError;
 use super::commands::{Command, CommandClient, CommandOutcome, Token};
 use super::config::VehicleConfig;
 use super::mission_client::MissionClient;
-use super::readiness::{Readiness, ReadyAction};
+use super::readiness::{Readiness, ReadyAction, Seen};
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome};
 use super::telemetry::Telemetry;
 use super::types::{ActionId, ActionReport, ActionStart, LinkStatus, VehicleEvent};
@@ -265,14 +265,35 @@ impl Driver {
             return;
         };
         let vnow = self.tel.time_boot_ms.unwrap_or(now);
-        if r.tick(vnow, self.tel.position.is_some(), self.tel.armed) == ReadyAction::Arm {
-            let target = self.target.unwrap_or((self.system_id, 1));
-            let cmd = Command::long(
-                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-                target,
-                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            );
-            self.cmds.send(READY_TOKEN, cmd, now, &mut self.out);
+        let seen = Seen {
+            position: self.tel.position.is_some(),
+            home: self.tel.home_known,
+            armed: self.tel.armed,
+            navigation: self.tel.navigation_ok,
+        };
+        let target = self.target.unwrap_or((self.system_id, 1));
+        match r.tick(vnow, seen) {
+            ReadyAction::Arm => {
+                let cmd = Command::long(
+                    MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                    target,
+                    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                );
+                self.cmds.send(READY_TOKEN, cmd, now, &mut self.out);
+            }
+            ReadyAction::RequestStatus => {
+                // Fire and forget: HOME_POSITION (242) comes once home is set (before, ArduPilot sends
+                // nothing); EKF_STATUS_REPORT (193) only from autopilots that have one.
+                for id in [242.0, 193.0] {
+                    let cmd = Command::long(
+                        MavCmd::MAV_CMD_REQUEST_MESSAGE,
+                        target,
+                        [id, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    );
+                    self.cmds.send(u64::MAX, cmd, now, &mut self.out);
+                }
+            }
+            ReadyAction::Nothing => {}
         }
     }
 

@@ -1,7 +1,8 @@
-//! Waiting for the autopilot to be ready before the mission's first start: a position fix, then arming
-//! accepted. A real ArduPilot refuses to arm for ~20 s after boot (EKF, GPS, "PreArm: ..." texts) and
-//! reads lat = lon = 0 until its GPS has a fix; a mission started earlier fails its first move and loses
-//! every goal with it. ARM is retried with a backoff in the vehicle's time (so a simulator at N× gets its
+//! Waiting for the autopilot to be ready before the mission's first start: a position fix and a home (the
+//! autopilot's estimator trusts its position: ArduPilot sets home only then, and refuses GUIDED before, with
+//! "Flight mode change failed", even once armed), then arming accepted. A real ArduPilot refuses to arm
+//! for ~20 s after boot (EKF, GPS, "Arm: ..." texts) and reads lat = lon = 0 until its GPS has a fix; a
+//! mission started earlier fails its first move and loses every goal with it. ARM is retried with a backoff in the vehicle's time (so a simulator at N× gets its
 //! retries in its own time) until accepted or the time limit passes; the autopilot's refusals (COMMAND_ACK
 //! and its STATUSTEXTs) are kept as the reason. Pure: the driver feeds it.
 
@@ -14,18 +15,35 @@ const FIRST_BACKOFF_MS: u64 = 1_000;
 const MAX_BACKOFF_MS: u64 = 8_000;
 /// STATUSTEXTs kept as reasons (the newest).
 const MAX_REASONS: usize = 6;
+/// How often (vehicle ms) HOME_POSITION and the estimator's status are asked for while waiting for them.
+const STATUS_REQUEST_MS: u64 = 1_000;
+
+/// What telemetry shows, for the wait.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Seen {
+    /// A position (GLOBAL_POSITION_INT not at 0, 0).
+    pub position: bool,
+    /// A home (HOME_POSITION).
+    pub home: bool,
+    pub armed: bool,
+    /// The estimator trusts its horizontal position (ArduPilot's EKF_STATUS_REPORT: absolute position, not
+    /// in constant-position mode); `None` when the autopilot does not say.
+    pub navigation: Option<bool>,
+}
 
 /// Where the wait stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ReadyPhase {
-    /// No position from the autopilot yet (GLOBAL_POSITION_INT absent or at lat = lon = 0).
+    /// No position from the autopilot yet (GLOBAL_POSITION_INT absent or at lat = lon = 0), or no home.
     WaitingForFix,
     /// An ARM command is out, its answer awaited.
     Arming,
     /// The last ARM was refused; the next goes out at the given vehicle time.
     Backoff(u64),
-    /// Armed: the mission can start.
+    /// Armed, but the estimator does not trust its position yet (GUIDED would be refused).
+    WaitingForNavigation,
+    /// Armed and navigating: the mission can start.
     Ready,
 }
 
@@ -36,6 +54,8 @@ pub struct ReadyReport {
     /// Vehicle ms from the wait's start to the fix, and to arming accepted.
     pub fix_after_ms: Option<u64>,
     pub armed_after_ms: Option<u64>,
+    /// ... and to the estimator trusting its position (the mission's start).
+    pub navigation_after_ms: Option<u64>,
     pub arm_attempts: u32,
     /// The autopilot's answers to the refused attempts and its warnings meanwhile, newest last.
     pub refusals: Vec<String>,
@@ -45,7 +65,9 @@ impl ReadyReport {
     /// Why the vehicle is not ready, in one line (for an error exit).
     pub fn why_not(&self, waited_s: f64) -> String {
         let what = if self.fix_after_ms.is_none() {
-            "no position fix (GLOBAL_POSITION_INT still at 0, 0)".to_string()
+            "no position fix (GLOBAL_POSITION_INT at 0, 0, or no HOME_POSITION)".to_string()
+        } else if self.armed_after_ms.is_some() {
+            "armed, but the estimator does not trust its position (EKF_STATUS_REPORT)".to_string()
         } else {
             format!("arming refused {} times", self.arm_attempts)
         };
@@ -64,6 +86,8 @@ pub struct Readiness {
     phase: ReadyPhase,
     started_ms: u64,
     backoff_ms: u64,
+    /// When (vehicle ms) HOME_POSITION and the estimator's status were last asked for.
+    status_asked: Option<u64>,
     report: ReadyReport,
 }
 
@@ -73,6 +97,8 @@ pub enum ReadyAction {
     Nothing,
     /// Send MAV_CMD_COMPONENT_ARM_DISARM (arm).
     Arm,
+    /// Ask for HOME_POSITION (sent once home is set) and the estimator's status (MAV_CMD_REQUEST_MESSAGE).
+    RequestStatus,
 }
 
 impl Readiness {
@@ -81,10 +107,12 @@ impl Readiness {
             phase: ReadyPhase::WaitingForFix,
             started_ms: vnow,
             backoff_ms: FIRST_BACKOFF_MS,
+            status_asked: None,
             report: ReadyReport {
                 ready: false,
                 fix_after_ms: None,
                 armed_after_ms: None,
+                navigation_after_ms: None,
                 arm_attempts: 0,
                 refusals: Vec::new(),
             },
@@ -99,21 +127,39 @@ impl Readiness {
         &self.report
     }
 
-    /// Time passed (vehicle ms) with what telemetry shows: a fix, and whether the vehicle is armed.
-    pub fn tick(&mut self, vnow: u64, has_fix: bool, armed: bool) -> ReadyAction {
+    /// Time passed (vehicle ms) with what telemetry shows.
+    pub fn tick(&mut self, vnow: u64, seen: Seen) -> ReadyAction {
         let since = vnow.saturating_sub(self.started_ms);
-        if armed && self.phase != ReadyPhase::Ready {
-            // Armed by someone else, or our ACK lost: the vehicle shows it.
-            self.report.fix_after_ms.get_or_insert(since);
-            self.ready(since);
+        if self.phase == ReadyPhase::Ready {
             return ReadyAction::Nothing;
         }
+        if seen.armed {
+            // Armed (by us, by someone else, or our ACK lost: the vehicle shows it); ready once the
+            // estimator, if it tells, trusts its position (ArduPilot, armed, refuses GUIDED before).
+            self.report.fix_after_ms.get_or_insert(since);
+            self.report.armed_after_ms.get_or_insert(since);
+            if seen.navigation != Some(false) {
+                self.phase = ReadyPhase::Ready;
+                self.report.ready = true;
+                self.report.navigation_after_ms = Some(since);
+                return ReadyAction::Nothing;
+            }
+            self.phase = ReadyPhase::WaitingForNavigation;
+        }
         match self.phase {
-            ReadyPhase::WaitingForFix if has_fix => {
+            ReadyPhase::WaitingForFix if seen.position && seen.home => {
                 self.report.fix_after_ms = Some(since);
                 self.attempt()
             }
             ReadyPhase::Backoff(at) if vnow >= at => self.attempt(),
+            ReadyPhase::WaitingForFix | ReadyPhase::WaitingForNavigation
+                if self
+                    .status_asked
+                    .is_none_or(|t| vnow.saturating_sub(t) >= STATUS_REQUEST_MS) =>
+            {
+                self.status_asked = Some(vnow);
+                ReadyAction::RequestStatus
+            }
             _ => ReadyAction::Nothing,
         }
     }
@@ -124,21 +170,18 @@ impl Readiness {
         ReadyAction::Arm
     }
 
-    fn ready(&mut self, since: u64) {
-        self.phase = ReadyPhase::Ready;
-        self.report.ready = true;
-        self.report.armed_after_ms.get_or_insert(since);
-    }
-
     /// The ARM command's outcome.
     pub fn on_arm(&mut self, vnow: u64, outcome: CommandOutcome, armed: bool) {
         if self.phase != ReadyPhase::Arming {
             return;
         }
-        let since = vnow.saturating_sub(self.started_ms);
         match outcome {
-            CommandOutcome::Accepted => self.ready(since),
-            _ if armed => self.ready(since),
+            // Armed: the next tick, with what telemetry shows of the estimator, says whether it is ready.
+            CommandOutcome::Accepted => {
+                self.report.armed_after_ms = Some(vnow.saturating_sub(self.started_ms));
+                self.phase = ReadyPhase::WaitingForNavigation;
+            }
+            _ if armed => self.phase = ReadyPhase::WaitingForNavigation,
             CommandOutcome::Rejected(r) => {
                 self.note(format!("ARM refused: {}", super::actions::result_name(r)));
                 self.back_off(vnow);
@@ -179,54 +222,74 @@ mod tests {
     use super::*;
     use mavlink::dialects::ardupilotmega::MavResult;
 
+    const NOTHING: Seen = Seen {
+        position: false,
+        home: false,
+        armed: false,
+        navigation: None,
+    };
+    const FIX: Seen = Seen {
+        position: true,
+        home: true,
+        armed: false,
+        navigation: Some(false),
+    };
+    const ARMED: Seen = Seen { armed: true, ..FIX };
+
+    fn refused() -> CommandOutcome {
+        CommandOutcome::Rejected(MavResult::MAV_RESULT_FAILED)
+    }
+
     #[test]
-    fn arms_only_after_a_fix_and_backs_off_after_refusals() {
+    fn arms_after_a_fix_and_a_home_backs_off_after_refusals_and_waits_for_the_estimator() {
         let mut r = Readiness::new(1_000);
-        assert_eq!(r.tick(2_000, false, false), ReadyAction::Nothing);
-        assert_eq!(r.tick(3_000, true, false), ReadyAction::Arm);
+        assert_eq!(r.tick(1_500, NOTHING), ReadyAction::RequestStatus);
+        assert_eq!(r.tick(2_000, NOTHING), ReadyAction::Nothing);
+        // A position without a home is no fix yet: the status is asked for again a second later.
+        let no_home = Seen { home: false, ..FIX };
+        assert_eq!(r.tick(2_500, no_home), ReadyAction::RequestStatus);
+        assert_eq!(r.tick(3_000, FIX), ReadyAction::Arm);
         assert_eq!(r.report().fix_after_ms, Some(2_000));
-        r.on_arm(
-            3_100,
-            CommandOutcome::Rejected(MavResult::MAV_RESULT_FAILED),
-            false,
-        );
+        r.on_arm(3_100, refused(), false);
         r.on_text("PreArm: EKF3 waiting for GPS config data");
         assert_eq!(r.phase(), ReadyPhase::Backoff(4_100));
-        assert_eq!(r.tick(4_000, true, false), ReadyAction::Nothing);
-        assert_eq!(r.tick(4_100, true, false), ReadyAction::Arm);
-        r.on_arm(
-            4_200,
-            CommandOutcome::Rejected(MavResult::MAV_RESULT_FAILED),
-            false,
-        );
+        assert_eq!(r.tick(4_000, FIX), ReadyAction::Nothing);
+        assert_eq!(r.tick(4_100, FIX), ReadyAction::Arm);
+        r.on_arm(4_200, refused(), false);
         // The second pause is twice the first.
         assert_eq!(r.phase(), ReadyPhase::Backoff(6_200));
-        r.tick(6_200, true, false);
-        r.on_arm(6_300, CommandOutcome::Accepted, true);
-        assert!(r.report().ready);
-        assert_eq!(r.report().arm_attempts, 3);
-        assert_eq!(r.report().armed_after_ms, Some(5_300));
-        assert!(r.report().refusals.iter().any(|t| t.contains("EKF3")));
+        assert_eq!(r.tick(6_200, FIX), ReadyAction::Arm);
+        r.on_arm(6_300, CommandOutcome::Accepted, false);
+        // Armed, but the estimator is still in constant-position mode: not ready, its status asked for.
+        assert_eq!(r.tick(6_400, ARMED), ReadyAction::RequestStatus);
+        assert!(!r.report().ready);
+        let navigating = Seen {
+            navigation: Some(true),
+            ..ARMED
+        };
+        assert_eq!(r.tick(9_000, navigating), ReadyAction::Nothing);
+        let report = r.report();
+        assert!(report.ready);
+        assert_eq!(report.arm_attempts, 3);
+        assert_eq!(report.armed_after_ms, Some(5_300));
+        assert_eq!(report.navigation_after_ms, Some(8_000));
+        assert!(report.refusals.iter().any(|t| t.contains("EKF3")));
     }
 
     #[test]
     fn the_backoff_is_capped_and_reasons_are_bounded() {
         let mut r = Readiness::new(0);
         let mut t = 0;
-        r.tick(t, true, false);
+        assert_eq!(r.tick(t, FIX), ReadyAction::Arm);
         for i in 0..20 {
-            r.on_arm(
-                t,
-                CommandOutcome::Rejected(MavResult::MAV_RESULT_FAILED),
-                false,
-            );
+            r.on_arm(t, refused(), false);
             r.on_text(&format!("PreArm: reason {i}"));
             let ReadyPhase::Backoff(at) = r.phase() else {
                 panic!("not backing off: {:?}", r.phase());
             };
             assert!(at - t <= MAX_BACKOFF_MS);
             t = at;
-            assert_eq!(r.tick(t, true, false), ReadyAction::Arm);
+            assert_eq!(r.tick(t, FIX), ReadyAction::Arm);
         }
         assert!(r.report().refusals.len() <= MAX_REASONS);
         assert!(!r.report().ready);
@@ -236,17 +299,25 @@ mod tests {
     }
 
     #[test]
-    fn a_vehicle_already_armed_is_ready_without_a_command() {
+    fn an_armed_vehicle_whose_autopilot_says_nothing_of_its_estimator_is_ready_at_once() {
         let mut r = Readiness::new(0);
-        assert_eq!(r.tick(500, true, true), ReadyAction::Nothing);
+        let armed = Seen {
+            navigation: None,
+            ..ARMED
+        };
+        assert_eq!(r.tick(500, armed), ReadyAction::Nothing);
         assert!(r.report().ready);
         assert_eq!(r.report().arm_attempts, 0);
     }
 
     #[test]
-    fn no_fix_is_said_as_such() {
-        let r = Readiness::new(0);
+    fn why_not_ready_says_which_step_is_missing() {
+        let mut r = Readiness::new(0);
+        assert!(r.report().why_not(30.0).contains("no position fix"));
+        r.tick(0, FIX);
+        r.on_arm(10, CommandOutcome::Accepted, true);
+        r.tick(20, ARMED);
         let why = r.report().why_not(30.0);
-        assert!(why.contains("no position fix"), "{why}");
+        assert!(why.contains("estimator"), "{why}");
     }
 }

@@ -2,7 +2,7 @@
 //! (STORAGE_INFORMATION), position (GLOBAL_POSITION_INT → local ENU), mode and arming (HEARTBEAT), and the
 //! vehicle's clock (SYSTEM_TIME / time_boot_ms).
 
-use mavlink::dialects::ardupilotmega::{MavMessage, MavModeFlag};
+use mavlink::dialects::ardupilotmega::{EkfStatusFlags, MavMessage, MavModeFlag};
 
 use super::config::ResourceNames;
 use super::geo::Home;
@@ -20,6 +20,11 @@ pub struct Telemetry {
     pub custom_mode: Option<u32>,
     pub armed: bool,
     pub mission_current: Option<(u16, u16)>,
+    /// The autopilot has a home (HOME_POSITION received): its position estimate is trusted.
+    pub home_known: bool,
+    /// The estimator trusts its horizontal position (EKF_STATUS_REPORT: absolute position, not in
+    /// constant-position mode); `None` until an autopilot that has such a report sends it.
+    pub navigation_ok: Option<bool>,
     /// The image index of the camera's last CAMERA_FEEDBACK (ArduPilot's picture confirmation).
     pub camera_feedback_index: Option<u16>,
     /// Ground speed, m/s (VFR_HUD, else GLOBAL_POSITION_INT's velocity).
@@ -107,6 +112,16 @@ impl Telemetry {
                 }
             }
             MavMessage::MISSION_CURRENT(m) => self.mission_current = Some((m.seq, m.total)),
+            MavMessage::EKF_STATUS_REPORT(e) => {
+                let f = e.flags;
+                self.navigation_ok = Some(
+                    f.contains(EkfStatusFlags::EKF_POS_HORIZ_ABS)
+                        && !f.contains(EkfStatusFlags::EKF_CONST_POS_MODE),
+                );
+            }
+            MavMessage::HOME_POSITION(h) if h.latitude != 0 || h.longitude != 0 => {
+                self.home_known = true;
+            }
             MavMessage::CAMERA_FEEDBACK(f) => self.camera_feedback_index = Some(f.img_idx),
             MavMessage::VFR_HUD(v) if v.groundspeed.is_finite() => {
                 self.has_vfr_hud = true;

@@ -450,6 +450,14 @@ impl Autopilot {
                     self.broadcast_mission_current();
                 }
             }
+            Fault::ModeChange { mode } => match Mode::from_number(mode, self.vehicle) {
+                Some(m) => {
+                    if let Err(why) = self.set_mode(m) {
+                        tracing::info!(mode, why, "mode_change fault: the mode was refused");
+                    }
+                }
+                None => tracing::warn!(mode, "mode_change fault: no such mode on this vehicle"),
+            },
             Fault::LinkBlackout { duration_s } => {
                 self.link_faults.blackout(self.now_ms, duration_s)
             }
