@@ -234,6 +234,8 @@ pub struct DemoRun {
     pub upload: Option<String>,
     /// The same for the timed upload.
     pub timed_upload: Option<String>,
+    /// How the vehicle became ready before the mission (`None`: `[ready] timeout_s = 0`).
+    pub ready: Option<crate::vehicle::readiness::ReadyReport>,
 }
 
 fn read(path: &Path) -> Result<String, String> {
@@ -428,11 +430,13 @@ pub fn run_demo(
     }
     let upload = upload.map(|h| upload_account(rt, h));
     let timed_upload = timed.map(|h| upload_account(rt, h));
+    let ready = session.ready.clone();
     drop(session);
     Ok(DemoRun {
         report,
         upload,
         timed_upload,
+        ready,
     })
 }
 

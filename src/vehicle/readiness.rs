@@ -203,12 +203,12 @@ impl Readiness {
         if self.phase == ReadyPhase::Ready || text.is_empty() {
             return;
         }
-        // The same reason repeats at every attempt: keep it once, moved to the end.
-        self.report.refusals.retain(|r| r != text);
         self.note(text.to_string());
     }
 
+    /// Keeps a reason once (the same one repeats at every attempt), moved to the end.
     fn note(&mut self, reason: String) {
+        self.report.refusals.retain(|r| *r != reason);
         self.report.refusals.push(reason);
         let n = self.report.refusals.len();
         if n > MAX_REASONS {
