@@ -139,20 +139,23 @@ fn replan_reports_the_time_limit_and_rejects_a_goal() {
         now
     };
     let _ = ex.replan(&clock, &mut |_| {});
-    let outcomes: Vec<String> = ex
+    let outcomes: Vec<AttemptEnd> = ex
         .pending_trace
         .iter()
         .filter_map(|e| match e {
-            mavtempo::exec::trace::TraceEvent::Replan { outcome, .. } => Some(outcome.clone()),
+            mavtempo::exec::trace::TraceEvent::Replan { end, .. } => Some(*end),
             _ => None,
         })
         .collect();
-    assert!(
-        outcomes
-            .first()
-            .is_some_and(|o| o.contains("time limit l reached")),
+    assert_eq!(
+        outcomes.first(),
+        Some(&AttemptEnd::TimeLimit),
         "{outcomes:?}"
     );
+    // The same as data in the executive's record of the replanning.
+    let rec = ex.replannings.last().expect("a replanning record");
+    assert_eq!(rec.attempts[0].end, AttemptEnd::TimeLimit);
+    assert!(!rec.rejected.is_empty());
     assert!(ex
         .goal_fates()
         .iter()

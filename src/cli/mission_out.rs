@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use crate::exec::executive::Fate;
 use crate::exec::mission::MissionReport;
-use crate::exec::trace::{CycleRecord, TraceEvent};
+use crate::exec::trace::{names, CycleRecord, TraceEvent};
 use crate::model::{Domain, Problem};
 use crate::plan::PartialPlan;
 use crate::planner::{solve, Budget};
@@ -86,6 +86,19 @@ pub fn print_summary(r: &MissionReport) {
         } else {
             println!("  {:<6} {fate}: {}", g.name, g.reason);
         }
+    }
+    for rp in &r.replannings {
+        let rejected: Vec<String> = rp.rejected.iter().map(|x| x.goal.clone()).collect();
+        println!(
+            "complete replanning at {:.1} s after \"{}\": {} ({} attempts, {} steps); kept: {}; rejected: {}",
+            rp.time_ms as f64 / 1000.0,
+            rp.abort,
+            rp.error.as_deref().unwrap_or(&rp.outcome.to_string()),
+            rp.attempts.len(),
+            rp.steps,
+            names(&rp.kept),
+            names(&rejected)
+        );
     }
     println!(
         "plan repairs: {} ({} repair steps), complete replannings: {}, actions launched: {}",

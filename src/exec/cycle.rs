@@ -55,6 +55,21 @@ impl Executive {
         } else {
             None
         };
+        let aborted = self.abort.clone();
+        if let Some(reason) = &aborted {
+            // P_ts: running preemptive actions are stopped, none is kept. The abort and its stops are
+            // this cycle's events.
+            let running: Vec<_> = self.started.keys().copied().collect();
+            for a in running {
+                let act = self.plan.action(a);
+                if !act.removed && !self.plan.stn.is_executed(act.end) {
+                    self.stop(vehicle, a);
+                }
+            }
+            self.trace(TraceEvent::Abort {
+                reason: reason.clone(),
+            });
+        }
         let t3 = Instant::now();
         let index = self.cycles.len() as u64 + 1;
         let events = std::mem::take(&mut self.pending_trace);
@@ -66,18 +81,7 @@ impl Executive {
             act_us: (t3 - t2).as_micros() as u64,
             events,
         });
-        if let Some(reason) = self.abort.clone() {
-            // P_ts: running preemptive actions are stopped, none is kept.
-            let running: Vec<_> = self.started.keys().copied().collect();
-            for a in running {
-                let act = self.plan.action(a);
-                if !act.removed && !self.plan.stn.is_executed(act.end) {
-                    self.stop(vehicle, a);
-                }
-            }
-            self.pending_trace.push(TraceEvent::Abort {
-                reason: reason.clone(),
-            });
+        if let Some(reason) = aborted {
             return CycleOutcome::Aborted(reason);
         }
         let busy = self.plan.live_actions().next().is_some();

@@ -98,6 +98,8 @@ pub struct Executive {
     /// Requested goals that never entered the plan (mapping, acceptance test or insertion failed), in the
     /// order they were refused.
     pub refused: Vec<GoalFate>,
+    /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
+    pub replannings: Vec<super::replan::ReplanRecord>,
     /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
     pub insertion_stale: bool,
 }
@@ -156,6 +158,7 @@ impl Executive {
             goal_batches: BTreeMap::new(),
             next_batch: 0,
             refused: Vec::new(),
+            replannings: Vec::new(),
             insertion_stale: false,
         }
     }

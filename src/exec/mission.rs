@@ -12,7 +12,7 @@ use super::cycle::CycleOutcome;
 use super::executive::{Counters, Executive, Fate, GoalFate};
 use super::interrupt::{signal_name, Interrupt};
 use super::p_t::classify;
-use super::replan::ReplanResult;
+use super::replan::{ReplanRecord, ReplanResult};
 use super::resource_bounds::level_bounds;
 use super::trace::{CycleRecord, TraceEvent};
 use crate::model::{ResourceId, Time};
@@ -118,6 +118,9 @@ pub struct MissionReport {
     pub plan_changes: Vec<PlanChange>,
     pub resources: Vec<ResourceSample>,
     pub cycles: Vec<CycleRecord>,
+    /// Every complete replanning: the abort that caused it, its attempts (goals, planning steps, how each
+    /// search ended), its outcome, the goals kept and those rejected with their reasons.
+    pub replannings: Vec<ReplanRecord>,
     /// What was done to leave the vehicle safe after an interruption (set by the caller that did it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shutdown: Option<SafeStopReport>,
@@ -224,14 +227,22 @@ pub fn run_mission<V: Vehicle>(
         }
         let wake = match outcome {
             CycleOutcome::Finished => break MissionEnd::Finished,
-            CycleOutcome::Aborted(_) => match replan(ex, &mut v, pacer) {
-                Ok(()) => {
-                    log.change(pacer.now(v.inner), "replan", ex.plan.num_actions());
-                    // The new plan's first cycle right away.
-                    continue;
+            CycleOutcome::Aborted(_) => {
+                let result = replan(ex, &mut v, pacer);
+                let t = pacer.now(v.inner);
+                // The replanning's attempts, its outcome and its rejections: a record of their own.
+                if let Some(c) = ex.flush_trace(t) {
+                    observe(ex, &c);
                 }
-                Err(end) => break end,
-            },
+                match result {
+                    Ok(()) => {
+                        log.change(t, "replan", ex.plan.num_actions());
+                        // The new plan's first cycle right away.
+                        continue;
+                    }
+                    Err(end) => break end,
+                }
+            }
             CycleOutcome::Continue { next, repairing } => {
                 // §3.2: wake on a message, a due timepoint, or the next cycle while repairing; at the latest
                 // one timestep later (timeouts are checked every cycle).
@@ -440,6 +451,7 @@ impl Log {
             plan_changes: self.changes,
             resources: self.resources,
             cycles: ex.cycles.clone(),
+            replannings: ex.replannings.clone(),
             shutdown: None,
         }
     }

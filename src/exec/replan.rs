@@ -17,11 +17,13 @@
 
 use std::sync::Arc;
 
+use serde::Serialize;
+
 use super::executive::{Executive, Fate};
 use super::trace::TraceEvent;
 use crate::model::{Fact, GoalId, ObjectId, Problem, Time, Value};
 use crate::plan::{PartialPlan, PlanError, TimeFloor};
-use crate::planner::reachability::{unreachable_goals, STEPS_PER_GOAL};
+use crate::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
 use crate::planner::{Search, StepOutcome};
 use crate::stn::{Timepoint, INF};
 
@@ -126,7 +128,8 @@ pub fn attempt_cap(first: u64, attempt: usize) -> u64 {
 }
 
 /// How a replanning attempt's search ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum AttemptEnd {
     /// A flawless plan.
     Solved,
@@ -147,6 +150,67 @@ impl std::fmt::Display for AttemptEnd {
             AttemptEnd::StepCap => "step cap reached",
         })
     }
+}
+
+/// How a complete replanning ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReplanOutcome {
+    /// A new plan was adopted.
+    NewPlan,
+    /// No goal was left to plan for.
+    NoGoals,
+    /// No problem could be extracted.
+    Error,
+}
+
+impl std::fmt::Display for ReplanOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ReplanOutcome::NewPlan => "new plan",
+            ReplanOutcome::NoGoals => "no goal left",
+            ReplanOutcome::Error => "error",
+        })
+    }
+}
+
+/// One attempt of a complete replanning.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AttemptRecord {
+    pub attempt: u32,
+    /// The goals it planned for.
+    pub goals: Vec<String>,
+    pub steps: u64,
+    pub end: AttemptEnd,
+    /// Why a plan it found was not adopted (it needs a banned action; found after T_end).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_adopted: Option<String>,
+}
+
+/// A goal rejected by a complete replanning, and why.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Rejection {
+    pub goal: String,
+    pub reason: String,
+}
+
+/// One complete replanning, as the `--report` JSON keeps it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReplanRecord {
+    /// Mission time when it started and ended, ms since origin.
+    pub time_ms: Time,
+    pub end_ms: Time,
+    /// What aborted execution.
+    pub abort: String,
+    pub attempts: Vec<AttemptRecord>,
+    /// Planning steps of the whole replanning: its attempts and the single-goal searches.
+    pub steps: u64,
+    pub outcome: ReplanOutcome,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The goals of the new plan.
+    pub kept: Vec<String>,
+    pub rejected: Vec<Rejection>,
 }
 
 /// §3.6: plans one step at a time until a solution, a dead end, or the time limit `l = T_end_ub − d`
@@ -191,17 +255,141 @@ pub enum ReplanResult {
     Error(String),
 }
 
+/// The names of the active goals of `plan`.
+fn active_goal_names(plan: &PartialPlan) -> Vec<String> {
+    active_goals(plan)
+        .into_iter()
+        .filter_map(|g| plan.problem.goals.get(g.index()))
+        .map(|g| g.name.clone())
+        .collect()
+}
+
+/// A plan found for one goal alone, kept while its goal is not rejected: what a failed replanning can
+/// still adopt rather than lose every goal.
+struct SoloPlans(Vec<(GoalId, PartialPlan)>);
+
+/// The active goals of `plan`.
+fn active_goals(plan: &PartialPlan) -> Vec<GoalId> {
+    plan.goals
+        .iter()
+        .filter(|g| g.active)
+        .map(|g| g.goal)
+        .collect()
+}
+
+impl SoloPlans {
+    /// Whether a plan was found for one of `goals` alone.
+    fn has(&self, goals: &[GoalId]) -> bool {
+        self.0.iter().any(|(g, _)| goals.contains(g))
+    }
+
+    /// The plan of the goal kept first by the rejection order (the highest priority, then the most
+    /// flexibility, then the oldest) among those not dropped.
+    fn best(&self, dropped: &[GoalId]) -> Option<(GoalId, PartialPlan)> {
+        self.0
+            .iter()
+            .filter(|(g, _)| !dropped.contains(g))
+            .max_by_key(|(g, p)| {
+                let goal = &p.problem.goals[g.index()];
+                let st = p.goals.iter().find(|pg| pg.goal == *g).map(|pg| pg.st);
+                (
+                    goal.priority,
+                    st.map_or(0, |st| p.stn.ub(st) - goal.achieve),
+                    std::cmp::Reverse(*g),
+                )
+            })
+            .map(|(g, p)| (*g, p.clone()))
+    }
+}
+
 impl Executive {
-    /// Complete replanning at `now()`; `refresh` updates S_t between attempts (vehicle levels).
+    /// Complete replanning at `now()`; `refresh` updates S_t between attempts (vehicle levels). Every
+    /// attempt, the goals it kept and rejected are traced and kept in [`Executive::replannings`].
     pub fn replan(
         &mut self,
         now: &dyn Fn() -> Time,
         refresh: &mut dyn FnMut(&mut Executive),
     ) -> ReplanResult {
+        let started = now();
+        let abort = self
+            .abort
+            .clone()
+            .unwrap_or_else(|| "execution aborted".into());
+        let pending: Vec<GoalId> = self
+            .fates
+            .iter()
+            .filter(|(_, f)| f.fate == Fate::Pending)
+            .map(|(&g, _)| g)
+            .collect();
+        let mut attempts = Vec::new();
+        let mut steps = 0;
+        let result = self.replan_attempts(now, refresh, &mut attempts, &mut steps);
+        let rejected: Vec<Rejection> = pending
+            .iter()
+            .filter_map(|g| self.fates.get(g))
+            .filter(|f| f.fate == Fate::Rejected)
+            .map(|f| Rejection {
+                goal: f.name.clone(),
+                reason: f.reason.clone(),
+            })
+            .collect();
+        let (outcome, kept, error) = match &result {
+            ReplanResult::Plan(p) => (ReplanOutcome::NewPlan, active_goal_names(p), None),
+            ReplanResult::NoGoals(_) => (ReplanOutcome::NoGoals, Vec::new(), None),
+            ReplanResult::Error(e) => (ReplanOutcome::Error, Vec::new(), Some(e.clone())),
+        };
+        self.trace(TraceEvent::ReplanDone {
+            outcome,
+            attempts: attempts.len() as u32,
+            steps,
+            kept: kept.clone(),
+            rejected: rejected.iter().map(|r| r.goal.clone()).collect(),
+        });
+        if let Some(e) = &error {
+            tracing::warn!("complete replanning: {e}");
+        }
+        self.replannings.push(ReplanRecord {
+            time_ms: started,
+            end_ms: now(),
+            abort,
+            attempts,
+            steps,
+            outcome,
+            error,
+            kept,
+            rejected,
+        });
+        result
+    }
+
+    /// Traces an attempt and keeps its record.
+    fn attempt_done(&mut self, attempts: &mut Vec<AttemptRecord>, a: AttemptRecord) {
+        self.trace(TraceEvent::Replan {
+            attempt: a.attempt,
+            goals: a.goals.clone(),
+            steps: a.steps,
+            end: a.end,
+            not_adopted: a.not_adopted.clone(),
+        });
+        attempts.push(a);
+    }
+
+    /// The attempts of [`Executive::replan`]: one goal rejected after each failed attempt (the lowest
+    /// priority, then the least flexibility), all of them within `2 · replan_max_steps` steps; when that
+    /// budget is spent with goals left, the plan found for the best of them alone is adopted, if any.
+    fn replan_attempts(
+        &mut self,
+        now: &dyn Fn() -> Time,
+        refresh: &mut dyn FnMut(&mut Executive),
+        attempts: &mut Vec<AttemptRecord>,
+        steps: &mut u64,
+    ) -> ReplanResult {
         self.counters.replans += 1;
         let mut dropped: Vec<GoalId> = Vec::new();
         let first_cap = self.replan_step_cap();
+        let budget = first_cap.saturating_mul(2);
         let slack = self.cfg.replan_slack_ms;
+        let mut solo = SoloPlans(Vec::new());
         for attempt in 1.. {
             let t = now();
             if t >= self.plan.horizon {
@@ -237,37 +425,53 @@ impl Executive {
             dropped.extend(ext.incoherent.iter().copied());
             let mut ext = ext;
             if attempt == 1 {
+                tracing::debug!(
+                    state = ?ext.plan.problem.initial.iter().map(|f| ext.plan.problem.fact_string(&ext.plan.domain, f)).collect::<Vec<_>>(),
+                    levels = ?ext.plan.problem.resources.iter().map(|r| r.level).collect::<Vec<_>>(),
+                    "P_ti extracted"
+                );
                 // A goal no plan achieves even alone is rejected at once, with why, rather than costing
-                // every goal after it an attempt.
-                for u in unreachable_goals(&ext.plan, STEPS_PER_GOAL) {
+                // every goal after it an attempt; a plan found for a goal alone is kept as a fallback.
+                let singles = single_goal_searches(&ext.plan, STEPS_PER_GOAL, false);
+                *steps += singles.steps;
+                for u in singles.unreachable {
                     self.reject_goal(u.goal, &u.to_string());
                     ext.plan.remove_goal(u.goal);
                     dropped.push(u.goal);
                 }
+                solo = SoloPlans(singles.solved);
             }
             let t_end = ext.t_end;
-            if !ext.plan.goals.iter().any(|g| g.active) {
+            let goals = active_goal_names(&ext.plan);
+            if goals.is_empty() {
                 return ReplanResult::NoGoals(ext.plan);
             }
+            let spent = *steps;
+            let max_steps = attempt_cap(first_cap, attempt).min(budget.saturating_sub(spent));
+            if max_steps == 0 {
+                let why = self.abort.as_deref().unwrap_or("execution aborted");
+                let reason = format!(
+                    "abandoned by complete replanning after \"{why}\": its {spent} steps are spent with \
+                     no plan for the goals left"
+                );
+                return self.fall_back(&solo, &mut dropped, t_end, &reason, now, ext.plan);
+            }
+            let alone = goals.len() == 1;
             let mut search = Search::new(ext.plan);
-            let max_steps = attempt_cap(first_cap, attempt);
             let end = plan_until_limit(&mut search, t_end, slack, max_steps, now);
-            let solved = end == AttemptEnd::Solved;
-            self.trace(TraceEvent::Replan {
+            *steps += search.steps();
+            let mut record = AttemptRecord {
                 attempt: attempt as u32,
-                outcome: if solved {
-                    format!("plan found in {} steps", search.steps())
-                } else {
-                    format!("no plan after {} steps ({end})", search.steps())
-                },
-            });
-            let mut solution = solved.then(|| search.plan().clone());
+                goals,
+                steps: search.steps(),
+                end,
+                not_adopted: None,
+            };
+            let mut solution = (end == AttemptEnd::Solved).then(|| search.plan().clone());
             if let Some(b) = solution.as_mut().and_then(|p| self.banned_in_plan(p)) {
                 let what = self.action_text_in(search.plan(), b.action);
-                self.trace(TraceEvent::Replan {
-                    attempt: attempt as u32,
-                    outcome: format!("plan not adopted: it needs {what} ({})", b.reason),
-                });
+                record.not_adopted = Some(format!("it needs {what} ({})", b.reason));
+                self.attempt_done(attempts, record);
                 let reason = format!("no plan without {what}: {}", b.reason);
                 let goals = if b.goals.is_empty() {
                     goal_to_reject(search.plan()).into_iter().collect()
@@ -285,12 +489,24 @@ impl Executive {
                 plan.set_time_floor(TimeFloor::None);
                 // T_end happens now: planning is over, the new plan's first timepoints may follow it.
                 if plan.stn.execute(t_end, now()).is_ok() {
+                    self.attempt_done(attempts, record);
                     return ReplanResult::Plan(plan);
                 }
-                self.trace(TraceEvent::Replan {
-                    attempt: attempt as u32,
-                    outcome: "plan found too late (after T_end)".into(),
-                });
+                record.not_adopted = Some("found too late (after T_end)".into());
+            }
+            self.attempt_done(attempts, record);
+            if alone && end != AttemptEnd::DeadEnd && solo.has(&active_goals(search.plan())) {
+                // The last goal's search ran out without proving it impossible, and a plan was found
+                // for it alone at the first attempt: that plan is kept.
+                let reason = format!("no plan found in {} steps ({end})", search.steps());
+                return self.fall_back(
+                    &solo,
+                    &mut dropped,
+                    t_end,
+                    &reason,
+                    now,
+                    search.into_plan(),
+                );
             }
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
@@ -306,6 +522,41 @@ impl Executive {
             refresh(self);
         }
         ReplanResult::Error("unreachable".into())
+    }
+
+    /// The attempts cannot go on (the replanning's step budget is spent, or the last goal's attempt failed
+    /// without proving it impossible): the plan found at the first attempt for the best goal left alone is
+    /// adopted and the other goals left are rejected with `reason`; without such a plan, every goal left is.
+    fn fall_back(
+        &mut self,
+        solo: &SoloPlans,
+        dropped: &mut Vec<GoalId>,
+        t_end: Timepoint,
+        reason: &str,
+        now: &dyn Fn() -> Time,
+        left: PartialPlan,
+    ) -> ReplanResult {
+        let kept = solo.best(dropped).and_then(|(g, mut plan)| {
+            plan.set_time_floor(TimeFloor::None);
+            plan.stn.execute(t_end, now()).is_ok().then_some((g, plan))
+        });
+        let reason = match &kept {
+            Some((g, _)) => format!(
+                "{reason}; the plan found for {} alone is kept",
+                self.plan.problem.goals[g.index()].name
+            ),
+            None => reason.to_string(),
+        };
+        for g in left.goals.iter().filter(|g| g.active).map(|g| g.goal) {
+            if kept.as_ref().is_none_or(|(k, _)| *k != g) {
+                self.reject_goal(g, &reason);
+                dropped.push(g);
+            }
+        }
+        match kept {
+            Some((_, plan)) => ReplanResult::Plan(plan),
+            None => ReplanResult::NoGoals(left),
+        }
     }
 
     /// The hard step cap of the first replanning attempt: `replan_max_steps`, and with deterministic step

@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::replan::{AttemptEnd, ReplanOutcome};
 use crate::model::Time;
 
 /// One entry of the trace.
@@ -63,9 +64,24 @@ pub enum TraceEvent {
     Abort {
         reason: String,
     },
+    /// One attempt of a complete replanning (seed 1 §3.6): the goals it planned for, its planning steps,
+    /// how its search ended, and why a plan it found was not adopted.
     Replan {
         attempt: u32,
-        outcome: String,
+        goals: Vec<String>,
+        steps: u64,
+        end: AttemptEnd,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        not_adopted: Option<String>,
+    },
+    /// The end of a complete replanning: its outcome, the goals kept in the new plan and those it
+    /// rejected (each also has its `goal_rejected` event with the reason).
+    ReplanDone {
+        outcome: ReplanOutcome,
+        attempts: u32,
+        steps: u64,
+        kept: Vec<String>,
+        rejected: Vec<String>,
     },
     LinksBroken {
         count: usize,
@@ -123,11 +139,44 @@ impl TraceEvent {
             }
             TraceEvent::RepairDone { steps } => format!("plan repaired in {steps} steps"),
             TraceEvent::Abort { reason } => format!("execution aborted: {reason}"),
-            TraceEvent::Replan { attempt, outcome } => {
-                format!("complete replanning, attempt {attempt}: {outcome}")
+            TraceEvent::Replan {
+                attempt,
+                goals,
+                steps,
+                end,
+                not_adopted,
+            } => {
+                let goals = names(goals);
+                let what = match (end, not_adopted) {
+                    (_, Some(why)) => format!("plan found in {steps} steps, not adopted: {why}"),
+                    (AttemptEnd::Solved, None) => format!("plan found in {steps} steps"),
+                    (end, None) => format!("no plan after {steps} steps ({end})"),
+                };
+                format!("complete replanning, attempt {attempt} (goals {goals}): {what}")
             }
+            TraceEvent::ReplanDone {
+                outcome,
+                attempts,
+                steps,
+                kept,
+                rejected,
+            } => format!(
+                "complete replanning done: {outcome} after {attempts} attempt(s), {steps} steps; \
+                 goals kept: {}; rejected: {}",
+                names(kept),
+                names(rejected)
+            ),
             TraceEvent::LinksBroken { count } => format!("{count} causal links broken"),
             TraceEvent::Interrupt { action, reason } => format!("interrupt {action}: {reason}"),
         }
+    }
+}
+
+/// `g1, g3`, or `none`.
+pub fn names(goals: &[String]) -> String {
+    if goals.is_empty() {
+        "none".into()
+    } else {
+        goals.join(", ")
     }
 }

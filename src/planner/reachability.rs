@@ -26,26 +26,47 @@ pub struct Unreachable {
     pub reason: String,
 }
 
+/// What planning each goal alone found: the goals no plan achieves, and a plan for each goal that its
+/// single-goal search solved (a fallback for complete replanning: that goal at least can be kept).
+#[derive(Clone, Debug, Default)]
+pub struct SingleGoalSearches {
+    pub unreachable: Vec<Unreachable>,
+    pub solved: Vec<(GoalId, PartialPlan)>,
+    /// Planning steps all the single-goal searches took.
+    pub steps: u64,
+}
+
 /// The active goals of `root` that cannot be achieved even alone, in the order of the problem's goals.
 pub fn unreachable_goals(root: &PartialPlan, steps_each: u64) -> Vec<Unreachable> {
+    single_goal_searches(root, steps_each, false).unreachable
+}
+
+/// Plans each active goal of `root` alone within `steps_each` steps. With one active goal, the whole
+/// search is the single-goal search: it is run only when `lone` asks for it.
+pub fn single_goal_searches(root: &PartialPlan, steps_each: u64, lone: bool) -> SingleGoalSearches {
     let active: Vec<GoalId> = root
         .goals
         .iter()
         .filter(|g| g.active)
         .map(|g| g.goal)
         .collect();
-    if active.len() < 2 {
-        // The whole search is the single-goal search.
-        return Vec::new();
+    let mut out = SingleGoalSearches::default();
+    if active.len() < 2 && !lone {
+        return out;
     }
-    let mut out = Vec::new();
     for &g in &active {
         let mut alone = root.clone();
         for &other in active.iter().filter(|&&o| o != g) {
             alone.remove_goal(other);
         }
         let mut search = Search::new(alone);
-        let reason = match search.run(Budget::steps(steps_each)) {
+        let outcome = search.run(Budget::steps(steps_each));
+        out.steps += search.steps();
+        let reason = match outcome {
+            StepOutcome::Solved => {
+                out.solved.push((g, search.into_plan()));
+                continue;
+            }
             StepOutcome::Failed(FailReason::NoResolver { flaw }) => format!(
                 "no resolver for {flaw}{}",
                 search
@@ -60,7 +81,7 @@ pub fn unreachable_goals(root: &PartialPlan, steps_each: u64) -> Vec<Unreachable
             ),
             _ => continue,
         };
-        out.push(Unreachable {
+        out.unreachable.push(Unreachable {
             goal: g,
             name: root
                 .problem

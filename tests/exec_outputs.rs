@@ -1,0 +1,282 @@
+//! Issue 16: everything a run decides is in its outputs, and one failure does not lose every goal.
+//! - The abort is an event of the cycle that aborted; each complete replanning is a record of its own,
+//!   handed to the trace's observer (what `run` and `demo` print) and kept in the report as data: the
+//!   abort, each attempt's goals, planning steps and end, the outcome, the goals kept and rejected.
+//! - A complete replanning whose budget runs out keeps the plan found for the best goal alone rather than
+//!   rejecting every goal.
+//! - A recharge tops up a nearly full battery without overflowing it (the charger stops at full).
+
+mod common;
+#[path = "common/mapping.rs"]
+mod mapping;
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use mavtempo::cli::demo::{run_demo, DemoSetup};
+use mavtempo::exec::config::ExecConfig;
+use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::mission::MissionEnd;
+use mavtempo::exec::replan::{AttemptEnd, ReplanOutcome, ReplanResult};
+use mavtempo::exec::trace::{CycleRecord, TraceEvent};
+use mavtempo::lang::load_problem_and_domain;
+use mavtempo::plan::validate::validate;
+use mavtempo::plan::PartialPlan;
+use mavtempo::planner::{solve, Budget};
+
+const FIG2: &str = include_str!("../sitl/scenarios/fig2.toml");
+
+/// The demo (stepped: deterministic) with every cycle record its observer saw.
+fn demo(setup: &DemoSetup) -> (mavtempo::cli::demo::DemoRun, Vec<CycleRecord>) {
+    let mut seen = Vec::new();
+    let run = run_demo(setup, &mut |_| {}, &mut |c| seen.push(c.clone()))
+        .unwrap_or_else(|e| panic!("demo: {e}"));
+    (run, seen)
+}
+
+fn has(c: &CycleRecord, f: impl Fn(&TraceEvent) -> bool) -> bool {
+    c.events.iter().any(f)
+}
+
+/// Seed 1 Fig. 2's e2: the timeout, the abort and the stops are one cycle's events; the replanning that
+/// follows is the next record, with its attempts, its end and g2's rejection; the report keeps it as data.
+#[test]
+fn fig2_abort_and_replanning_reach_the_trace_and_the_report() {
+    let (run, seen) = demo(&DemoSetup::default());
+    // Every record the report keeps was handed to the trace's observer, in order.
+    let indices = |cs: &[CycleRecord]| cs.iter().map(|c| c.index).collect::<Vec<_>>();
+    let printed: Vec<u64> = indices(&seen);
+    let kept: Vec<u64> = indices(&run.report.cycles)
+        .into_iter()
+        .filter(|i| printed.contains(i))
+        .collect();
+    assert_eq!(printed, kept);
+    for c in &run.report.cycles {
+        let interesting = has(c, |e| {
+            matches!(
+                e,
+                TraceEvent::Abort { .. }
+                    | TraceEvent::Replan { .. }
+                    | TraceEvent::ReplanDone { .. }
+                    | TraceEvent::GoalRejected { .. }
+            )
+        });
+        assert!(
+            !interesting || printed.contains(&c.index),
+            "cycle {}",
+            c.index
+        );
+    }
+    let at = seen
+        .iter()
+        .position(|c| has(c, |e| matches!(e, TraceEvent::Timeout { .. })))
+        .expect("e2's timeout");
+    assert!(
+        has(
+            &seen[at],
+            |e| matches!(e, TraceEvent::Abort { reason } if reason.contains("timeout"))
+        ),
+        "the abort is in the cycle that timed out: {:?}",
+        seen[at].events
+    );
+    let replanning = &seen[at + 1];
+    assert!(replanning.time_ms >= seen[at].time_ms);
+    let attempts: Vec<(u32, u64, AttemptEnd)> = replanning
+        .events
+        .iter()
+        .filter_map(|e| match e {
+            TraceEvent::Replan {
+                attempt,
+                steps,
+                end,
+                goals,
+                ..
+            } => {
+                assert!(!goals.is_empty());
+                Some((*attempt, *steps, *end))
+            }
+            _ => None,
+        })
+        .collect();
+    assert!(attempts.len() >= 2, "{:?}", replanning.events);
+    assert_eq!(attempts.last().map(|a| a.2), Some(AttemptEnd::Solved));
+    assert!(has(replanning, |e| matches!(
+        e,
+        TraceEvent::GoalRejected { goal, .. } if goal == "g2"
+    )));
+    let done = replanning
+        .events
+        .iter()
+        .find_map(|e| match e {
+            TraceEvent::ReplanDone {
+                outcome,
+                kept,
+                rejected,
+                steps,
+                ..
+            } => Some((*outcome, kept.clone(), rejected.clone(), *steps)),
+            _ => None,
+        })
+        .expect("the replanning's end");
+    assert_eq!(done.0, ReplanOutcome::NewPlan);
+    assert_eq!(done.2, ["g2"]);
+    assert!(done.1.contains(&"g3".to_string()), "{:?}", done.1);
+    // The report: the same replanning as data.
+    let rec = &run.report.replannings[0];
+    assert!(rec.abort.contains("timeout"), "{}", rec.abort);
+    assert_eq!(rec.outcome, ReplanOutcome::NewPlan);
+    assert_eq!(rec.kept, done.1);
+    assert_eq!(rec.rejected.len(), 1);
+    assert_eq!(rec.rejected[0].goal, "g2");
+    assert!(rec.rejected[0].reason.contains("time limit l"));
+    assert_eq!(
+        rec.attempts
+            .iter()
+            .map(|a| (a.attempt, a.steps, a.end))
+            .collect::<Vec<_>>(),
+        attempts
+    );
+    assert!(rec.steps >= attempts.iter().map(|a| a.1).sum::<u64>());
+    assert_eq!(rec.steps, done.3);
+    // And in the JSON.
+    let json = serde_json::to_value(&run.report).expect("JSON");
+    let r = &json["replannings"][0];
+    assert_eq!(r["outcome"], "new_plan");
+    assert_eq!(r["attempts"][0]["end"], "time_limit");
+    assert_eq!(r["rejected"][0]["goal"], "g2");
+}
+
+/// Navigation fails for good 5 s in: the replanning that ends the mission is handed to the observer and
+/// kept in the report, every goal rejected with its reason.
+#[test]
+fn the_replanning_that_ends_a_mission_reaches_the_observer_and_the_report() {
+    let mut file = tempfile::NamedTempFile::new().unwrap_or_else(|e| panic!("temp file: {e}"));
+    std::io::Write::write_all(
+        &mut file,
+        format!(
+            "{FIG2}\n[[faults]]\nwhen = {{ at_s = 5.0 }}\nfault = {{ kind = \"nav_fails\", duration_s = 5000.0 }}\n"
+        )
+        .as_bytes(),
+    )
+    .unwrap_or_else(|e| panic!("write scenario: {e}"));
+    let setup = DemoSetup {
+        upload: false,
+        scenario: Some(file.path().to_path_buf()),
+        ..DemoSetup::default()
+    };
+    let (run, seen) = demo(&setup);
+    assert_eq!(run.report.end, MissionEnd::NoGoals);
+    let last = seen.last().expect("records");
+    assert!(
+        has(last, |e| matches!(
+            e,
+            TraceEvent::ReplanDone {
+                outcome: ReplanOutcome::NoGoals,
+                ..
+            }
+        )),
+        "{:?}",
+        last.events
+    );
+    let rec = run.report.replannings.last().expect("a replanning");
+    assert_eq!(rec.outcome, ReplanOutcome::NoGoals);
+    assert!(rec.kept.is_empty());
+    assert!(!rec.abort.is_empty());
+    let rejected_here: Vec<&str> = rec.rejected.iter().map(|r| r.goal.as_str()).collect();
+    for g in &run.report.goals {
+        assert_eq!(g.fate, Fate::Rejected, "{g:?}");
+        assert!(!g.reason.is_empty());
+        let by_a_replanning = run
+            .report
+            .replannings
+            .iter()
+            .any(|r| r.rejected.iter().any(|x| x.goal == g.name));
+        assert!(by_a_replanning, "{} in {rejected_here:?}", g.name);
+    }
+}
+
+fn fig2_executive(cfg: ExecConfig) -> Executive {
+    let (d, p) =
+        load_problem_and_domain(Path::new("domains/rover/problems/fig2.ixt")).expect("fig2 loads");
+    let plan = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
+    let mapping = mapping::rover(&plan);
+    Executive::new(plan, cfg).with_mapping(mapping)
+}
+
+/// A replanning whose step budget is too small for any attempt: the plan found for g3 alone (the highest
+/// priority) is kept and the others are rejected with the reason; it used to end with every goal rejected.
+#[test]
+fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
+    let mut ex = fig2_executive(ExecConfig {
+        replan_max_steps: 40,
+        ..ExecConfig::default()
+    });
+    ex.abort = Some("test abort".into());
+    let result = ex.replan(&|| 0, &mut |_| {});
+    let ReplanResult::Plan(plan) = result else {
+        panic!("expected a plan, got {result:?}");
+    };
+    let active: Vec<String> = plan
+        .goals
+        .iter()
+        .filter(|g| g.active)
+        .map(|g| plan.problem.goals[g.goal.index()].name.clone())
+        .collect();
+    assert_eq!(active, ["g3"]);
+    let rec = ex.replannings.last().expect("record");
+    assert_eq!(rec.outcome, ReplanOutcome::NewPlan);
+    assert_eq!(rec.kept, ["g3"]);
+    assert_eq!(rec.rejected.len(), 4, "{:?}", rec.rejected);
+    assert!(rec.rejected.iter().all(|r| r.reason.contains("test abort")));
+    // The whole replanning stays within twice the cap, plus the single-goal searches (300 steps each).
+    let attempts: u64 = rec.attempts.iter().map(|a| a.steps).sum();
+    assert!(attempts <= 80, "{attempts}");
+    assert!(rec.steps <= 80 + 5 * 300, "{}", rec.steps);
+    let g3 = ex.fates.values().find(|f| f.name == "g3").expect("g3");
+    assert_eq!(g3.fate, Fate::Pending);
+}
+
+/// The battery at 97 %, a target 198 m away (99 % of a full battery at 0.5 %/m): a recharge tops it up
+/// first. A shortest recharge (60 s, 5 %) may go past the capacity: with the charger stopping at full (a
+/// saturating production) the plan is found and checked; as a plain production it overflowed with no
+/// resolver (the recharge cannot be capped under its 60 s minimum).
+#[test]
+fn a_recharge_tops_up_a_nearly_full_battery() {
+    let d = Arc::new(common::rover());
+    let text = "problem topup;
+domain rover;
+horizon 60min;
+object base: location at (0, 0);
+object far: location at (198, 0);
+initial {
+    AT_ROBOT() = base;
+    ROBOT_STATUS() = STILL;
+    PTU_POS() = FORWARD;
+    MVT_INIT() = T;
+    PTU_INIT() = T;
+    PICTURE(*) = false;
+    COMMUNICATED(*) = false;
+    VISIBLE() = NONE;
+}
+resource STORAGE: level 3, capacity 3;
+resource BATTERY: level 97, capacity 100;
+goal g1 priority 1 {
+    hold(PICTURE(far): true, (st, et));
+    st in [0, 60min];
+    achieve 400s;
+}
+";
+    let p = Arc::new(mavtempo::lang::parse_problem("topup", text, &d).expect("problem parses"));
+    let planned = solve(d.clone(), p.clone(), Budget::steps(5_000)).expect("a plan");
+    let sol = planned.plan.to_solution(&HashMap::new());
+    if let Err(r) = validate(&d, &p, &sol) {
+        panic!("checker rejects the plan: {r}");
+    }
+    let recharges = planned
+        .plan
+        .live_actions()
+        .filter(|&a| d.task(planned.plan.action(a).task).name == "recharge_battery")
+        .count();
+    assert_eq!(recharges, 1);
+}
