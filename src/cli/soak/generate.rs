@@ -15,6 +15,9 @@ pub enum SoakDomain {
     Rover,
     Auv,
     All,
+    /// The shipped rover problems (Fig. 2, Dala) with their own SITL scenarios, and goals uploaded at
+    /// random times, 10 to 150 m away (some need a recharge): does a new goal cost the goals held?
+    Shipped,
 }
 
 /// A goal a simulated ground station uploads at `at_s` of mission time: a picture (rover) or a sample
@@ -55,7 +58,53 @@ pub fn mission(seed: u64, domain: SoakDomain) -> Mission {
     };
     match d {
         SoakDomain::Auv => auv(seed, &mut rng),
+        SoakDomain::Shipped => shipped(seed, &mut rng),
         _ => rover(seed, &mut rng),
+    }
+}
+
+/// The shipped rover problems with their scenarios: (name, problem, scenario, horizon in s).
+const SHIPPED: [(&str, &str, &str, f64); 2] = [
+    (
+        "fig2",
+        include_str!("../../../domains/rover/problems/fig2.ixt"),
+        include_str!("../../../sitl/scenarios/fig2.toml"),
+        1800.0,
+    ),
+    (
+        "dala",
+        include_str!("../../../domains/rover/problems/dala.ixt"),
+        include_str!("../../../sitl/scenarios/dala.toml"),
+        1500.0,
+    ),
+];
+
+/// A shipped rover problem (Fig. 2 for even seeds, Dala for odd ones) on its own scenario, and 1 to 3
+/// picture goals uploaded during the first half of the mission, 10 to 150 m from home, priority 1 to 3.
+fn shipped(seed: u64, rng: &mut ChaCha8Rng) -> Mission {
+    let (name, problem, scenario, horizon_s) = SHIPPED[(seed % 2) as usize];
+    let uploads = (0..rng.gen_range(1..=3))
+        .map(|_| {
+            let a = rng.gen_range(0.0..std::f64::consts::TAU);
+            let d = rng.gen_range(10.0..150.0);
+            Upload {
+                at_s: rng.gen_range(20.0..horizon_s * 0.5).round(),
+                command: PICTURE_CMD,
+                east: (a.cos() * d).round(),
+                north: (a.sin() * d).round(),
+                up: 0.0,
+                priority: rng.gen_range(1..=3),
+                window_end_s: horizon_s - 60.0,
+            }
+        })
+        .collect();
+    Mission {
+        seed,
+        domain: SoakDomain::Shipped,
+        problem: problem.to_string(),
+        scenario: scenario.to_string(),
+        faults: vec![name],
+        uploads,
     }
 }
 

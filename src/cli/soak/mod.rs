@@ -60,6 +60,8 @@ struct Outcome {
     report: Option<MissionReport>,
     /// Goals with their fates (all rejected when there was no initial plan).
     goals: Vec<(String, Fate, String)>,
+    /// The names of the problem's goals (the others were uploaded).
+    held: Vec<String>,
     violations: Vec<Violation>,
 }
 
@@ -98,6 +100,15 @@ struct Summary {
     violations: Vec<Violation>,
     repairs: u64,
     replans: u64,
+    /// Goals of the missions' problems (not uploaded) and how many of them were achieved.
+    held_goals: u64,
+    held_achieved: u64,
+    /// Missions that ended with every goal rejected.
+    all_rejected: u64,
+    /// `--domain shipped`: missions that achieved every problem goal the same mission without its uploads
+    /// achieves (each mission is also run without them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kept_goals: Option<u64>,
     wall_s: f64,
 }
 
@@ -138,6 +149,26 @@ pub fn run(args: SoakArgs) -> ExitCode {
                     failed(&m, "no_panic", format!("panicked: {what}"))
                 });
         tally(&mut sum, &m, &outcome);
+        if m.domain == SoakDomain::Shipped {
+            let without = Mission {
+                uploads: Vec::new(),
+                ..m.clone()
+            };
+            let baseline =
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(&without, false)));
+            let achieved = |g: &str| {
+                outcome
+                    .goals
+                    .iter()
+                    .any(|(h, f, _)| h == g && *f == Fate::Achieved)
+            };
+            let kept = baseline.is_ok_and(|b| {
+                b.goals
+                    .iter()
+                    .all(|(g, fate, _)| *fate != Fate::Achieved || achieved(g))
+            });
+            *sum.kept_goals.get_or_insert(0) += u64::from(kept);
+        }
         if let Some(bar) = &bar {
             bar.set_message(format!(
                 "{} of {} goals achieved, {} violations",
@@ -181,6 +212,7 @@ fn failed(m: &Mission, invariant: &'static str, detail: String) -> Outcome {
     Outcome {
         report: None,
         goals: Vec::new(),
+        held: Vec::new(),
         violations: vec![Violation {
             invariant,
             seed: m.seed,
@@ -222,6 +254,13 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
         s.goals += total;
         s.achieved += achieved;
     }
+    let held: Vec<&(String, Fate, String)> =
+        o.goals.iter().filter(|g| o.held.contains(&g.0)).collect();
+    sum.held_goals += held.len() as u64;
+    sum.held_achieved += held.iter().filter(|g| g.1 == Fate::Achieved).count() as u64;
+    if !o.goals.is_empty() && o.goals.iter().all(|g| g.1 == Fate::Rejected) {
+        sum.all_rejected += 1;
+    }
     if let Some(r) = &o.report {
         sum.repairs += r.counters.repairs;
         sum.replans += r.counters.replans;
@@ -247,6 +286,16 @@ fn print_summary(s: &Summary) {
         "plan repairs {}, complete replannings {}",
         s.repairs, s.replans
     );
+    println!(
+        "problem goals: {} of {} achieved; missions with every goal rejected: {}",
+        s.held_achieved, s.held_goals, s.all_rejected
+    );
+    if let Some(k) = s.kept_goals {
+        println!(
+            "missions achieving every problem goal their run without uploads achieves: {k} of {}",
+            s.missions
+        );
+    }
     for (f, sh) in &s.by_fault {
         println!(
             "  fault {f:<14} {:>4} missions, {:>4} of {:>4} goals achieved ({:.0} %)",
@@ -295,6 +344,7 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
                     .iter()
                     .map(|g| (g.name.clone(), Fate::Rejected, e.clone()))
                     .collect(),
+                held: problem.goals.iter().map(|g| g.name.clone()).collect(),
                 violations: Vec::new(),
             };
         }
@@ -375,6 +425,7 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     Outcome {
         report: Some(report),
         goals,
+        held: problem.goals.iter().map(|g| g.name.clone()).collect(),
         violations,
     }
 }
