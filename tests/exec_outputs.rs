@@ -280,3 +280,50 @@ goal g1 priority 1 {
         .count();
     assert_eq!(recharges, 1);
 }
+
+/// A move that fails (e.g. the battery emptied by a drop) leaves the rover standing: its end event
+/// `ROBOT_STATUS: MOVING → STILL` undoes its own start event, so STILL holds again. It used to stay
+/// MOVING in S_t, from which no recharge and no move can be planned: every complete replanning after such
+/// a failure searched its whole budget and rejected every goal left.
+#[test]
+fn a_failed_move_leaves_the_rover_still() {
+    let (d, p) =
+        load_problem_and_domain(Path::new("domains/rover/problems/fig2.ixt")).expect("fig2 loads");
+    let mut search = mavtempo::planner::Search::new(
+        PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan"),
+    );
+    assert_eq!(
+        search.run(Budget::steps(50_000)),
+        mavtempo::planner::StepOutcome::Solved
+    );
+    let plan = search.into_plan();
+    let m = mapping::rover(&plan);
+    let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(m);
+    let a = ex
+        .plan
+        .live_actions()
+        .find(|&a| ex.plan.domain.task(ex.plan.action(a).task).name == "move")
+        .expect("a move");
+    let report = mavtempo::vehicle::ActionReport {
+        id: 1,
+        status: mavtempo::vehicle::ReportStatus::Failed,
+        time_ms: 5_000,
+        resources: Vec::new(),
+        state: vec![(
+            "position".into(),
+            mavtempo::vehicle::StateValue::Position(mavtempo::vehicle::Enu::new(0.0, 0.0, 0.0)),
+        )],
+        reason: Some("battery empty".into()),
+    };
+    mavtempo::exec::state_update::integrate_state(&mut ex, a, &report, 5_000);
+    let status = ex
+        .plan
+        .domain
+        .attr_id("ROBOT_STATUS")
+        .expect("ROBOT_STATUS");
+    let still = ex.plan.problem.object_id("STILL").expect("STILL");
+    assert_eq!(
+        ex.state.get(&(status, Vec::new())),
+        Some(mavtempo::model::Value::Obj(still))
+    );
+}

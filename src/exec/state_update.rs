@@ -172,6 +172,43 @@ fn before_value(ex: &Executive, e: EventId) -> Option<(AttrId, Vec<ObjectId>, Va
     Some((ev.attr, args, value))
 }
 
+/// An end event of action `a` that only undoes `a`'s own start event on the same instance (the move's
+/// `ROBOT_STATUS: MOVING → STILL` after its `STILL → MOVING`): the value it restores. That value was the
+/// action's while it ran; once the action has ended — failed too — it holds again (a rover whose move
+/// failed stands still; it is not left MOVING for every later plan).
+fn restored_value(
+    ex: &Executive,
+    a: ActionId,
+    e: EventId,
+) -> Option<(AttrId, Vec<ObjectId>, Value)> {
+    let plan = &ex.plan;
+    let ev = plan.event(e);
+    let b = &plan.bindings;
+    let from = plan.cond(ev.cond?).value;
+    let st = plan.action(a).start;
+    let undone = plan.action(a).events.iter().any(|&s| {
+        let se = plan.event(s);
+        se.at == st
+            && se.attr == ev.attr
+            && se.args.len() == ev.args.len()
+            && se
+                .args
+                .iter()
+                .zip(&ev.args)
+                .all(|(&x, &y)| b.necessarily_equal(x, y))
+            && b.necessarily_equal(se.to, from)
+            && se
+                .cond
+                .is_some_and(|c| b.necessarily_equal(plan.cond(c).value, ev.to))
+    });
+    if !undone {
+        return None;
+    }
+    let value = b.value(ev.to)?;
+    let (attr, args, _) = before_value(ex, e)?;
+    Some((attr, args, value))
+}
+
 pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Time) {
     let mut broken: Vec<LinkId> = Vec::new();
     // Values that enter the plan as observed facts just after t, when the action ended, so that the effect
@@ -212,9 +249,12 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
         if happened {
             continue;
         }
-        // The value did not change: the value before the event holds on (when it is known).
+        // The value did not change: the value before the event holds on (when it is known) — unless the
+        // event only undoes the action's own start event, which the action's end ends all the same.
         if report.is_none() {
-            if let Some((attr, args, value)) = before_value(ex, e) {
+            if let Some((attr, args, value)) =
+                restored_value(ex, a, e).or_else(|| before_value(ex, e))
+            {
                 ex.state.set((attr, args.clone()), t, value);
                 observed.push((attr, args, value));
             }
