@@ -101,7 +101,15 @@ pub struct Search {
     /// Why the last resolver rejected was rejected, or the last flaw found without any (for explaining a
     /// failure: [`reachability`]).
     last_rejection: Option<String>,
+    /// The last step stopped backtracking after [`MAX_REJECTED_PER_STEP`] rejected resolvers: the next
+    /// step goes on with it instead of selecting a flaw.
+    resume: bool,
 }
+
+/// Resolvers a planning step may try and see rejected before it returns, its backtracking resumed by the
+/// next step. Without it one step could back up through a deep branch trying thousands of resolvers, each
+/// costing a propagation, unseen by every step budget (a plan repair's cycle, a replanning's cap).
+pub const MAX_REJECTED_PER_STEP: u32 = 32;
 
 impl Search {
     /// A search whose root is `plan` (the incremental flaw detection is rebuilt from scratch).
@@ -119,6 +127,7 @@ impl Search {
             discrepancy_limit: 0,
             cut: false,
             last_rejection: None,
+            resume: false,
         }
     }
 
@@ -189,6 +198,9 @@ impl Search {
     /// can be applied (seed 1 §3.6: when the time limit l is reached, planning is pursued if the next step is a backtrack
     /// and it increases l). The selection is kept for that next step.
     pub fn next_is_backtrack(&mut self) -> bool {
+        if self.resume && self.status == Status::Running {
+            return true;
+        }
         if !self.peek() {
             return false;
         }
@@ -221,7 +233,7 @@ impl Search {
         if self.status == Status::Solved {
             return true;
         }
-        self.peek() && matches!(self.peeked, Some(None))
+        !self.resume && self.peek() && matches!(self.peeked, Some(None))
     }
 
     /// Makes the next step's selection once (kept in `peeked`); false when the search is over or the
@@ -265,6 +277,7 @@ impl Search {
                 return false;
             };
             self.peeked = None;
+            self.resume = false;
             self.plan.restore(top.level);
             self.status = Status::Running;
         }
@@ -278,6 +291,9 @@ impl Search {
             Status::Running => {}
         }
         self.steps += 1;
+        if std::mem::take(&mut self.resume) {
+            return self.advance();
+        }
         let picked = match self.peeked.take() {
             Some(p) => p,
             None => match self.select() {
@@ -310,6 +326,7 @@ impl Search {
 
     /// Applies the next applicable resolver of the top choice, backtracking as needed.
     fn advance(&mut self) -> StepOutcome {
+        let mut rejected = 0;
         loop {
             let Some(top) = self.stack.last_mut() else {
                 let r = FailReason::Exhausted { steps: self.steps };
@@ -344,6 +361,12 @@ impl Search {
                                 r.text(&self.plan),
                                 self.plan.flaw_text(&top.flaw)
                             ));
+                        }
+                        rejected += 1;
+                        if rejected >= MAX_REJECTED_PER_STEP {
+                            // The node is the top choice's, no resolver applied: the next step resumes.
+                            self.resume = true;
+                            return StepOutcome::Progress;
                         }
                     }
                 }
