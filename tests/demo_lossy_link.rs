@@ -142,7 +142,8 @@ fault = { kind = "nav_fails", duration_s = 5000.0 }
         .collect();
     assert_eq!(rejected.len(), run.report.goals.len(), "{rejected:?}");
     assert!(events.iter().any(|e| matches!(e, TraceEvent::Abort { .. })));
+    // The replanning itself (its attempts, if a goal was left to try, and its end).
     assert!(events
         .iter()
-        .any(|e| matches!(e, TraceEvent::Replan { .. })));
+        .any(|e| matches!(e, TraceEvent::ReplanDone { .. })));
 }
