@@ -431,6 +431,7 @@ pub fn run_demo(
     let upload = upload.map(|h| upload_account(rt, h));
     let timed_upload = timed.map(|h| upload_account(rt, h));
     let ready = session.ready.clone();
+    report.ready = ready.clone();
     drop(session);
     Ok(DemoRun {
         report,

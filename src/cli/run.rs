@@ -197,6 +197,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
+    let mut ready = None;
     if ready_limit_s > 0.0 {
         println!(
             "vehicle up; waiting for a position fix and arming (at most {ready_limit_s} s)..."
@@ -212,6 +213,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
             return Err(report.why_not(ready_limit_s));
         }
         println!("{}", super::mission_out::ready_line(&report));
+        ready = Some(report);
     }
     let origin = vehicle.now_ms();
     println!("vehicle ready; mission starts at vehicle time {origin} ms");
@@ -234,6 +236,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
         speedup: args.speedup,
     };
     let mut report = run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe);
+    report.ready = ready;
     if matches!(report.end, MissionEnd::Interrupted(_)) {
         report.shutdown =
             Some(vehicle.safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))));

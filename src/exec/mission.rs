@@ -124,6 +124,10 @@ pub struct MissionReport {
     /// What was done to leave the vehicle safe after an interruption (set by the caller that did it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shutdown: Option<SafeStopReport>,
+    /// How the vehicle became ready (a fix, arming, the estimator) before the mission (set by the caller
+    /// that waited).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ready: Option<crate::vehicle::readiness::ReadyReport>,
 }
 
 impl MissionReport {
@@ -453,6 +457,7 @@ impl Log {
             cycles: ex.cycles.clone(),
             replannings: ex.replannings.clone(),
             shutdown: None,
+            ready: None,
         }
     }
 }

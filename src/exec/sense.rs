@@ -66,6 +66,7 @@ impl Executive {
             action: name.clone(),
             status: r.status.to_string(),
             timing: format!("{when:?}"),
+            reason: r.reason.clone(),
         });
         match r.status {
             ReportStatus::Failed => {

@@ -21,6 +21,9 @@ pub enum TraceEvent {
         action: String,
         status: String,
         timing: String,
+        /// Why a failed or interrupted action ended so, as the vehicle said.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        reason: Option<String>,
     },
     Level {
         resource: String,
@@ -113,7 +116,11 @@ impl TraceEvent {
                 action,
                 status,
                 timing,
-            } => format!("report {action}: {status} ({timing})"),
+                reason,
+            } => match reason {
+                Some(why) => format!("report {action}: {status} ({timing}): {why}"),
+                None => format!("report {action}: {status} ({timing})"),
+            },
             TraceEvent::Level {
                 resource,
                 level,
