@@ -167,13 +167,20 @@ impl Executive {
                 RepairOutcome::Solved
             }
             Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
-                self.repair = None;
+                // The search's last dead end says why, before the search is dropped.
+                let dead_end = self
+                    .repair
+                    .take()
+                    .and_then(|rep| rep.search.last_rejection().map(str::to_string));
                 let flaws: Vec<String> = {
                     let plan = &mut self.plan;
                     plan.flaws().iter().map(|f| plan.flaw_text(f)).collect()
                 };
                 tracing::debug!(?flaws, "plan repair failed on the executing plan's flaws");
-                let reason = format!("plan repair failed: {r}");
+                let reason = match dead_end {
+                    Some(d) => format!("plan repair failed: {r}; the last dead end: {d}"),
+                    None => format!("plan repair failed: {r}"),
+                };
                 self.abort = Some(reason.clone());
                 RepairOutcome::Failed(reason)
             }
