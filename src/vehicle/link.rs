@@ -694,6 +694,11 @@ impl Vehicle for MavlinkVehicle {
     fn now_ms(&self) -> u64 {
         self.shared.clock_ms.load(Ordering::Relaxed)
     }
+
+    fn position(&self) -> Option<(f64, f64)> {
+        let d = self.shared.driver.lock().ok()?;
+        d.telemetry().position.map(|p| (p.east, p.north))
+    }
 }
 
 impl MavlinkVehicle {
