@@ -154,7 +154,9 @@ pub fn run(args: DemoArgs) -> ExitCode {
                 println!("page written to {}", path.display());
             }
             if let Some(hold) = run.hold {
-                super::http_arg::linger(&hold.addr, &interrupt);
+                if !matches!(run.report.end, MissionEnd::Interrupted(_)) {
+                    super::http_arg::linger(&hold.addr, &interrupt);
+                }
             }
             match run.report.end {
                 MissionEnd::Interrupted(_) => {

@@ -9,7 +9,7 @@ mod dispatch_arg;
 mod experiment;
 mod fuzz;
 mod goal;
-mod http_arg;
+pub mod http_arg;
 mod mission_out;
 mod plan;
 mod report;

@@ -340,3 +340,82 @@ fn event_line(e: &EventView) -> Option<String> {
         EventView::Other => return None,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cycle(time_ms: Time, events: Vec<EventView>) -> CycleView {
+        CycleView { time_ms, events }
+    }
+
+    fn launch(a: &str) -> EventView {
+        EventView::Launch {
+            action: a.into(),
+            planned_end_ms: Some((4_000, None)),
+        }
+    }
+
+    fn report(a: &str, status: &str) -> EventView {
+        EventView::Report {
+            action: a.into(),
+            status: status.into(),
+            reason: None,
+        }
+    }
+
+    #[test]
+    fn a_bar_spans_launch_to_report_and_a_relaunch_is_a_new_bar() {
+        let mut c = Charts::default();
+        c.push_cycle(&cycle(1_000, vec![launch("a"), launch("b")]));
+        c.push_cycle(&cycle(3_000, vec![report("a", "failed")]));
+        c.push_cycle(&cycle(4_000, vec![launch("a"), report("zz", "nominal")]));
+        c.push_cycle(&cycle(6_000, vec![report("a", "nominal")]));
+        let spans: Vec<_> = c
+            .bars
+            .iter()
+            .map(|b| (b.action.as_str(), b.start_ms, b.end_ms, b.status.as_str()))
+            .collect();
+        assert_eq!(
+            spans,
+            [
+                ("a", 1_000, Some(3_000), "failed"),
+                ("b", 1_000, None, "running"),
+                ("a", 4_000, Some(6_000), "nominal"),
+            ]
+        );
+        assert_eq!(c.rows(), ["a", "b"]);
+        assert_eq!(c.now_ms, 6_000);
+    }
+
+    #[test]
+    fn bounds_hold_until_the_next_change_and_only_reports_are_points() {
+        let mut c = Charts::default();
+        let s = |t, lb, ub, reported| SampleView {
+            time_ms: t,
+            resource: "STORAGE".into(),
+            lb,
+            ub,
+            reported,
+        };
+        c.push_sample(&s(0, 3.0, 3.0, None));
+        c.push_sample(&s(500, 3.0, 3.0, Some(3.0)));
+        c.push_sample(&s(900, 1.0, 2.0, None));
+        let st = &c.series[0];
+        assert_eq!(st.bounds, [(0, 3.0, 3.0), (900, 1.0, 2.0)]);
+        assert_eq!(st.reported, [(500, 3.0)]);
+        assert_eq!(Charts::bounds_at(st, 899), Some((3.0, 3.0)));
+        assert_eq!(Charts::bounds_at(st, 900), Some((1.0, 2.0)));
+        assert_eq!(Charts::bounds_at(st, -1), None);
+    }
+
+    #[test]
+    fn the_last_events_are_bounded() {
+        let mut c = Charts::default();
+        for i in 0..(LAST_EVENTS as i64 + 5) {
+            c.push_cycle(&cycle(i, vec![EventView::GoalAchieved { goal: format!("g{i}") }]));
+        }
+        assert_eq!(c.events.len(), LAST_EVENTS);
+        assert!(c.events[LAST_EVENTS - 1].ends_with(&format!("g{} achieved", LAST_EVENTS + 4)));
+    }
+}
