@@ -65,7 +65,13 @@ fn snapshot_times(addr: SocketAddr, n: usize) -> Vec<u64> {
 }
 
 /// The demo at 20x with its live page; the address it printed.
-fn start(goals: bool) -> (SocketAddr, Interrupt, std::thread::JoinHandle<Result<Vec<(String, Fate)>, String>>) {
+fn start(
+    goals: bool,
+) -> (
+    SocketAddr,
+    Interrupt,
+    std::thread::JoinHandle<Result<Vec<(String, Fate)>, String>>,
+) {
     let interrupt = Interrupt::default();
     let setup = DemoSetup {
         speedup: Some(20.0),
@@ -120,7 +126,10 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
 
     // The snapshots move on with the mission.
     let times = snapshot_times(addr, 3);
-    assert!(times.len() >= 3 && times.windows(2).all(|w| w[0] < w[1]), "{times:?}");
+    assert!(
+        times.len() >= 3 && times.windows(2).all(|w| w[0] < w[1]),
+        "{times:?}"
+    );
 
     let (status, body) = http(
         addr,
@@ -132,17 +141,30 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
     assert_eq!(status, 200);
     assert!(ok.accepted, "{ok:?}");
     let name = ok.verdict.split(' ').next().unwrap_or("").to_string();
-    assert!(ok.verdict.starts_with(&format!("{name} accepted: ")), "{ok:?}");
+    assert!(
+        ok.verdict.starts_with(&format!("{name} accepted: ")),
+        "{ok:?}"
+    );
 
     // Its start window is over: the acceptance test of seed 1 §3.3 rejects it, with its reason.
-    let (_, body) = http(addr, "POST", "/goal", "east=30&north=2&window_end_s=1&d_achiev_s=60");
+    let (_, body) = http(
+        addr,
+        "POST",
+        "/goal",
+        "east=30&north=2&window_end_s=1&d_achiev_s=60",
+    );
     let no = answer(&body);
     assert!(!no.accepted);
     assert!(
         no.verdict.contains(" rejected: ") && no.verdict.contains("start window"),
         "{no:?}"
     );
-    let (status, body) = http(addr, "POST", "/goal", "east=far&north=2&window_end_s=1&d_achiev_s=60");
+    let (status, body) = http(
+        addr,
+        "POST",
+        "/goal",
+        "east=far&north=2&window_end_s=1&d_achiev_s=60",
+    );
     assert_eq!(status, 400);
     assert!(answer(&body).verdict.contains("east: not a number"));
 
@@ -167,7 +189,12 @@ fn the_goal_form_is_off_by_default() {
     let (status, page) = http(addr, "GET", "/", "");
     assert_eq!(status, 200);
     assert!(!page.contains("id=\"goal-form\""));
-    let (status, body) = http(addr, "POST", "/goal", "east=30&north=2&window_end_s=1800&d_achiev_s=60");
+    let (status, body) = http(
+        addr,
+        "POST",
+        "/goal",
+        "east=30&north=2&window_end_s=1800&d_achiev_s=60",
+    );
     assert_eq!(status, 403);
     let a = answer(&body);
     assert!(!a.accepted && a.verdict.contains("--http-goals"), "{a:?}");

@@ -45,10 +45,22 @@ fn fig2_charts_follow_the_trace_and_the_bounds_of_the_report() {
             matches!(e, TraceEvent::Report { action, status, .. }
                 if *action == b.action && *status == b.status)
         });
-        let end = b.end_ms.unwrap_or_else(|| panic!("{} never reported", b.action));
-        assert!(reported.contains(&end), "{}: end {end} not in {reported:?}", b.action);
-        let (lb, _) = b.planned_end_ms.unwrap_or_else(|| panic!("{}: no window", b.action));
-        assert!(lb >= b.start_ms, "{}: planned end before its start", b.action);
+        let end = b
+            .end_ms
+            .unwrap_or_else(|| panic!("{} never reported", b.action));
+        assert!(
+            reported.contains(&end),
+            "{}: end {end} not in {reported:?}",
+            b.action
+        );
+        let (lb, _) = b
+            .planned_end_ms
+            .unwrap_or_else(|| panic!("{}: no window", b.action));
+        assert!(
+            lb >= b.start_ms,
+            "{}: planned end before its start",
+            b.action
+        );
     }
     // e1: the first picture of p1 failed; e6: the recharge was stopped by the plan (interrupted).
     let p1 = c.bars.iter().find(|b| b.action == "take_picture(p1)");
@@ -61,7 +73,10 @@ fn fig2_charts_follow_the_trace_and_the_bounds_of_the_report() {
     // Marks where the trace has its events: e1's repair, e2's abort and replanning, g6/g7 arriving.
     let repairs = times(&r, |e| matches!(e, TraceEvent::RepairDone { .. }));
     assert_eq!(
-        marks(&c, MarkKind::Repair).iter().map(|m| m.0).collect::<Vec<_>>(),
+        marks(&c, MarkKind::Repair)
+            .iter()
+            .map(|m| m.0)
+            .collect::<Vec<_>>(),
         repairs
     );
     assert!(repairs.len() as u64 >= r.counters.repairs.min(1));
@@ -70,7 +85,10 @@ fn fig2_charts_follow_the_trace_and_the_bounds_of_the_report() {
     let replans = marks(&c, MarkKind::Replan);
     assert_eq!(replans.len(), r.replannings.len());
     assert!(replans[0].0 >= aborts[0].0);
-    let arrivals: Vec<String> = marks(&c, MarkKind::GoalArrival).into_iter().map(|m| m.1).collect();
+    let arrivals: Vec<String> = marks(&c, MarkKind::GoalArrival)
+        .into_iter()
+        .map(|m| m.1)
+        .collect();
     assert_eq!(arrivals, ["g6", "g7"]);
     assert_eq!(
         marks(&c, MarkKind::GoalRejected)
@@ -85,7 +103,11 @@ fn fig2_charts_follow_the_trace_and_the_bounds_of_the_report() {
     let names: Vec<&str> = c.series.iter().map(|s| s.resource.as_str()).collect();
     assert_eq!(names, ["STORAGE", "BATTERY"]);
     for s in &c.series {
-        let samples: Vec<_> = r.resources.iter().filter(|x| x.resource == s.resource).collect();
+        let samples: Vec<_> = r
+            .resources
+            .iter()
+            .filter(|x| x.resource == s.resource)
+            .collect();
         for x in &samples {
             assert_eq!(Charts::bounds_at(s, x.time_ms), Some((x.lb, x.ub)), "{x:?}");
         }
@@ -100,7 +122,10 @@ fn fig2_charts_follow_the_trace_and_the_bounds_of_the_report() {
     let storage = &c.series[0];
     for &(t, level) in &storage.reported {
         let (lb, ub) = Charts::bounds_at(storage, t).unwrap_or((f64::NAN, f64::NAN));
-        assert!(lb - 1e-6 <= level && level <= ub + 1e-6, "{t}: {level} not in [{lb}, {ub}]");
+        assert!(
+            lb - 1e-6 <= level && level <= ub + 1e-6,
+            "{t}: {level} not in [{lb}, {ub}]"
+        );
     }
 
     // The map: the track and the places named by the goals.

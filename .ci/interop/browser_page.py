@@ -16,31 +16,40 @@ for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-
 driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=opts)
 
 
+def js(expr):
+    """One atomic read of the page (the server replaces the body a few times a second)."""
+    return driver.execute_script("try { return " + expr + "; } catch (e) { return null; }")
+
+
 def wait(what, cond, seconds=60):
     try:
         return WebDriverWait(driver, seconds, poll_frequency=0.2).until(lambda d: cond())
     except Exception:
         print("FAILED waiting for: " + what, file=sys.stderr)
-        print(driver.find_element(By.ID, "live").text[:3000], file=sys.stderr)
+        print((js("document.getElementById('live').innerText") or "")[:3000], file=sys.stderr)
         raise
 
 
 def now_ms():
-    return int(driver.find_element(By.ID, "state").get_attribute("data-now-ms"))
+    return int(js("document.getElementById('state').dataset.nowMs") or -1)
 
 
 def attr_int(css, name):
-    els = driver.find_elements(By.CSS_SELECTOR, css)
-    return int(els[0].get_attribute(name)) if els else -1
+    v = js("document.querySelector('" + css + "').getAttribute('" + name + "')")
+    return int(v) if v is not None else -1
+
+
+def count(css):
+    return int(js("document.querySelectorAll('" + css + "').length") or 0)
 
 
 try:
     driver.get(url)
     # Goals, actions and the resource plots appear...
-    wait("the goals table", lambda: len(driver.find_elements(By.CSS_SELECTOR, "#goals tr[data-goal]")) >= 5)
+    wait("the goals table", lambda: count("#goals tr[data-goal]") >= 5)
     wait("an executed action", lambda: attr_int("#gantt", "data-bars") >= 1)
-    wait("the storage plot", lambda: driver.find_elements(By.CSS_SELECTOR, "div.resource[data-resource=STORAGE] svg"))
-    wait("the battery plot", lambda: driver.find_elements(By.CSS_SELECTOR, "div.resource[data-resource=BATTERY] svg"))
+    wait("the storage plot", lambda: count("div.resource[data-resource=STORAGE] svg") == 1)
+    wait("the battery plot", lambda: count("div.resource[data-resource=BATTERY] svg") == 1)
     t0, bars0 = now_ms(), attr_int("#gantt", "data-bars")
     samples0 = attr_int("div.resource[data-resource=BATTERY]", "data-samples")
     print(f"page shows t={t0} ms, {bars0} actions, {samples0} battery levels")
@@ -65,7 +74,7 @@ try:
     print("valid goal: " + text)
     assert cls == "accepted" and " accepted: " in text, text
     name = text.split(" ")[0]
-    wait(name + " in the goals table", lambda: driver.find_elements(By.CSS_SELECTOR, f"#goals tr[data-goal={name}]"))
+    wait(name + " in the goals table", lambda: count(f"#goals tr[data-goal={name}]") == 1)
 
     text, cls = submit(30, 2, 1)
     print("goal whose start window is over: " + text)

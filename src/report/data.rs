@@ -413,7 +413,12 @@ mod tests {
     fn the_last_events_are_bounded() {
         let mut c = Charts::default();
         for i in 0..(LAST_EVENTS as i64 + 5) {
-            c.push_cycle(&cycle(i, vec![EventView::GoalAchieved { goal: format!("g{i}") }]));
+            c.push_cycle(&cycle(
+                i,
+                vec![EventView::GoalAchieved {
+                    goal: format!("g{i}"),
+                }],
+            ));
         }
         assert_eq!(c.events.len(), LAST_EVENTS);
         assert!(c.events[LAST_EVENTS - 1].ends_with(&format!("g{} achieved", LAST_EVENTS + 4)));

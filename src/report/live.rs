@@ -273,6 +273,7 @@ fn router(state: Arc<AppState>) -> Router {
         .route("/events", get(events))
         .route("/snapshot.json", get(snapshot))
         .route("/goal", post(goal))
+        .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .with_state(state)
 }
 

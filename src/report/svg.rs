@@ -77,13 +77,14 @@ fn x_max(c: &Charts) -> f64 {
 pub fn gantt(c: &Charts, live: bool) -> Result<String, DrawError> {
     let rows = c.rows();
     let n = rows.len().max(1) as f64;
-    let height = 120 + 22 * rows.len() as u32;
+    let height = 130 + 22 * rows.len() as u32;
     svg("Gantt", (1100, height), |root| {
         let xmax = x_max(c);
+        legend(root, height)?;
         let mut chart = ChartBuilder::on(root)
-            .caption("Executed plan", ("sans-serif", 18))
             .margin(10)
             .margin_top(40)
+            .margin_bottom(30)
             .x_label_area_size(30)
             .y_label_area_size(230)
             .build_cartesian_2d(0f64..xmax, 0f64..n)?;
@@ -152,6 +153,66 @@ pub fn gantt(c: &Charts, live: bool) -> Result<String, DrawError> {
         }
         Ok(())
     })
+}
+
+/// The Gantt chart's key, along its bottom edge.
+fn legend(root: &Area, height: u32) -> Result<(), Box<dyn std::error::Error>> {
+    let y = height as i32 - 14;
+    let mut x = 20;
+    let bars = [
+        ("nominal", status_color("nominal")),
+        ("failed", status_color("failed")),
+        ("interrupted", status_color("interrupted")),
+        ("running", status_color("running")),
+    ];
+    for (label, color) in bars {
+        root.draw(&Rectangle::new(
+            [(x, y - 5), (x + 16, y + 5)],
+            color.filled(),
+        ))?;
+        root.draw(&Text::new(
+            label,
+            (x + 20, y),
+            font(11).pos(Pos::new(HPos::Left, VPos::Center)),
+        ))?;
+        x += 30 + 7 * label.len() as i32;
+    }
+    let grey = RGBColor(120, 120, 120);
+    root.draw(&Rectangle::new(
+        [(x, y - 6), (x + 16, y + 6)],
+        grey.stroke_width(1),
+    ))?;
+    let text = "planned window of the end";
+    root.draw(&Text::new(
+        text,
+        (x + 20, y),
+        font(11).pos(Pos::new(HPos::Left, VPos::Center)),
+    ))?;
+    x += 40 + 6 * text.len() as i32;
+    let marks = [
+        ("repair", MarkKind::Repair),
+        ("abort", MarkKind::Abort),
+        ("replanning", MarkKind::Replan),
+        ("goal arrives", MarkKind::GoalArrival),
+        ("achieved", MarkKind::GoalAchieved),
+        ("rejected", MarkKind::GoalRejected),
+    ];
+    for (label, kind) in marks {
+        let color = mark_color(kind);
+        root.draw(&PathElement::new(
+            vec![(x + 6, y - 7), (x + 6, y + 7)],
+            color.stroke_width(2),
+        ))?;
+        root.draw(&Text::new(
+            label,
+            (x + 12, y),
+            font(11)
+                .color(&color)
+                .pos(Pos::new(HPos::Left, VPos::Center)),
+        ))?;
+        x += 22 + 7 * label.len() as i32;
+    }
+    Ok(())
 }
 
 /// A reservoir's reported level (points) against `[lev_lb, lev_ub]` (the band; each sample holds until
