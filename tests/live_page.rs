@@ -64,14 +64,11 @@ fn snapshot_times(addr: SocketAddr, n: usize) -> Vec<u64> {
     }
 }
 
+/// The goals of a demo run, with their fates.
+type DemoGoals = std::thread::JoinHandle<Result<Vec<(String, Fate)>, String>>;
+
 /// The demo at 20x with its live page; the address it printed.
-fn start(
-    goals: bool,
-) -> (
-    SocketAddr,
-    Interrupt,
-    std::thread::JoinHandle<Result<Vec<(String, Fate)>, String>>,
-) {
+fn start(goals: bool) -> (SocketAddr, Interrupt, DemoGoals) {
     let interrupt = Interrupt::default();
     let setup = DemoSetup {
         speedup: Some(20.0),

@@ -117,7 +117,8 @@ impl LiveFeed {
             })
             .collect();
         // The plan only changes with events: its next actions are looked at then.
-        let planned = (!c.events.is_empty() || c.index % 20 == 0).then(|| planned_bars(ex));
+        let planned =
+            (!c.events.is_empty() || c.index.is_multiple_of(20)).then(|| planned_bars(ex));
         let goals = ex
             .goal_fates()
             .into_iter()

@@ -256,11 +256,16 @@ pub fn resource(c: &Charts, s: &Series) -> Result<String, DrawError> {
         chart
             .draw_series(std::iter::once(Polygon::new(band, blue.mix(0.2).filled())))?
             .label("[lev_lb, lev_ub]")
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], blue.mix(0.3)));
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 5), (x + 14, y + 5)], blue.mix(0.3).filled())
+            });
         chart.draw_series(LineSeries::new(upper, blue.stroke_width(1)))?;
         chart.draw_series(LineSeries::new(lower, blue.stroke_width(1)))?;
         let pts: Vec<(f64, f64)> = s.reported.iter().map(|r| (secs(r.0), r.1)).collect();
-        chart.draw_series(LineSeries::new(pts.clone(), BLACK.mix(0.5)))?;
+        // A reported level holds until the next report: steps, not slopes.
+        let steps = pts.windows(2).flat_map(|w| [w[0], (w[1].0, w[0].1)]);
+        let steps: Vec<(f64, f64)> = steps.chain(pts.last().copied()).collect();
+        chart.draw_series(LineSeries::new(steps, BLACK.mix(0.5)))?;
         chart
             .draw_series(pts.iter().map(|&p| Circle::new(p, 2, BLACK.filled())))?
             .label("reported")
