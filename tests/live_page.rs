@@ -104,8 +104,20 @@ fn start(goals: bool) -> (SocketAddr, Interrupt, DemoGoals) {
     (addr.parse().expect("printed address"), interrupt, demo)
 }
 
-fn answer(body: &str) -> GoalAnswer {
-    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
+/// POSTs the goal form's fields: the status and the answer.
+fn post_goal(addr: SocketAddr, fields: &str) -> (u16, GoalAnswer) {
+    let (status, body) = http(addr, "POST", "/goal", fields);
+    let a = serde_json::from_str(&body).unwrap_or_else(|e| panic!("{e}: {body}"));
+    (status, a)
+}
+
+/// Polls `done` until it holds, at most DEADLINE.
+fn poll_until(what: &str, mut done: impl FnMut() -> bool) {
+    let deadline = Instant::now() + DEADLINE;
+    while !done() {
+        assert!(Instant::now() < deadline, "{what}: not within {DEADLINE:?}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
 
 #[test]
@@ -115,11 +127,9 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
     assert_eq!(status, 200);
     assert!(page.contains("id=\"goal-form\"") && page.contains("EventSource"));
     // The goals show from the first snapshot on.
-    let deadline = Instant::now() + DEADLINE;
-    while !http(addr, "GET", "/", "").1.contains("data-goal=\"g1\"") {
-        assert!(Instant::now() < deadline, "no goals on the page");
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    poll_until("goals on the page", || {
+        http(addr, "GET", "/", "").1.contains("data-goal=\"g1\"")
+    });
 
     // The snapshots move on with the mission.
     let times = snapshot_times(addr, 3);
@@ -128,13 +138,7 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
         "{times:?}"
     );
 
-    let (status, body) = http(
-        addr,
-        "POST",
-        "/goal",
-        "east=30&north=2&window_end_s=1800&d_achiev_s=60",
-    );
-    let ok = answer(&body);
+    let (status, ok) = post_goal(addr, "east=30&north=2&window_end_s=1800&d_achiev_s=60");
     assert_eq!(status, 200);
     assert!(ok.accepted, "{ok:?}");
     let name = ok.verdict.split(' ').next().unwrap_or("").to_string();
@@ -144,37 +148,21 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
     );
 
     // Its start window is over: the acceptance test of seed 1 §3.3 rejects it, with its reason.
-    let (_, body) = http(
-        addr,
-        "POST",
-        "/goal",
-        "east=30&north=2&window_end_s=1&d_achiev_s=60",
-    );
-    let no = answer(&body);
+    let (_, no) = post_goal(addr, "east=30&north=2&window_end_s=1&d_achiev_s=60");
     assert!(!no.accepted);
     assert!(
         no.verdict.contains(" rejected: ") && no.verdict.contains("start window"),
         "{no:?}"
     );
-    let (status, body) = http(
-        addr,
-        "POST",
-        "/goal",
-        "east=far&north=2&window_end_s=1&d_achiev_s=60",
-    );
+    let (status, bad) = post_goal(addr, "east=far&north=2&window_end_s=1&d_achiev_s=60");
     assert_eq!(status, 400);
-    assert!(answer(&body).verdict.contains("east: not a number"));
+    assert!(bad.verdict.contains("east: not a number"), "{bad:?}");
 
     // The accepted goal is in the mission's goals (and on the page).
-    let deadline = Instant::now() + DEADLINE;
-    loop {
+    poll_until(&format!("{name} on the page"), || {
         let (_, snap) = http(addr, "GET", "/snapshot.json", "");
-        if snap.contains(&format!("\"name\":\"{name}\"")) {
-            break;
-        }
-        assert!(Instant::now() < deadline, "{name} never on the page");
-        std::thread::sleep(Duration::from_millis(50));
-    }
+        snap.contains(&format!("\"name\":\"{name}\""))
+    });
     interrupt.request(15);
     let goals = demo.join().expect("demo thread").expect("demo");
     assert!(goals.iter().any(|g| g.0 == name), "{goals:?}");
@@ -186,14 +174,8 @@ fn the_goal_form_is_off_by_default() {
     let (status, page) = http(addr, "GET", "/", "");
     assert_eq!(status, 200);
     assert!(!page.contains("id=\"goal-form\""));
-    let (status, body) = http(
-        addr,
-        "POST",
-        "/goal",
-        "east=30&north=2&window_end_s=1800&d_achiev_s=60",
-    );
+    let (status, a) = post_goal(addr, "east=30&north=2&window_end_s=1800&d_achiev_s=60");
     assert_eq!(status, 403);
-    let a = answer(&body);
     assert!(!a.accepted && a.verdict.contains("--http-goals"), "{a:?}");
     interrupt.request(15);
     let goals = demo.join().expect("demo thread").expect("demo");
