@@ -542,7 +542,7 @@ pub fn resource_bounds_now(ex: &Executive, now: Time) -> Vec<(String, f64, f64)>
 }
 
 /// The final problem's location objects with coordinates (metres from the problem's home).
-fn places(ex: &Executive) -> Vec<Place> {
+pub fn places(ex: &Executive) -> Vec<Place> {
     let problem = &ex.plan.problem;
     let home = problem.home.as_ref();
     problem

@@ -26,10 +26,10 @@ use axum::routing::{get, post};
 use axum::Router;
 use tokio::sync::{mpsc, watch};
 
-use super::data::{Charts, CycleView, GoalView, PlannedBar, SampleView};
+use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, SampleView};
 use super::html;
 use crate::exec::executive::Executive;
-use crate::exec::mission::{fresh_level, resource_bounds_now, MissionReport};
+use crate::exec::mission::{fresh_level, places, resource_bounds_now, MissionReport};
 use crate::exec::trace::CycleRecord;
 use crate::vehicle::goal_client::GoalSendReport;
 use crate::vehicle::goals::is_final_verdict_text;
@@ -83,6 +83,8 @@ enum Update {
         record: Box<CycleRecord>,
         samples: Vec<SampleView>,
         planned: Option<Vec<PlannedBar>>,
+        /// The places, looked at with the plan (goals add places).
+        places: Option<Vec<PlaceView>>,
         goals: Vec<GoalView>,
         counters: BTreeMap<String, serde_json::Value>,
     },
@@ -117,8 +119,19 @@ impl LiveFeed {
             })
             .collect();
         // The plan only changes with events: its next actions are looked at then.
-        let planned =
-            (!c.events.is_empty() || c.index.is_multiple_of(20)).then(|| planned_bars(ex));
+        let look = !c.events.is_empty() || c.index.is_multiple_of(20);
+        let planned = look.then(|| planned_bars(ex));
+        let places = look.then(|| {
+            places(ex)
+                .into_iter()
+                .map(|p| PlaceView {
+                    name: p.name,
+                    east: p.east,
+                    north: p.north,
+                    goals: p.goals,
+                })
+                .collect()
+        });
         let goals = ex
             .goal_fates()
             .into_iter()
@@ -136,6 +149,7 @@ impl LiveFeed {
             record: Box::new(c.clone()),
             samples,
             planned,
+            places,
             goals,
             counters,
         });
@@ -230,7 +244,7 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
     loop {
         tokio::select! {
             u = rx.recv() => match u {
-                Some(Update::Cycle { record, samples, planned, goals, counters }) => {
+                Some(Update::Cycle { record, samples, planned, places, goals, counters }) => {
                     match serde_json::to_value(&*record).and_then(serde_json::from_value::<CycleView>) {
                         Ok(view) => charts.push_cycle(&view),
                         Err(e) => tracing::warn!("live page: cycle {}: {e}", record.index),
@@ -240,6 +254,9 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
                     }
                     if let Some(p) = planned {
                         charts.planned = p;
+                    }
+                    if let Some(p) = places {
+                        charts.places = p;
                     }
                     charts.goals = goals;
                     charts.counters = counters;
