@@ -138,6 +138,12 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
         "{times:?}"
     );
 
+    // The track (the vehicle's reported positions) and the places on the map.
+    poll_until("a track on the map", || {
+        let (_, snap) = http(addr, "GET", "/snapshot.json", "");
+        snap.contains("\"track\":[{") && snap.contains("\"name\":\"p1\"")
+    });
+
     let (status, ok) = post_goal(addr, "east=30&north=2&window_end_s=1800&d_achiev_s=60");
     assert_eq!(status, 200);
     assert!(ok.accepted, "{ok:?}");

@@ -375,7 +375,11 @@ pub fn run_demo(
             let server = crate::report::live::start(rt.handle(), h.addr, form)
                 .map_err(|e| format!("--http {}: {e}", h.addr))?;
             say(&format!("http listening on http://{}/", server.addr));
-            Some(server)
+            let probe = session.vehicle.position_probe();
+            Some(crate::report::live::LiveServer {
+                addr: server.addr,
+                feed: server.feed.with_position(probe),
+            })
         }
         None => None,
     };

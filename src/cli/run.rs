@@ -320,5 +320,9 @@ fn start_live(
     let server = crate::report::live::start(rt.handle(), h.addr, form)
         .map_err(|e| format!("--http {}: {e}", h.addr))?;
     println!("http listening on http://{}/", server.addr);
+    let server = crate::report::live::LiveServer {
+        addr: server.addr,
+        feed: server.feed.with_position(vehicle.position_probe()),
+    };
     Ok((server, rt))
 }

@@ -429,11 +429,7 @@ impl Log {
     /// Adds `at` to the track when the vehicle moved at least 0.5 m since the last point.
     fn position(&mut self, now: Time, at: Option<(f64, f64)>) {
         let Some((east, north)) = at else { return };
-        let moved = self
-            .track
-            .last()
-            .is_none_or(|p| (p.east - east).hypot(p.north - north) >= 0.5);
-        if moved {
+        if moved_on(self.track.last().map(|p| (p.east, p.north)), (east, north)) {
             self.track.push(TrackPoint {
                 time_ms: now,
                 east,
@@ -513,6 +509,11 @@ impl Log {
             ready: None,
         }
     }
+}
+
+/// Whether a position `at` is a new point of the track after `last` (0.5 m or more away).
+pub fn moved_on(last: Option<(f64, f64)>, at: (f64, f64)) -> bool {
+    last.is_none_or(|(e, n)| (e - at.0).hypot(n - at.1) >= 0.5)
 }
 
 /// The level the vehicle reported for resource `i` (telemetry or an action's report) if it is newer than

@@ -26,14 +26,15 @@ use axum::routing::{get, post};
 use axum::Router;
 use tokio::sync::{mpsc, watch};
 
-use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, SampleView};
+use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
 use super::html;
 use crate::exec::executive::Executive;
-use crate::exec::mission::{fresh_level, places, resource_bounds_now, MissionReport};
+use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, MissionReport};
 use crate::exec::trace::CycleRecord;
 use crate::vehicle::goal_client::GoalSendReport;
 use crate::vehicle::goals::is_final_verdict_text;
 use crate::vehicle::items::MissionItem;
+use crate::vehicle::link::PositionProbe;
 
 /// How often at most the page is rendered again.
 pub const RENDER_EVERY: Duration = Duration::from_millis(250);
@@ -85,6 +86,7 @@ enum Update {
         planned: Option<Vec<PlannedBar>>,
         /// The places, looked at with the plan (goals add places).
         places: Option<Vec<PlaceView>>,
+        track: Option<PointView>,
         goals: Vec<GoalView>,
         counters: BTreeMap<String, serde_json::Value>,
     },
@@ -95,9 +97,17 @@ enum Update {
 pub struct LiveFeed {
     tx: mpsc::UnboundedSender<Update>,
     last_reported: Vec<Option<(crate::model::Time, f64)>>,
+    position: Option<PositionProbe>,
+    last_position: Option<(f64, f64)>,
 }
 
 impl LiveFeed {
+    /// The track is drawn from `probe`'s positions (a point when the vehicle moved 0.5 m or more).
+    pub fn with_position(mut self, probe: PositionProbe) -> Self {
+        self.position = Some(probe);
+        self
+    }
+
     /// What one cycle changed (call it from the mission's `observe`).
     pub fn observe(&mut self, ex: &Executive, c: &CycleRecord) {
         let now = c.time_ms;
@@ -145,11 +155,22 @@ impl LiveFeed {
             })
             .collect();
         let counters = counters_of(&ex.counters);
+        let at = self.position.as_ref().and_then(|p| p());
+        let moved = at.filter(|&p| moved_on(self.last_position, p));
+        if moved.is_some() {
+            self.last_position = moved;
+        }
+        let track = moved.map(|(east, north)| PointView {
+            time_ms: now,
+            east,
+            north,
+        });
         let _ = self.tx.send(Update::Cycle {
             record: Box::new(c.clone()),
             samples,
             planned,
             places,
+            track,
             goals,
             counters,
         });
@@ -223,6 +244,8 @@ pub fn start(
         feed: LiveFeed {
             tx,
             last_reported: Vec::new(),
+            position: None,
+            last_position: None,
         },
     })
 }
@@ -244,7 +267,7 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
     loop {
         tokio::select! {
             u = rx.recv() => match u {
-                Some(Update::Cycle { record, samples, planned, places, goals, counters }) => {
+                Some(Update::Cycle { record, samples, planned, places, track, goals, counters }) => {
                     match serde_json::to_value(&*record).and_then(serde_json::from_value::<CycleView>) {
                         Ok(view) => charts.push_cycle(&view),
                         Err(e) => tracing::warn!("live page: cycle {}: {e}", record.index),
@@ -258,6 +281,7 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
                     if let Some(p) = places {
                         charts.places = p;
                     }
+                    charts.track.extend(track);
                     charts.goals = goals;
                     charts.counters = counters;
                     dirty = true;

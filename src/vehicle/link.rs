@@ -701,6 +701,20 @@ impl Vehicle for MavlinkVehicle {
     }
 }
 
+/// Where the vehicle is (metres east and north of home), readable from elsewhere while the mission holds
+/// the vehicle (the live page's track).
+pub type PositionProbe = Arc<dyn Fn() -> Option<(f64, f64)> + Send + Sync>;
+
+impl MavlinkVehicle {
+    pub fn position_probe(&self) -> PositionProbe {
+        let shared = self.shared.clone();
+        Arc::new(move || {
+            let d = shared.driver.lock().ok()?;
+            d.telemetry().position.map(|p| (p.east, p.north))
+        })
+    }
+}
+
 impl MavlinkVehicle {
     /// Hands the driver's events to the channel, under its lock as the pump does (their order is kept).
     fn deliver(&self, d: &mut Driver) {
