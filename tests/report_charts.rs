@@ -154,6 +154,16 @@ fn a_malformed_report_is_an_error_at_its_line_and_column() {
         }
         other => panic!("{other:?}"),
     }
+    // Not a report: an array, an object without cycles.
+    for (text, what) in [
+        ("\n [1, 2]", "expected a JSON object"),
+        ("{\"goals\": []}", "missing field"),
+    ] {
+        match parse_report("x.json", text) {
+            Err(ReportError::Parse(l)) => assert!(l.message.contains(what), "{l}"),
+            other => panic!("{text}: {other:?}"),
+        }
+    }
     // A report of an older version (no track, no reservoirs) still reads.
     let old = "{\"duration_ms\": 1000, \"goals\": [{\"name\": \"g1\", \"fate\": \"achieved\"}], \
                \"cycles\": [{\"time_ms\": 10, \"events\": [{\"kind\": \"launch\", \"action\": \"a\", \"vid\": 1}, \

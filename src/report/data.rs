@@ -15,9 +15,7 @@ use crate::model::Time;
 pub struct RunView {
     #[serde(default)]
     pub end: serde_json::Value,
-    #[serde(default)]
     pub duration_ms: Time,
-    #[serde(default)]
     pub goals: Vec<GoalView>,
     #[serde(default)]
     pub counters: BTreeMap<String, serde_json::Value>,
@@ -30,7 +28,6 @@ pub struct RunView {
     pub track: Vec<PointView>,
     #[serde(default)]
     pub places: Vec<PlaceView>,
-    #[serde(default)]
     pub cycles: Vec<CycleView>,
 }
 

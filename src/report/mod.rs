@@ -36,9 +36,21 @@ pub fn read_report(path: &Path) -> Result<RunView, ReportError> {
 
 /// A mission report from its JSON text; errors at `file:line:col`.
 pub fn parse_report(file: &str, text: &str) -> Result<RunView, ReportError> {
+    // serde would also read a struct from an array: a report is an object.
+    let start = text.len() - text.trim_start().len();
+    if !text[start..].starts_with('{') {
+        let what =
+            "not a mission report: expected a JSON object (`--report FILE` of demo, run or soak)";
+        return Err(ReportError::Parse(srctext::locate(file, text, start, what)));
+    }
     serde_json::from_str(text).map_err(|e| {
         let offset = offset_of(text, e.line(), e.column());
-        ReportError::Parse(srctext::locate(file, text, offset, e.to_string()))
+        // The place is given by `file:line:col`: serde's own "at line L column C" is dropped.
+        let full = e.to_string();
+        let message = full
+            .rfind(" at line ")
+            .map_or(full.as_str(), |i| &full[..i]);
+        ReportError::Parse(srctext::locate(file, text, offset, message))
     })
 }
 
