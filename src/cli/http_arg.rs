@@ -60,7 +60,10 @@ pub fn goal_form(home: Home, gcs: String, gate: Option<Arc<StepGate>>) -> GoalFo
                     g.expect_goal_batch();
                 }
                 let r = send_goals(&gcs, items, UPLOAD_TIMEOUT).await;
-                if let (Err(_), Some(g)) = (&r, &gate) {
+                // An upload that failed or was refused (MISSION_ACK not accepted) never reached the
+                // executive: the stepped simulator stops waiting for it.
+                let reached = matches!(&r, Ok(report) if report.failure.is_none());
+                if let (false, Some(g)) = (reached, &gate) {
                     g.cancel_goal_batch();
                 }
                 r.map_err(|e| e.to_string())
