@@ -112,6 +112,19 @@ struct Shared {
     /// The adopted system id, for the ground-station endpoint to answer as the same system.
     system_id: std::sync::atomic::AtomicU8,
     epoch: Instant,
+    /// The last position (east, north metres from home, as f64 bits; NaN: none yet), stored by the pump:
+    /// read without the driver's lock, which the mission loop must not contend for (a stepped simulator's
+    /// exchange stays reproducible).
+    east_bits: AtomicU64,
+    north_bits: AtomicU64,
+}
+
+impl Shared {
+    fn position(&self) -> Option<(f64, f64)> {
+        let east = f64::from_bits(self.east_bits.load(Ordering::Relaxed));
+        let north = f64::from_bits(self.north_bits.load(Ordering::Relaxed));
+        (east.is_finite() && north.is_finite()).then_some((east, north))
+    }
 }
 
 /// The goal intake shared by the pumps that serve it, and who decides.
@@ -229,6 +242,10 @@ impl Pump {
                                         from_autopilot = d.target() == Some((frame.system_id, frame.component_id));
                                         if let Some(t) = d.telemetry().time_boot_ms {
                                             s.clock_ms.store(t, Ordering::Relaxed);
+                                        }
+                                        if let Some(p) = d.telemetry().position {
+                                            s.east_bits.store(p.east.to_bits(), Ordering::Relaxed);
+                                            s.north_bits.store(p.north.to_bits(), Ordering::Relaxed);
                                         }
                                     }
                                 }
@@ -439,6 +456,8 @@ impl MavlinkVehicle {
             driver: Mutex::new(Driver::new(cfg)),
             notify: Notify::new(),
             clock_ms: AtomicU64::new(0),
+            east_bits: AtomicU64::new(f64::NAN.to_bits()),
+            north_bits: AtomicU64::new(f64::NAN.to_bits()),
             tx_frames: AtomicU64::new(0),
             rx_frames: AtomicU64::new(0),
             system_id: std::sync::atomic::AtomicU8::new(1),
@@ -696,8 +715,7 @@ impl Vehicle for MavlinkVehicle {
     }
 
     fn position(&self) -> Option<(f64, f64)> {
-        let d = self.shared.driver.lock().ok()?;
-        d.telemetry().position.map(|p| (p.east, p.north))
+        self.shared.position()
     }
 }
 
@@ -708,10 +726,7 @@ pub type PositionProbe = Arc<dyn Fn() -> Option<(f64, f64)> + Send + Sync>;
 impl MavlinkVehicle {
     pub fn position_probe(&self) -> PositionProbe {
         let shared = self.shared.clone();
-        Arc::new(move || {
-            let d = shared.driver.lock().ok()?;
-            d.telemetry().position.map(|p| (p.east, p.north))
-        })
+        Arc::new(move || shared.position())
     }
 }
 
