@@ -10,5 +10,6 @@ pub mod lang;
 pub mod model;
 pub mod plan;
 pub mod planner;
+pub mod report;
 pub mod stn;
 pub mod vehicle;

@@ -81,6 +81,11 @@ pub struct DemoArgs {
     pub max_steps: u64,
     #[command(flatten)]
     pub dispatch: super::dispatch_arg::DispatchArg,
+    /// Write the report's page (Gantt chart, resources against their bounds, map, goals) as one HTML file.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
+    #[command(flatten)]
+    pub http: super::http_arg::HttpArg,
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
@@ -107,6 +112,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
         seed: args.seed,
         dispatch: args.dispatch.dispatch,
         interrupt: interrupt.clone(),
+        http: args.http.spec(),
     };
     let mut printer = TracePrinter::default();
     let quiet = args.quiet;
@@ -136,6 +142,21 @@ pub fn run(args: DemoArgs) -> ExitCode {
                     return ExitCode::FAILURE;
                 }
                 println!("report written to {}", path.display());
+            }
+            if let Some(path) = &args.html {
+                let page = crate::report::charts_of(&run.report).and_then(|c| {
+                    crate::report::write_page(path, "mavtempo demo", &c).map_err(|e| e.to_string())
+                });
+                if let Err(e) = page {
+                    eprintln!("mavtempo demo: {e}");
+                    return ExitCode::FAILURE;
+                }
+                println!("page written to {}", path.display());
+            }
+            if let Some(hold) = run.hold {
+                if !matches!(run.report.end, MissionEnd::Interrupted(_)) {
+                    super::http_arg::linger(&hold.addr, &interrupt);
+                }
             }
             match run.report.end {
                 MissionEnd::Interrupted(_) => {
@@ -176,6 +197,8 @@ pub struct DemoSetup {
     pub dispatch: PolicyKind,
     /// Stops the mission when requested (a signal); the vehicle is then made safe.
     pub interrupt: Interrupt,
+    /// Serve the live page (`--http ADDR`, `--http-goals`).
+    pub http: Option<super::http_arg::HttpSpec>,
 }
 
 impl Default for DemoSetup {
@@ -194,6 +217,7 @@ impl Default for DemoSetup {
             seed: 1,
             dispatch: PolicyKind::default(),
             interrupt: Interrupt::default(),
+            http: None,
         }
     }
 }
@@ -236,6 +260,14 @@ pub struct DemoRun {
     pub timed_upload: Option<String>,
     /// How the vehicle became ready before the mission (`None`: `[ready] timeout_s = 0`).
     pub ready: Option<crate::vehicle::readiness::ReadyReport>,
+    /// The live page and the session it runs on, kept after the mission (`--http`).
+    pub(crate) hold: Option<LiveHold>,
+}
+
+/// The live page kept serving the mission's final state.
+pub(crate) struct LiveHold {
+    pub addr: std::net::SocketAddr,
+    _session: SitlSession,
 }
 
 fn read(path: &Path) -> Result<String, String> {
@@ -335,6 +367,22 @@ pub fn run_demo(
     ex.level_tolerance = LEVEL_TOLERANCE;
     // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
     let gate = Arc::new(StepGate::default());
+    let mut live = match &setup.http {
+        Some(h) => {
+            let form = h.goals.then(|| {
+                super::http_arg::goal_form(home, format!("tcpout:{gcs}"), Some(gate.clone()))
+            });
+            let server = crate::report::live::start(rt.handle(), h.addr, form)
+                .map_err(|e| format!("--http {}: {e}", h.addr))?;
+            say(&format!("http listening on http://{}/", server.addr));
+            let probe = session.vehicle.position_probe();
+            Some(crate::report::live::LiveServer {
+                addr: server.addr,
+                feed: server.feed.with_position(probe),
+            })
+        }
+        None => None,
+    };
     let timed_items = match &setup.timed_upload {
         Some(t) => Some((t.at_ms, t.items.items(home)?)),
         None => None,
@@ -354,8 +402,11 @@ pub fn run_demo(
     };
     let mut upload: Option<UploadTask> = None;
     let mut timed: Option<UploadTask> = None;
-    let mut on_cycle = |_: &Executive, c: &CycleRecord| {
+    let mut on_cycle = |ex: &Executive, c: &CycleRecord| {
         observe(c);
+        if let Some(l) = live.as_mut() {
+            l.feed.observe(ex, c);
+        }
         let download = c.events.iter().any(
             |e| matches!(e, TraceEvent::Launch { action, .. } if action.starts_with("download_images")),
         );
@@ -432,12 +483,22 @@ pub fn run_demo(
     let timed_upload = timed.map(|h| upload_account(rt, h));
     let ready = session.ready.clone();
     report.ready = ready.clone();
-    drop(session);
+    let hold = match live {
+        Some(l) => {
+            l.feed.finish(&report);
+            Some(LiveHold {
+                addr: l.addr,
+                _session: session,
+            })
+        }
+        None => None,
+    };
     Ok(DemoRun {
         report,
         upload,
         timed_upload,
         ready,
+        hold,
     })
 }
 
@@ -470,21 +531,32 @@ fn problem_horizon(p: &Problem) -> crate::model::Time {
 /// Picture goals at (east, north) metres from home, each a goal-attributes item (priority 1, start window
 /// [0, 30 min], d_achiev 60 s) then a picture item: g6, g7 of the story.
 pub fn picture_items(home: crate::vehicle::geo::Home, places: &[(f64, f64)]) -> Vec<MissionItem> {
-    let mut items = Vec::new();
-    for &(east, north) in places {
-        items.push(MissionItem {
-            command: GOAL_ATTRIBUTES_CMD,
-            frame: 2,
-            params: [1.0, 0.0, 1_800.0, 0.0],
-            x: 60.0,
-            y: 0.0,
-            z: 0.0,
-            autocontinue: true,
-        });
-        let (lat, lon, _) = home.to_global(Enu::new(east, north, 0.0));
-        let mut pic = MissionItem::waypoint(lat, lon, 0.0);
-        pic.command = 2000; // MAV_CMD_IMAGE_START_CAPTURE: a picture goal
-        items.push(pic);
-    }
-    items
+    places
+        .iter()
+        .flat_map(|&(east, north)| picture_goal(home, east, north, 1_800.0, 60.0))
+        .collect()
+}
+
+/// One picture goal at (east, north) metres from home: a goal-attributes item (priority 1, start window
+/// [0, `window_end_s`], d_achiev) then the picture item.
+pub fn picture_goal(
+    home: crate::vehicle::geo::Home,
+    east: f64,
+    north: f64,
+    window_end_s: f64,
+    d_achiev_s: f64,
+) -> [MissionItem; 2] {
+    let attributes = MissionItem {
+        command: GOAL_ATTRIBUTES_CMD,
+        frame: 2,
+        params: [1.0, 0.0, window_end_s as f32, 0.0],
+        x: d_achiev_s,
+        y: 0.0,
+        z: 0.0,
+        autocontinue: true,
+    };
+    let (lat, lon, _) = home.to_global(Enu::new(east, north, 0.0));
+    let mut pic = MissionItem::waypoint(lat, lon, 0.0);
+    pic.command = 2000; // MAV_CMD_IMAGE_START_CAPTURE: a picture goal
+    [attributes, pic]
 }

@@ -9,8 +9,10 @@ mod dispatch_arg;
 mod experiment;
 mod fuzz;
 mod goal;
+pub mod http_arg;
 mod mission_out;
 mod plan;
+mod report;
 mod run;
 mod shutdown;
 mod sim;
@@ -48,6 +50,8 @@ pub enum Command {
     Fuzz(fuzz::FuzzArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
+    /// Pictures of a mission report: Gantt chart, resources against their bounds, track map, HTML page.
+    Report(report::ReportArgs),
     /// Plan a problem and execute it live on a MAVLink vehicle (plan repair, replanning, goal uploads).
     Run(run::RunArgs),
     /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
@@ -68,6 +72,7 @@ pub fn main() -> ExitCode {
         Command::Experiment(args) => experiment::run(args),
         Command::Fuzz(args) => fuzz::run(args),
         Command::Goal(args) => goal::run(args),
+        Command::Report(args) => report::run(args),
         Command::Run(args) => run::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Soak(args) => soak::run(args),

@@ -68,6 +68,17 @@ pub struct RunArgs {
     /// When actions start: earliest, latest or goal-driven[:search|:marking] (overrides [exec] dispatch).
     #[arg(long, value_name = "POLICY")]
     pub dispatch: Option<crate::dispatch::PolicyKind>,
+    /// Write the report's page (Gantt chart, resources against their bounds, map, goals) as one HTML file.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
+    #[command(flatten)]
+    pub http: super::http_arg::HttpArg,
+}
+
+/// The live page's runtime, kept serving after the mission.
+struct LiveKeep {
+    addr: std::net::SocketAddr,
+    _rt: tokio::runtime::Runtime,
 }
 
 pub fn run(args: RunArgs) -> ExitCode {
@@ -80,12 +91,27 @@ pub fn run(args: RunArgs) -> ExitCode {
     };
     let interrupt = signals.interrupt.clone();
     match mission(&args, &signals) {
-        Ok(report) => {
+        Ok((report, live)) => {
             print_summary(&report);
             if let Some(path) = &args.report {
                 if let Err(e) = write_report(path, &report) {
                     eprintln!("mavtempo run: {e}");
                     return ExitCode::FAILURE;
+                }
+            }
+            if let Some(path) = &args.html {
+                let page = crate::report::charts_of(&report).and_then(|c| {
+                    crate::report::write_page(path, "mavtempo run", &c).map_err(|e| e.to_string())
+                });
+                if let Err(e) = page {
+                    eprintln!("mavtempo run: {e}");
+                    return ExitCode::FAILURE;
+                }
+                println!("page written to {}", path.display());
+            }
+            if let Some(keep) = live {
+                if !matches!(report.end, MissionEnd::Interrupted(_)) {
+                    super::http_arg::linger(&keep.addr, &interrupt);
                 }
             }
             match report.end {
@@ -146,7 +172,7 @@ fn initial_goals(
     items_to_goals(&file.items, known, first).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
+fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<LiveKeep>), String> {
     let interrupt = &signals.interrupt;
     if !(args.speedup.is_finite() && args.speedup > 0.0) {
         return Err(format!("--speedup must be > 0, got {}", args.speedup));
@@ -217,12 +243,20 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
     }
     let origin = vehicle.now_ms();
     println!("vehicle ready; mission starts at vehicle time {origin} ms");
+    let home = checked.home;
     let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
     let mut printer = TracePrinter::default();
     let quiet = args.quiet;
-    let mut observe = |_: &Executive, c: &CycleRecord| {
+    let mut live = match args.http.spec() {
+        Some(h) => Some(start_live(&h, args, &vehicle, home)?),
+        None => None,
+    };
+    let mut observe = |ex: &Executive, c: &CycleRecord| {
         if !quiet {
             printer.cycle(c);
+        }
+        if let Some((server, _)) = live.as_mut() {
+            server.feed.observe(ex, c);
         }
     };
     let opts = MissionOptions {
@@ -242,5 +276,53 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<MissionReport, String> {
             Some(vehicle.safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))));
     }
     vehicle.flush_tlog();
-    Ok(report)
+    let keep = live.map(|(server, rt)| {
+        server.feed.finish(&report);
+        LiveKeep {
+            addr: server.addr,
+            _rt: rt,
+        }
+    });
+    Ok((report, keep))
+}
+
+/// The live page on a runtime of its own; its goal form uploads to the `--gcs` endpoint.
+fn start_live(
+    h: &super::http_arg::HttpSpec,
+    args: &RunArgs,
+    vehicle: &MavlinkVehicle,
+    home: Home,
+) -> Result<(crate::report::live::LiveServer, tokio::runtime::Runtime), String> {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .map_err(|e| format!("live page runtime: {e}"))?;
+    let form = if h.goals {
+        let (Some(gcs), Some(addr)) = (&args.gcs, vehicle.gcs_addr()) else {
+            return Err("--http-goals needs --gcs (the form uploads there)".into());
+        };
+        let transport = if gcs.starts_with("udp") {
+            "udpout"
+        } else {
+            "tcpout"
+        };
+        let ip = if addr.ip().is_unspecified() {
+            std::net::IpAddr::from([127, 0, 0, 1])
+        } else {
+            addr.ip()
+        };
+        let client = format!("{transport}:{}", std::net::SocketAddr::new(ip, addr.port()));
+        Some(super::http_arg::goal_form(home, client, None))
+    } else {
+        None
+    };
+    let server = crate::report::live::start(rt.handle(), h.addr, form)
+        .map_err(|e| format!("--http {}: {e}", h.addr))?;
+    println!("http listening on http://{}/", server.addr);
+    let server = crate::report::live::LiveServer {
+        addr: server.addr,
+        feed: server.feed.with_position(vehicle.position_probe()),
+    };
+    Ok((server, rt))
 }

@@ -179,7 +179,14 @@ impl Executive {
         self.started.insert(a, vid);
         self.by_vid.insert(vid, a);
         self.counters.launches += 1;
-        self.trace(TraceEvent::Launch { action, vid });
+        let end = self.plan.action(a).end;
+        let (lb, ub) = (self.plan.stn.lb(end), self.plan.stn.ub(end));
+        let planned_end_ms = Some((lb, (ub < crate::stn::INF).then_some(ub)));
+        self.trace(TraceEvent::Launch {
+            action,
+            vid,
+            planned_end_ms,
+        });
         true
     }
 

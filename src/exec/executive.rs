@@ -102,6 +102,9 @@ pub struct Executive {
     pub replannings: Vec<super::replan::ReplanRecord>,
     /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
     pub insertion_stale: bool,
+    /// The last level the vehicle reported for each resource and when (ms since origin): the report's
+    /// `resources[].reported`.
+    pub last_reported: Vec<Option<(Time, f64)>>,
 }
 
 impl Executive {
@@ -126,6 +129,7 @@ impl Executive {
                 );
             }
         }
+        let last_reported = vec![None; plan.problem.resources.len()];
         let hierarchy = Hierarchy::new(&plan.domain);
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
@@ -160,6 +164,7 @@ impl Executive {
             refused: Vec::new(),
             replannings: Vec::new(),
             insertion_stale: false,
+            last_reported,
         }
     }
 

@@ -96,6 +96,25 @@ pub struct ResourceSample {
     pub reported: Option<f64>,
 }
 
+/// Where the vehicle was (metres east and north of home) at a cycle: the report's track.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TrackPoint {
+    pub time_ms: Time,
+    pub east: f64,
+    pub north: f64,
+}
+
+/// A place of the final plan's problem (a location object with coordinates, metres from home).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Place {
+    pub name: String,
+    pub east: f64,
+    pub north: f64,
+    /// The goals whose proposition names this place.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub goals: Vec<String>,
+}
+
 /// Cycle times of the executive's CPU (sense + repair + act), µs.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct CycleTimes {
@@ -117,6 +136,16 @@ pub struct MissionReport {
     pub cycle_times: CycleTimes,
     pub plan_changes: Vec<PlanChange>,
     pub resources: Vec<ResourceSample>,
+    /// The resources that are reservoirs (levels produced and consumed, e.g. battery, storage): the ones
+    /// whose level against its bounds the report draws.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reservoirs: Vec<String>,
+    /// The vehicle's positions (a point when it moved 0.5 m or more), empty when it reports none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub track: Vec<TrackPoint>,
+    /// The places of the final plan's problem (initial ones and those named by goal uploads).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub places: Vec<Place>,
     pub cycles: Vec<CycleRecord>,
     /// Every complete replanning: the abort that caused it, its attempts (goals, planning steps, how each
     /// search ended), its outcome, the goals kept and those rejected with their reasons.
@@ -197,6 +226,9 @@ impl<V: Vehicle> Vehicle for Held<'_, V> {
     fn now_ms(&self) -> u64 {
         self.inner.now_ms()
     }
+    fn position(&self) -> Option<(f64, f64)> {
+        self.inner.position()
+    }
 }
 
 /// Runs `ex` against `vehicle` until every goal is settled, no goal is left, or the time limit passes.
@@ -226,6 +258,7 @@ pub fn run_mission<V: Vehicle>(
         let now = pacer.now(v.inner);
         let outcome = ex.cycle(&mut v, now);
         log.after_cycle(ex, now);
+        log.position(now, v.inner.position());
         if let Some(c) = ex.cycles.last() {
             observe(ex, c);
         }
@@ -379,6 +412,9 @@ struct Log {
     changes: Vec<PlanChange>,
     resources: Vec<ResourceSample>,
     last_bounds: Vec<Option<(f64, f64)>>,
+    /// The reported level of each resource already in `resources`.
+    last_reported: Vec<Option<(Time, f64)>>,
+    track: Vec<TrackPoint>,
 }
 
 impl Log {
@@ -388,6 +424,18 @@ impl Log {
             cause: cause.into(),
             actions,
         });
+    }
+
+    /// Adds `at` to the track when the vehicle moved at least 0.5 m since the last point.
+    fn position(&mut self, now: Time, at: Option<(f64, f64)>) {
+        let Some((east, north)) = at else { return };
+        if moved_on(self.track.last().map(|p| (p.east, p.north)), (east, north)) {
+            self.track.push(TrackPoint {
+                time_ms: now,
+                east,
+                north,
+            });
+        }
     }
 
     fn after_cycle(&mut self, ex: &Executive, now: Time) {
@@ -401,28 +449,19 @@ impl Log {
                 _ => {}
             }
         }
-        let running = classify(&ex.plan, now).running;
-        let n = ex.plan.domain.resources.len();
-        self.last_bounds.resize(n, None);
-        for i in 0..n {
-            let r = ResourceId::from_index(i);
-            let name = &ex.plan.domain.resources[i].name;
-            let reported = c.events.iter().find_map(|e| match e {
-                TraceEvent::Level {
-                    resource, level, ..
-                } if resource == name => Some(*level),
-                _ => None,
-            });
-            let past = ex.past.get(i).copied().unwrap_or((0.0, 0.0));
-            let b = level_bounds(&ex.plan, r, now, &running, past);
+        let bounds = resource_bounds_now(ex, now);
+        self.last_bounds.resize(bounds.len(), None);
+        self.last_reported.resize(bounds.len(), None);
+        for (i, (name, lb, ub)) in bounds.into_iter().enumerate() {
+            let reported = fresh_level(ex, i, &mut self.last_reported[i]);
             // Only changes (and reports) make it into the report: a mission has thousands of cycles.
-            if reported.is_some() || self.last_bounds[i] != Some((b.lb, b.ub)) {
-                self.last_bounds[i] = Some((b.lb, b.ub));
+            if reported.is_some() || self.last_bounds[i] != Some((lb, ub)) {
+                self.last_bounds[i] = Some((lb, ub));
                 self.resources.push(ResourceSample {
                     time_ms: now,
-                    resource: name.clone(),
-                    lb: b.lb,
-                    ub: b.ub,
+                    resource: name,
+                    lb,
+                    ub,
                     reported,
                 });
             }
@@ -454,12 +493,80 @@ impl Log {
             cycle_times: cycle_times(&ex.cycles),
             plan_changes: self.changes,
             resources: self.resources,
+            reservoirs: ex
+                .plan
+                .domain
+                .resources
+                .iter()
+                .filter(|r| r.kind == crate::model::ResourceKind::Reservoir)
+                .map(|r| r.name.clone())
+                .collect(),
+            track: self.track,
+            places: places(ex),
             cycles: ex.cycles.clone(),
             replannings: ex.replannings.clone(),
             shutdown: None,
             ready: None,
         }
     }
+}
+
+/// Whether a position `at` is a new point of the track after `last` (0.5 m or more away).
+pub fn moved_on(last: Option<(f64, f64)>, at: (f64, f64)) -> bool {
+    last.is_none_or(|(e, n)| (e - at.0).hypot(n - at.1) >= 0.5)
+}
+
+/// The level the vehicle reported for resource `i` (telemetry or an action's report) if it is newer than
+/// `seen`, which then becomes it.
+pub fn fresh_level(ex: &Executive, i: usize, seen: &mut Option<(Time, f64)>) -> Option<f64> {
+    let last = ex.last_reported.get(i).copied().flatten()?;
+    (*seen != Some(last)).then(|| {
+        *seen = Some(last);
+        last.1
+    })
+}
+
+/// `[RscL_lb, RscL_ub]` of every resource at `now`, by resource index, with its name.
+pub fn resource_bounds_now(ex: &Executive, now: Time) -> Vec<(String, f64, f64)> {
+    let running = classify(&ex.plan, now).running;
+    ex.plan
+        .domain
+        .resources
+        .iter()
+        .enumerate()
+        .map(|(i, res)| {
+            let past = ex.past.get(i).copied().unwrap_or((0.0, 0.0));
+            let b = level_bounds(&ex.plan, ResourceId::from_index(i), now, &running, past);
+            (res.name.clone(), b.lb, b.ub)
+        })
+        .collect()
+}
+
+/// The final problem's location objects with coordinates (metres from the problem's home).
+pub fn places(ex: &Executive) -> Vec<Place> {
+    let problem = &ex.plan.problem;
+    let home = problem.home.as_ref();
+    problem
+        .objects
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| {
+            let (east, north, _) = o.local(home)?;
+            let id = crate::model::ObjectId::from_index(i);
+            let goals = problem
+                .goals
+                .iter()
+                .filter(|g| g.args.contains(&id) || g.value == crate::model::Value::Obj(id))
+                .map(|g| g.name.clone())
+                .collect();
+            Some(Place {
+                name: o.name.clone(),
+                east,
+                north,
+                goals,
+            })
+        })
+        .collect()
 }
 
 /// p50 / p99 / max of the cycles' CPU time.

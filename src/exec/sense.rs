@@ -105,6 +105,9 @@ impl Executive {
         let Some(r) = self.resource(&l.resource) else {
             return;
         };
+        if let Some(slot) = self.last_reported.get_mut(r.index()) {
+            *slot = Some((t, l.level));
+        }
         for p in remove_past(&mut self.plan, t) {
             fold_removed(&self.plan, p, &mut self.past);
         }

@@ -12,6 +12,10 @@ pub enum TraceEvent {
     Launch {
         action: String,
         vid: u64,
+        /// The window `[lb, ub]` of the action's end in the plan when it started (ms since origin; no
+        /// upper bound: `None`): the Gantt chart's planned window.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        planned_end_ms: Option<(Time, Option<Time>)>,
     },
     Stop {
         action: String,
@@ -110,7 +114,7 @@ impl TraceEvent {
     /// One line of the human-readable trace.
     pub fn line(&self) -> String {
         match self {
-            TraceEvent::Launch { action, vid } => format!("START {action} #{vid}"),
+            TraceEvent::Launch { action, vid, .. } => format!("START {action} #{vid}"),
             TraceEvent::Stop { action, vid } => format!("END #{vid} ({action})"),
             TraceEvent::Report {
                 action,

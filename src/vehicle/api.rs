@@ -31,4 +31,8 @@ pub trait Vehicle {
     fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent>;
     /// The vehicle's clock in ms (SYSTEM_TIME / time_boot_ms on a live link): the executive's time.
     fn now_ms(&self) -> u64;
+    /// Where the vehicle is, metres east and north of home, if it knows (the report's track).
+    fn position(&self) -> Option<(f64, f64)> {
+        None
+    }
 }

@@ -694,6 +694,25 @@ impl Vehicle for MavlinkVehicle {
     fn now_ms(&self) -> u64 {
         self.shared.clock_ms.load(Ordering::Relaxed)
     }
+
+    fn position(&self) -> Option<(f64, f64)> {
+        let d = self.shared.driver.lock().ok()?;
+        d.telemetry().position.map(|p| (p.east, p.north))
+    }
+}
+
+/// Where the vehicle is (metres east and north of home), readable from elsewhere while the mission holds
+/// the vehicle (the live page's track).
+pub type PositionProbe = Arc<dyn Fn() -> Option<(f64, f64)> + Send + Sync>;
+
+impl MavlinkVehicle {
+    pub fn position_probe(&self) -> PositionProbe {
+        let shared = self.shared.clone();
+        Arc::new(move || {
+            let d = shared.driver.lock().ok()?;
+            d.telemetry().position.map(|p| (p.east, p.north))
+        })
+    }
 }
 
 impl MavlinkVehicle {

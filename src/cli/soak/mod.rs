@@ -53,6 +53,10 @@ pub struct SoakArgs {
     /// Print each mission's generated problem and scenario.
     #[arg(long)]
     pub show: bool,
+    /// Write the last mission's report as JSON (with `--missions 1 --seed S`: that seed's mission), for
+    /// `mavtempo report`.
+    #[arg(long)]
+    pub report: Option<std::path::PathBuf>,
 }
 
 /// What one mission gave.
@@ -149,6 +153,12 @@ pub fn run(args: SoakArgs) -> ExitCode {
                     failed(&m, "no_panic", format!("panicked: {what}"))
                 });
         tally(&mut sum, &m, &outcome);
+        if let (Some(path), Some(r)) = (&args.report, &outcome.report) {
+            if let Err(e) = super::mission_out::write_report(path, r) {
+                eprintln!("mavtempo soak: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
         if m.domain == SoakDomain::Shipped {
             let without = Mission {
                 uploads: Vec::new(),

@@ -1,0 +1,425 @@
+//! The live page (`--http ADDR`): an axum server on the mission's tokio runtime serving the report page
+//! of the mission so far, pushed to the browser as server-sent events.
+//!
+//! The mission loop never waits for the server: each cycle it hands a [`LiveFeed`] what happened (the
+//! cycle's record, the bounds, the plan's next actions, the goals' fates) over an unbounded channel; a task
+//! folds those into [`Charts`], renders at most every [`RENDER_EVERY`] and publishes the page body through
+//! a `watch` channel that every event stream reads.
+//!
+//! The goal form (off unless enabled) sends its goal as a MAVLink upload to the companion's own ground
+//! station endpoint: the same intake, acceptance test and insertion as any ground station's upload, and the
+//! same verdict texts back.
+
+use std::collections::BTreeMap;
+use std::convert::Infallible;
+use std::future::Future;
+use std::net::SocketAddr;
+use std::pin::Pin;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::extract::{Form, State};
+use axum::http::StatusCode;
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{Html, IntoResponse, Json, Response};
+use axum::routing::{get, post};
+use axum::Router;
+use tokio::sync::{mpsc, watch};
+
+use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
+use super::html;
+use crate::exec::executive::Executive;
+use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, MissionReport};
+use crate::exec::trace::CycleRecord;
+use crate::vehicle::goal_client::GoalSendReport;
+use crate::vehicle::goals::is_final_verdict_text;
+use crate::vehicle::items::MissionItem;
+use crate::vehicle::link::PositionProbe;
+
+/// How often at most the page is rendered again.
+pub const RENDER_EVERY: Duration = Duration::from_millis(250);
+
+/// Sends a goal upload through the companion's intake and returns the ground station's account.
+pub type GoalSubmit = Arc<
+    dyn Fn(Vec<MissionItem>) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, String>> + Send>>
+        + Send
+        + Sync,
+>;
+
+/// Turns the form's picture goal (east, north metres from home) into the items of an upload.
+pub type GoalItems = Arc<dyn Fn(&PictureGoal) -> Vec<MissionItem> + Send + Sync>;
+
+/// The goal form's fields.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PictureGoal {
+    pub east: f64,
+    pub north: f64,
+    /// End of the start window, seconds after the mission's origin.
+    pub window_end_s: f64,
+    pub d_achiev_s: f64,
+}
+
+/// What the goal form needs: how to build the upload and how to send it.
+#[derive(Clone)]
+pub struct GoalForm {
+    pub items: GoalItems,
+    pub submit: GoalSubmit,
+}
+
+/// What the live page shows at one time.
+#[derive(Clone, Debug, Default)]
+pub struct Snapshot {
+    pub charts: Charts,
+    pub body: String,
+}
+
+struct AppState {
+    snapshot: watch::Sender<Arc<Snapshot>>,
+    form: Option<GoalForm>,
+}
+
+/// One cycle as the mission loop hands it over.
+enum Update {
+    Cycle {
+        record: Box<CycleRecord>,
+        samples: Vec<SampleView>,
+        planned: Option<Vec<PlannedBar>>,
+        /// The places, looked at with the plan (goals add places).
+        places: Option<Vec<PlaceView>>,
+        track: Option<PointView>,
+        goals: Vec<GoalView>,
+        counters: BTreeMap<String, serde_json::Value>,
+    },
+    End(Box<Charts>),
+}
+
+/// The mission loop's side: cheap, never blocks.
+pub struct LiveFeed {
+    tx: mpsc::UnboundedSender<Update>,
+    last_reported: Vec<Option<(crate::model::Time, f64)>>,
+    position: Option<PositionProbe>,
+    last_position: Option<(f64, f64)>,
+}
+
+impl LiveFeed {
+    /// The track is drawn from `probe`'s positions (a point when the vehicle moved 0.5 m or more).
+    pub fn with_position(mut self, probe: PositionProbe) -> Self {
+        self.position = Some(probe);
+        self
+    }
+
+    /// What one cycle changed (call it from the mission's `observe`).
+    pub fn observe(&mut self, ex: &Executive, c: &CycleRecord) {
+        let now = c.time_ms;
+        let bounds = resource_bounds_now(ex, now);
+        self.last_reported.resize(bounds.len(), None);
+        let samples = bounds
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| {
+                let kind = ex.plan.domain.resources.get(*i).map(|r| r.kind);
+                kind == Some(crate::model::ResourceKind::Reservoir)
+            })
+            .map(|(i, (resource, lb, ub))| SampleView {
+                time_ms: now,
+                resource,
+                lb,
+                ub,
+                reported: fresh_level(ex, i, &mut self.last_reported[i]),
+            })
+            .collect();
+        // The plan only changes with events: its next actions are looked at then.
+        let look = !c.events.is_empty() || c.index.is_multiple_of(20);
+        let planned = look.then(|| planned_bars(ex));
+        let places = look.then(|| {
+            places(ex)
+                .into_iter()
+                .map(|p| PlaceView {
+                    name: p.name,
+                    east: p.east,
+                    north: p.north,
+                    goals: p.goals,
+                })
+                .collect()
+        });
+        let goals = ex
+            .goal_fates()
+            .into_iter()
+            .map(|g| GoalView {
+                name: g.name,
+                fate: serde_json::to_value(&g.fate)
+                    .ok()
+                    .and_then(|v| v.as_str().map(str::to_string))
+                    .unwrap_or_default(),
+                reason: g.reason,
+            })
+            .collect();
+        let counters = counters_of(&ex.counters);
+        let at = self.position.as_ref().and_then(|p| p());
+        let moved = at.filter(|&p| moved_on(self.last_position, p));
+        if moved.is_some() {
+            self.last_position = moved;
+        }
+        let track = moved.map(|(east, north)| PointView {
+            time_ms: now,
+            east,
+            north,
+        });
+        let _ = self.tx.send(Update::Cycle {
+            record: Box::new(c.clone()),
+            samples,
+            planned,
+            places,
+            track,
+            goals,
+            counters,
+        });
+    }
+
+    /// The mission's report: the page shows it whole from now on.
+    pub fn finish(&self, report: &MissionReport) {
+        match super::charts_of(report) {
+            Ok(charts) => {
+                let _ = self.tx.send(Update::End(Box::new(charts)));
+            }
+            Err(e) => tracing::warn!("live page: final report: {e}"),
+        }
+    }
+}
+
+fn counters_of(c: &crate::exec::executive::Counters) -> BTreeMap<String, serde_json::Value> {
+    match serde_json::to_value(c) {
+        Ok(serde_json::Value::Object(m)) => m.into_iter().collect(),
+        _ => BTreeMap::new(),
+    }
+}
+
+/// The actions of *ExecutingPlan* not started yet: earliest start and end.
+fn planned_bars(ex: &Executive) -> Vec<PlannedBar> {
+    let plan = &ex.plan;
+    plan.live_actions()
+        .filter(|a| !ex.started.contains_key(a))
+        .map(|a| {
+            let act = plan.action(a);
+            PlannedBar {
+                action: ex.action_text(a),
+                start_ms: plan.stn.lb(act.start),
+                end_ms: plan.stn.lb(act.end),
+            }
+        })
+        .collect()
+}
+
+/// A running live page.
+pub struct LiveServer {
+    pub addr: SocketAddr,
+    pub feed: LiveFeed,
+}
+
+/// Binds `addr` and serves the live page on `rt`. `form`: the goal form, enabled.
+pub fn start(
+    rt: &tokio::runtime::Handle,
+    addr: SocketAddr,
+    form: Option<GoalForm>,
+) -> std::io::Result<LiveServer> {
+    let listener = rt.block_on(tokio::net::TcpListener::bind(addr))?;
+    let addr = listener.local_addr()?;
+    let first = Charts::default();
+    let body = html::body(&first, true).unwrap_or_default();
+    let (snapshot, _) = watch::channel(Arc::new(Snapshot {
+        charts: first,
+        body,
+    }));
+    let state = Arc::new(AppState { snapshot, form });
+    let (tx, rx) = mpsc::unbounded_channel();
+    rt.spawn(fold(rx, state.clone()));
+    let app = router(state);
+    rt.spawn(async move {
+        if let Err(e) = axum::serve(listener, app).await {
+            tracing::warn!("live page server: {e}");
+        }
+    });
+    Ok(LiveServer {
+        addr,
+        feed: LiveFeed {
+            tx,
+            last_reported: Vec::new(),
+            position: None,
+            last_position: None,
+        },
+    })
+}
+
+/// Folds the mission's updates into the charts and publishes the page, at most every RENDER_EVERY.
+async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
+    let mut charts = Charts::default();
+    let mut dirty = false;
+    let mut tick = tokio::time::interval(RENDER_EVERY);
+    let publish = |charts: &Charts, live: bool| match html::body(charts, live) {
+        Ok(body) => {
+            state.snapshot.send_replace(Arc::new(Snapshot {
+                charts: charts.clone(),
+                body,
+            }));
+        }
+        Err(e) => tracing::warn!("live page: {e}"),
+    };
+    loop {
+        tokio::select! {
+            u = rx.recv() => match u {
+                Some(Update::Cycle { record, samples, planned, places, track, goals, counters }) => {
+                    match serde_json::to_value(&*record).and_then(serde_json::from_value::<CycleView>) {
+                        Ok(view) => charts.push_cycle(&view),
+                        Err(e) => tracing::warn!("live page: cycle {}: {e}", record.index),
+                    }
+                    for s in &samples {
+                        charts.push_sample(s);
+                    }
+                    if let Some(p) = planned {
+                        charts.planned = p;
+                    }
+                    if let Some(p) = places {
+                        charts.places = p;
+                    }
+                    charts.track.extend(track);
+                    charts.goals = goals;
+                    charts.counters = counters;
+                    dirty = true;
+                }
+                Some(Update::End(last)) => {
+                    charts = *last;
+                    charts.planned.clear();
+                    publish(&charts, false);
+                    dirty = false;
+                }
+                None => {
+                    if dirty {
+                        publish(&charts, true);
+                    }
+                    return;
+                }
+            },
+            _ = tick.tick() => {
+                if dirty {
+                    publish(&charts, true);
+                    dirty = false;
+                }
+            }
+        }
+    }
+}
+
+fn router(state: Arc<AppState>) -> Router {
+    Router::new()
+        .route("/", get(index))
+        .route("/events", get(events))
+        .route("/snapshot.json", get(snapshot))
+        .route("/goal", post(goal))
+        .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
+        .with_state(state)
+}
+
+async fn index(State(s): State<Arc<AppState>>) -> Html<String> {
+    let snap = s.snapshot.borrow().clone();
+    Html(html::live_page(&snap.body, s.form.is_some()))
+}
+
+async fn snapshot(State(s): State<Arc<AppState>>) -> Json<Charts> {
+    Json(s.snapshot.borrow().charts.clone())
+}
+
+/// Each published body as one event, the current one first.
+async fn events(
+    State(s): State<Arc<AppState>>,
+) -> Sse<impl futures_util::Stream<Item = Result<Event, Infallible>>> {
+    let rx = s.snapshot.subscribe();
+    let stream = futures_util::stream::unfold((rx, true), |(mut rx, first)| async move {
+        if !first && rx.changed().await.is_err() {
+            return None;
+        }
+        let body = rx.borrow_and_update().body.clone();
+        Some((Ok(Event::default().data(body)), (rx, false)))
+    });
+    Sse::new(stream).keep_alive(KeepAlive::default())
+}
+
+/// The answer to a goal submitted with the form.
+#[derive(Debug, serde::Serialize, serde::Deserialize, PartialEq)]
+pub struct GoalAnswer {
+    pub accepted: bool,
+    /// The intake's verdict (`g8 accepted: …` / `g8 rejected: <reason>`), or why nothing was sent.
+    pub verdict: String,
+}
+
+fn answer(code: StatusCode, accepted: bool, verdict: String) -> Response {
+    (code, Json(GoalAnswer { accepted, verdict })).into_response()
+}
+
+async fn goal(
+    State(s): State<Arc<AppState>>,
+    Form(fields): Form<BTreeMap<String, String>>,
+) -> Response {
+    let Some(form) = &s.form else {
+        return answer(
+            StatusCode::FORBIDDEN,
+            false,
+            "the goal form is disabled (start with --http-goals)".into(),
+        );
+    };
+    let goal = match parse_goal(&fields) {
+        Ok(g) => g,
+        Err(e) => return answer(StatusCode::BAD_REQUEST, false, e),
+    };
+    let items = (form.items)(&goal);
+    match (form.submit)(items).await {
+        Ok(report) => {
+            let (accepted, verdict) = verdict_of(&report);
+            answer(StatusCode::OK, accepted, verdict)
+        }
+        Err(e) => answer(
+            StatusCode::BAD_GATEWAY,
+            false,
+            format!("upload failed: {e}"),
+        ),
+    }
+}
+
+/// The form's fields as numbers; a missing or non-numeric field names itself.
+pub fn parse_goal(fields: &BTreeMap<String, String>) -> Result<PictureGoal, String> {
+    let num = |k: &str| -> Result<f64, String> {
+        let v = fields.get(k).ok_or_else(|| format!("missing field {k}"))?;
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("{k}: not a number: {v:?}"))
+    };
+    Ok(PictureGoal {
+        east: num("east")?,
+        north: num("north")?,
+        window_end_s: num("window_end_s")?,
+        d_achiev_s: num("d_achiev_s")?,
+    })
+}
+
+/// Accepted when the upload was and every final verdict text says so; the verdict is those texts (or the
+/// upload's failure).
+pub fn verdict_of(r: &GoalSendReport) -> (bool, String) {
+    if let Some(f) = &r.failure {
+        let texts = r.texts.join("; ");
+        return (false, format!("upload refused: {f}; {texts}"));
+    }
+    let finals: Vec<&String> = r
+        .texts
+        .iter()
+        .filter(|t| is_final_verdict_text(t))
+        .collect();
+    let accepted = !finals.is_empty() && finals.iter().all(|t| t.contains(" accepted:"));
+    let shown = if finals.is_empty() {
+        r.texts.iter().collect()
+    } else {
+        finals
+    };
+    let text: Vec<&str> = shown.iter().map(|s| s.as_str()).collect();
+    (accepted, text.join("; "))
+}

@@ -1,0 +1,190 @@
+//! Issue 18: the live page over a real socket (port 0). The demo serves the page, pushes snapshots that
+//! change as the mission runs (server-sent events), and its goal form goes through the goal intake: a
+//! goal the acceptance test passes is accepted, one whose start window is already over is rejected with
+//! the test's reason. Without `--http-goals` the form is off.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use mavtempo::cli::demo::{run_demo, DemoSetup};
+use mavtempo::cli::http_arg::HttpSpec;
+use mavtempo::exec::executive::Fate;
+use mavtempo::exec::interrupt::Interrupt;
+use mavtempo::report::live::GoalAnswer;
+
+const DEADLINE: Duration = Duration::from_secs(90);
+
+/// One request, `Connection: close`: the status code and the body.
+fn http(addr: SocketAddr, method: &str, path: &str, form: &str) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).unwrap_or_else(|e| panic!("connect {addr}: {e}"));
+    s.set_read_timeout(Some(DEADLINE)).expect("timeout");
+    let req = format!(
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\
+         Content-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\n\r\n{form}",
+        form.len()
+    );
+    s.write_all(req.as_bytes()).expect("send");
+    let mut text = String::new();
+    s.read_to_string(&mut text).expect("read");
+    let status = text
+        .split(' ')
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0);
+    let body = text.split_once("\r\n\r\n").map_or("", |b| b.1).to_string();
+    (status, body)
+}
+
+/// The `data-now-ms` of each snapshot the event stream delivers, until `n` different ones came.
+fn snapshot_times(addr: SocketAddr, n: usize) -> Vec<u64> {
+    let mut s = TcpStream::connect(addr).expect("connect");
+    s.set_read_timeout(Some(Duration::from_millis(500)))
+        .expect("timeout");
+    let req = format!("GET /events HTTP/1.1\r\nHost: {addr}\r\nAccept: text/event-stream\r\n\r\n");
+    s.write_all(req.as_bytes()).expect("send");
+    let deadline = Instant::now() + DEADLINE;
+    let mut text = String::new();
+    let mut buf = [0u8; 65536];
+    loop {
+        let times: Vec<u64> = text
+            .split("data-now-ms=\"")
+            .skip(1)
+            .filter_map(|t| t.split('"').next()?.parse().ok())
+            .collect();
+        let mut distinct = times.clone();
+        distinct.dedup();
+        if distinct.len() >= n || Instant::now() >= deadline {
+            return distinct;
+        }
+        if let Ok(k) = s.read(&mut buf) {
+            text.push_str(&String::from_utf8_lossy(&buf[..k]));
+        }
+    }
+}
+
+/// The goals of a demo run, with their fates.
+type DemoGoals = std::thread::JoinHandle<Result<Vec<(String, Fate)>, String>>;
+
+/// The demo at 20x with its live page; the address it printed.
+fn start(goals: bool) -> (SocketAddr, Interrupt, DemoGoals) {
+    let interrupt = Interrupt::default();
+    let setup = DemoSetup {
+        speedup: Some(20.0),
+        upload: false,
+        interrupt: interrupt.clone(),
+        http: Some(HttpSpec {
+            addr: "127.0.0.1:0".parse().expect("addr"),
+            goals,
+        }),
+        ..DemoSetup::default()
+    };
+    let (tx, rx) = mpsc::channel();
+    let demo = std::thread::spawn(move || {
+        let run = run_demo(
+            &setup,
+            &mut |line| {
+                if let Some(a) = line.strip_prefix("http listening on http://") {
+                    let _ = tx.send(a.trim_end_matches('/').to_string());
+                }
+            },
+            &mut |_| {},
+        )?;
+        Ok(run
+            .report
+            .goals
+            .into_iter()
+            .map(|g| (g.name, g.fate))
+            .collect())
+    });
+    let addr = rx
+        .recv_timeout(DEADLINE)
+        .unwrap_or_else(|e| panic!("no address printed: {e}"));
+    (addr.parse().expect("printed address"), interrupt, demo)
+}
+
+/// POSTs the goal form's fields: the status and the answer.
+fn post_goal(addr: SocketAddr, fields: &str) -> (u16, GoalAnswer) {
+    let (status, body) = http(addr, "POST", "/goal", fields);
+    let a = serde_json::from_str(&body).unwrap_or_else(|e| panic!("{e}: {body}"));
+    (status, a)
+}
+
+/// Polls `done` until it holds, at most DEADLINE.
+fn poll_until(what: &str, mut done: impl FnMut() -> bool) {
+    let deadline = Instant::now() + DEADLINE;
+    while !done() {
+        assert!(Instant::now() < deadline, "{what}: not within {DEADLINE:?}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn the_live_page_updates_and_its_form_goes_through_the_intake() {
+    let (addr, interrupt, demo) = start(true);
+    let (status, page) = http(addr, "GET", "/", "");
+    assert_eq!(status, 200);
+    assert!(page.contains("id=\"goal-form\"") && page.contains("EventSource"));
+    // The goals show from the first snapshot on.
+    poll_until("goals on the page", || {
+        http(addr, "GET", "/", "").1.contains("data-goal=\"g1\"")
+    });
+
+    // The snapshots move on with the mission.
+    let times = snapshot_times(addr, 3);
+    assert!(
+        times.len() >= 3 && times.windows(2).all(|w| w[0] < w[1]),
+        "{times:?}"
+    );
+
+    // The track (the vehicle's reported positions) and the places on the map.
+    poll_until("a track on the map", || {
+        let (_, snap) = http(addr, "GET", "/snapshot.json", "");
+        snap.contains("\"track\":[{") && snap.contains("\"name\":\"p1\"")
+    });
+
+    let (status, ok) = post_goal(addr, "east=30&north=2&window_end_s=1800&d_achiev_s=60");
+    assert_eq!(status, 200);
+    assert!(ok.accepted, "{ok:?}");
+    let name = ok.verdict.split(' ').next().unwrap_or("").to_string();
+    assert!(
+        ok.verdict.starts_with(&format!("{name} accepted: ")),
+        "{ok:?}"
+    );
+
+    // Its start window is over: the acceptance test of seed 1 §3.3 rejects it, with its reason.
+    let (_, no) = post_goal(addr, "east=30&north=2&window_end_s=1&d_achiev_s=60");
+    assert!(!no.accepted);
+    assert!(
+        no.verdict.contains(" rejected: ") && no.verdict.contains("start window"),
+        "{no:?}"
+    );
+    let (status, bad) = post_goal(addr, "east=far&north=2&window_end_s=1&d_achiev_s=60");
+    assert_eq!(status, 400);
+    assert!(bad.verdict.contains("east: not a number"), "{bad:?}");
+
+    // The accepted goal is in the mission's goals (and on the page).
+    poll_until(&format!("{name} on the page"), || {
+        let (_, snap) = http(addr, "GET", "/snapshot.json", "");
+        snap.contains(&format!("\"name\":\"{name}\""))
+    });
+    interrupt.request(15);
+    let goals = demo.join().expect("demo thread").expect("demo");
+    assert!(goals.iter().any(|g| g.0 == name), "{goals:?}");
+}
+
+#[test]
+fn the_goal_form_is_off_by_default() {
+    let (addr, interrupt, demo) = start(false);
+    let (status, page) = http(addr, "GET", "/", "");
+    assert_eq!(status, 200);
+    assert!(!page.contains("id=\"goal-form\""));
+    let (status, a) = post_goal(addr, "east=30&north=2&window_end_s=1800&d_achiev_s=60");
+    assert_eq!(status, 403);
+    assert!(!a.accepted && a.verdict.contains("--http-goals"), "{a:?}");
+    interrupt.request(15);
+    let goals = demo.join().expect("demo thread").expect("demo");
+    // Nothing was uploaded: only the problem's goals.
+    assert_eq!(goals.len(), 5, "{goals:?}");
+}
