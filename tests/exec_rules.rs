@@ -273,13 +273,12 @@ fn section_3_3_capacity_alteration_repair_or_abort() {
     let mut plan = fig2();
     let r = storage(&plan);
     let a = picture(&mut plan, "p1");
-    let b = picture(&mut plan, "p2");
+    picture(&mut plan, "p2");
     // Two future pictures (up to 2 slots) and the storage drops to 1: repair.
     let mut future = plan.clone();
     assert_eq!(alter(&mut future, r, 1.0, 0, &[]), CapacityOutcome::Repair);
     // The same drop while one of them runs: the conflict involves a running action, abort.
     plan.stn.execute(plan.action(a).start, 0).unwrap();
-    let _ = b;
     assert_eq!(
         alter(&mut plan, r, 1.0, 1_000, &[a]),
         CapacityOutcome::Abort

@@ -22,23 +22,37 @@ use mavtempo::vehicle::{
 
 const KEY_HEX: &str = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f";
 
-fn config(extra_link: &str) -> VehicleConfig {
+/// The link's heartbeat timeout: short where a test waits for a loss, else long enough that a loaded machine
+/// does not lose the link in the middle of an exchange.
+const SHORT_HEARTBEAT_MS: i64 = 400;
+const HEARTBEAT_MS: i64 = 3_000;
+
+/// The fixture with its link bound to port 0, the given heartbeat timeout and an optional signing key: set as
+/// TOML keys, so a fixture that no longer has them fails here instead of silently keeping its own.
+fn config(signing_key: Option<&str>, heartbeat_ms: i64) -> VehicleConfig {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/vehicle/bindings.toml"
     ))
     .expect("config");
-    let text = text
-        .replace(
-            "address = \"tcpout:127.0.0.1:5760\"",
-            &format!("address = \"tcpin:127.0.0.1:0\"\n{extra_link}"),
-        )
-        .replace("heartbeat_timeout_ms = 3000", "heartbeat_timeout_ms = 400");
-    VehicleConfig::parse(&text, "test").expect("parses")
+    let mut doc: toml_edit::DocumentMut = text.parse().expect("the fixture is TOML");
+    let link = doc["link"].as_table_mut().expect("the fixture has [link]");
+    assert!(link.contains_key("address") && link.contains_key("heartbeat_timeout_ms"));
+    link["address"] = toml_edit::value("tcpin:127.0.0.1:0");
+    link["heartbeat_timeout_ms"] = toml_edit::value(heartbeat_ms);
+    if let Some(key) = signing_key {
+        link["signing_key"] = toml_edit::value(key);
+    }
+    VehicleConfig::parse(&doc.to_string(), "test").expect("parses")
 }
 
-fn vehicle(extra_link: &str, opts: LinkOptions) -> (MavlinkVehicle, std::net::SocketAddr) {
-    let v = MavlinkVehicle::connect_blocking(config(extra_link), opts).expect("link");
+fn vehicle(
+    signing_key: Option<&str>,
+    heartbeat_ms: i64,
+    opts: LinkOptions,
+) -> (MavlinkVehicle, std::net::SocketAddr) {
+    let v =
+        MavlinkVehicle::connect_blocking(config(signing_key, heartbeat_ms), opts).expect("link");
     let addr = v.local_addr().expect("bound");
     (v, addr)
 }
@@ -115,14 +129,14 @@ fn link_event(v: &mut MavlinkVehicle) -> LinkStatus {
 
 #[test]
 fn link_up_loss_on_disconnect_and_heartbeat_timeout_then_recovery() {
-    let (mut v, addr) = vehicle("", LinkOptions::default());
+    let (mut v, addr) = vehicle(None, SHORT_HEARTBEAT_MS, LinkOptions::default());
     let mut p = Peer::connect(addr, 7, None);
     p.send(&heartbeat(0), false);
     assert_eq!(link_event(&mut v), LinkStatus::Up { system_id: 7 });
     // Our heartbeat: component 191, onboard controller, the adopted system id.
     let (f, _) = p.until(|_, m| matches!(m, MavMessage::HEARTBEAT(h) if h.mavtype == MavType::MAV_TYPE_ONBOARD_CONTROLLER));
     assert_eq!((f.system_id, f.component_id), (7, 191));
-    // Silence longer than the 400 ms timeout: lost, then recovered on the next heartbeat.
+    // Silence longer than the short timeout: lost, then recovered on the next heartbeat.
     assert_eq!(link_event(&mut v), LinkStatus::Lost);
     p.send(&heartbeat(0), false);
     assert_eq!(link_event(&mut v), LinkStatus::Recovered);
@@ -136,7 +150,7 @@ fn link_up_loss_on_disconnect_and_heartbeat_timeout_then_recovery() {
 
 #[test]
 fn mavlink1_peer_is_accepted_and_answered_in_mavlink1() {
-    let (mut v, addr) = vehicle("", LinkOptions::default());
+    let (mut v, addr) = vehicle(None, HEARTBEAT_MS, LinkOptions::default());
     let mut p = Peer::connect(addr, 3, None);
     p.send(&heartbeat(0), true);
     assert_eq!(link_event(&mut v), LinkStatus::Up { system_id: 3 });
@@ -147,10 +161,7 @@ fn mavlink1_peer_is_accepted_and_answered_in_mavlink1() {
 #[test]
 fn signing_rejects_unsigned_frames_and_signs_its_own() {
     let key = mavtempo::vehicle::frame::parse_key(KEY_HEX).expect("key");
-    let (mut v, addr) = vehicle(
-        &format!("signing_key = \"{KEY_HEX}\""),
-        LinkOptions::default(),
-    );
+    let (mut v, addr) = vehicle(Some(KEY_HEX), HEARTBEAT_MS, LinkOptions::default());
     let mut unsigned = Peer::connect(addr, 7, None);
     unsigned.send(&heartbeat(0), false);
     unsigned.send(&heartbeat(0), true);
@@ -179,7 +190,7 @@ fn picture_action_over_the_wire_and_tlog_records_both_directions() {
         tlog: Some(tlog.clone()),
         ..LinkOptions::default()
     };
-    let (mut v, addr) = vehicle("", opts);
+    let (mut v, addr) = vehicle(None, HEARTBEAT_MS, opts);
     let mut p = Peer::connect(addr, 1, None);
     let hb_bytes = p.send(&heartbeat(4), false);
     assert_eq!(link_event(&mut v), LinkStatus::Up { system_id: 1 });
@@ -305,7 +316,7 @@ fn goal_upload_is_decided_by_the_executive_through_the_vehicle() {
         first_goal_number: 6,
         ..LinkOptions::default()
     };
-    let (mut v, _) = vehicle("", opts);
+    let (mut v, _) = vehicle(None, HEARTBEAT_MS, opts);
     let gcs = v.gcs_addr().expect("gcs bound");
     let client = std::thread::spawn(move || {
         let rt = tokio::runtime::Runtime::new().expect("rt");

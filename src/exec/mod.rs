@@ -15,7 +15,7 @@
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
 //! | §3.5 the dispatch decision (src/dispatch policies; default earliest) | [`dispatch_policy`] |
 //! | §5 (future work, done): contingent durations not squeezed by dispatching | [`squeeze`] |
-//! | §3.2 time injected: manual clock (tests) / vehicle clock (live) | [`clock`] |
+//! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
 //! | §3.3 message routing | [`sense`] |
@@ -34,7 +34,6 @@ pub mod act;
 pub mod bench;
 pub mod bench_repair;
 pub mod capacity;
-pub mod clock;
 pub mod config;
 pub mod cycle;
 pub mod dispatch_policy;

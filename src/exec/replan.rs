@@ -21,7 +21,7 @@ use serde::Serialize;
 
 use super::executive::{Executive, Fate};
 use super::trace::TraceEvent;
-use crate::model::{Fact, GoalId, ObjectId, Problem, Time, Value};
+use crate::model::{Fact, GoalId, Problem, Time};
 use crate::plan::{PartialPlan, PlanError, TimeFloor};
 use crate::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
 use crate::planner::{Search, StepOutcome};
@@ -583,9 +583,4 @@ impl Executive {
         self.insertion_stale = true;
         self.hierarchy = super::abstraction::Hierarchy::new(&self.plan.domain);
     }
-}
-
-/// `Value` of an object (helper for tests).
-pub fn obj(o: ObjectId) -> Value {
-    Value::Obj(o)
 }

@@ -266,23 +266,6 @@ impl Search {
         Ok(select::pick(&mut self.plan, &self.hierarchy))
     }
 
-    /// Backs up the current branch to its deepest executable node (the root when none deeper is): the
-    /// "last labelled node" of §3.2 on this branch. Returns whether an executable node was found.
-    pub fn rewind_to_executable(&mut self, running: &[ActionId]) -> bool {
-        loop {
-            if self.plan.executable(running) {
-                return true;
-            }
-            let Some(top) = self.stack.pop() else {
-                return false;
-            };
-            self.peeked = None;
-            self.resume = false;
-            self.plan.restore(top.level);
-            self.status = Status::Running;
-        }
-    }
-
     /// One planning step.
     pub fn step(&mut self) -> StepOutcome {
         match &self.status {
