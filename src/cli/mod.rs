@@ -11,6 +11,7 @@ mod fuzz;
 mod goal;
 mod mission_out;
 mod plan;
+mod plan_pddl;
 mod run;
 mod shutdown;
 mod sim;
