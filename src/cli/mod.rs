@@ -2,6 +2,7 @@
 
 mod bench;
 mod bench_cpu;
+mod bench_ipc;
 mod bench_suite;
 mod check;
 pub mod demo;
