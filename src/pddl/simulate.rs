@@ -171,6 +171,17 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
         });
         spans.push((s.start_ms, end, po));
     }
+    // Timed initial literals are happenings too (no conditions), subject to the same separation.
+    for (at, g, add) in &tils {
+        happenings.push(Happening {
+            at: *at,
+            step: usize::MAX,
+            when: When::Start,
+            pre: Vec::new(),
+            add: if *add { vec![g.clone()] } else { Vec::new() },
+            del: if *add { Vec::new() } else { vec![g.clone()] },
+        });
+    }
     for i in 0..happenings.len() {
         for j in i + 1..happenings.len() {
             let (x, y) = (&happenings[i], &happenings[j]);
@@ -178,10 +189,14 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
                 continue;
             }
             if interfere(x, y) || interfere(y, x) {
+                let name = |h: &Happening| match h.step {
+                    usize::MAX => "a timed initial literal".to_string(),
+                    k => format!("step {}", k + 1),
+                };
                 return Err(format!(
-                    "step {} and step {} interfere within ε at {} ms",
-                    x.step + 1,
-                    y.step + 1,
+                    "{} and {} interfere within ε at {} ms",
+                    name(x),
+                    name(y),
                     x.at.min(y.at)
                 ));
             }
@@ -205,7 +220,10 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
                 }
             }
         }
-        let now: Vec<&Happening> = happenings.iter().filter(|h| h.at == t).collect();
+        let now: Vec<&Happening> = happenings
+            .iter()
+            .filter(|h| h.at == t && h.step != usize::MAX)
+            .collect();
         for h in &now {
             for (g, v) in &h.pre {
                 if state.contains(g) != *v {

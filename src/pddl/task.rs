@@ -7,8 +7,9 @@
 //! the atom an `at start` effect deletes), the `at start` effect, the value `over all`, the value required
 //! at `et`, the `at end` effect. Where the action changes the instance at one end and reads or changes it
 //! at the other, the value in between is held over `[st, et]` (a persistence PDDL leaves to other actions:
-//! a stronger, sound requirement). A boolean effect on an atom whose prior value the action does not
-//! require gets a fresh `from` variable (any value).
+//! a stronger, sound requirement). A boolean add whose prior value the action does not require needs the
+//! atom false before (also a sound strengthening: such a plan never re-adds a true atom); a boolean
+//! deletion of an atom the action does not require gets a fresh `from` variable (any prior value).
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
 use super::translate::{Cx, PredRep};
@@ -424,9 +425,12 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), String> {
     };
     let e_s = eff(When::Start, t, &mut s_req)?;
     let e_e = eff(When::End, t, &mut e_req)?;
-    let from_or_any = |req: Option<Term>, t: &mut Task| -> Result<Term, String> {
+    let from_or_any = |req: Option<Term>, to: Term, t: &mut Task| -> Result<Term, String> {
         match req {
             Some(v) => Ok(v),
+            // An add needs the atom false before (re-adding a true atom is never useful to a plan, and the
+            // fixed `from` spares the search an establisher choice); a deletion takes any prior value.
+            None if inst.boolean && to == Term::Obj(Domain::TRUE) => Ok(Term::Obj(Domain::FALSE)),
             None if inst.boolean => Ok(any_bool(t)),
             None => Err(
                 "its effect on a multi-valued variable does not say the value it replaces".into(),
@@ -434,7 +438,7 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), String> {
         }
     };
     if let Some(v) = e_s {
-        let from = from_or_any(s_req, t)?;
+        let from = from_or_any(s_req, v, t)?;
         t.events.push(Event {
             attr: inst.attr,
             args: inst.args.clone(),
@@ -485,7 +489,7 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), String> {
         Some(v) => {
             let from = match pre_end.or(m) {
                 Some(x) => x,
-                None => from_or_any(None, t)?,
+                None => from_or_any(None, v, t)?,
             };
             t.events.push(Event {
                 attr: inst.attr,

@@ -108,11 +108,14 @@ pub fn ipc_plan(
     Ok(IpcPlan { steps })
 }
 
-/// The earliest times of the solution's network where every ordering between two actions' timepoints is
-/// at least [`EPSILON_MS`].
+/// The earliest times of the solution's network where every ordering between two actions' timepoints (or
+/// an action's and a timed initial literal's) is at least [`EPSILON_MS`].
 fn separated_schedule(sol: &Solution) -> Result<Vec<Time>, String> {
     let n = sol.timepoints.len();
-    let mut owner: Vec<Option<usize>> = vec![None; n];
+    // Who a timepoint belongs to: an action, or itself (a timed literal's change, a goal); the origin none.
+    let mut owner: Vec<Option<usize>> = (0..n)
+        .map(|i| (i != 0).then_some(sol.actions.len() + i))
+        .collect();
     for (i, a) in sol.actions.iter().enumerate() {
         for tp in &a.timepoints {
             if let Some(o) = owner.get_mut(tp.index()) {
@@ -125,8 +128,10 @@ fn separated_schedule(sol: &Solution) -> Result<Vec<Time>, String> {
         .iter()
         .map(|c| {
             let (f, t) = (c.from.index(), c.to.index());
-            let across =
-                matches!((owner.get(f), owner.get(t)), (Some(Some(x)), Some(Some(y))) if x != y);
+            // Two different owners, one of them an action (a goal's own window is not separated).
+            let n_act = sol.actions.len();
+            let across = matches!((owner.get(f), owner.get(t)),
+                (Some(Some(x)), Some(Some(y))) if x != y && (*x < n_act || *y < n_act));
             let lb = match c.lb {
                 Some(l) if across && l >= 0 => Some(l.max(EPSILON_MS)),
                 l => l,
