@@ -15,7 +15,7 @@ use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
 use super::translate::{Cx, PredRep};
 use super::PddlError;
 use crate::model::{
-    AttrId, Binding, Bound, Domain, Event, Hold, Preemption, SymVar, SymVarId, Task,
+    AttrId, Binding, Bound, Domain, Event, Hold, ObjectId, Preemption, SymVar, SymVarId, Task,
     TemporalConstraint, Term, Time, TimeInterval, TpId, MS_PER_S,
 };
 
@@ -34,7 +34,90 @@ struct Instance {
 }
 
 /// The task, or why the action can never apply (it is then dropped).
-pub(super) fn task(cx: &mut Cx, a: &ast::Action) -> Result<Result<Task, String>, PddlError> {
+/// Ground combinations of an action's parameters beyond which the translation refuses (a duration given
+/// by a static function of the parameters makes one task per combination).
+const MAX_DURATION_GROUNDINGS: usize = 20_000;
+
+/// The tasks of an action: one, or — when its duration is a static function of some parameters
+/// (`(slew_time ?from ?to)`) — one per combination of those parameters where the function is defined,
+/// each with the parameters bound (`?from in {a}`) and its own fixed duration. Empty with the reason when
+/// the action can never apply.
+pub(super) fn tasks(cx: &mut Cx, a: &ast::Action) -> Result<Result<Vec<Task>, String>, PddlError> {
+    let mut used: Vec<usize> = Vec::new();
+    for (_, e, _) in &a.duration {
+        duration_params(e, a, &mut used);
+    }
+    used.sort_unstable();
+    used.dedup();
+    if used.is_empty() {
+        return Ok(task(cx, a, &[])?.map(|t| vec![t]));
+    }
+    let choices: Vec<Vec<ObjectId>> = used
+        .iter()
+        .map(|&i| {
+            a.params
+                .get(i)
+                .map_or_else(Vec::new, |p| cx.objects_of(&p.types))
+        })
+        .collect();
+    let n = choices
+        .iter()
+        .try_fold(1usize, |acc, c| acc.checked_mul(c.len()));
+    if n.is_none_or(|n| n > MAX_DURATION_GROUNDINGS) {
+        return Err(cx.derr(a.span, format!("the duration of `{}` depends on parameters with more than {MAX_DURATION_GROUNDINGS} combinations", a.name.name)));
+    }
+    let mut combos: Vec<Vec<ObjectId>> = vec![Vec::new()];
+    for c in &choices {
+        combos = combos
+            .into_iter()
+            .flat_map(|p| c.iter().map(move |o| [p.as_slice(), &[*o]].concat()))
+            .collect();
+    }
+    let mut out = Vec::new();
+    let mut last_why = String::from("no combination of its parameters has a duration");
+    for combo in combos {
+        let fixed: Vec<(usize, ObjectId)> = used.iter().copied().zip(combo).collect();
+        match task(cx, a, &fixed) {
+            Ok(Ok(t)) => out.push(t),
+            Ok(Err(why)) => last_why = why,
+            // An undefined function value: the action does not apply to these arguments.
+            Err(_) => {}
+        }
+    }
+    Ok(if out.is_empty() {
+        Err(last_why)
+    } else {
+        Ok(out)
+    })
+}
+
+/// Parameters (by position) that the static functions of a duration expression take.
+fn duration_params(e: &ast::NExpr, a: &ast::Action, out: &mut Vec<usize>) {
+    match e {
+        ast::NExpr::Fluent(f) => {
+            for x in &f.args {
+                if let Arg::Var(n) = x {
+                    if let Some(i) = a.params.iter().position(|p| p.name.name == n.name) {
+                        out.push(i);
+                    }
+                }
+            }
+        }
+        ast::NExpr::Bin(_, x, y, _) => {
+            duration_params(x, a, out);
+            duration_params(y, a, out);
+        }
+        ast::NExpr::Neg(x, _) => duration_params(x, a, out),
+        ast::NExpr::Num(..) | ast::NExpr::Duration(_) => {}
+    }
+}
+
+/// One task of `a`, the parameters of `fixed` bound to their objects.
+fn task(
+    cx: &mut Cx,
+    a: &ast::Action,
+    fixed: &[(usize, ObjectId)],
+) -> Result<Result<Task, String>, PddlError> {
     let src = cx.ds;
     let mut t = Task {
         name: a.name.name.clone(),
@@ -68,7 +151,9 @@ pub(super) fn task(cx: &mut Cx, a: &ast::Action) -> Result<Result<Task, String>,
             name: p.name.name.trim_start_matches('?').to_string(),
             ty: cx.model_type(&p.types),
         });
-        if cx.restricts(&p.types) {
+        if let Some(&(_, o)) = fixed.iter().find(|f| f.0 == v.index()) {
+            t.bindings.push(Binding::In(v, vec![o]));
+        } else if cx.restricts(&p.types) {
             t.bindings.push(Binding::In(v, cx.objects_of(&p.types)));
         }
     }
@@ -94,7 +179,12 @@ pub(super) fn task(cx: &mut Cx, a: &ast::Action) -> Result<Result<Task, String>,
         for (c, e, _) in &a.duration {
             let v = cx.eval(e, src, &|x| match x {
                 Arg::Const(n) => cx.objs.get(&n.name).copied(),
-                Arg::Var(_) => None,
+                Arg::Var(n) => a
+                    .params
+                    .iter()
+                    .position(|p| p.name.name == n.name)
+                    .and_then(|i| fixed.iter().find(|f| f.0 == i))
+                    .map(|f| f.1),
             })?;
             let ms = (v * MS_PER_S as f64).round() as Time;
             match c {

@@ -318,9 +318,11 @@ pub fn translate(
                 format!("action `{}` is declared twice", a.name.name),
             ));
         }
-        match task::task(&mut cx, a)? {
-            Ok(t) => {
-                model.add_task(t);
+        match task::tasks(&mut cx, a)? {
+            Ok(ts) => {
+                for t in ts {
+                    model.add_task(t);
+                }
             }
             Err(why) => notes.push(format!("action `{}` dropped: {why}", a.name.name)),
         }
