@@ -17,6 +17,9 @@ pub const CHECK_EPSILON_MS: Time = 1;
 
 type Ground = (String, Vec<String>);
 
+/// A condition: the atom and whether it must be true.
+type Cond = (Ground, bool);
+
 struct Happening {
     at: Time,
     step: usize,
@@ -73,7 +76,7 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
         false
     };
     let mut happenings: Vec<Happening> = Vec::new();
-    let mut spans: Vec<(Time, Time, Vec<(Ground, bool)>)> = Vec::new();
+    let mut spans: Vec<(Time, Time, Vec<Cond>)> = Vec::new();
     for (k, s) in plan.iter().enumerate() {
         let who = format!("step {} ({})", k + 1, s.action);
         let a = d

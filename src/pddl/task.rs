@@ -505,13 +505,12 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), String> {
             }
         }
         // PDDL applies deletions before additions at one instant.
-        Ok(added.or(deleted.then(|| {
-            if inst.boolean {
-                Term::Obj(Domain::FALSE)
-            } else {
-                Term::Unknown
-            }
-        })))
+        let removed = if inst.boolean {
+            Term::Obj(Domain::FALSE)
+        } else {
+            Term::Unknown
+        };
+        Ok(added.or(deleted.then_some(removed)))
     };
     let e_s = eff(When::Start, t, &mut s_req)?;
     let e_e = eff(When::End, t, &mut e_req)?;
