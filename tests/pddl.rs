@@ -302,3 +302,60 @@ fn time_variants_parse_and_what_the_model_cannot_express_is_refused_with_a_place
         }
     }
 }
+
+#[test]
+fn mutated_pddl_never_panics_and_errors_stay_located() {
+    use rand::{Rng, SeedableRng};
+    let dir = ipc2002("rovers-time-automatic");
+    let texts = [
+        std::fs::read_to_string(dir.join("domain.pddl")).unwrap_or_default(),
+        std::fs::read_to_string(fixture("courier.pddl")).unwrap_or_default(),
+    ];
+    let problem = std::fs::read_to_string(fixture("courier-1.pddl")).unwrap_or_default();
+    assert!(texts.iter().all(|t| !t.is_empty()) && !problem.is_empty());
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+    let pieces = ["(", ")", "?x", "-", ":", "at", "not", "and", "5", ";", " "];
+    for round in 0..400 {
+        let base = if round % 3 == 2 {
+            &problem
+        } else {
+            &texts[round % 2]
+        };
+        let mut b: Vec<u8> = base.as_bytes().to_vec();
+        for _ in 0..rng.gen_range(1..4) {
+            let at = rng.gen_range(0..b.len().max(1));
+            match rng.gen_range(0..3) {
+                0 => b.truncate(at),
+                1 => {
+                    let end = (at + rng.gen_range(1..20)).min(b.len());
+                    b.drain(at..end);
+                }
+                _ => {
+                    let p = pieces[rng.gen_range(0..pieces.len())].as_bytes();
+                    let at = at.min(b.len());
+                    b.splice(at..at, p.iter().copied());
+                }
+            }
+        }
+        let text = String::from_utf8_lossy(&b).into_owned();
+        // Problem rounds pair the mutated problem with the intact courier domain.
+        let (dtext, ptext) = if round % 3 == 2 {
+            (texts[1].clone(), text)
+        } else {
+            (text, problem.clone())
+        };
+        let ds = Src::new("m.pddl", dtext);
+        let ps = Src::new("c.pddl", ptext);
+        let r = pddl::parse_domain(&ds).and_then(|d| {
+            let p = pddl::parse_problem(&ps)?;
+            pddl::translate(&ds, &d, &ps, &p).map(|_| ())
+        });
+        if let Err(e) = r {
+            let e = e.to_string();
+            assert!(
+                e.starts_with("m.pddl:") || e.starts_with("c.pddl:"),
+                "round {round}: {e}"
+            );
+        }
+    }
+}

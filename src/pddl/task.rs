@@ -15,8 +15,9 @@ use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
 use super::translate::{Cx, PredRep};
 use super::PddlError;
 use crate::model::{
-    AttrId, Binding, Bound, Domain, Event, Hold, ObjectId, Preemption, SymVar, SymVarId, Task,
-    TemporalConstraint, Term, Time, TimeInterval, TpId, MS_PER_S,
+    AttrId, Binding, Bound, Domain, Event, Hold, NumTerm, ObjectId, Preemption, ResourceUsage,
+    SymVar, SymVarId, Task, TemporalConstraint, Term, Time, TimeInterval, TpId, UsageKind,
+    MS_PER_S,
 };
 
 const ST: TpId = TpId(0);
@@ -211,6 +212,7 @@ fn task(
         },
     });
     let mut insts: Vec<Instance> = Vec::new();
+    let mut locks: Vec<crate::model::ResourceId> = Vec::new();
     let mut static_holds: Vec<(AttrId, Vec<Term>, bool, When)> = Vec::new();
     for (w, l) in &a.conditions {
         match l {
@@ -287,6 +289,11 @@ fn task(
                             .conds
                             .push((*w, value));
                     }
+                    PredRep::Lock { resource } => {
+                        if !locks.contains(&resource) {
+                            locks.push(resource);
+                        }
+                    }
                 }
             }
         }
@@ -325,7 +332,18 @@ fn task(
                 };
                 instance(&mut insts, attr, key, false).effects.push(eff);
             }
+            // The lock's use covers its deletion at `st` and its return at `et`.
+            PredRep::Lock { .. } => {}
         }
+    }
+    for resource in locks {
+        t.usages.push(ResourceUsage {
+            resource,
+            kind: UsageKind::Use { from: ST, to: ET },
+            quantity: NumTerm::Const(1.0),
+            primary: false,
+            saturating: false,
+        });
     }
     for (attr, args, positive, w) in static_holds {
         let at = if w == When::End { ET } else { ST };

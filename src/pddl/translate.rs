@@ -12,8 +12,8 @@ use super::sexpr::Span;
 use super::task;
 use super::{PddlError, Src};
 use crate::model::{
-    AttrId, Domain, Fact, Goal, GoalKind, LogicalAttr, Object, ObjectId, Problem, Time,
-    TimeInterval, TypeId, TypeKind, Value, MS_PER_S,
+    AttrId, Domain, Fact, Goal, GoalKind, LogicalAttr, Object, ObjectId, Problem, ResourceAttr,
+    ResourceId, ResourceKind, Time, TimeInterval, TypeId, TypeKind, Value, MS_PER_S,
 };
 
 /// The horizon given to PDDL problems, which have none: every action ends before it (seconds).
@@ -39,6 +39,10 @@ pub struct Translated {
 pub(super) enum PredRep {
     /// One boolean timeline per ground atom.
     Bool { attr: AttrId, fluent: bool },
+    /// A lock: a predicate over one object per parameter, true initially, that every action using it
+    /// requires and deletes at its start and adds back at its end (Rovers' `channel_free ?l` with one
+    /// lander) — a unary resource each such action borrows over `[st, et]`.
+    Lock { resource: ResourceId },
     /// A member of a mutex group: `attr(key) = value` (the value argument, or the member's constant).
     Group {
         attr: AttrId,
@@ -279,7 +283,14 @@ pub fn translate(
     // Problem objects are numbered after every domain object; their ids are fixed once the domain's
     // enumeration members are known (below).
     let fluent = fluent_predicates(d, p);
-    let groups = invariants::groups(d, p, &fluent);
+    let locks: BTreeSet<String> = d
+        .predicates
+        .iter()
+        .filter(|(n, ps)| fluent.contains(&n.name) && is_lock(&cx, d, p, &n.name, ps))
+        .map(|(n, _)| n.name.clone())
+        .collect();
+    let groupable: BTreeSet<String> = fluent.difference(&locks).cloned().collect();
+    let groups = invariants::groups(d, p, &groupable);
     let mut multi_valued = Vec::new();
     let mut grouped: HashMap<String, (usize, Option<ObjectId>)> = HashMap::new();
     let mut group_attrs = Vec::new();
@@ -302,6 +313,7 @@ pub fn translate(
     predicates(
         &mut cx,
         &mut model,
+        &locks,
         d,
         &fluent,
         &groups,
@@ -529,9 +541,11 @@ fn group_attr(
     ))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn predicates(
     cx: &mut Cx,
     model: &mut Domain,
+    locks: &BTreeSet<String>,
     d: &ast::Domain,
     fluent: &BTreeSet<String>,
     groups: &[Group],
@@ -550,6 +564,14 @@ fn predicates(
                 attr: group_attrs[gi],
                 value_pos: groups[gi].value_pos,
                 member,
+            },
+            None if locks.contains(&name.name) => PredRep::Lock {
+                resource: model.add_resource(ResourceAttr {
+                    name: name.name.clone(),
+                    kind: ResourceKind::Unary,
+                    capacity: 1.0,
+                    line: Some(srctext::locate(&cx.ds.file, &cx.ds.text, name.span.start, "").line),
+                }),
             },
             None => {
                 let attr = model.add_attr(LogicalAttr {
@@ -634,6 +656,69 @@ fn functions(cx: &mut Cx, d: &ast::Domain, p: &ast::Problem) -> Result<(), PddlE
     Ok(())
 }
 
+/// Whether predicate `name` is a lock (see [`PredRep::Lock`]). Decided on names, before objects are
+/// numbered (locks are kept out of the mutex groups).
+fn is_lock(cx: &Cx, d: &ast::Domain, p: &ast::Problem, name: &str, params: &[ast::Typed]) -> bool {
+    let mut ground: Vec<&str> = Vec::new();
+    for t in params {
+        let named: Vec<&str> = d
+            .constants
+            .iter()
+            .chain(&p.objects)
+            .filter(|o| {
+                o.types
+                    .iter()
+                    .any(|ot| t.types.iter().any(|pt| cx.is_sub(&ot.name, &pt.name)))
+            })
+            .map(|o| o.name.name.as_str())
+            .collect();
+        match named.as_slice() {
+            [o] => ground.push(o),
+            _ => return false,
+        }
+    }
+    let initially = p.init.iter().any(|i| match i {
+        Init::Atom(a, None) if a.pred.name == name => {
+            a.args.len() == ground.len()
+                && a.args.iter().zip(&ground).all(|(x, o)| x.name().name == *o)
+        }
+        _ => false,
+    });
+    let timed = p
+        .init
+        .iter()
+        .any(|i| matches!(i, Init::Atom(a, Some(_)) | Init::NotAtom(a, _) if a.pred.name == name));
+    let in_goal = p
+        .goal
+        .iter()
+        .any(|l| matches!(l, Lit::Pos(a) | Lit::Neg(a) if a.pred.name == name));
+    if !initially || timed || in_goal {
+        return false;
+    }
+    d.actions.iter().all(|a| {
+        let conds: Vec<_> = a
+            .conditions
+            .iter()
+            .filter(|(_, l)| matches!(l, Lit::Pos(x) | Lit::Neg(x) if x.pred.name == name))
+            .collect();
+        let effs: Vec<_> = a
+            .effects
+            .iter()
+            .filter(|(_, e)| matches!(e, Effect::Add(x) | Effect::Del(x) if x.pred.name == name))
+            .collect();
+        if conds.is_empty() && effs.is_empty() {
+            return true;
+        }
+        let cond_ok = matches!(conds.as_slice(), [(ast::When::Start, Lit::Pos(_))]);
+        let mut kinds: Vec<(ast::When, bool)> = effs
+            .iter()
+            .map(|(w, e)| (*w, matches!(e, Effect::Add(_))))
+            .collect();
+        kinds.sort();
+        cond_ok && kinds == [(ast::When::Start, false), (ast::When::End, true)]
+    })
+}
+
 /// Every combination of `choices` (the ground instances of a predicate), or `None` beyond `limit`.
 fn combinations(choices: &[Vec<ObjectId>], limit: usize) -> Option<Vec<Vec<ObjectId>>> {
     let n = choices
@@ -687,6 +772,7 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
         };
         let trues = cx.init_true.get(name);
         match rep {
+            PredRep::Lock { .. } => {}
             PredRep::Bool { attr, fluent } => {
                 if *fluent || cx.needs_false.contains(name) {
                     let choices: Vec<Vec<ObjectId>> =
@@ -762,7 +848,7 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
                 args,
                 value: value_of(add),
             },
-            PredRep::Group { .. } => {
+            PredRep::Lock { .. } | PredRep::Group { .. } => {
                 return Err(cx.perr(
                     a.span,
                     "internal: a timed literal on a multi-valued variable",
@@ -811,6 +897,9 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
             } => {
                 let (key, value) = split_ground(&args, *value_pos, *member);
                 (*attr, key, value)
+            }
+            PredRep::Lock { .. } => {
+                return Err(cx.perr(a.span, "internal: a goal on a lock"));
             }
         };
         // PDDL goals hold at the end of the plan: at the horizon, after every action.
