@@ -81,6 +81,19 @@ pub enum Cmp {
     Gt,
 }
 
+impl Cmp {
+    /// Whether `x op y`.
+    pub fn holds(self, x: f64, y: f64) -> bool {
+        match self {
+            Cmp::Lt => x < y,
+            Cmp::Le => x <= y,
+            Cmp::Eq => x == y,
+            Cmp::Ge => x >= y,
+            Cmp::Gt => x > y,
+        }
+    }
+}
+
 /// A literal of a condition or goal (conditions are conjunctions of these).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Lit {

@@ -129,13 +129,7 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
                 }
                 Lit::Compare(c, x, y, _) => {
                     let (x, y) = (eval(x, &env, &values)?, eval(y, &env, &values)?);
-                    let ok = match c {
-                        Cmp::Lt => x < y,
-                        Cmp::Le => x <= y,
-                        Cmp::Eq => x == y,
-                        Cmp::Ge => x >= y,
-                        Cmp::Gt => x > y,
-                    };
+                    let ok = c.holds(x, y);
                     if !ok {
                         return Err(format!("{who}: a numeric condition is false"));
                     }

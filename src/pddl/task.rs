@@ -174,6 +174,9 @@ fn task(
             Arg::Const(n) => cx.constant(n, cx.ds).map(Term::Obj),
         }
     };
+    let terms = |cx: &Cx, atom: &Atom| -> Result<Vec<Term>, PddlError> {
+        atom.args.iter().map(|x| term(cx, x)).collect()
+    };
     // Duration.
     let (mut lb, mut ub): (Time, Option<Time>) = (0, None);
     if a.durative {
@@ -238,13 +241,7 @@ fn task(
                 let (Ok(x), Ok(y)) = (cx.eval(x, src, &konst), cx.eval(y, src, &konst)) else {
                     return Err(cx.derr(*span, "numeric conditions on fluents or on values that depend on the parameters are not supported by the translation"));
                 };
-                let ok = match c {
-                    Cmp::Lt => x < y,
-                    Cmp::Le => x <= y,
-                    Cmp::Eq => x == y,
-                    Cmp::Ge => x >= y,
-                    Cmp::Gt => x > y,
-                };
+                let ok = c.holds(x, y);
                 if !ok {
                     return Ok(Err("a numeric condition between constants is false".into()));
                 }
@@ -252,11 +249,7 @@ fn task(
             Lit::Pos(atom) | Lit::Neg(atom) => {
                 let positive = matches!(l, Lit::Pos(_));
                 let (rep, params) = cx.pred(atom, src)?.clone();
-                let args = atom
-                    .args
-                    .iter()
-                    .map(|x| term(cx, x))
-                    .collect::<Result<Vec<_>, _>>()?;
+                let args = terms(cx, atom)?;
                 match rep {
                     PredRep::Bool {
                         attr,
@@ -307,11 +300,7 @@ fn task(
             }
         };
         let (rep, _) = cx.pred(atom, src)?.clone();
-        let args = atom
-            .args
-            .iter()
-            .map(|x| term(cx, x))
-            .collect::<Result<Vec<_>, _>>()?;
+        let args = terms(cx, atom)?;
         match rep {
             PredRep::Bool { attr, .. } => {
                 let v = Term::Obj(if add { Domain::TRUE } else { Domain::FALSE });

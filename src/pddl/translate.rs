@@ -217,6 +217,14 @@ impl Cx<'_> {
             .ok_or_else(|| src.error(n.span.start, format!("unknown object `{}`", n.name)))
     }
 
+    /// The objects of a ground atom of the problem file.
+    pub fn ground(&self, a: &Atom) -> Result<Vec<ObjectId>, PddlError> {
+        a.args
+            .iter()
+            .map(|x| self.constant(x.name(), self.ps))
+            .collect()
+    }
+
     /// The representation and declared parameters of the predicate of `a`, arity checked.
     pub fn pred(&self, a: &Atom, src: &Src) -> Result<&(PredRep, Vec<ast::Typed>), PddlError> {
         let Some(p) = self.preds.get(&a.pred.name) else {
@@ -613,11 +621,7 @@ fn functions(cx: &mut Cx, d: &ast::Domain, p: &ast::Problem) -> Result<(), PddlE
     for i in &p.init {
         match i {
             Init::Value(f, v) => {
-                let args = f
-                    .args
-                    .iter()
-                    .map(|a| cx.constant(a.name(), cx.ps))
-                    .collect::<Result<Vec<_>, _>>()?;
+                let args = cx.ground(f)?;
                 if !cx.functions.contains_key(&f.pred.name) {
                     return Err(cx.perr(f.span, format!("unknown function `{}`", f.pred.name)));
                 }
@@ -625,11 +629,7 @@ fn functions(cx: &mut Cx, d: &ast::Domain, p: &ast::Problem) -> Result<(), PddlE
             }
             Init::Atom(a, None) => {
                 cx.pred(a, cx.ps)?;
-                let args = a
-                    .args
-                    .iter()
-                    .map(|x| cx.constant(x.name(), cx.ps))
-                    .collect::<Result<Vec<_>, _>>()?;
+                let args = cx.ground(a)?;
                 cx.init_true
                     .entry(a.pred.name.clone())
                     .or_default()
@@ -830,11 +830,7 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
             _ => continue,
         };
         let (rep, _) = cx.pred(a, cx.ps)?;
-        let args = a
-            .args
-            .iter()
-            .map(|x| cx.constant(x.name(), cx.ps))
-            .collect::<Result<Vec<_>, _>>()?;
+        let args = cx.ground(a)?;
         let at_ms = (at * MS_PER_S as f64).round() as Time;
         if at_ms >= HORIZON_S * MS_PER_S {
             return Err(cx.perr(
@@ -871,11 +867,7 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
             }
         };
         let (rep, _) = cx.pred(a, cx.ps)?;
-        let args = a
-            .args
-            .iter()
-            .map(|x| cx.constant(x.name(), cx.ps))
-            .collect::<Result<Vec<_>, _>>()?;
+        let args = cx.ground(a)?;
         let (attr, args, value) = match rep {
             PredRep::Bool { attr, fluent } => {
                 if !fluent {
