@@ -1,9 +1,10 @@
 //! PDDL 2.1 (level 3) with PDDL 2.2's timed initial literals, in and out (issue 17).
 //!
 //! `sexpr` (spans) → `parse` ([`ast`]) → `invariants` (mutex groups: which predicates are one multi-valued
-//! state variable, e.g. a rover's `at ?r ?w` as `at(?r) = ?w`) → `translate` (the [`crate::model`] the
-//! planner works on) → `writer` (a plan in the IPC format). `simulate` replays an IPC plan on the PDDL
-//! itself, sharing nothing with the translation, to check what the writer printed. Every error is located
+//! state variable, e.g. a rover's `at ?r ?w` as `at(?r) = ?w`) → `translate` and `task` (the
+//! [`crate::model`] the planner works on) → `writer` (a plan in the IPC format). `simulate` replays an IPC
+//! plan on the PDDL itself, sharing nothing with the translation, to check what the writer printed; `solve`
+//! chains planner, checker, writer and replay. Every error is located
 //! (`file:line:col`, the line, a caret) like the native language's; no input makes these functions panic.
 
 pub mod ast;
