@@ -8,6 +8,7 @@ pub mod exec;
 pub mod fuzz;
 pub mod lang;
 pub mod model;
+pub mod pddl;
 pub mod plan;
 pub mod planner;
 pub mod report;

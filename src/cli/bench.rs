@@ -34,6 +34,21 @@ pub struct BenchArgs {
     /// `suite`, with --write: also in PDDL, DIR/<domain>/domain.pddl and DIR/<domain>/n<N>_s<SEED>.pddl.
     #[arg(long, requires = "write")]
     pub pddl: bool,
+    /// `ipc`: the IPC-2002 benchmarks' directory.
+    #[arg(long)]
+    pub dir: Option<std::path::PathBuf>,
+    /// `ipc`: instance numbers, N or N-M.
+    #[arg(long, default_value = "1-20")]
+    pub instances: String,
+    /// `ipc`: domains, comma-separated (rovers, satellite).
+    #[arg(long, default_value = "rovers,satellite")]
+    pub domains: String,
+    /// `ipc`: variants, comma-separated (simple = SimpleTime, time = Time).
+    #[arg(long, default_value = "simple,time")]
+    pub variants: String,
+    /// `ipc`: write each solved plan to DIR/<benchmark folder>/instance-N.plan (IPC format).
+    #[arg(long)]
+    pub plans_out: Option<std::path::PathBuf>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -56,6 +71,8 @@ pub enum BenchWhat {
     Cpu,
     /// Random rover, AUV and shopping problems of growing size: solved share and time per size, plans checked.
     Suite,
+    /// IPC-2002 Rovers and Satellite (Time, SimpleTime) read as PDDL: solved, search time, makespan.
+    Ipc,
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
@@ -69,6 +86,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
         BenchWhat::Link => bench_link(args.json),
         BenchWhat::Cpu => super::bench_cpu::run(args.json),
         BenchWhat::Suite => super::bench_suite::run(&args),
+        BenchWhat::Ipc => super::bench_ipc::run(&args),
     }
 }
 

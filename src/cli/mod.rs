@@ -2,6 +2,7 @@
 
 mod bench;
 mod bench_cpu;
+mod bench_ipc;
 mod bench_suite;
 mod check;
 pub mod demo;
@@ -12,6 +13,7 @@ mod goal;
 pub mod http_arg;
 mod mission_out;
 mod plan;
+mod plan_pddl;
 mod report;
 mod run;
 mod shutdown;

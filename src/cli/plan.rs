@@ -1,4 +1,4 @@
-//! `mavtempo plan DOMAIN PROBLEM [--json] [--dot]`: plans, checks the plan with the independent checker and
+//! `mavtempo plan DOMAIN PROBLEM [--json] [--dot]` (PDDL files: [`super::plan_pddl`]): plans, checks the plan with the independent checker and
 //! prints it (text, JSON `Solution`, or a Graphviz graph of the partial order like seed 1 Fig. 5).
 
 use std::collections::HashMap;
@@ -28,9 +28,19 @@ pub struct PlanArgs {
     /// Maximum number of planning steps.
     #[arg(long, default_value_t = 200_000)]
     pub max_steps: u64,
+    /// PDDL problems: also write the plan in the IPC format to FILE (`-`: stdout).
+    #[arg(long, value_name = "FILE")]
+    pub pddl_out: Option<PathBuf>,
 }
 
 pub fn run(args: PlanArgs) -> ExitCode {
+    if crate::pddl::is_pddl(&args.domain) || crate::pddl::is_pddl(&args.problem) {
+        return super::plan_pddl::run(&args);
+    }
+    if args.pddl_out.is_some() {
+        eprintln!("--pddl-out is for PDDL problems (DOMAIN.pddl PROBLEM.pddl)");
+        return ExitCode::FAILURE;
+    }
     let domain = match lang::load_domain(&args.domain) {
         Ok(d) => Arc::new(d),
         Err(e) => {
@@ -183,7 +193,7 @@ fn consumer(c: Consumer, sol: &Solution) -> String {
 
 /// Graphviz: one node per action and goal, an edge per causal link (labelled with its proposition) — the
 /// partial order of seed 1 Fig. 5.
-fn dot(sol: &Solution, p: &crate::model::Problem) -> String {
+pub(super) fn dot(sol: &Solution, p: &crate::model::Problem) -> String {
     let mut out = String::from(
         "digraph plan {\n  rankdir=LR;\n  node [shape=box];\n  initial [shape=ellipse];\n",
     );

@@ -1,0 +1,63 @@
+//! `mavtempo plan DOMAIN.pddl PROBLEM.pddl [--pddl-out FILE]`: a PDDL problem planned like a native one;
+//! the plan checked by the independent checker (on the translation) and replayed on the PDDL, printed in
+//! the IPC format (`--pddl-out -`: only the IPC plan on stdout, the summary on stderr).
+
+use std::process::ExitCode;
+
+use super::plan::PlanArgs;
+use crate::pddl;
+use crate::planner::Budget;
+
+pub fn run(args: &PlanArgs) -> ExitCode {
+    let loaded = match pddl::load(&args.domain, &args.problem) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let t = &loaded.translated;
+    for n in &t.notes {
+        eprintln!("note: {n}");
+    }
+    let solved = match pddl::solve(&loaded, Budget::steps(args.max_steps)) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("{}: {e}", t.problem.name);
+            return ExitCode::FAILURE;
+        }
+    };
+    let summary = format!(
+        "{} actions, makespan {:.3} s, {} planning steps, {} backtracks\nchecker: plan accepted; IPC plan replayed on the PDDL: valid",
+        solved.ipc.steps.len(),
+        solved.ipc.makespan_ms() as f64 / 1000.0,
+        solved.steps,
+        solved.backtracks
+    );
+    let to_stdout = args.pddl_out.as_deref() == Some(std::path::Path::new("-"));
+    if let Some(path) = args.pddl_out.as_deref().filter(|_| !to_stdout) {
+        if let Err(e) = std::fs::write(path, solved.ipc.to_string()) {
+            eprintln!("cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    if args.json {
+        match serde_json::to_string_pretty(&solved.solution) {
+            Ok(s) => println!("{s}"),
+            Err(e) => {
+                eprintln!("cannot serialise the plan: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+    } else if args.dot {
+        print!("{}", super::plan::dot(&solved.solution, &t.problem));
+    } else if to_stdout {
+        print!("{}", solved.ipc);
+        eprintln!("{summary}");
+    } else {
+        println!("plan for {} ({}):", t.problem.name, t.domain.name);
+        print!("{}", solved.ipc);
+        println!("{summary}");
+    }
+    ExitCode::SUCCESS
+}
