@@ -64,19 +64,23 @@ def check_all(benches, plans_dir, lines, required):
     for b in benches:
         solved, valid, reason = verdict(b, plans_dir, lines.get((b.domain, b.variant, b.instance)))
         state = "valid" if valid else "REJECTED" if valid is False else "solved, not checked" if solved else "UNSOLVED"
-        print(f"{ipcbench.label(b)}: {state}" + (f" ({' '.join(str(reason).split())[:300]})" if reason else ""))
-        share = shares.setdefault((b.domain, b.variant), [0, 0, 0, set()])
-        share[0] += 1
-        share[1] += solved
-        share[2] += valid is True
-        if solved and valid is None:
-            share[3].add(str(reason).split("\n")[0][:200])
+        print(f"{ipcbench.label(b)}: {state}" + (f" ({one_line(reason, 300)})" if reason else ""))
+        share = shares.setdefault((b.domain, b.variant), {"n": 0, "solved": 0, "valid": 0, "why": set()})
+        share["n"] += 1
+        share["solved"] += solved
+        share["valid"] += valid is True
+        if valid is not True and reason:
+            share["why"].add(f"{state.lower()}: {one_line(reason, 160)}")
         if b.variant in required and valid is not True:
             failures.append(f"{ipcbench.label(b)}: {state}: {reason}")
-    for (dom, var), (n, n_solved, n_valid, unchecked) in shares.items():
-        print(f"== {dom} {var}: solved {n_solved}/{n}, validated {n_valid}/{n}"
-              + (f"; not checked: {'; '.join(sorted(unchecked))}" if unchecked else ""))
+    for (dom, var), share in shares.items():
+        print(f"== {dom} {var}: solved {share['solved']}/{share['n']}, validated {share['valid']}/{share['n']}"
+              + "".join(f"\n   {why}" for why in sorted(share["why"])))
     return failures
+
+
+def one_line(text, width):
+    return " ".join(str(text).split())[:width]
 
 
 def corrupted(text, domain):
