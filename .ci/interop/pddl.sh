@@ -7,6 +7,7 @@
 #
 # PDDL_PLANS=DIR [PDDL_BENCH_JSONL=FILE] checks plans already written in the layout of `bench ipc --plans-out`
 # (e.g. LPG-td's, from benches/peers/run_ipc.sh: target/ipc-plans/lpg) instead of running mavtempo.
+# PDDL_NUMERIC_LIMIT: the Time variants' limit (3 s); PDDL_VENV: the virtualenv (target/pddl-venv).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
