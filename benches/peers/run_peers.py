@@ -17,23 +17,12 @@ Usage: run_peers.py --problems DIR [--mavtempo FILE] [--planners lpg,tamer,...] 
 
 import argparse
 import json
-import multiprocessing as mp
 import re
 import statistics
 import sys
-import time
-import warnings
-from fractions import Fraction
 from pathlib import Path
 
-# ENHSP (up-enhsp) plans without durative actions, so it has nothing to run here.
-PLANNERS = ["lpg", "tamer", "aries", "kairos"]
-
-# Engines that unified-planning does not register by itself: (module, class).
-EXTRA_ENGINES = {
-    "kairos": ("up_kairos.engine", "KairosEngine"),
-    "kairos-val": ("up_kairos.engine", "KairosValidator"),
-}
+from peerslib import PLANNERS, available, fmt_ms, read_jsonl, run_one, solved
 
 
 def problem_files(root):
@@ -48,183 +37,6 @@ def problem_files(root):
             if m:
                 out.append((ddir.name, int(m.group(1)), int(m.group(2)), dom, f))
     return sorted(out, key=lambda t: (t[0], t[1], t[2]))
-
-
-def _env(up_shortcuts):
-    env = up_shortcuts.get_environment()
-    env.credits_stream = None
-    for name, (module, cls) in EXTRA_ENGINES.items():
-        if name not in env.factory.engines:
-            try:
-                env.factory.add_engine(name, module, cls)
-            except Exception:  # not installed: reported when that planner is asked for
-                pass
-    return env
-
-
-def makespan(plan):
-    ends = [s + (d or 0) for s, _, d in plan.timed_actions]
-    return float(max(ends)) if ends else 0.0
-
-
-# unified-planning's own validator first; Kairos' validator (through unified-planning) where it cannot.
-VALIDATORS = ["up_time_triggered_validator", "kairos-val"]
-
-
-def validate(up, problem, plan, res):
-    """Sets res["valid"] and res["validator"]; None when no validator could check the plan."""
-    for name in VALIDATORS:
-        try:
-            with up.PlanValidator(name=name) as v:
-                # The problems leave travel-time undefined from a place to itself (no path there): the only
-                # feature the built-in validator does not declare, and never read by a valid plan.
-                v.skip_checks = True
-                vr = v.validate(problem, plan)
-        except Exception as e:
-            res.setdefault("validator_errors", []).append(f"{name}: {type(e).__name__}: {str(e)[:150]}")
-            continue
-        res["validator"] = name
-        res["valid"] = vr.status.name == "VALID"
-        if not res["valid"]:
-            res["error"] = f"validator {name}: {vr.reason}"
-        return
-    res["validator"] = None
-
-
-def lpg_binary():
-    """The LPG-td executable that up-lpg ships, found without importing up_lpg."""
-    import importlib.util
-
-    spec = importlib.util.find_spec("up_lpg")
-    if spec is None or not spec.submodule_search_locations:
-        raise FileNotFoundError("up-lpg is not installed")
-    exe = Path(list(spec.submodule_search_locations)[0]) / "lpg"
-    if not exe.exists():
-        raise FileNotFoundError(f"{exe} missing")
-    return exe
-
-
-LPG_STEP = re.compile(r"^\s*([\d.]+):\s*\(([^()]*)\)\s*\[([\d.]+)\]")
-
-
-def lpg_cli(problem, domain_file, problem_file, limit):
-    """LPG-td on the PDDL files themselves: its unified-planning wrapper neither declares timed initial
-    literals nor reads LPG-td's plan lines (`0.0003:   (MOVE BASE T2) [84.1300])`). Returns (status name,
-    plan or None, messages, ms)."""
-    import subprocess
-    import tempfile
-
-    import unified_planning as upf
-
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "plan"
-        cmd = [str(lpg_binary()), "-o", str(domain_file), "-f", str(problem_file), "-n", "1", "-seed", "1",
-               "-cputime", str(int(max(1, limit))), "-out", str(out)]
-        t0 = time.perf_counter()
-        try:
-            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=limit + 1)
-        except subprocess.TimeoutExpired:
-            return "TIMEOUT", None, [], (time.perf_counter() - t0) * 1e3
-        ms = (time.perf_counter() - t0) * 1e3
-        if not out.exists():
-            tail = (proc.stdout + proc.stderr).strip().splitlines()[-3:]
-            return ("TIMEOUT" if ms >= limit * 1e3 else "UNSOLVABLE_INCOMPLETELY"), None, tail, ms
-        steps = []
-        for line in out.read_text().splitlines():
-            m = LPG_STEP.match(line)
-            if not m:
-                continue
-            name, *args = m.group(2).lower().split()
-            act = problem.action(name)
-            objs = [problem.object(a) for a in args]
-            steps.append((Fraction(m.group(1)), upf.plans.ActionInstance(act, objs), Fraction(m.group(3))))
-        return "SOLVED_SATISFICING", upf.plans.TimeTriggeredPlan(steps), [], ms
-
-
-def solve_one(planner, domain_file, problem_file, limit, queue):
-    """In a child process: reads, plans, validates; puts one result dict on `queue`."""
-    warnings.filterwarnings("ignore")
-    res = {"status": None, "ms": None, "makespan": None, "actions": None, "valid": None, "error": None}
-    try:
-        import unified_planning.shortcuts as up
-        from unified_planning.engines import PlanGenerationResultStatus as S
-        from unified_planning.io import PDDLReader
-
-        _env(up)
-        problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
-        # Satisficing runs: the first plan each planner finds (the metric would make some run anytime
-        # until the limit).
-        problem.clear_quality_metrics()
-        if planner == "lpg":
-            status, plan, msgs, ms = lpg_cli(problem, domain_file, problem_file, limit)
-        else:
-            with up.OneshotPlanner(name=planner) as engine:
-                t0 = time.perf_counter()
-                r = engine.solve(problem, timeout=limit)
-                ms = (time.perf_counter() - t0) * 1e3
-            status, plan = r.status.name, r.plan
-            msgs = [m.message for m in r.log_messages or []]
-        res["status"], res["ms"] = status, ms
-        if status in (S.SOLVED_SATISFICING.name, S.SOLVED_OPTIMALLY.name) and plan is not None:
-            res["actions"] = len(plan.timed_actions)
-            res["makespan"] = makespan(plan)
-            validate(up, problem, plan, res)
-        elif msgs:
-            res["error"] = " | ".join(msgs)[:300]
-    except Exception as e:
-        res["status"] = "ERROR"
-        res["error"] = f"{type(e).__name__}: {str(e)[:300]}"
-    queue.put(res)
-
-
-def run_one(planner, domain_file, problem_file, limit):
-    q = mp.Queue()
-    p = mp.Process(target=solve_one, args=(planner, domain_file, problem_file, limit, q))
-    t0 = time.perf_counter()
-    p.start()
-    # Reading the PDDL and starting the engine come on top of the limit: 5 s more before it is killed.
-    p.join(limit + 5)
-    if p.is_alive():
-        p.kill()
-        p.join()
-        return {"status": "KILLED", "ms": (time.perf_counter() - t0) * 1e3, "makespan": None,
-                "actions": None, "valid": None, "error": "still running past the limit"}
-    try:
-        return q.get(timeout=1)
-    except Exception:
-        return {"status": "CRASHED", "ms": None, "makespan": None, "actions": None, "valid": None,
-                "error": f"exit code {p.exitcode}"}
-
-
-def solved(r, limit):
-    return (r["status"] in ("SOLVED_SATISFICING", "SOLVED_OPTIMALLY") and r["valid"] is not False
-            and r["ms"] is not None and r["ms"] <= limit * 1e3)
-
-
-def available(planners):
-    """The planners whose engine can be made here, and why the others cannot."""
-    warnings.filterwarnings("ignore")
-    import unified_planning.shortcuts as up
-
-    env = _env(up)
-    ok, missing = [], {}
-    for name in planners:
-        try:
-            if name == "lpg":
-                lpg_binary()
-                ok.append(name)
-                continue
-            env.factory.engine(name)
-            ok.append(name)
-        except Exception as e:
-            missing[name] = f"{type(e).__name__}: {str(e)[:200]}"
-    return ok, missing
-
-
-def fmt_ms(v):
-    if v is None:
-        return "–"
-    return f"{v:.0f} ms" if v < 1000 else f"{v / 1e3:.1f} s"
 
 
 def table(rows, planners, limit):
@@ -281,8 +93,7 @@ def main():
     args = ap.parse_args()
 
     if args.report:
-        with open(args.out) as f:
-            rows = [json.loads(line) for line in f if line.strip()]
+        rows = read_jsonl(args.out)
         order = ["mavtempo"] + [p for p in args.planners.split(",") if p]
         order += sorted({r["planner"] for r in rows} - set(order))
         print(table(rows, order, args.time_limit))
@@ -302,6 +113,7 @@ def main():
         for dom, n, seed, dfile, pfile in files:
             for planner in planners:
                 r = run_one(planner, dfile, pfile, args.time_limit)
+                r.pop("plan", None)
                 r.update({"domain": dom, "size": n, "seed": seed, "planner": planner})
                 r["solved"] = solved(r, args.time_limit)
                 rows.append(r)
