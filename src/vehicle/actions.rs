@@ -262,7 +262,9 @@ impl Run {
             [f32::from(camera_id), 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
         );
         ctx.command(self.id, cmd);
-        self.capture = Some(CaptureEvidence::new(ctx.vnow));
+        // The camera's messages carry the autopilot's clock: while it is unknown (no time_boot_ms seen yet)
+        // `vnow` is the companion's, and comparing the two would drop this picture's confirmation.
+        self.capture = Some(CaptureEvidence::new(ctx.tel.time_boot_ms.unwrap_or(0)));
         self.feedback_before = ctx.tel.camera_feedback_index;
         ctx.request_capture_status();
     }
