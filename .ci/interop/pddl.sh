@@ -7,7 +7,8 @@
 #
 # PDDL_PLANS=DIR [PDDL_BENCH_JSONL=FILE] checks plans already written in the layout of `bench ipc --plans-out`
 # (e.g. LPG-td's, from benches/peers/run_ipc.sh: target/ipc-plans/lpg) instead of running mavtempo.
-# PDDL_NUMERIC_LIMIT: the Time variants' limit (3 s); PDDL_VENV: the virtualenv (target/pddl-venv).
+# PDDL_NUMERIC_LIMIT: the Time variants' limit (3 s); PDDL_VENV: the virtualenv (target/pddl-venv);
+# PDDL_MIN_VALIDATED=N: at least N SimpleTime instances validated instead of all (a rejected plan still fails).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -39,5 +40,6 @@ elif [ -n "${PDDL_BENCH_JSONL:-}" ]; then
 fi
 
 "$venv/bin/python" benches/peers/validate_ipc.py --plans "$plans" "${jsonl[@]}" --instances 1-10 \
-  --variants simple,time --required simple --corrupt rovers:simple:1
+  --variants simple,time --required simple ${PDDL_MIN_VALIDATED:+--min-validated "$PDDL_MIN_VALIDATED"} \
+  --corrupt rovers:simple:1
 echo "pddl interop: ok"
