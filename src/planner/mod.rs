@@ -228,7 +228,9 @@ impl Search {
         for r in rs.iter().take(allowed).cloned().collect::<Vec<_>>() {
             let level = self.plan.save();
             let ok = resolvers::apply(&mut self.plan, &r)
-                .and_then(|()| select::propagate_forced(&mut self.plan, &self.hierarchy))
+                .and_then(|()| {
+                    select::propagate_forced(&mut self.plan, &self.hierarchy, self.order)
+                })
                 .is_ok();
             self.plan.restore(level);
             if ok {
@@ -266,7 +268,7 @@ impl Search {
     /// when a resolver is applied). A root conflict without resolver fails the search.
     fn select(&mut self) -> Result<Option<(Flaw, Vec<Resolver>)>, FailReason> {
         if self.stack.is_empty() {
-            if let Err(e) = select::propagate_forced(&mut self.plan, &self.hierarchy) {
+            if let Err(e) = select::propagate_forced(&mut self.plan, &self.hierarchy, self.order) {
                 let r = FailReason::NoResolver {
                     flaw: e.to_string(),
                 };
@@ -354,9 +356,9 @@ impl Search {
                 let r = top.resolvers[top.next].clone();
                 top.next += 1;
                 self.plan.restore(level);
-                match resolvers::apply(&mut self.plan, &r)
-                    .and_then(|()| select::propagate_forced(&mut self.plan, &self.hierarchy))
-                {
+                match resolvers::apply(&mut self.plan, &r).and_then(|()| {
+                    select::propagate_forced(&mut self.plan, &self.hierarchy, self.order)
+                }) {
                     Ok(()) => {
                         if let Some(top) = self.stack.last_mut() {
                             top.applied_any = true;

@@ -262,7 +262,11 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
 
 /// Drops the resolvers a look-ahead proves useless (done only for the selected flaw: it costs ordering
 /// queries per event of the attribute).
-pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
+///
+/// `check_single`: also examine a lone link (for the siblings it would leave without any resolver), for a
+/// search that leaves the static choices open ([`super::select::Order::StaticChoicesLast`]): there a
+/// link's bindings are what decides them. The other order has settled them before, and skips the cost.
+pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>, check_single: bool) {
     let Flaw::OpenCondition(c) = flaw else {
         return;
     };
@@ -275,7 +279,7 @@ pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
         }
         _ => true,
     });
-    order_links_by_support(plan, *c, rs);
+    order_links_by_support(plan, *c, rs, check_single);
 }
 
 fn own_event(plan: &PartialPlan, c: CondId) -> Option<crate::plan::EventId> {
@@ -290,7 +294,12 @@ fn own_event(plan: &PartialPlan, c: CondId) -> Option<crate::plan::EventId> {
 /// establisher first: e.g. `go(?from, vent1)` needs `CONNECTED(?from, vent1)`, and linking it to
 /// `CONNECTED(vent2, vent1)` lets `AUV_AT = vent2` be supported where the vehicle already is, while
 /// `CONNECTED(surface, vent1)` would need yet another trip. (Ties keep the earliest-first order.)
-fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut Vec<Resolver>) {
+fn order_links_by_support(
+    plan: &mut PartialPlan,
+    c: CondId,
+    rs: &mut Vec<Resolver>,
+    check_single: bool,
+) {
     let crate::plan::Owner::Action(a) = plan.cond(c).owner else {
         return;
     };
@@ -298,7 +307,7 @@ fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut Vec<Resolv
         .iter()
         .take_while(|r| matches!(r, Resolver::Link { .. }))
         .count();
-    if links == 0 {
+    if links == 0 || (links == 1 && !check_single) {
         return;
     }
     let siblings: Vec<CondId> = plan

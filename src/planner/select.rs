@@ -284,7 +284,7 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> Option<(Flaw
         }
     }
     best.best.map(|(_, _, f, mut rs)| {
-        refine(plan, &f, &mut rs);
+        refine(plan, &f, &mut rs, order == Order::StaticChoicesLast);
         (f, rs)
     })
 }
@@ -297,6 +297,7 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> Option<(Flaw
 pub fn propagate_forced(
     plan: &mut PartialPlan,
     h: &Hierarchy,
+    order: Order,
 ) -> Result<(), crate::plan::PlanError> {
     // One pass: a conflict made forced by a constraint applied in this pass waits for the next step's
     // pass (a full re-scan per application would cost more than it prunes).
@@ -318,9 +319,13 @@ pub fn propagate_forced(
         }
         applied |= apply_if_forced(plan, &Flaw::UnaryConflict { a, b })?;
     }
-    // Forward checking of the static conditions: they only constrain bindings, so one the bindings made
-    // unsupportable is a dead end now, and one left with a single fact is linked to it (which may bind
-    // variables further — checked at the next step's pass).
+    // Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
+    // order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
+    // dead end now, and one left with a single fact is linked to it (which may bind variables further —
+    // checked at the next step's pass).
+    if order != Order::StaticChoicesLast {
+        return Ok(());
+    }
     let statics: Vec<crate::plan::CondId> = plan
         .open_conditions()
         .filter(|&c| h.level(plan.cond(c).attr) == super::hierarchy::STATIC)
@@ -407,7 +412,7 @@ mod tests {
             }
         }
         best.map(|(_, f, mut rs)| {
-            refine(plan, &f, &mut rs);
+            refine(plan, &f, &mut rs, false);
             (f, rs)
         })
     }
