@@ -463,15 +463,24 @@ pub fn solve(
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
+    let root = checked_root(domain, problem)?;
+    let mut search = Search::new(root);
+    finish(search.run(budget), search)
+}
+
+/// The root plan of `problem`, refused at once when a goal cannot be achieved even alone.
+fn checked_root(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+) -> Result<PartialPlan, PlanFailure> {
     let root = PartialPlan::new(domain, problem).map_err(|e| PlanFailure::Root(e.to_string()))?;
-    if let Some(u) = reachability::unreachable_goals(&root, reachability::STEPS_PER_GOAL)
+    match reachability::unreachable_goals(&root, reachability::STEPS_PER_GOAL)
         .into_iter()
         .next()
     {
-        return Err(u.into());
+        Some(u) => Err(u.into()),
+        None => Ok(root),
     }
-    let mut search = Search::new(root);
-    finish(search.run(budget), search)
 }
 
 fn finish(outcome: StepOutcome, search: Search) -> Result<Planned, PlanFailure> {
@@ -503,13 +512,7 @@ pub fn solve_portfolio(
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
-    let root = PartialPlan::new(domain, problem).map_err(|e| PlanFailure::Root(e.to_string()))?;
-    if let Some(u) = reachability::unreachable_goals(&root, reachability::STEPS_PER_GOAL)
-        .into_iter()
-        .next()
-    {
-        return Err(u.into());
-    }
+    let root = checked_root(domain, problem)?;
     let mut searches = [
         Search::with_order(root.clone(), select::Order::Hierarchy),
         Search::with_order(root, select::Order::StaticChoicesLast),
