@@ -73,7 +73,7 @@ impl SolveError {
 pub fn solve(l: &Loaded, budget: Budget) -> Result<Solved, SolveError> {
     let t = &l.translated;
     let started = Instant::now();
-    let planned = planner::solve(t.domain.clone(), t.problem.clone(), budget);
+    let planned = planner::solve_portfolio(t.domain.clone(), t.problem.clone(), budget);
     let search_ms = started.elapsed().as_secs_f64() * 1e3;
     let planned = planned.map_err(|e| SolveError::NoPlan(e, search_ms))?;
     let solution = planned.plan.to_solution(&HashMap::new());

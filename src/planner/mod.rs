@@ -104,6 +104,8 @@ pub struct Search {
     /// The last step stopped backtracking after [`MAX_REJECTED_PER_STEP`] rejected resolvers: the next
     /// step goes on with it instead of selecting a flaw.
     resume: bool,
+    /// The order of the open conditions ([`select::Order`]).
+    order: select::Order,
 }
 
 /// Resolvers a planning step may try and see rejected before it returns, its backtracking resumed by the
@@ -128,6 +130,15 @@ impl Search {
             cut: false,
             last_rejection: None,
             resume: false,
+            order: select::Order::default(),
+        }
+    }
+
+    /// A search whose root is `plan` that takes the open conditions in `order`.
+    pub fn with_order(plan: PartialPlan, order: select::Order) -> Self {
+        Search {
+            order,
+            ..Search::new(plan)
         }
     }
 
@@ -217,7 +228,9 @@ impl Search {
         for r in rs.iter().take(allowed).cloned().collect::<Vec<_>>() {
             let level = self.plan.save();
             let ok = resolvers::apply(&mut self.plan, &r)
-                .and_then(|()| select::propagate_forced(&mut self.plan))
+                .and_then(|()| {
+                    select::propagate_forced(&mut self.plan, &self.hierarchy, self.order)
+                })
                 .is_ok();
             self.plan.restore(level);
             if ok {
@@ -255,7 +268,7 @@ impl Search {
     /// when a resolver is applied). A root conflict without resolver fails the search.
     fn select(&mut self) -> Result<Option<(Flaw, Vec<Resolver>)>, FailReason> {
         if self.stack.is_empty() {
-            if let Err(e) = select::propagate_forced(&mut self.plan) {
+            if let Err(e) = select::propagate_forced(&mut self.plan, &self.hierarchy, self.order) {
                 let r = FailReason::NoResolver {
                     flaw: e.to_string(),
                 };
@@ -263,7 +276,7 @@ impl Search {
                 return Err(r);
             }
         }
-        Ok(select::pick(&mut self.plan, &self.hierarchy))
+        Ok(select::pick(&mut self.plan, &self.hierarchy, self.order))
     }
 
     /// One planning step.
@@ -326,9 +339,9 @@ impl Search {
                 let r = top.resolvers[top.next].clone();
                 top.next += 1;
                 self.plan.restore(level);
-                match resolvers::apply(&mut self.plan, &r)
-                    .and_then(|()| select::propagate_forced(&mut self.plan))
-                {
+                match resolvers::apply(&mut self.plan, &r).and_then(|()| {
+                    select::propagate_forced(&mut self.plan, &self.hierarchy, self.order)
+                }) {
                     Ok(()) => {
                         if let Some(top) = self.stack.last_mut() {
                             top.applied_any = true;
@@ -433,15 +446,28 @@ pub fn solve(
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
+    let root = checked_root(domain, problem)?;
+    let mut search = Search::new(root);
+    finish(search.run(budget), search)
+}
+
+/// The root plan of `problem`, refused at once when a goal cannot be achieved even alone.
+fn checked_root(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+) -> Result<PartialPlan, PlanFailure> {
     let root = PartialPlan::new(domain, problem).map_err(|e| PlanFailure::Root(e.to_string()))?;
-    if let Some(u) = reachability::unreachable_goals(&root, reachability::STEPS_PER_GOAL)
+    match reachability::unreachable_goals(&root, reachability::STEPS_PER_GOAL)
         .into_iter()
         .next()
     {
-        return Err(u.into());
+        Some(u) => Err(u.into()),
+        None => Ok(root),
     }
-    let mut search = Search::new(root);
-    match search.run(budget) {
+}
+
+fn finish(outcome: StepOutcome, search: Search) -> Result<Planned, PlanFailure> {
+    match outcome {
         StepOutcome::Solved => Ok(Planned {
             steps: search.steps(),
             backtracks: search.backtracks(),
@@ -452,5 +478,50 @@ pub fn solve(
             steps: search.steps(),
         }
         .into()),
+    }
+}
+
+/// Steps the first portfolio slice gives each search; each round doubles it.
+const FIRST_SLICE: u64 = 500;
+
+/// [`solve`] by two searches run in turn, in slices of steps that double each round: one takes the open
+/// conditions by the hierarchy ([`select::Order::Hierarchy`]), the other takes the static choices last
+/// ([`select::Order::StaticChoicesLast`]). Neither order wins everywhere (binding a place by the first fact
+/// that fits, or by where the vehicle already is), and a search that takes the wrong one drowns in a
+/// subtree the other never enters; interleaving costs at most about twice the better of the two. The
+/// first plan found is returned.
+pub fn solve_portfolio(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+    budget: Budget,
+) -> Result<Planned, PlanFailure> {
+    let root = checked_root(domain, problem)?;
+    let mut searches = [
+        Search::with_order(root.clone(), select::Order::Hierarchy),
+        Search::with_order(root, select::Order::StaticChoicesLast),
+    ];
+    let mut slice = FIRST_SLICE;
+    let mut steps = 0u64;
+    loop {
+        for search in &mut searches {
+            let left = budget.max_steps.map(|m| m.saturating_sub(steps));
+            if left == Some(0) || budget.deadline.is_some_and(|d| Instant::now() >= d) {
+                return Err(FailReason::Deadline { steps }.into());
+            }
+            let part = Budget {
+                max_steps: Some(left.map_or(slice, |l| l.min(slice))),
+                deadline: budget.deadline,
+            };
+            let before = search.steps();
+            let outcome = search.run(part);
+            steps += search.steps() - before;
+            match outcome {
+                StepOutcome::Solved => return finish(outcome, search.clone()),
+                StepOutcome::Failed(FailReason::Deadline { .. }) | StepOutcome::Progress => {}
+                // Exhausted or no resolver at the root: the search is complete, every order agrees.
+                StepOutcome::Failed(r) => return Err(r.into()),
+            }
+        }
+        slice = slice.saturating_mul(2);
     }
 }

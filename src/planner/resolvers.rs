@@ -262,7 +262,11 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
 
 /// Drops the resolvers a look-ahead proves useless (done only for the selected flaw: it costs ordering
 /// queries per event of the attribute).
-pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
+///
+/// `check_single`: also examine a lone link (for the siblings it would leave without any resolver), for a
+/// search that leaves the static choices open ([`super::select::Order::StaticChoicesLast`]): there a
+/// link's bindings are what decides them. The other order has settled them before, and skips the cost.
+pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>, check_single: bool) {
     let Flaw::OpenCondition(c) = flaw else {
         return;
     };
@@ -275,7 +279,7 @@ pub fn refine(plan: &mut PartialPlan, flaw: &Flaw, rs: &mut Vec<Resolver>) {
         }
         _ => true,
     });
-    order_links_by_support(plan, *c, rs);
+    order_links_by_support(plan, *c, rs, check_single);
 }
 
 fn own_event(plan: &PartialPlan, c: CondId) -> Option<crate::plan::EventId> {
@@ -290,7 +294,12 @@ fn own_event(plan: &PartialPlan, c: CondId) -> Option<crate::plan::EventId> {
 /// establisher first: e.g. `go(?from, vent1)` needs `CONNECTED(?from, vent1)`, and linking it to
 /// `CONNECTED(vent2, vent1)` lets `AUV_AT = vent2` be supported where the vehicle already is, while
 /// `CONNECTED(surface, vent1)` would need yet another trip. (Ties keep the earliest-first order.)
-fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut [Resolver]) {
+fn order_links_by_support(
+    plan: &mut PartialPlan,
+    c: CondId,
+    rs: &mut Vec<Resolver>,
+    check_single: bool,
+) {
     let crate::plan::Owner::Action(a) = plan.cond(c).owner else {
         return;
     };
@@ -298,7 +307,7 @@ fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut [Resolver]
         .iter()
         .take_while(|r| matches!(r, Resolver::Link { .. }))
         .count();
-    if links < 2 {
+    if links == 0 || (links == 1 && !check_single) {
         return;
     }
     let siblings: Vec<CondId> = plan
@@ -312,30 +321,41 @@ fn order_links_by_support(plan: &mut PartialPlan, c: CondId, rs: &mut [Resolver]
     for (i, r) in rs[..links].iter().enumerate() {
         let level = plan.save();
         let unsupported = match apply(plan, r) {
-            Ok(()) => siblings
-                .iter()
-                .filter(|&&o| {
+            Ok(()) => {
+                let mut unsupported = 0;
+                for &o in &siblings {
                     let own = own_event(plan, o);
-                    !open_condition(plan, o, usize::MAX)
-                        .unwrap_or_default()
-                        .iter()
-                        .any(|x| match x {
-                            Resolver::Link { cond, event } => {
-                                !link_doomed(plan, *event, *cond, own)
-                            }
-                            _ => false,
-                        })
-                })
-                .count(),
+                    let rs = open_condition(plan, o, usize::MAX).unwrap_or_default();
+                    if rs.is_empty() {
+                        // The bindings the link makes leave a sibling without any resolver.
+                        unsupported = DEAD;
+                        break;
+                    }
+                    let linked = rs.iter().any(|x| match x {
+                        Resolver::Link { cond, event } => !link_doomed(plan, *event, *cond, own),
+                        _ => false,
+                    });
+                    unsupported += usize::from(!linked);
+                }
+                unsupported
+            }
             Err(_) => usize::MAX,
         };
         plan.restore(level);
         cost.push((unsupported, i));
     }
     cost.sort();
-    let reordered: Vec<Resolver> = cost.iter().map(|&(_, i)| rs[i].clone()).collect();
-    rs[..links].clone_from_slice(&reordered);
+    let reordered: Vec<Resolver> = cost
+        .iter()
+        .filter(|&&(u, _)| u != DEAD)
+        .map(|&(_, i)| rs[i].clone())
+        .collect();
+    rs.splice(..links, reordered);
 }
+
+/// [`order_links_by_support`]'s cost of a link that leaves a sibling condition without any resolver: a
+/// dead end the next step would find, dropped at once.
+const DEAD: usize = usize::MAX - 1;
 
 /// Look-ahead on a candidate causal link `e → c`: some other event necessarily changes the attribute
 /// instance to another value inside the protected interval (it can be neither before the establisher nor

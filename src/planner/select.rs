@@ -146,9 +146,45 @@ impl Best {
     }
 }
 
+/// Which order [`pick`] takes the open conditions in.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Order {
+    /// By the abstraction hierarchy alone: static conditions first.
+    #[default]
+    Hierarchy,
+    /// The same, but a static condition with a choice among several facts last ([`rank_open`]).
+    StaticChoicesLast,
+}
+
+/// Rank of an open condition: its attribute's, except that a condition on a static attribute with a
+/// choice among several facts ranks last (below the secondary attributes). Such a choice only binds
+/// variables (a communication's place among every place that sees the lander): made first, it follows
+/// the order of the facts; made last, the action's other conditions have bound them through their
+/// establishers (where the vehicle already is), and it is then forced or a dead end, taken at once.
+fn rank_open(
+    plan: &PartialPlan,
+    h: &Hierarchy,
+    order: Order,
+    f: &Flaw,
+    c: crate::plan::CondId,
+) -> u64 {
+    let attr = plan.cond(c).attr;
+    if order == Order::StaticChoicesLast
+        && h.level(attr) == super::hierarchy::STATIC
+        && resolvers_below(plan, f, 2).is_none()
+    {
+        return 0;
+    }
+    rank_attr(h, attr)
+}
+
 /// The live threats, unary conflicts and open conditions with their ranks, and the best rank present.
 type Ranked = Vec<(Flaw, u64)>;
-fn ranked_flaws(plan: &mut PartialPlan, h: &Hierarchy) -> (Ranked, Ranked, Ranked, u64) {
+fn ranked_flaws(
+    plan: &mut PartialPlan,
+    h: &Hierarchy,
+    order: Order,
+) -> (Ranked, Ranked, Ranked, u64) {
     let threats: Vec<(Flaw, u64)> = plan
         .live_threats()
         .into_iter()
@@ -164,7 +200,13 @@ fn ranked_flaws(plan: &mut PartialPlan, h: &Hierarchy) -> (Ranked, Ranked, Ranke
         .collect();
     let open: Vec<(Flaw, u64)> = plan
         .open_conditions()
-        .map(|c| (Flaw::OpenCondition(c), rank_attr(h, plan.cond(c).attr)))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .map(|c| {
+            let f = Flaw::OpenCondition(c);
+            let rank = rank_open(plan, h, order, &f, c);
+            (f, rank)
+        })
         .collect();
     let top = threats
         .iter()
@@ -184,8 +226,8 @@ fn ranked_flaws(plan: &mut PartialPlan, h: &Hierarchy) -> (Ranked, Ranked, Ranke
 /// key over the flaws considered (the first of equal keys); open conditions are examined first because
 /// they usually win, and the other flaws' resolvers are only counted as far as could still beat the best
 /// found so far ([`resolvers_below`]) — the choice is the one listing every flaw's resolvers would make.
-pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
-    let (threats, unary, open, top) = ranked_flaws(plan, h);
+pub fn pick(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> Option<(Flaw, Vec<Resolver>)> {
+    let (threats, unary, open, top) = ranked_flaws(plan, h, order);
     let reservoirs = plan.reservoir_conflicts_of(|r| u64::from(h.resource_level(r)) * 2 > top);
     let mut best = Best { best: None };
     // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
@@ -242,7 +284,7 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver
         }
     }
     best.best.map(|(_, _, f, mut rs)| {
-        refine(plan, &f, &mut rs);
+        refine(plan, &f, &mut rs, order == Order::StaticChoicesLast);
         (f, rs)
     })
 }
@@ -252,7 +294,11 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver
 /// needed. A conflict left without any resolver makes the step fail (the caller
 /// restores the node and tries its next resolver). Without this each of the quadratically many forced
 /// orderings of a tour would be a planning step of its own, each re-examining the whole flaw set.
-pub fn propagate_forced(plan: &mut PartialPlan) -> Result<(), crate::plan::PlanError> {
+pub fn propagate_forced(
+    plan: &mut PartialPlan,
+    h: &Hierarchy,
+    order: Order,
+) -> Result<(), crate::plan::PlanError> {
     // One pass: a conflict made forced by a constraint applied in this pass waits for the next step's
     // pass (a full re-scan per application would cost more than it prunes).
     // A conflict listed live may have been resolved by a constraint applied earlier in the pass: checked
@@ -272,6 +318,25 @@ pub fn propagate_forced(plan: &mut PartialPlan) -> Result<(), crate::plan::PlanE
             continue;
         }
         applied |= apply_if_forced(plan, &Flaw::UnaryConflict { a, b })?;
+    }
+    // Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
+    // order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
+    // dead end now, and one left with a single fact is linked to it (which may bind variables further —
+    // checked at the next step's pass).
+    if order != Order::StaticChoicesLast {
+        return Ok(());
+    }
+    let statics: Vec<crate::plan::CondId> = plan
+        .open_conditions()
+        .filter(|&c| h.level(plan.cond(c).attr) == super::hierarchy::STATIC)
+        .collect();
+    for c in statics {
+        let f = Flaw::OpenCondition(c);
+        match resolvers_below(plan, &f, 2).as_deref() {
+            Some([]) => return Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(&f))),
+            Some([r]) if !r.inserts() => super::resolvers::apply(plan, r)?,
+            _ => {}
+        }
     }
     Ok(())
 }
@@ -296,7 +361,7 @@ mod tests {
     /// The selection before it counted resolvers lazily: every considered flaw's resolvers listed, the
     /// first least key kept. The lazy [`pick`] must choose exactly as it does.
     fn pick_reference(plan: &mut PartialPlan, h: &Hierarchy) -> Option<(Flaw, Vec<Resolver>)> {
-        let (threats, unary, open, top) = ranked_flaws(plan, h);
+        let (threats, unary, open, top) = ranked_flaws(plan, h, Order::Hierarchy);
         let mut best: Option<(Key, Flaw, Vec<Resolver>)> = None;
         let mut consider = |key: Key, f: Flaw, rs: Vec<Resolver>| {
             if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
@@ -347,7 +412,7 @@ mod tests {
             }
         }
         best.map(|(_, f, mut rs)| {
-            refine(plan, &f, &mut rs);
+            refine(plan, &f, &mut rs, false);
             (f, rs)
         })
     }
@@ -386,7 +451,10 @@ mod tests {
                     let mut lazy = search.plan.clone();
                     let mut full = search.plan.clone();
                     let h = &search.hierarchy;
-                    assert_eq!(pick(&mut lazy, h), pick_reference(&mut full, h));
+                    assert_eq!(
+                        pick(&mut lazy, h, Order::Hierarchy),
+                        pick_reference(&mut full, h)
+                    );
                     compared += 1;
                 }
                 if search.step() != crate::planner::StepOutcome::Progress {
