@@ -9,50 +9,12 @@
 //! Grounding: the paper grounds the operator's parameter bound to att_m; here attributes are closed over at
 //! the attribute (not instance) level, which can only break more links, never fewer.
 
-use crate::model::{AttrId, Domain, TaskId};
+use crate::model::AttrId;
 use crate::plan::{ActionId, LinkId, Owner, PartialPlan};
 
-/// The abstraction hierarchy information computed offline from the domain.
-#[derive(Clone, Debug)]
-pub struct Hierarchy {
-    /// For each attribute, the tasks of which it is a main attribute.
-    main_of: Vec<Vec<TaskId>>,
-    /// For each task, every attribute it mentions.
-    attrs_of: Vec<Vec<AttrId>>,
-}
-
-impl Hierarchy {
-    pub fn new(domain: &Domain) -> Self {
-        let mut main_of = vec![Vec::new(); domain.attrs.len()];
-        let mut attrs_of = Vec::with_capacity(domain.tasks.len());
-        for (i, task) in domain.tasks.iter().enumerate() {
-            for a in task.main_attributes() {
-                main_of[a.index()].push(TaskId::from_index(i));
-            }
-            attrs_of.push(task.attributes());
-        }
-        Hierarchy { main_of, attrs_of }
-    }
-
-    /// Att^i: the fixed point from Att^f.
-    pub fn closure(&self, flawed: &[AttrId]) -> Vec<AttrId> {
-        let mut att: Vec<AttrId> = flawed.to_vec();
-        let mut i = 0;
-        while i < att.len() {
-            let a = att[i];
-            i += 1;
-            for task in &self.main_of[a.index()] {
-                for &b in &self.attrs_of[task.index()] {
-                    if !att.contains(&b) {
-                        att.push(b);
-                    }
-                }
-            }
-        }
-        att.sort();
-        att
-    }
-}
+/// The abstraction hierarchy computed offline from the domain: the planner's, whose dependencies between
+/// attributes are the main attributes of the paper ([`Hierarchy::closure`] gives Att^i).
+pub use crate::planner::hierarchy::Hierarchy;
 
 /// Att^f: the attributes of the open conditions and threatened links of the plan.
 pub fn flawed_attributes(plan: &mut PartialPlan) -> Vec<AttrId> {

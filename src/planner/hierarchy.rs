@@ -21,10 +21,12 @@ pub const STATIC: u32 = u32::MAX;
 /// Level of the attributes only changed as side effects (resolved last).
 pub const SECONDARY: u32 = 0;
 
-/// The level of every attribute of a domain.
+/// The level of every attribute of a domain, and the dependencies it is computed from.
 #[derive(Clone, Debug)]
 pub struct Hierarchy {
     level: Vec<u32>,
+    /// For each attribute A, the attributes B it depends on (a task establishing A mentions B).
+    deps: Vec<Vec<usize>>,
     /// For each resource, the highest level among the main attributes of the tasks using it (at least 1).
     resource_level: Vec<u32>,
 }
@@ -96,8 +98,30 @@ impl Hierarchy {
             .collect();
         Hierarchy {
             level,
+            deps,
             resource_level,
         }
+    }
+
+    /// Att^i of seed 1 §3.3 "Causal links removal": from the attributes of the flaws, every attribute of a
+    /// task that may be inserted to repair them (a task with a main attribute in the set), up to a fixed
+    /// point: the attributes reachable from `flawed` along the dependencies. Sorted.
+    pub fn closure(&self, flawed: &[AttrId]) -> Vec<AttrId> {
+        let mut att: Vec<AttrId> = flawed.to_vec();
+        let mut i = 0;
+        while i < att.len() {
+            let a = att[i].index();
+            i += 1;
+            for &b in self.deps.get(a).map_or(&[][..], |d| &d[..]) {
+                let b = AttrId::from_index(b);
+                if !att.contains(&b) {
+                    att.push(b);
+                }
+            }
+        }
+        att.sort();
+        att.dedup();
+        att
     }
 
     /// The highest level of the actions that can take part in a conflict on resource `r`.
