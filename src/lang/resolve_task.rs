@@ -248,23 +248,13 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &TaskAst) -> Option<Task
     }
     let start = TpId(0);
     let end = TpId::from_index(s.tps.len().saturating_sub(1));
-    let mut task = Task {
-        name: ast.name.name.clone(),
-        sym_vars: Vec::new(),
+    let mut task = Task::new(
+        ast.name.name.clone(),
         n_params,
-        num_vars: Vec::new(),
-        timepoints: s.tps.clone(),
-        start,
-        end,
-        events: Vec::new(),
-        holds: Vec::new(),
-        usages: Vec::new(),
-        temporal: Vec::new(),
-        bindings: Vec::new(),
-        numeric: Vec::new(),
-        preemption: Preemption::NonPreemptive,
-        line: Some(ctx.src.line(ast.name.span.start)),
-    };
+        s.tps.clone(),
+        (start, end),
+        Some(ctx.src.line(ast.name.span.start)),
+    );
     // Implicit: start <= t <= end for every timepoint (kept explicit for the planner).
     let mut stn = TaskStn::new(s.tps.len());
     for i in 0..s.tps.len() {

@@ -174,6 +174,35 @@ pub struct Task {
 }
 
 impl Task {
+    /// A task with its name, parameter count, timepoints (`start` and `end` among them) and source line,
+    /// and nothing else yet: the readers (the native language, PDDL) fill in its variables, events, holds,
+    /// usages and constraints.
+    pub fn new(
+        name: String,
+        n_params: usize,
+        timepoints: Vec<String>,
+        (start, end): (TpId, TpId),
+        line: Option<usize>,
+    ) -> Self {
+        Task {
+            name,
+            sym_vars: Vec::new(),
+            n_params,
+            num_vars: Vec::new(),
+            timepoints,
+            start,
+            end,
+            events: Vec::new(),
+            holds: Vec::new(),
+            usages: Vec::new(),
+            temporal: Vec::new(),
+            bindings: Vec::new(),
+            numeric: Vec::new(),
+            preemption: Preemption::NonPreemptive,
+            line,
+        }
+    }
+
     /// The parameters (the first `n_params` symbolic variables).
     pub fn params(&self) -> &[SymVar] {
         &self.sym_vars[..self.n_params.min(self.sym_vars.len())]

@@ -15,9 +15,8 @@ use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
 use super::translate::{Cx, PredRep};
 use super::PddlError;
 use crate::model::{
-    AttrId, Binding, Bound, Domain, Event, Hold, NumTerm, ObjectId, Preemption, ResourceUsage,
-    SymVar, SymVarId, Task, TemporalConstraint, Term, Time, TimeInterval, TpId, UsageKind,
-    MS_PER_S,
+    AttrId, Binding, Bound, Domain, Event, Hold, NumTerm, ObjectId, ResourceUsage, SymVar,
+    SymVarId, Task, TemporalConstraint, Term, Time, TimeInterval, TpId, UsageKind, MS_PER_S,
 };
 
 const ST: TpId = TpId(0);
@@ -120,23 +119,13 @@ fn task(
     fixed: &[(usize, ObjectId)],
 ) -> Result<Result<Task, String>, PddlError> {
     let src = cx.ds;
-    let mut t = Task {
-        name: a.name.name.clone(),
-        sym_vars: Vec::new(),
-        n_params: a.params.len(),
-        num_vars: Vec::new(),
-        timepoints: vec!["st".into(), "et".into()],
-        start: ST,
-        end: ET,
-        events: Vec::new(),
-        holds: Vec::new(),
-        usages: Vec::new(),
-        temporal: Vec::new(),
-        bindings: Vec::new(),
-        numeric: Vec::new(),
-        preemption: Preemption::NonPreemptive,
-        line: Some(srctext::locate(&src.file, &src.text, a.span.start, "").line),
-    };
+    let mut t = Task::new(
+        a.name.name.clone(),
+        a.params.len(),
+        vec!["st".into(), "et".into()],
+        (ST, ET),
+        Some(srctext::locate(&src.file, &src.text, a.span.start, "").line),
+    );
     for p in &a.params {
         if t.sym_vars
             .iter()
