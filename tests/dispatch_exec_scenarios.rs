@@ -150,7 +150,7 @@ fn run(
                 other => panic!("{kind} at {t}: replanning gave {other:?}"),
             },
         };
-        // The live loop's wake-up rule (src/exec/mission.rs).
+        // The live loop's wake-up rule (src/executive/src/exec/mission.rs).
         t = if repairing || stopped {
             t + 1
         } else {

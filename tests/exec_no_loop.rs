@@ -1,4 +1,4 @@
-//! Nothing loops (src/exec/failures.rs, settle.rs): an action failing the same way again and again, or a
+//! Nothing loops (src/executive/src/exec/failures.rs, settle.rs): an action failing the same way again and again, or a
 //! task the vehicle refuses, is settled — its goals rejected with the true reason — instead of being
 //! repaired or replanned for ever.
 

@@ -310,9 +310,11 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
     };
     let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
     if let Some(p) = &setup.config {
+        // The whole file is checked, its `[exec]` table too, though the demo's executive keeps its own.
         spec.config =
-            crate::vehicle::config::VehicleConfig::parse(&read(p)?, &p.display().to_string())
-                .map_err(|e| e.to_string())?;
+            crate::exec::config::MissionConfig::parse(&read(p)?, &p.display().to_string())
+                .map_err(|e| e.to_string())?
+                .vehicle;
     }
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;

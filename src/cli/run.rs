@@ -141,9 +141,8 @@ fn not_interrupted(interrupt: &Interrupt) -> Result<(), String> {
 /// The vehicle configuration and the optional `[exec]` table of the same file, both checked (errors at
 /// `file:line:col`).
 pub fn load_config(path: &Path) -> Result<(VehicleConfig, ExecConfig), String> {
-    let mut vehicle = VehicleConfig::load(path).map_err(|e| e.to_string())?;
-    let exec = vehicle.exec.take().unwrap_or_default();
-    Ok((vehicle, exec))
+    let both = crate::exec::config::MissionConfig::load(path).map_err(|e| e.to_string())?;
+    Ok((both.vehicle, both.exec))
 }
 
 fn load_problem(args: &RunArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {

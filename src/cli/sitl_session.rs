@@ -5,9 +5,10 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crate::exec::pacer::{SitlStepPacer, StepGate};
+use crate::exec::pacer::StepGate;
 use crate::exec::DomainMapping;
 use crate::model::{Domain, Problem};
+use crate::sitl_pacer::SitlStepPacer;
 use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::geo::Home;
 use crate::vehicle::link::{Decider, LinkOptions};

@@ -3,9 +3,10 @@
 
 use std::sync::OnceLock;
 
+use crate::exec::config::MissionConfig;
 use crate::lang;
 use crate::model::{Domain, Problem};
-use crate::vehicle::config::{ConfigError, VehicleConfig};
+use crate::vehicle::config::ConfigError;
 use crate::vehicle::geo::Home;
 use crate::vehicle::goal_files;
 use crate::vehicle::goals::{items_to_goals, KnownLocations};
@@ -145,12 +146,12 @@ pub fn problem(bytes: &[u8]) -> Result<(), Oops> {
 /// The vehicle configuration with its `[exec]`, then checked against each shipped domain and problem.
 pub fn config(bytes: &[u8]) -> Result<(), Oops> {
     let Some(t) = text(bytes)? else { return Ok(()) };
-    match VehicleConfig::parse(t, "f") {
+    match MissionConfig::parse(t, "f") {
         Err(ConfigError::At(e)) => located(t, e.line, e.col, "config"),
         Err(e) => Err(format!("config error without a place: {e}")),
         Ok(cfg) => {
             for (d, p) in domains() {
-                let _ = crate::vehicle::config_check::check(&cfg, d, Some(p));
+                let _ = crate::vehicle::config_check::check(&cfg.vehicle, d, Some(p));
             }
             Ok(())
         }
