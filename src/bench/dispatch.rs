@@ -9,11 +9,12 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
+use super::dispatcher::Dispatcher;
 use crate::dispatch::graph::{
     ActionKey, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
 };
 use crate::dispatch::marking::Marking;
-use crate::dispatch::policy::{Dispatcher, PolicyKind, StartWindow, SupportForm, Tick};
+use crate::dispatch::policy::{PolicyKind, StartWindow, SupportForm, Tick};
 use crate::model::GoalKind;
 
 /// Decisions are timed in batches of this many (one `Instant` read is as long as a marking lookup).

@@ -2,6 +2,7 @@
 //! measures one layer from outside it.
 
 pub mod dispatch;
+pub mod dispatcher;
 pub mod exec;
 pub mod plan;
 pub mod repair;

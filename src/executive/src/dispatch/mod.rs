@@ -22,7 +22,7 @@ pub use graph::{
 pub use marking::{MarkLevel, Marking};
 pub use plan_adapter::{PlanMarking, PlanView};
 pub use policy::{
-    Decision, DispatchPolicy, Dispatcher, Earliest, GoalDriven, Latest, PolicyKind, StartWindow,
-    SupportForm, Tick, UnknownPolicy,
+    Decision, DispatchPolicy, Earliest, GoalDriven, Latest, PolicyKind, StartWindow, SupportForm,
+    Tick, UnknownPolicy,
 };
 pub use search::{search_for_goal, GoalSearch};

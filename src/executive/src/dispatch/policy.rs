@@ -17,9 +17,6 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::graph::{ActionKey, CausalView};
-use super::marking::Marking;
-use super::search::GoalSearch;
 use crate::stn::{Time, INF};
 
 /// The window `[lb, ub]` of a start timepoint (relative to the origin; `ub >= INF` is unbounded).
@@ -250,53 +247,6 @@ impl PolicyKind {
             PolicyKind::Latest => Box::new(Latest),
             PolicyKind::GoalDriven(_) => Box::new(GoalDriven),
         }
-    }
-}
-
-/// A policy with what it needs to answer for an action of the plan.
-#[derive(Debug)]
-pub struct Dispatcher {
-    kind: PolicyKind,
-    policy: Box<dyn DispatchPolicy>,
-    search: GoalSearch,
-}
-
-impl Dispatcher {
-    pub fn new(kind: PolicyKind) -> Self {
-        Dispatcher {
-            kind,
-            policy: kind.policy(),
-            search: GoalSearch::new(),
-        }
-    }
-
-    pub fn kind(&self) -> PolicyKind {
-        self.kind
-    }
-
-    /// Whether `a` supports an external goal, by the configured form (Algorithm 2 over `causal`, or the
-    /// lookup in `marking`). False for policies that do not ask.
-    pub fn supports(&mut self, a: ActionKey, causal: &dyn CausalView, marking: &Marking) -> bool {
-        match self.kind {
-            PolicyKind::GoalDriven(SupportForm::Search) => {
-                self.search.supports_external_goal(causal, a)
-            }
-            PolicyKind::GoalDriven(SupportForm::Marking) => marking.supports_external_goal(a),
-            _ => false,
-        }
-    }
-
-    /// The decision for action `a`'s start this cycle.
-    pub fn decide(
-        &mut self,
-        a: ActionKey,
-        window: StartWindow,
-        tick: Tick,
-        causal: &dyn CausalView,
-        marking: &Marking,
-    ) -> Decision {
-        let supports = self.policy.needs_goal_support() && self.supports(a, causal, marking);
-        self.policy.decide(window, tick, supports)
     }
 }
 
