@@ -22,7 +22,7 @@ pub use graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey,
     Node,
 };
-pub use marking::{MarkLevel, Marking};
+pub use marking::Marking;
 pub use plan_adapter::{PlanMarking, PlanView};
 pub use policy::{
     Decision, DispatchPolicy, Dispatcher, Earliest, GoalDriven, Latest, PolicyKind, StartWindow,
