@@ -3,10 +3,9 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use backtrack::Level;
 use mavtempo::dispatch::{
-    search_for_goal, ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey, Marking,
-    Node,
+    search_for_goal, ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey,
+    MarkLevel, Marking, Node,
 };
 use mavtempo::model::GoalKind;
 use proptest::prelude::*;
@@ -129,7 +128,7 @@ fn nth<T: Copy>(set: impl ExactSizeIterator<Item = T>, i: usize) -> Option<T> {
 }
 
 struct Saved {
-    level: Level,
+    level: MarkLevel,
     model: Model,
     log_len: usize,
 }

@@ -18,6 +18,8 @@ pub mod plan_adapter;
 pub mod policy;
 pub mod search;
 
+/// A trail level of the [`Marking`] (the one level type of every trailed store).
+pub use backtrack::Level as MarkLevel;
 pub use graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey,
     Node,
