@@ -27,15 +27,13 @@
 
 use std::collections::HashSet;
 
+use backtrack::{Backtrack, Level, Trail};
+
 use super::graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, Node,
 };
 use super::search::GoalSearch;
 use crate::model::GoalKind;
-
-/// A trail level returned by [`Marking::save`].
-#[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug)]
-pub struct MarkLevel(usize);
 
 #[derive(Clone, Debug)]
 enum Undo {
@@ -52,7 +50,7 @@ enum Undo {
 pub struct Marking {
     graph: CausalGraph,
     marked: HashSet<Node>,
-    trail: Vec<Undo>,
+    trail: Trail<Undo>,
     search: GoalSearch,
 }
 
@@ -82,28 +80,27 @@ impl Marking {
         self.trail.clear();
     }
 
-    pub fn save(&mut self) -> MarkLevel {
-        MarkLevel(self.trail.len())
+    /// The current trail level.
+    pub fn save(&mut self) -> Level {
+        self.trail.level()
     }
 
     /// Undoes every change applied after `level` (graph and marks).
-    pub fn restore(&mut self, level: MarkLevel) {
-        while self.trail.len() > level.0 {
-            match self.trail.pop() {
-                Some(Undo::Graph(c)) => {
-                    // The inverse of a change that succeeded cannot fail.
-                    let undone = self.graph.apply(&c);
-                    debug_assert!(undone.is_ok(), "{undone:?}");
-                }
-                Some(Undo::Marked(n)) => {
-                    self.marked.remove(&n);
-                }
-                Some(Undo::Unmarked(n)) => {
-                    self.marked.insert(n);
-                }
-                None => break,
+    pub fn restore(&mut self, level: Level) {
+        let (graph, marked) = (&mut self.graph, &mut self.marked);
+        self.trail.restore(level, |undo| match undo {
+            Undo::Graph(c) => {
+                // The inverse of a change that succeeded cannot fail.
+                let undone = graph.apply(&c);
+                debug_assert!(undone.is_ok(), "{undone:?}");
             }
-        }
+            Undo::Marked(n) => {
+                marked.remove(&n);
+            }
+            Undo::Unmarked(n) => {
+                marked.insert(n);
+            }
+        });
     }
 
     /// Applies one plan change and updates `List_goals`. On `Err` nothing changed.
@@ -278,6 +275,18 @@ impl Marking {
         if self.marked.remove(&n) {
             self.trail.push(Undo::Unmarked(n));
         }
+    }
+}
+
+impl Backtrack for Marking {
+    type Level = Level;
+
+    fn save(&mut self) -> Level {
+        Marking::save(self)
+    }
+
+    fn restore(&mut self, level: Level) {
+        Marking::restore(self, level)
     }
 }
 

@@ -15,11 +15,13 @@ pub mod plan_adapter;
 pub mod policy;
 pub mod search;
 
+/// A trail level of the [`Marking`] (the one level type of every trailed store).
+pub use backtrack::Level as MarkLevel;
 pub use graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey,
     Node,
 };
-pub use marking::{MarkLevel, Marking};
+pub use marking::Marking;
 pub use plan_adapter::{PlanMarking, PlanView};
 pub use policy::{
     Decision, DispatchPolicy, Earliest, GoalDriven, Latest, PolicyKind, StartWindow, SupportForm,

@@ -10,6 +10,7 @@
 //! requires it. Forward checking is not complete for ≠ (a pigeonhole of ≠ may pass); the checker instantiates
 //! the final plan and would catch it.
 
+use backtrack::{Backtrack, Level, Trail};
 use serde::Serialize;
 
 use crate::model::{ObjectId, Value};
@@ -45,10 +46,6 @@ enum Entry {
     NewNe,
 }
 
-/// A trail level of the binding CSP.
-#[derive(Copy, Clone, Eq, PartialEq, Debug)]
-pub struct BLevel(usize);
-
 /// The binding constraint network.
 #[derive(Clone, Debug, Default)]
 pub struct Bindings {
@@ -57,7 +54,7 @@ pub struct Bindings {
     domain: Vec<Vec<ObjectId>>,
     size: Vec<u32>,
     ne: Vec<(u32, u32)>,
-    trail: Vec<Entry>,
+    trail: Trail<Entry>,
     /// Variables whose class domain changed since the last [`Bindings::take_changed`] (for the numeric CSP).
     changed: Vec<u32>,
 }
@@ -298,31 +295,48 @@ impl Bindings {
         self.ne.iter().map(|&(a, b)| (VarId(a), VarId(b)))
     }
 
-    pub fn save(&self) -> BLevel {
-        BLevel(self.trail.len())
+    /// The current trail level.
+    pub fn save(&self) -> Level {
+        self.trail.level()
     }
 
-    pub fn restore(&mut self, level: BLevel) {
-        while self.trail.len() > level.0 {
-            match self.trail.pop() {
-                Some(Entry::NewVar) => {
-                    self.parent.pop();
-                    self.domain.pop();
-                    self.size.pop();
-                }
-                Some(Entry::Domain(r, old)) => self.domain[r as usize] = old,
-                Some(Entry::Union(child)) => {
-                    let root = self.parent[child as usize];
-                    self.size[root as usize] -= self.size[child as usize];
-                    self.parent[child as usize] = child;
-                }
-                Some(Entry::NewNe) => {
-                    self.ne.pop();
-                }
-                None => break,
+    /// Undoes every change made after `level`, and forgets the changed domains not yet taken.
+    pub fn restore(&mut self, level: Level) {
+        let (parent, domain, size, ne) = (
+            &mut self.parent,
+            &mut self.domain,
+            &mut self.size,
+            &mut self.ne,
+        );
+        self.trail.restore(level, |entry| match entry {
+            Entry::NewVar => {
+                parent.pop();
+                domain.pop();
+                size.pop();
             }
-        }
+            Entry::Domain(r, old) => domain[r as usize] = old,
+            Entry::Union(child) => {
+                let root = parent[child as usize];
+                size[root as usize] -= size[child as usize];
+                parent[child as usize] = child;
+            }
+            Entry::NewNe => {
+                ne.pop();
+            }
+        });
         self.changed.clear();
+    }
+}
+
+impl Backtrack for Bindings {
+    type Level = Level;
+
+    fn save(&mut self) -> Level {
+        Bindings::save(self)
+    }
+
+    fn restore(&mut self, level: Level) {
+        Bindings::restore(self, level)
     }
 }
 

@@ -44,7 +44,7 @@ impl PartialPlan {
             threats: super::candidates::CandidateSet::new(),
             unary: super::candidates::CandidateSet::new(),
             reservoir_dirty: vec![true; n_res],
-            trail: Vec::new(),
+            trail: Default::default(),
             changes: ChangeLog::default(),
             domain,
             problem,

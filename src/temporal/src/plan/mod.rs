@@ -35,13 +35,14 @@ pub mod validate;
 
 use std::sync::Arc;
 
+use backtrack::{Backtrack, Level, Trail};
 use serde::Serialize;
 
 pub use bindings::{BindingConflict, Bindings, STerm, VarId};
 pub use changes::{ChangeCursor, LinkEnds, PlanChange};
 pub use envelope::{reservoir_conflict, ReservoirConflict};
 pub use flaws::{Flaw, ThreatCheck};
-pub use numeric::{NLevel, NTerm, NVar, NumConflict, NumCons, Numeric};
+pub use numeric::{NTerm, NVar, NumConflict, NumCons, Numeric};
 
 use crate::model::{AttrId, Domain, GoalId, Problem, ResourceId, TaskId, Time};
 use crate::stn::{ConstraintId, Inconsistent, Stn, Timepoint};
@@ -257,13 +258,14 @@ enum Entry {
     Floor(TimeFloor),
 }
 
-/// A trail level of the whole plan.
+/// A trail level of the whole plan: the levels of its networks and of its own trail, and the lengths of
+/// the arrays it only appends to (truncated on restore).
 #[derive(Copy, Clone, Eq, PartialEq, Debug)]
 pub struct PlanLevel {
-    stn: crate::stn::Level,
-    bindings: bindings::BLevel,
-    numeric: NLevel,
-    trail: usize,
+    stn: Level,
+    bindings: Level,
+    numeric: Level,
+    trail: Level,
     actions: usize,
     events: usize,
     conds: usize,
@@ -310,17 +312,18 @@ pub struct PartialPlan {
     pub(crate) unary: candidates::CandidateSet<UsageId, UsageId>,
     /// Reservoirs to re-check (a usage was added since their envelope was last found clean).
     pub(crate) reservoir_dirty: Vec<bool>,
-    trail: Vec<Entry>,
+    trail: Trail<Entry>,
     changes: changes::ChangeLog,
 }
 
 impl PartialPlan {
+    /// The current level of the whole plan: of its networks, of its own trail and of its arrays.
     pub fn save(&mut self) -> PlanLevel {
         PlanLevel {
             stn: self.stn.save(),
             bindings: self.bindings.save(),
             numeric: self.numeric.save(),
-            trail: self.trail.len(),
+            trail: self.trail.level(),
             actions: self.actions.len(),
             events: self.events.len(),
             conds: self.conds.len(),
@@ -334,47 +337,8 @@ impl PartialPlan {
 
     /// Undoes everything done after `level`; the change log records the undone structure.
     pub fn restore(&mut self, level: PlanLevel) {
-        while self.trail.len() > level.trail {
-            let Some(e) = self.trail.pop() else { break };
-            match e {
-                Entry::CondLink(c, old) => self.conds[c.index()].link = old,
-                Entry::LinkActive(l, old) => {
-                    self.links[l.index()].active = old;
-                    if l.index() < level.links {
-                        let ends = self.link_ends(l);
-                        self.changes.push(if old {
-                            PlanChange::LinkAdded(ends)
-                        } else {
-                            PlanChange::LinkRemoved(ends)
-                        });
-                    }
-                }
-                Entry::ActionRemoved(a, old) => {
-                    self.actions[a.index()].removed = old;
-                    if a.index() < level.actions {
-                        self.changes.push(if old {
-                            PlanChange::ActionRemoved(a)
-                        } else {
-                            PlanChange::ActionAdded(a)
-                        });
-                    }
-                }
-                Entry::GoalActive(g, old) => {
-                    self.goals[g].active = old;
-                    if g < level.goals {
-                        let id = self.goals[g].goal;
-                        self.changes.push(if old {
-                            PlanChange::GoalAdded(id)
-                        } else {
-                            PlanChange::GoalRemoved(id)
-                        });
-                    }
-                }
-                Entry::ThreatDone(i) => self.threats.reopen(i),
-                Entry::UnaryDone(i) => self.unary.reopen(i),
-                Entry::ReservoirDirty(r, old) => self.reservoir_dirty[r] = old,
-                Entry::Floor(old) => self.floor = old,
-            }
+        while let Some(entry) = self.trail.pop_after(level.trail) {
+            self.undo(entry, &level);
         }
         for l in (level.links..self.links.len()).rev() {
             if self.links[l].active {
@@ -415,6 +379,49 @@ impl PartialPlan {
         self.numeric.restore(level.numeric);
         self.bindings.restore(level.bindings);
         self.stn.restore(level.stn);
+    }
+
+    /// Undoes one trailed change; announces it in the change log when the item outlives `level`.
+    fn undo(&mut self, entry: Entry, level: &PlanLevel) {
+        match entry {
+            Entry::CondLink(c, old) => self.conds[c.index()].link = old,
+            Entry::LinkActive(l, old) => {
+                self.links[l.index()].active = old;
+                if l.index() < level.links {
+                    let ends = self.link_ends(l);
+                    self.changes.push(if old {
+                        PlanChange::LinkAdded(ends)
+                    } else {
+                        PlanChange::LinkRemoved(ends)
+                    });
+                }
+            }
+            Entry::ActionRemoved(a, old) => {
+                self.actions[a.index()].removed = old;
+                if a.index() < level.actions {
+                    self.changes.push(if old {
+                        PlanChange::ActionRemoved(a)
+                    } else {
+                        PlanChange::ActionAdded(a)
+                    });
+                }
+            }
+            Entry::GoalActive(g, old) => {
+                self.goals[g].active = old;
+                if g < level.goals {
+                    let id = self.goals[g].goal;
+                    self.changes.push(if old {
+                        PlanChange::GoalAdded(id)
+                    } else {
+                        PlanChange::GoalRemoved(id)
+                    });
+                }
+            }
+            Entry::ThreatDone(i) => self.threats.reopen(i),
+            Entry::UnaryDone(i) => self.unary.reopen(i),
+            Entry::ReservoirDirty(r, old) => self.reservoir_dirty[r] = old,
+            Entry::Floor(old) => self.floor = old,
+        }
     }
 
     /// The change log (plan-change notifications for the dispatcher), from `cursor` on.
@@ -581,5 +588,17 @@ impl PartialPlan {
             self.push_initial(f);
         }
         self.problem = problem;
+    }
+}
+
+impl Backtrack for PartialPlan {
+    type Level = PlanLevel;
+
+    fn save(&mut self) -> PlanLevel {
+        PartialPlan::save(self)
+    }
+
+    fn restore(&mut self, level: PlanLevel) {
+        PartialPlan::restore(self, level)
     }
 }

@@ -3,6 +3,7 @@
 //! interval propagation (bounds consistency) to a fixed point; the mixed constraint `?d = et − st` is the
 //! supervisor's bridge: it reads the STN constraint's interval and tightens it back. Trailed like the rest.
 
+use backtrack::{Backtrack, Level, Trail};
 use serde::Serialize;
 
 use super::bindings::{Bindings, STerm};
@@ -52,10 +53,6 @@ pub enum NumCons {
 #[error("inconsistent numeric constraints")]
 pub struct NumConflict;
 
-/// A trail level of the numeric CSP.
-#[derive(Copy, Clone, Eq, PartialEq, Debug)]
-pub struct NLevel(usize);
-
 #[derive(Clone, Debug)]
 enum Entry {
     NewVar,
@@ -67,7 +64,7 @@ enum Entry {
 pub struct Numeric {
     lo: Vec<f64>,
     hi: Vec<f64>,
-    trail: Vec<Entry>,
+    trail: Trail<Entry>,
 }
 
 /// Relative tolerance under which a narrowing is not a change (avoids endless tiny steps).
@@ -127,24 +124,24 @@ impl Numeric {
         }
     }
 
-    pub fn save(&self) -> NLevel {
-        NLevel(self.trail.len())
+    /// The current trail level.
+    pub fn save(&self) -> Level {
+        self.trail.level()
     }
 
-    pub fn restore(&mut self, level: NLevel) {
-        while self.trail.len() > level.0 {
-            match self.trail.pop() {
-                Some(Entry::NewVar) => {
-                    self.lo.pop();
-                    self.hi.pop();
-                }
-                Some(Entry::Bounds(v, lo, hi)) => {
-                    self.lo[v as usize] = lo;
-                    self.hi[v as usize] = hi;
-                }
-                None => break,
+    /// Undoes every narrowing and new variable after `level`.
+    pub fn restore(&mut self, level: Level) {
+        let (lo, hi) = (&mut self.lo, &mut self.hi);
+        self.trail.restore(level, |entry| match entry {
+            Entry::NewVar => {
+                lo.pop();
+                hi.pop();
             }
-        }
+            Entry::Bounds(v, old_lo, old_hi) => {
+                lo[v as usize] = old_lo;
+                hi[v as usize] = old_hi;
+            }
+        });
     }
 
     /// Propagates `cons` to a fixed point (bounded number of rounds), reading distances from `problem`
@@ -248,6 +245,18 @@ impl Numeric {
                 Ok(ch | self.narrow_term(a, blo, bhi)?)
             }
         }
+    }
+}
+
+impl Backtrack for Numeric {
+    type Level = Level;
+
+    fn save(&mut self) -> Level {
+        Numeric::save(self)
+    }
+
+    fn restore(&mut self, level: Level) {
+        Numeric::restore(self, level)
     }
 }
 

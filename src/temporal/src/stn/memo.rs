@@ -25,8 +25,8 @@ use super::{sat_add, Time, INF};
 pub(crate) struct LoggedEdge {
     /// Increasing over the network's life (never reused after a restore).
     pub stamp: u64,
-    /// `trail.len()` when logged: the edge is undone by restoring any level below it.
-    pub trail_pos: usize,
+    /// The trail level when logged: the edge is undone by restoring any level below it.
+    pub at: super::Level,
     pub u: u32,
     pub v: u32,
     pub w: Time,

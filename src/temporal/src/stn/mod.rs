@@ -67,8 +67,7 @@ impl ConstraintId {
 }
 
 /// A trail level, returned by [`Stn::save`].
-#[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug)]
-pub struct Level(pub(crate) usize);
+pub use backtrack::Level;
 
 /// A binary constraint `to − from ∈ [lb, ub]`.
 #[derive(Copy, Clone, Eq, PartialEq, Hash, Debug)]

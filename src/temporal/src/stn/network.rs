@@ -1,8 +1,10 @@
 //! The network: timepoints, constraints, bounds, and the public operations.
 
+use backtrack::Trail;
+
 use super::error::Inconsistent;
 use super::trail::Entry;
-use super::{norm_lb, norm_ub, Constraint, ConstraintId, Level, Time, Timepoint, INF};
+use super::{norm_lb, norm_ub, Constraint, ConstraintId, Time, Timepoint, INF};
 
 /// One direction of a constraint: `Forward` is `to − from ≤ ub` (edge from→to, weight ub), `Backward` is
 /// `from − to ≤ −lb` (edge to→from, weight −lb).
@@ -53,7 +55,7 @@ pub struct Stn {
     /// step by [`Stn::sync_edges`]: what the distance queries scan, without a look-up per half.
     pub(crate) wout: Vec<Vec<(u32, Time)>>,
     pub(crate) executed: Vec<Option<ConstraintId>>,
-    pub(crate) trail: Vec<Entry>,
+    pub(crate) trail: Trail<Entry>,
     pub(crate) scratch: super::propagate::Scratch,
     /// Edges added or lowered, for [`super::memo`] (undone edges are dropped by restores).
     pub(crate) log: Vec<super::memo::LoggedEdge>,
@@ -79,7 +81,7 @@ impl Stn {
             inc: vec![Vec::new()],
             wout: vec![Vec::new()],
             executed: vec![None],
-            trail: Vec::new(),
+            trail: Trail::new(),
             scratch: Default::default(),
             log: Vec::new(),
             log_stamp: 0,
@@ -348,11 +350,6 @@ impl Stn {
     pub fn due(&self, now: Time) -> impl Iterator<Item = Timepoint> + '_ {
         self.timepoints()
             .filter(move |t| !self.is_executed(*t) && self.lb(*t) <= now)
-    }
-
-    /// The current trail level.
-    pub fn save(&mut self) -> Level {
-        Level(self.trail.len())
     }
 
     /// Maximum possible `b − a` (the shortest path a→b); `INF` if unbounded. Computed on demand.

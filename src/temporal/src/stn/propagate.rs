@@ -120,7 +120,7 @@ impl Stn {
         self.log_stamp += 1;
         self.log.push(super::memo::LoggedEdge {
             stamp: self.log_stamp,
-            trail_pos: self.trail.len(),
+            at: self.trail.level(),
             u,
             v,
             w,

@@ -1,4 +1,7 @@
-//! The trail: every change is recorded so that `restore(level)` can undo everything after `level`.
+//! The STN's undo entries: every change is recorded on the network's [`Trail`](backtrack::Trail) so that
+//! `restore(level)` can undo everything after `level`.
+
+use backtrack::Backtrack;
 
 use super::network::Stn;
 use super::{ConstraintId, Level, Time};
@@ -19,51 +22,59 @@ pub(crate) enum Entry {
 }
 
 impl Stn {
+    /// The current trail level.
+    pub fn save(&mut self) -> Level {
+        self.trail.level()
+    }
+
     /// Undoes everything done after `level` (bounds, constraints, timepoints, executions, removals).
     /// Timepoints and constraints created after `level` no longer exist; their identifiers will be reused.
     /// Restoring a level above the current one does nothing.
     pub fn restore(&mut self, level: Level) {
-        while self.log.last().is_some_and(|e| e.trail_pos > level.0) {
+        while self.log.last().is_some_and(|e| e.at > level) {
             self.log.pop();
         }
-        while self.trail.len() > level.0 {
-            let Some(entry) = self.trail.pop() else { break };
-            match entry {
-                Entry::Lb(t, old) => self.lb[t as usize] = old,
-                Entry::Ub(t, old) => self.ub[t as usize] = old,
-                Entry::AddTimepoint => {
-                    self.lb.pop();
-                    self.ub.pop();
-                    self.out.pop();
-                    self.inc.pop();
-                    self.wout.pop();
-                    self.executed.pop();
-                }
-                Entry::AddConstraint => {
-                    if let Some(d) = self.cons.pop() {
-                        // Pushed as out[from], inc[to], out[to], inc[from]: pop in reverse.
-                        self.inc[d.from as usize].pop();
-                        self.out[d.to as usize].pop();
-                        self.inc[d.to as usize].pop();
-                        self.out[d.from as usize].pop();
-                        self.wout[d.to as usize].pop();
-                        self.wout[d.from as usize].pop();
-                    }
-                }
-                Entry::Remove(c) => {
-                    // An edge comes back that no logged stamp covers: forget every proof.
-                    self.cons[c as usize].active = true;
-                    self.sync_edges(c);
-                    self.memo.clear();
-                }
-                Entry::Weights(c, lb, ub) => {
-                    let d = &mut self.cons[c as usize];
-                    d.lb = lb;
-                    d.ub = ub;
-                    self.sync_edges(c);
-                }
-                Entry::Executed(t, old) => self.executed[t as usize] = old,
+        while let Some(entry) = self.trail.pop_after(level) {
+            self.undo(entry);
+        }
+    }
+
+    fn undo(&mut self, entry: Entry) {
+        match entry {
+            Entry::Lb(t, old) => self.lb[t as usize] = old,
+            Entry::Ub(t, old) => self.ub[t as usize] = old,
+            Entry::AddTimepoint => {
+                self.lb.pop();
+                self.ub.pop();
+                self.out.pop();
+                self.inc.pop();
+                self.wout.pop();
+                self.executed.pop();
             }
+            Entry::AddConstraint => {
+                if let Some(d) = self.cons.pop() {
+                    // Pushed as out[from], inc[to], out[to], inc[from]: pop in reverse.
+                    self.inc[d.from as usize].pop();
+                    self.out[d.to as usize].pop();
+                    self.inc[d.to as usize].pop();
+                    self.out[d.from as usize].pop();
+                    self.wout[d.to as usize].pop();
+                    self.wout[d.from as usize].pop();
+                }
+            }
+            Entry::Remove(c) => {
+                // An edge comes back that no logged stamp covers: forget every proof.
+                self.cons[c as usize].active = true;
+                self.sync_edges(c);
+                self.memo.clear();
+            }
+            Entry::Weights(c, lb, ub) => {
+                let d = &mut self.cons[c as usize];
+                d.lb = lb;
+                d.ub = ub;
+                self.sync_edges(c);
+            }
+            Entry::Executed(t, old) => self.executed[t as usize] = old,
         }
     }
 
@@ -75,5 +86,17 @@ impl Stn {
     pub(crate) fn set_ub(&mut self, t: u32, v: Time) {
         self.trail.push(Entry::Ub(t, self.ub[t as usize]));
         self.ub[t as usize] = v;
+    }
+}
+
+impl Backtrack for Stn {
+    type Level = Level;
+
+    fn save(&mut self) -> Level {
+        Stn::save(self)
+    }
+
+    fn restore(&mut self, level: Level) {
+        Stn::restore(self, level)
     }
 }
