@@ -308,7 +308,7 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
                 GoalFate {
                     name: "have_shirt".into(),
                     fate: Fate::Pending,
-                    reason: String::new(),
+                    reason: None,
                 },
             );
             ex.repair_requested = true;

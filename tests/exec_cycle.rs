@@ -10,6 +10,10 @@ use std::sync::Arc;
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::cycle::CycleOutcome;
 use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::goal_request::Rejection;
+use mavtempo::exec::outcome::{AbortReason, FateReason};
+use mavtempo::exec::report_timing::Timing;
+use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::model::{Goal, GoalKind, Time, TimeInterval, Value};
@@ -187,7 +191,13 @@ fn report_too_early_creates_a_new_end_and_the_goal_is_still_achieved() {
     assert_eq!(out, CycleOutcome::Finished);
     let start = launch_time(&ex, "take_picture").expect("launched");
     assert!(events(&ex).iter().any(|(t, e)| *t == start + 2_000
-        && matches!(e, TraceEvent::Report { timing, .. } if timing == "TooEarly")));
+        && matches!(
+            e,
+            TraceEvent::Report {
+                timing: Timing::TooEarly,
+                ..
+            }
+        )));
     assert_eq!(ex.goal_fates()[0].fate, Fate::Achieved);
 }
 
@@ -199,7 +209,9 @@ fn missing_report_of_a_non_preemptive_action_times_out() {
     v.script("take_picture", Outcome::nominal(60_000));
     let (out, t) = run(&mut ex, &mut v, 60_000);
     match out {
-        CycleOutcome::Aborted(reason) => assert!(reason.contains("timeout"), "{reason}"),
+        CycleOutcome::Aborted(reason) => {
+            assert!(matches!(reason, AbortReason::Timeout { .. }), "{reason}")
+        }
         o => panic!("{o:?}"),
     }
     // take_picture lasts at most 20 s: the timeout is detected in the first cycle after start + 20 s.
@@ -219,8 +231,13 @@ fn over_consumption_reported_is_integrated_and_repair_requested() {
     );
     let (out, _) = run(&mut ex, &mut v, 60_000);
     assert_eq!(out, CycleOutcome::Finished);
-    assert!(events(&ex).iter().any(|(_, e)| matches!(e,
-        TraceEvent::Level { verdict, .. } if verdict.starts_with("OverConsumption"))));
+    assert!(events(&ex).iter().any(|(_, e)| matches!(
+        e,
+        TraceEvent::Level {
+            verdict: LevelVerdict::OverConsumption { .. },
+            ..
+        }
+    )));
     let r = ex.resource("STORAGE").unwrap();
     assert!((ex.past[r.index()].0 - 1.5).abs() < 1e-9);
 }
@@ -307,7 +324,10 @@ fn goal_requests_accepted_and_rejected_through_the_vehicle() {
     // g7 never entered the plan: its fate says why.
     assert!(fates.iter().any(|f| f.name == "g7"
         && f.fate == mavtempo::exec::executive::Fate::Rejected
-        && !f.reason.is_empty()));
+        && matches!(
+            f.reason,
+            Some(FateReason::Acceptance(Rejection::TooLate { .. }))
+        )));
     assert!(events(&ex).iter().any(|(_, e)| matches!(e,
         TraceEvent::GoalRejected { goal, .. } if goal == "g7")));
     // g6 is an open condition: plan repair was started on it (not an abort).

@@ -9,6 +9,7 @@
 use super::dispatch_policy::Candidate;
 use super::executable::{action_executable, flawed_actions, goal_achievable, timepoint_executable};
 use super::executive::{Executive, Fate};
+use super::outcome::AbortReason;
 use super::p_t::classify;
 use super::squeeze::should_wait;
 use super::t_exec::{t_exec, TpKind};
@@ -118,7 +119,7 @@ impl Executive {
                 {
                     executed = true;
                     let name = self.plan.problem.goals[pg.goal.index()].name.clone();
-                    self.set_fate(pg.goal, Fate::Achieved, "");
+                    self.set_fate(pg.goal, Fate::Achieved, None);
                     self.trace(TraceEvent::GoalAchieved { goal: name });
                 }
             }
@@ -154,8 +155,9 @@ impl Executive {
         }
         if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
             self.action_failed(a, &format!("cannot be instantiated ({e})"), now);
-            let text = format!("cannot start {}: {e}", self.action_text(a));
-            self.abort.get_or_insert(text);
+            let action = self.action_text(a);
+            self.abort
+                .get_or_insert(AbortReason::CannotInstantiate { action, error: e });
             return false;
         }
         if let Some(reason) = self.launch_banned(a) {
@@ -168,12 +170,17 @@ impl Executive {
         let action = self.action_text(a);
         if let Err(e) = vehicle.start(cmd) {
             self.action_failed(a, &format!("refused by the vehicle ({e})"), now);
-            self.abort
-                .get_or_insert_with(|| format!("cannot start {action}: {e}"));
+            self.abort.get_or_insert_with(|| AbortReason::StartRefused {
+                action,
+                error: e.to_string(),
+            });
             return false;
         }
         if let Err(e) = self.plan.stn.execute(st, now) {
-            self.abort = Some(format!("start of {action}: {e}"));
+            self.abort = Some(AbortReason::StartInconsistent {
+                action,
+                error: e.to_string(),
+            });
             return false;
         }
         self.started.insert(a, vid);
@@ -266,7 +273,7 @@ impl Executive {
             self.trace(TraceEvent::Timeout {
                 timepoint: timepoint.clone(),
             });
-            self.abort = Some(format!("timeout on {timepoint}"));
+            self.abort = Some(AbortReason::Timeout { timepoint });
         }
     }
 }

@@ -10,10 +10,12 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use super::bench::BenchError;
 use super::config::ExecConfig;
 use super::cycle::CycleOutcome;
 use super::executive::Executive;
 use super::mapping::DomainMapping;
+use super::resource_report::LevelVerdict;
 use super::trace::TraceEvent;
 use crate::lang::{parse_domain, parse_problem};
 use crate::plan::PartialPlan;
@@ -22,7 +24,7 @@ use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::config_check::resolve_mapping;
 use crate::vehicle::mock::{Outcome, Scripted};
 use crate::vehicle::{
-    Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ResourceLevel, StateValue,
+    Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ReportStatus, ResourceLevel, StateValue,
 };
 
 const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
@@ -49,13 +51,20 @@ pub const EVENTS: [&str; 4] = [
     "goal_request",
 ];
 
-fn plan() -> Result<PartialPlan, String> {
-    let d = Arc::new(parse_domain("rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
-    let p = Arc::new(parse_problem("rover_two.ixt", PROBLEM, &d).map_err(|e| e.to_string())?);
-    let mut s = Search::new(PartialPlan::new(d, p).map_err(|e| e.to_string())?);
+fn plan() -> Result<PartialPlan, BenchError> {
+    let d =
+        Arc::new(parse_domain("rover.ixt", DOMAIN).map_err(|e| BenchError::load("rover.ixt", e))?);
+    let p = Arc::new(
+        parse_problem("rover_two.ixt", PROBLEM, &d)
+            .map_err(|e| BenchError::load("rover_two.ixt", e))?,
+    );
+    let mut s = Search::new(PartialPlan::new(d, p)?);
     match s.run(Budget::steps(20_000)) {
         StepOutcome::Solved => Ok(s.into_plan()),
-        o => Err(format!("rover_two not planned: {o:?}")),
+        o => Err(BenchError::NotPlanned {
+            problem: "rover_two",
+            outcome: format!("{o:?}"),
+        }),
     }
 }
 
@@ -123,10 +132,10 @@ fn vehicle(event: &str) -> MockVehicle {
 /// The cycle in which the event was integrated.
 fn is_event(e: &TraceEvent, event: &str) -> bool {
     match (event, e) {
-        ("picture_failure", TraceEvent::Report { status, .. }) => status == "failed",
-        ("move_stopped", TraceEvent::Report { status, .. }) => status == "interrupted",
+        ("picture_failure", TraceEvent::Report { status, .. }) => *status == ReportStatus::Failed,
+        ("move_stopped", TraceEvent::Report { status, .. }) => *status == ReportStatus::Interrupted,
         ("battery_drop", TraceEvent::Level { verdict, .. }) => {
-            verdict.starts_with("OverConsumption")
+            matches!(verdict, LevelVerdict::OverConsumption { .. })
         }
         ("goal_request", TraceEvent::GoalAccepted { .. }) => true,
         _ => false,
@@ -195,9 +204,10 @@ fn measure(
 }
 
 /// Repair and replanning figures on each event kind.
-pub fn run() -> Result<Vec<RepairFigures>, String> {
+pub fn run() -> Result<Vec<RepairFigures>, BenchError> {
     let plan = plan()?;
-    let cfg = VehicleConfig::parse(CONFIG, "config/demo-rover.toml").map_err(|e| e.to_string())?;
+    let cfg = VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
+        .map_err(|e| BenchError::load("config/demo-rover.toml", e))?;
     let mapping = resolve_mapping(
         &cfg.mapping,
         &plan.domain,
@@ -206,7 +216,7 @@ pub fn run() -> Result<Vec<RepairFigures>, String> {
     )
     .map_err(|issues| {
         let lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
-        lines.join("\n")
+        BenchError::load("config/demo-rover.toml", lines.join("\n"))
     })?;
     Ok(EVENTS
         .iter()

@@ -46,6 +46,7 @@ pub mod instantiate;
 pub mod interrupt;
 pub mod mapping;
 pub mod mission;
+pub mod outcome;
 pub mod p_t;
 pub mod pacer;
 pub mod repair;

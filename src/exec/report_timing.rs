@@ -7,7 +7,7 @@ use crate::plan::{ActionId, PartialPlan, PlanError};
 use crate::stn::Timepoint;
 
 /// When the report came.
-#[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize)]
+#[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize, serde::Deserialize)]
 pub enum Timing {
     InBounds,
     TooLate,

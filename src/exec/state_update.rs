@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use super::abstraction::{flawed_attributes, links_to_break};
 use super::executive::Executive;
+use super::mapping::MappingError;
 use super::p_t::classify;
 use super::trace::TraceEvent;
 use crate::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
@@ -29,7 +30,7 @@ pub fn location_object(
     name: &str,
     at: Enu,
     from: Option<ObjectId>,
-) -> Result<ObjectId, String> {
+) -> Result<ObjectId, MappingError> {
     let home = ex.plan.problem.home;
     let ty = ex.mapping.location_type;
     let mut best: Option<(f64, ObjectId)> = None;
@@ -48,10 +49,10 @@ pub fn location_object(
         return Ok(o);
     }
     let Some(ty) = ty else {
-        return Err(format!(
-            "no location type in the config's [mapping] for a new location at ({:.1}, {:.1})",
-            at.east, at.north
-        ));
+        return Err(MappingError::NoLocationType {
+            east: at.east,
+            north: at.north,
+        });
     };
     let mut problem = (*ex.plan.problem).clone();
     let mut unique = name.to_string();
@@ -88,13 +89,13 @@ fn reported_value(
     var: &str,
     v: &StateValue,
     a: ActionId,
-) -> Result<(AttrId, Vec<ObjectId>, Value), String> {
+) -> Result<(AttrId, Vec<ObjectId>, Value), MappingError> {
     match v {
         StateValue::Position(p) => {
             let attr = ex
                 .mapping
                 .position
-                .ok_or("no position attribute in the config's [mapping]")?;
+                .ok_or(MappingError::NoPositionAttribute)?;
             let name = format!("L{}", ex.plan.problem.objects.len());
             // Where the action started from: the value its start event on the position changed.
             let act = ex.plan.action(a);
@@ -112,18 +113,18 @@ fn reported_value(
         }
         StateValue::Symbol(s) => {
             let d = &ex.plan.domain;
-            let attr = d
-                .attr_id(var)
-                .ok_or_else(|| format!("no attribute `{var}` in the domain"))?;
+            let attr = d.attr_id(var).ok_or_else(|| MappingError::NoAttribute {
+                name: var.to_string(),
+            })?;
             let o = ex
                 .plan
                 .problem
                 .object_id(s)
                 .or_else(|| d.object_id(s))
-                .ok_or_else(|| format!("no object `{s}` in the problem"))?;
+                .ok_or_else(|| MappingError::NoObject { name: s.clone() })?;
             Ok((attr, vec![], Value::Obj(o)))
         }
-        StateValue::Number(_) => Err("numbers are not state values of the domain".into()),
+        StateValue::Number(_) => Err(MappingError::Number),
     }
 }
 
