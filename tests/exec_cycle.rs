@@ -139,7 +139,7 @@ fn run(ex: &mut Executive, v: &mut MockVehicle, until: Time) -> (CycleOutcome, T
 }
 
 fn events(ex: &Executive) -> Vec<(Time, TraceEvent)> {
-    ex.cycles
+    ex.cycles()
         .iter()
         .flat_map(|c| c.events.iter().map(move |e| (c.time_ms, e.clone())))
         .collect()
@@ -169,10 +169,10 @@ fn nominal_run_launches_in_order_and_achieves_the_goal() {
     assert_eq!(launch_time(&ex, "take_picture"), Some(4_000));
     assert_eq!(ex.goal_fates()[0].fate, Fate::Achieved);
     // Both actions are past: they left the plan, their effects are in S_t.
-    assert_eq!(ex.plan.num_actions(), 0);
+    assert_eq!(ex.plan().num_actions(), 0);
     let r = ex.resource("STORAGE").unwrap();
     assert!(
-        (ex.past[r.index()].0 - 2.1).abs() < 1e-9,
+        (ex.past_levels()[r.index()].0 - 2.1).abs() < 1e-9,
         "the level is exact after the report"
     );
 }
@@ -239,7 +239,7 @@ fn over_consumption_reported_is_integrated_and_repair_requested() {
         }
     )));
     let r = ex.resource("STORAGE").unwrap();
-    assert!((ex.past[r.index()].0 - 1.5).abs() < 1e-9);
+    assert!((ex.past_levels()[r.index()].0 - 1.5).abs() < 1e-9);
 }
 
 #[test]
@@ -277,11 +277,11 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
         "stopped at {stop}, ub {ub}"
     );
     // The reported position is no known location: a new location object, the robot's position in S_t.
-    let at = ex.plan.domain.attr_id("AT_ROBOT").unwrap();
-    let Some(Value::Obj(o)) = ex.state.get(&(at, vec![])) else {
+    let at = ex.plan().domain.attr_id("AT_ROBOT").unwrap();
+    let Some(Value::Obj(o)) = ex.state().get(&(at, vec![])) else {
         panic!("no position in S_t");
     };
-    assert!(ex.plan.problem.object_name(o).starts_with('L'));
+    assert!(ex.plan().problem.object_name(o).starts_with('L'));
 }
 
 #[test]
@@ -331,8 +331,8 @@ fn goal_requests_accepted_and_rejected_through_the_vehicle() {
     assert!(events(&ex).iter().any(|(_, e)| matches!(e,
         TraceEvent::GoalRejected { goal, .. } if goal == "g7")));
     // g6 is an open condition: plan repair was started on it (not an abort).
-    assert!(ex.counters.repair_steps > 0, "no repair step");
-    assert!(ex.abort.is_none(), "aborted: {:?}", ex.abort);
+    assert!(ex.counters().repair_steps > 0, "no repair step");
+    assert!(ex.abort().is_none(), "aborted: {:?}", ex.abort());
 }
 
 #[test]

@@ -99,8 +99,11 @@ fn a_task_the_vehicle_refuses_is_not_replanned_for_ever() {
 
 #[test]
 fn a_failure_that_changes_is_bounded_by_the_plan_change_rate() {
-    let mut ex = shopping(100);
-    ex.failures.max_changes_per_min = 1;
+    let mut ex = shopping::day_executive(ExecConfig {
+        same_failure_limit: 100,
+        max_plan_changes_per_min: 1,
+        ..shopping::day_config()
+    });
     let mut v = MockVehicle::new();
     v.script("go", Outcome::nominal(16 * 60_000));
     // A different failure each time: no streak, but the plan keeps changing.

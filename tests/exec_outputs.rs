@@ -230,7 +230,7 @@ fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
     let test_abort = AbortReason::Timeout {
         timepoint: "a test's".into(),
     };
-    ex.abort = Some(test_abort.clone());
+    ex.abort_with(test_abort.clone());
     let result = ex.replan(&|| 0, &mut |_| {});
     let ReplanResult::Plan(plan) = result else {
         panic!("expected a plan, got {result:?}");
@@ -242,7 +242,7 @@ fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
         .map(|g| plan.problem.goals[g.goal.index()].name.clone())
         .collect();
     assert_eq!(active, ["g3"]);
-    let rec = ex.replannings.last().expect("record");
+    let rec = ex.replannings().last().expect("record");
     assert_eq!(rec.outcome, ReplanOutcome::NewPlan);
     assert_eq!(rec.kept, ["g3"]);
     assert_eq!(rec.rejected.len(), 4, "{:?}", rec.rejected);
@@ -259,7 +259,7 @@ fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
     let attempts: u64 = rec.attempts.iter().map(|a| a.steps).sum();
     assert!(attempts <= 80, "{attempts}");
     assert!(rec.steps <= 80 + 5 * 300, "{}", rec.steps);
-    let g3 = ex.fates.values().find(|f| f.name == "g3").expect("g3");
+    let g3 = ex.fates().values().find(|f| f.name == "g3").expect("g3");
     assert_eq!(g3.fate, Fate::Pending);
 }
 
@@ -278,9 +278,9 @@ fn a_failed_move_leaves_the_rover_still() {
     let m = mapping::rover(&plan);
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(m);
     let a = ex
-        .plan
+        .plan()
         .live_actions()
-        .find(|&a| ex.plan.domain.task(ex.plan.action(a).task).name == "move")
+        .find(|&a| ex.plan().domain.task(ex.plan().action(a).task).name == "move")
         .expect("a move");
     let report = mavtempo::vehicle::ActionReport {
         id: 1,
@@ -295,13 +295,13 @@ fn a_failed_move_leaves_the_rover_still() {
     };
     mavtempo::exec::state_update::integrate_state(&mut ex, a, &report, 5_000);
     let status = ex
-        .plan
+        .plan()
         .domain
         .attr_id("ROBOT_STATUS")
         .expect("ROBOT_STATUS");
-    let still = ex.plan.problem.object_id("STILL").expect("STILL");
+    let still = ex.plan().problem.object_id("STILL").expect("STILL");
     assert_eq!(
-        ex.state.get(&(status, Vec::new())),
+        ex.state().get(&(status, Vec::new())),
         Some(mavtempo::model::Value::Obj(still))
     );
 }

@@ -44,7 +44,7 @@ impl Executive {
             let mut due: Vec<ActionId> = Vec::new();
             for &a in &pt.future {
                 let st = self.plan.action(a).start;
-                if self.plan.stn.is_executed(st) {
+                if self.plan.is_executed(st) {
                     continue;
                 }
                 let c = self.candidate(st, TpKind::Start);
@@ -72,8 +72,7 @@ impl Executive {
             }
             for &a in &running {
                 let act = self.plan.action(a);
-                if act.removed || self.plan.stn.is_executed(act.end) || self.stop_sent.contains(&a)
-                {
+                if act.removed || self.plan.is_executed(act.end) || self.stop_sent.contains(&a) {
                     continue;
                 }
                 let pre = self.plan.domain.task(act.task).preemption;
@@ -91,10 +90,10 @@ impl Executive {
             }
             for i in 0..self.plan.goals.len() {
                 let pg = self.plan.goals[i].clone();
-                if !pg.active || self.plan.stn.is_executed(pg.et) {
+                if !pg.active || self.plan.is_executed(pg.et) {
                     continue;
                 }
-                if !self.plan.stn.is_executed(pg.st) {
+                if !self.plan.is_executed(pg.st) {
                     let c = self.candidate(pg.st, TpKind::Goal);
                     let te = t_exec(c.kind, c.lb, c.ub, ts);
                     if te > now {
@@ -106,7 +105,7 @@ impl Executive {
                     {
                         continue;
                     }
-                    if self.plan.stn.execute(pg.st, now).is_err() {
+                    if self.plan.execute_at(pg.st, now).is_err() {
                         continue;
                     }
                     executed = true;
@@ -114,8 +113,8 @@ impl Executive {
                 let c = self.candidate(pg.et, TpKind::Goal);
                 if c.lb > now {
                     wake(c.lb, &mut next);
-                } else if timepoint_executable(&self.plan.stn, pg.et, now)
-                    && self.plan.stn.execute(pg.et, now).is_ok()
+                } else if timepoint_executable(self.plan.temporal_network(), pg.et, now)
+                    && self.plan.execute_at(pg.et, now).is_ok()
                 {
                     executed = true;
                     let name = self.plan.problem.goals[pg.goal.index()].name.clone();
@@ -129,7 +128,7 @@ impl Executive {
             self.mark_changed();
         }
         for a in postponed {
-            if !self.plan.stn.is_executed(self.plan.action(a).start) {
+            if !self.plan.is_executed(self.plan.action(a).start) {
                 let action = self.action_text(a);
                 self.trace(TraceEvent::Postponed { action });
             }
@@ -142,15 +141,15 @@ impl Executive {
         Candidate {
             tp,
             kind,
-            lb: self.plan.stn.lb(tp),
-            ub: self.plan.stn.ub(tp),
+            lb: self.plan.earliest(tp),
+            ub: self.plan.latest(tp),
         }
     }
 
     /// `START a p_a i_a`, and the start timepoint executed at `now`.
     fn launch(&mut self, vehicle: &mut dyn Vehicle, a: ActionId, now: Time) -> bool {
         let st = self.plan.action(a).start;
-        if !timepoint_executable(&self.plan.stn, st, now) {
+        if !timepoint_executable(self.plan.temporal_network(), st, now) {
             return false;
         }
         if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
@@ -176,7 +175,7 @@ impl Executive {
             });
             return false;
         }
-        if let Err(e) = self.plan.stn.execute(st, now) {
+        if let Err(e) = self.plan.execute_at(st, now) {
             self.abort = Some(AbortReason::StartInconsistent {
                 action,
                 error: e.to_string(),
@@ -187,7 +186,7 @@ impl Executive {
         self.by_vid.insert(vid, a);
         self.counters.launches += 1;
         let end = self.plan.action(a).end;
-        let (lb, ub) = (self.plan.stn.lb(end), self.plan.stn.ub(end));
+        let (lb, ub) = (self.plan.earliest(end), self.plan.latest(end));
         let planned_end_ms = Some((lb, (ub < crate::stn::INF).then_some(ub)));
         self.trace(TraceEvent::Launch {
             action,
@@ -207,12 +206,12 @@ impl Executive {
             .iter()
             .filter(|e| matches!(e.owner, Owner::Exogenous(_)))
             .map(|e| e.at)
-            .filter(|&tp| !self.plan.stn.is_executed(tp))
+            .filter(|&tp| !self.plan.is_executed(tp))
             .collect();
         for tp in tps {
-            let at = self.plan.stn.lb(tp);
+            let at = self.plan.earliest(tp);
             if at <= now {
-                if let Err(e) = self.plan.stn.execute(tp, at) {
+                if let Err(e) = self.plan.execute_at(tp, at) {
                     tracing::warn!("timed fact at {at} ms: {e}");
                 }
             } else if next.is_none_or(|n| at < n) {
@@ -241,7 +240,7 @@ impl Executive {
     /// A timepoint whose upper bound passed unexecuted (a report that did not come, an action or goal that
     /// could not start in time): the plan is not executable any more.
     fn detect_timeouts(&mut self, now: Time) {
-        let stn = &self.plan.stn;
+        let stn = self.plan.temporal_network();
         let mut late: Option<String> = None;
         let mut no_report: Vec<ActionId> = Vec::new();
         for a in self.plan.live_actions() {
@@ -260,7 +259,7 @@ impl Executive {
         for a in no_report {
             self.action_failed(a, "sent no report by its latest end", now);
         }
-        let stn = &self.plan.stn;
+        let stn = self.plan.temporal_network();
         for pg in self.plan.goals.iter().filter(|g| g.active) {
             if !stn.is_executed(pg.st) && stn.ub(pg.st) < now {
                 late = Some(format!(

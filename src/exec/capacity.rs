@@ -44,8 +44,7 @@ pub fn alter(
     setup.profile.push((t, capacity));
     // The aggregated level cannot exceed the new capacity (the lost part is gone).
     setup.level = setup.level.min(capacity);
-    plan.set_problem(Arc::new(problem));
-    plan.recompute_candidates();
+    plan.set_resource_problem(Arc::new(problem));
     let flawed = flawed_actions(plan);
     if !plan_executable(running, &flawed) {
         CapacityOutcome::Abort

@@ -63,7 +63,7 @@ impl Executive {
             let running: Vec<_> = self.started.keys().copied().collect();
             for a in running {
                 let act = self.plan.action(a);
-                if !act.removed && !self.plan.stn.is_executed(act.end) {
+                if !act.removed && !self.plan.is_executed(act.end) {
                     self.stop(vehicle, a);
                 }
             }

@@ -60,62 +60,62 @@ pub struct Counters {
 
 pub struct Executive {
     /// *ExecutingPlan*.
-    pub plan: PartialPlan,
-    pub cfg: ExecConfig,
-    pub policy: PlanDispatch,
-    pub hierarchy: Hierarchy,
+    pub(crate) plan: PartialPlan,
+    pub(crate) cfg: ExecConfig,
+    pub(crate) policy: PlanDispatch,
+    pub(crate) hierarchy: Hierarchy,
     /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
-    pub past: Vec<(f64, f64)>,
+    pub(crate) past: Vec<(f64, f64)>,
     /// LgcS_t.
-    pub state: State,
+    pub(crate) state: State,
     /// Started actions and their `i_a`.
-    pub started: BTreeMap<ActionId, u64>,
-    pub by_vid: BTreeMap<u64, ActionId>,
+    pub(crate) started: BTreeMap<ActionId, u64>,
+    pub(crate) by_vid: BTreeMap<u64, ActionId>,
     /// Preemptive actions an `END i_a` was sent to.
-    pub stop_sent: Vec<ActionId>,
+    pub(crate) stop_sent: Vec<ActionId>,
     /// The vehicle time (ms) of the plan's origin: report times are converted with it.
-    pub vehicle_origin_ms: u64,
+    pub(crate) vehicle_origin_ms: u64,
     /// Interruptions requested by message integration (sent in the act part).
-    pub interrupt: Vec<ActionId>,
-    pub next_vid: u64,
-    pub repair: Option<Repair>,
+    pub(crate) interrupt: Vec<ActionId>,
+    pub(crate) next_vid: u64,
+    pub(crate) repair: Option<Repair>,
     /// Plan repair requested by message integration.
-    pub repair_requested: bool,
+    pub(crate) repair_requested: bool,
     /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
-    pub abort: Option<AbortReason>,
-    pub fates: BTreeMap<GoalId, GoalFate>,
-    pub cycles: Vec<CycleRecord>,
-    pub counters: Counters,
+    pub(crate) abort: Option<AbortReason>,
+    pub(crate) fates: BTreeMap<GoalId, GoalFate>,
+    pub(crate) cycles: Vec<CycleRecord>,
+    pub(crate) counters: Counters,
     /// Events of the current cycle.
-    pub pending_trace: Vec<TraceEvent>,
+    pub(crate) pending_trace: Vec<TraceEvent>,
     /// Something changed since the repair tree was last developed (message or timepoint executed): the
     /// repair search restarts (§3.2).
-    pub changed: bool,
+    pub(crate) changed: bool,
     /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
     /// resolution).
-    pub level_tolerance: f64,
+    pub(crate) level_tolerance: f64,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/exec/failures.rs).
-    pub failures: FailureMemory,
+    pub(crate) failures: FailureMemory,
     /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
-    pub repair_episode_steps: u64,
+    pub(crate) repair_episode_steps: u64,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
-    pub mapping: super::mapping::DomainMapping,
+    pub(crate) mapping: super::mapping::DomainMapping,
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
-    pub insertions: VecDeque<Insertion>,
+    pub(crate) insertions: VecDeque<Insertion>,
     /// Uploads not answered yet, or with goals still being inserted, by number.
-    pub goal_batches: BTreeMap<u64, GoalBatch>,
-    pub next_batch: u64,
+    pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
+    pub(crate) next_batch: u64,
     /// Requested goals that never entered the plan (mapping, acceptance test or insertion failed), in the
     /// order they were refused.
-    pub refused: Vec<GoalFate>,
+    pub(crate) refused: Vec<GoalFate>,
     /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
-    pub replannings: Vec<super::replan::ReplanRecord>,
+    pub(crate) replannings: Vec<super::replan::ReplanRecord>,
     /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
-    pub insertion_stale: bool,
+    pub(crate) insertion_stale: bool,
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
     /// `resources[].reported`.
-    pub last_reported: Vec<Option<(Time, f64)>>,
+    pub(crate) last_reported: Vec<Option<(Time, f64)>>,
 }
 
 impl Executive {

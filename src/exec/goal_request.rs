@@ -7,7 +7,6 @@ use std::sync::Arc;
 
 use crate::model::{Goal, GoalId, Time};
 use crate::plan::{ActionId, CondKind, PartialPlan, PlanError};
-use crate::stn::INF;
 
 /// Why a goal was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]
@@ -42,9 +41,7 @@ pub fn request(
             error: e.to_string(),
         })?;
         let st = plan.cond(cond).from;
-        let origin = plan.stn.origin();
-        plan.stn
-            .add_constraint(origin, st, t.saturating_add(achiev), INF)
+        plan.not_before(st, t.saturating_add(achiev))
             .map_err(|_| Rejection::TooLate {
                 now_ms: t,
                 achiev_ms: achiev,
@@ -83,7 +80,7 @@ fn order_after_threatened(
                 && !plan.bindings.necessarily_equal(h.value, c.value)
         });
         if threatens {
-            plan.stn.add_precedence(end, c.from)?;
+            plan.order(end, c.from)?;
         }
     }
     Ok(())

@@ -379,7 +379,7 @@ fn collect_stop_reports<V: Vehicle>(
     let outstanding = |ex: &Executive| {
         ex.stop_sent
             .iter()
-            .any(|a| ex.started.contains_key(a) && !ex.plan.stn.is_executed(ex.plan.action(*a).end))
+            .any(|a| ex.started.contains_key(a) && !ex.plan.is_executed(ex.plan.action(*a).end))
     };
     let mut held = std::mem::take(&mut v.held);
     loop {

@@ -57,7 +57,6 @@ impl From<NotExecutable> for AbortReason {
 /// Timepoints not executed yet cannot happen before `now`: the search must not move them into the past
 /// (e.g. a goal supported again by an effect that was executed before now).
 fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Inconsistent> {
-    let origin = plan.stn.origin();
     let mut tps: Vec<_> = plan
         .live_actions()
         .flat_map(|a| plan.action(a).tps.clone())
@@ -69,8 +68,8 @@ fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Incon
             .flat_map(|g| [g.st, g.et]),
     );
     for tp in tps {
-        if !plan.stn.is_executed(tp) && plan.stn.lb(tp) < now {
-            plan.stn.add_constraint(origin, tp, now, crate::stn::INF)?;
+        if !plan.is_executed(tp) && plan.earliest(tp) < now {
+            plan.not_before(tp, now)?;
         }
     }
     Ok(())

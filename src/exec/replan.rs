@@ -26,7 +26,7 @@ use crate::model::{Fact, GoalId, Problem, Time};
 use crate::plan::{PartialPlan, PlanError, TimeFloor};
 use crate::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
 use crate::planner::{Search, StepOutcome};
-use crate::stn::{Timepoint, INF};
+use crate::stn::Timepoint;
 
 /// P_ti and its T_end.
 pub struct Extracted {
@@ -64,9 +64,7 @@ pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
 pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracted, PlanError> {
     let problem = Arc::new(extract_problem(ex, now));
     let mut plan = PartialPlan::new(ex.plan.domain.clone(), problem.clone())?;
-    let origin = plan.stn.origin();
-    let t_end = plan.stn.add_timepoint();
-    plan.stn.add_constraint(origin, t_end, now, plan.horizon)?;
+    let t_end = plan.add_planning_end(now)?;
     let mut incoherent = Vec::new();
     for pg in plan.goals.clone() {
         let g = &problem.goals[pg.goal.index()];
@@ -81,9 +79,8 @@ pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracte
         // Coherent with the current time: st^g can still be at or after now + d_achiev.
         let level = plan.save();
         let ok = plan
-            .stn
-            .add_constraint(origin, pg.st, now.saturating_add(g.achieve), INF)
-            .and_then(|_| plan.stn.add_precedence(t_end, pg.st).map(|_| ()));
+            .not_before(pg.st, now.saturating_add(g.achieve))
+            .and_then(|_| plan.order(t_end, pg.st));
         if ok.is_err() {
             plan.restore(level);
             plan.remove_goal(pg.goal);
@@ -108,7 +105,7 @@ pub fn goal_to_reject(plan: &PartialPlan) -> Option<GoalId> {
             let goal = &plan.problem.goals[g.goal.index()];
             (
                 goal.priority,
-                plan.stn.ub(g.st) - goal.achieve,
+                plan.latest(g.st) - goal.achieve,
                 std::cmp::Reverse(g.goal),
             )
         })
@@ -228,7 +225,7 @@ pub fn plan_until_limit(
     max_steps: u64,
     now: &dyn Fn() -> Time,
 ) -> AttemptEnd {
-    let limit = |s: &Search| s.plan().stn.ub(t_end).saturating_sub(slack);
+    let limit = |s: &Search| s.plan().latest(t_end).saturating_sub(slack);
     loop {
         if search.steps() >= max_steps {
             return AttemptEnd::StepCap;
@@ -297,7 +294,7 @@ impl SoloPlans {
                 let st = p.goals.iter().find(|pg| pg.goal == *g).map(|pg| pg.st);
                 (
                     goal.priority,
-                    st.map_or(0, |st| p.stn.ub(st) - goal.achieve),
+                    st.map_or(0, |st| p.latest(st) - goal.achieve),
                     std::cmp::Reverse(*g),
                 )
             })
@@ -488,7 +485,7 @@ impl Executive {
             if let Some(mut plan) = solution {
                 plan.set_time_floor(TimeFloor::None);
                 // T_end happens now: planning is over, the new plan's first timepoints may follow it.
-                if plan.stn.execute(t_end, now()).is_ok() {
+                if plan.execute_at(t_end, now()).is_ok() {
                     self.attempt_done(attempts, record);
                     return ReplanResult::Plan(plan);
                 }
@@ -533,7 +530,7 @@ impl Executive {
     ) -> ReplanResult {
         let kept = solo.best(dropped).and_then(|(g, mut plan)| {
             plan.set_time_floor(TimeFloor::None);
-            plan.stn.execute(t_end, now()).is_ok().then_some((g, plan))
+            plan.execute_at(t_end, now()).is_ok().then_some((g, plan))
         });
         let reason = match &kept {
             Some((g, _)) => FateReason::OtherKept {

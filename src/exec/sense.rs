@@ -133,8 +133,12 @@ impl Executive {
         if let Some(s) = problem.resources.get_mut(r.index()) {
             s.level = self.past[r.index()].0;
         }
-        self.plan.set_problem(std::sync::Arc::new(problem));
-        if u.verdict != LevelVerdict::Consistent {
+        let problem = std::sync::Arc::new(problem);
+        if u.verdict == LevelVerdict::Consistent {
+            // In bounds: the plan's resource conflicts stand as they were.
+            self.plan.set_problem(problem);
+        } else {
+            self.plan.set_resource_problem(problem);
             self.trace(TraceEvent::Level {
                 resource: l.resource.clone(),
                 level: l.level,
@@ -142,7 +146,6 @@ impl Executive {
                 ub: b.ub,
                 verdict: u.verdict,
             });
-            self.plan.recompute_candidates();
         }
         if u.check_executable {
             let flawed = flawed_actions(&mut self.plan);

@@ -303,8 +303,8 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
                 .iter()
                 .zip(&args)
                 .all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)));
-            let est_done = ex.plan.stn.ub(ex.plan.event(link.event).at) <= t;
-            let open_after = ex.plan.stn.ub(c.to) >= t;
+            let est_done = ex.plan.latest(ex.plan.event(link.event).at) <= t;
+            let open_after = ex.plan.latest(c.to) >= t;
             if same
                 && est_done
                 && open_after
@@ -323,24 +323,15 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     );
     broken.sort();
     broken.dedup();
-    for &l in &broken {
-        ex.plan.remove_link(l);
-    }
-    for (attr, args, value) in observed {
-        if let Err(e) = ex.plan.add_observation(attr, &args, value, t + 1) {
-            tracing::warn!("observed value not inserted: {e}");
-        }
+    for e in ex.plan.integrate_observations(&broken, observed, t + 1) {
+        tracing::warn!("observed value not inserted: {e}");
     }
     // Causal-link removal via the abstraction hierarchy.
-    ex.plan.recompute_candidates();
     let att_f = flawed_attributes(&mut ex.plan);
     let att_i = ex.hierarchy.closure(&att_f);
     let more = links_to_break(&ex.plan, &att_i, &running);
     let n = broken.len() + more.len();
-    for l in more {
-        ex.plan.remove_link(l);
-    }
-    ex.plan.recompute_candidates();
+    ex.plan.break_links(&more);
     if n > 0 {
         ex.trace(TraceEvent::LinksBroken { count: n });
     }
