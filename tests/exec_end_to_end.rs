@@ -28,7 +28,7 @@ fn shopping_day_planned_then_executed_achieves_both_goals() {
         }
         // Wake up as the live executive does: at the next due timepoint, at the latest one timestep later,
         // and right away when a message is coming (the report of a stopped action).
-        let stopped = ex.cycles.last().is_some_and(|c| {
+        let stopped = ex.cycles().last().is_some_and(|c| {
             c.events
                 .iter()
                 .any(|e| matches!(e, TraceEvent::Stop { .. }))
@@ -42,7 +42,7 @@ fn shopping_day_planned_then_executed_achieves_both_goals() {
     assert_eq!(out, CycleOutcome::Finished, "{:?}", ex.goal_fates());
     assert!(ex.goal_fates().iter().all(|f| f.fate == Fate::Achieved));
     let launches = ex
-        .cycles
+        .cycles()
         .iter()
         .flat_map(|c| &c.events)
         .filter(|e| matches!(e, TraceEvent::Launch { .. }))

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions};
+use mavtempo::exec::outcome::FateReason;
 use mavtempo::exec::pacer::MockPacer;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
@@ -94,5 +95,5 @@ fn time_limit_leaves_goals_pending_with_a_reason() {
     assert!(report
         .goals
         .iter()
-        .all(|g| g.fate == Fate::Pending && g.reason.contains("time limit")));
+        .all(|g| g.fate == Fate::Pending && g.reason == Some(FateReason::TimeLimit)));
 }

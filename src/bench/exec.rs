@@ -43,16 +43,53 @@ pub struct CycleFigures {
     pub max_us: u64,
 }
 
+/// Why a bench's plan or run could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// The bench's shipped domain, problem or config does not load.
+    #[error("{file}: {reason}")]
+    Load { file: &'static str, reason: String },
+    #[error("the bench problem has no {0}")]
+    Missing(&'static str),
+    #[error(transparent)]
+    Plan(#[from] crate::plan::PlanError),
+    #[error(transparent)]
+    Binding(#[from] crate::plan::BindingConflict),
+    #[error(transparent)]
+    Temporal(#[from] crate::stn::Inconsistent),
+    #[error("the chain plan has flaws")]
+    Flawed,
+    #[error("{problem} not planned: {outcome}")]
+    NotPlanned {
+        problem: &'static str,
+        outcome: String,
+    },
+    #[error("aborted: {0}")]
+    Aborted(crate::exec::outcome::AbortReason),
+    #[error("no cycle ran")]
+    NoCycle,
+}
+
+impl BenchError {
+    pub fn load(file: &'static str, reason: impl std::fmt::Display) -> Self {
+        BenchError::Load {
+            file,
+            reason: reason.to_string(),
+        }
+    }
+}
+
 /// The chain plan of `n` steps (a solution: every condition supported, steps ordered).
-pub fn chain_plan(n: usize) -> Result<PartialPlan, String> {
-    let d = parse_domain("bench.ixt", DOMAIN).map_err(|e| e.to_string())?;
-    let p = parse_problem("chain.ixt", PROBLEM, &d).map_err(|e| e.to_string())?;
-    let task = d.task_id("step").ok_or("no step task")?;
+pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
+    let d = parse_domain("bench.ixt", DOMAIN).map_err(|e| BenchError::load("bench.ixt", e))?;
+    let p =
+        parse_problem("chain.ixt", PROBLEM, &d).map_err(|e| BenchError::load("chain.ixt", e))?;
+    let task = d.task_id("step").ok_or(BenchError::Missing("step task"))?;
     let (a, b) = (
-        p.object_id("a").ok_or("no a")?,
-        p.object_id("b").ok_or("no b")?,
+        p.object_id("a").ok_or(BenchError::Missing("object a"))?,
+        p.object_id("b").ok_or(BenchError::Missing("object b"))?,
     );
-    let mut plan = PartialPlan::new(Arc::new(d), Arc::new(p)).map_err(|e| e.to_string())?;
+    let mut plan = PartialPlan::new(Arc::new(d), Arc::new(p))?;
     let mut prev_event = *plan
         .events
         .iter()
@@ -60,37 +97,35 @@ pub fn chain_plan(n: usize) -> Result<PartialPlan, String> {
         .find(|(_, e)| e.owner == crate::plan::Owner::Initial)
         .map(|(i, _)| i)
         .as_ref()
-        .ok_or("no initial event")?;
+        .ok_or(BenchError::Missing("initial event"))?;
     let mut prev_end = None;
     for i in 0..n {
-        let act = plan.insert_action(task).map_err(|e| e.to_string())?;
+        let act = plan.insert_action(task)?;
         let (from, to) = if i % 2 == 0 { (a, b) } else { (b, a) };
         let vars = plan.action(act).vars.clone();
-        plan.bindings
-            .unify(STerm::Var(vars[0]), STerm::Obj(from))
-            .map_err(|e| e.to_string())?;
-        plan.bindings
-            .unify(STerm::Var(vars[1]), STerm::Obj(to))
-            .map_err(|e| e.to_string())?;
+        plan.bindings.unify(STerm::Var(vars[0]), STerm::Obj(from))?;
+        plan.bindings.unify(STerm::Var(vars[1]), STerm::Obj(to))?;
         if let Some(e) = prev_end {
             let st = plan.action(act).start;
-            plan.stn.add_precedence(e, st).map_err(|e| e.to_string())?;
+            plan.stn.add_precedence(e, st)?;
         }
         let ev = plan.action(act).events[0];
-        let cond = plan.event(ev).cond.ok_or("event without condition")?;
-        plan.add_link(crate::plan::EventId(prev_event as u32), cond)
-            .map_err(|e| e.to_string())?;
+        let cond = plan
+            .event(ev)
+            .cond
+            .ok_or(BenchError::Missing("condition of a step's event"))?;
+        plan.add_link(crate::plan::EventId(prev_event as u32), cond)?;
         prev_event = ev.index();
         prev_end = Some(plan.action(act).end);
     }
     if !plan.flaws().is_empty() {
-        return Err("the chain plan has flaws".into());
+        return Err(BenchError::Flawed);
     }
     Ok(plan)
 }
 
 /// Runs `cycles` cycles (every 500 ms of manual time) over the chain of `n` steps.
-pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, String> {
+pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, BenchError> {
     let plan = chain_plan(n)?;
     let cfg = ExecConfig {
         timestep_ms: 1_000,
@@ -108,19 +143,19 @@ pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, String> {
         match ex.cycle(&mut v, t) {
             CycleOutcome::Continue { .. } => {}
             CycleOutcome::Finished => break,
-            CycleOutcome::Aborted(r) => return Err(format!("aborted: {r}")),
+            CycleOutcome::Aborted(r) => return Err(BenchError::Aborted(r)),
         }
         t += 500;
     }
     let mut us: Vec<u64> = ex
-        .cycles
+        .cycles()
         .iter()
         .map(|c| c.sense_us + c.repair_us + c.act_us)
         .collect();
     us.sort_unstable();
     let pick = |q: f64| us[((us.len() as f64 - 1.0) * q).round() as usize];
     if us.is_empty() {
-        return Err("no cycle ran".into());
+        return Err(BenchError::NoCycle);
     }
     Ok(CycleFigures {
         actions: n,

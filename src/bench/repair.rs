@@ -10,9 +10,11 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use super::exec::BenchError;
 use crate::exec::config::ExecConfig;
 use crate::exec::cycle::CycleOutcome;
 use crate::exec::executive::Executive;
+use crate::exec::resource_report::LevelVerdict;
 use crate::exec::trace::TraceEvent;
 use crate::lang::{parse_domain, parse_problem};
 use crate::plan::PartialPlan;
@@ -22,7 +24,7 @@ use crate::vehicle::config_check::resolve_mapping;
 use crate::vehicle::mapping::DomainMapping;
 use crate::vehicle::mock::{Outcome, Scripted};
 use crate::vehicle::{
-    Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ResourceLevel, StateValue,
+    Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ReportStatus, ResourceLevel, StateValue,
 };
 
 const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
@@ -49,13 +51,20 @@ pub const EVENTS: [&str; 4] = [
     "goal_request",
 ];
 
-fn plan() -> Result<PartialPlan, String> {
-    let d = Arc::new(parse_domain("rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
-    let p = Arc::new(parse_problem("rover_two.ixt", PROBLEM, &d).map_err(|e| e.to_string())?);
-    let mut s = Search::new(PartialPlan::new(d, p).map_err(|e| e.to_string())?);
+fn plan() -> Result<PartialPlan, BenchError> {
+    let d =
+        Arc::new(parse_domain("rover.ixt", DOMAIN).map_err(|e| BenchError::load("rover.ixt", e))?);
+    let p = Arc::new(
+        parse_problem("rover_two.ixt", PROBLEM, &d)
+            .map_err(|e| BenchError::load("rover_two.ixt", e))?,
+    );
+    let mut s = Search::new(PartialPlan::new(d, p)?);
     match s.run(Budget::steps(20_000)) {
         StepOutcome::Solved => Ok(s.into_plan()),
-        o => Err(format!("rover_two not planned: {o:?}")),
+        o => Err(BenchError::NotPlanned {
+            problem: "rover_two",
+            outcome: format!("{o:?}"),
+        }),
     }
 }
 
@@ -123,10 +132,10 @@ fn vehicle(event: &str) -> MockVehicle {
 /// The cycle in which the event was integrated.
 fn is_event(e: &TraceEvent, event: &str) -> bool {
     match (event, e) {
-        ("picture_failure", TraceEvent::Report { status, .. }) => status == "failed",
-        ("move_stopped", TraceEvent::Report { status, .. }) => status == "interrupted",
+        ("picture_failure", TraceEvent::Report { status, .. }) => *status == ReportStatus::Failed,
+        ("move_stopped", TraceEvent::Report { status, .. }) => *status == ReportStatus::Interrupted,
         ("battery_drop", TraceEvent::Level { verdict, .. }) => {
-            verdict.starts_with("OverConsumption")
+            matches!(verdict, LevelVerdict::OverConsumption { .. })
         }
         ("goal_request", TraceEvent::GoalAccepted { .. }) => true,
         _ => false,
@@ -158,7 +167,7 @@ fn measure(
     while t < 30 * 60_000 {
         v.advance_to(t as u64);
         let out = ex.cycle(&mut v, t);
-        let c = ex.cycles.last().cloned().unwrap_or_default();
+        let c = ex.cycles().last().cloned().unwrap_or_default();
         if !seen && c.events.iter().any(|e| is_event(e, event)) {
             seen = true;
             if replan {
@@ -177,27 +186,32 @@ fn measure(
                 .iter()
                 .any(|e| matches!(e, TraceEvent::RepairDone { .. }))
             {
-                return (Some(repair_us as f64 / 1e3), ex.counters.repair_steps, true);
+                return (
+                    Some(repair_us as f64 / 1e3),
+                    ex.counters().repair_steps,
+                    true,
+                );
             }
         }
         match out {
             CycleOutcome::Continue { next, repairing } => {
                 t = if repairing {
-                    t + ex.cfg.repair_budget_ms().max(1)
+                    t + ex.config().repair_budget_ms().max(1)
                 } else {
                     next.map_or(t + 500, |n| n.clamp(t + 1, t + 500))
                 };
             }
-            _ => return (None, ex.counters.repair_steps, false),
+            _ => return (None, ex.counters().repair_steps, false),
         }
     }
-    (None, ex.counters.repair_steps, false)
+    (None, ex.counters().repair_steps, false)
 }
 
 /// Repair and replanning figures on each event kind.
-pub fn run() -> Result<Vec<RepairFigures>, String> {
+pub fn run() -> Result<Vec<RepairFigures>, BenchError> {
     let plan = plan()?;
-    let cfg = VehicleConfig::parse(CONFIG, "config/demo-rover.toml").map_err(|e| e.to_string())?;
+    let cfg = VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
+        .map_err(|e| BenchError::load("config/demo-rover.toml", e))?;
     let mapping = resolve_mapping(
         &cfg.mapping,
         &plan.domain,
@@ -206,7 +220,7 @@ pub fn run() -> Result<Vec<RepairFigures>, String> {
     )
     .map_err(|issues| {
         let lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
-        lines.join("\n")
+        BenchError::load("config/demo-rover.toml", lines.join("\n"))
     })?;
     Ok(EVENTS
         .iter()

@@ -67,8 +67,9 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
     let mut session = SitlSession::start(&domain, &problem, spec)?;
     let cfg = exec_config();
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
-    let mut ex = Executive::new(plan, cfg).with_mapping(session.mapping.clone());
-    ex.level_tolerance = LEVEL_TOLERANCE;
+    let mut ex = Executive::new(plan, cfg)
+        .with_mapping(session.mapping.clone())
+        .with_level_tolerance(LEVEL_TOLERANCE);
     let opts = MissionOptions {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),
         ..MissionOptions::default()
@@ -172,7 +173,7 @@ pub fn run(json: bool) -> ExitCode {
         f.wall_s
     );
     for g in &f.goals {
-        println!("  {:<12} {:?} {}", g.name, g.fate, g.reason);
+        println!("  {:<12} {:?} {}", g.name, g.fate, g.reason_text());
     }
     println!(
         "most launches of one action: {}",

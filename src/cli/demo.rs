@@ -365,8 +365,8 @@ pub fn run_demo(
     ));
     let mut ex = Executive::new(plan, exec_config())
         .with_policy(setup.dispatch)
-        .with_mapping(session.mapping.clone());
-    ex.level_tolerance = LEVEL_TOLERANCE;
+        .with_mapping(session.mapping.clone())
+        .with_level_tolerance(LEVEL_TOLERANCE);
     // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
     let gate = Arc::new(StepGate::default());
     let mut live = match &setup.http {

@@ -81,10 +81,9 @@ pub fn print_summary(r: &MissionReport) {
             Fate::Rejected => "REJECTED",
             Fate::Pending => "pending",
         };
-        if g.reason.is_empty() {
-            println!("  {:<6} {fate}", g.name);
-        } else {
-            println!("  {:<6} {fate}: {}", g.name, g.reason);
+        match &g.reason {
+            None => println!("  {:<6} {fate}", g.name),
+            Some(reason) => println!("  {:<6} {fate}: {reason}", g.name),
         }
     }
     for rp in &r.replannings {

@@ -23,7 +23,9 @@ use self::vehicle::{Done, KinematicPacer, KinematicVehicle, TaskTime};
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::{Executive, Fate};
+use crate::exec::goal_request::Rejection;
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
+use crate::exec::outcome::FateReason;
 use crate::exec::trace::TraceEvent;
 use crate::exec::DomainMapping;
 use crate::lang;
@@ -256,23 +258,17 @@ pub struct MissionOutcome {
     pub mission_goals: u64,
 }
 
-/// Short names for the rejection reasons (the executive's texts, see src/exec).
-fn reason_class(reason: &str) -> String {
-    let r = reason.to_lowercase();
-    let class = if r.contains("d_achiev") {
-        "too-late"
-    } else if r.contains("window") && r.contains("no longer reachable") {
-        "window-passed"
-    } else if r.contains("duration or start window") {
-        "window"
-    } else if r.contains("running action") {
-        "running"
-    } else if r.contains("replanning") {
-        "replanning"
-    } else if r.contains("mission ended") {
-        "mission-over"
-    } else {
-        "other"
+/// Short names for the rejection reasons (src/exec/outcome.rs); `None`: the mission ended before the goal
+/// arrived.
+fn reason_class(reason: Option<&FateReason>) -> String {
+    let class = match reason.map(FateReason::cause) {
+        None => "mission-over",
+        Some(FateReason::Acceptance(Rejection::TooLate { .. })) => "too-late",
+        Some(FateReason::WindowPassed { .. }) => "window-passed",
+        Some(FateReason::Acceptance(Rejection::Window { .. })) => "window",
+        Some(FateReason::Acceptance(Rejection::Running { .. })) => "running",
+        Some(FateReason::ReplanBudgetSpent { .. } | FateReason::Abandoned { .. }) => "replanning",
+        Some(_) => "other",
     };
     class.into()
 }
@@ -325,12 +321,12 @@ fn outcome(
         idle_ms: idle(log, report.duration_ms),
         distance_m: log.iter().filter_map(|d| d.leg.as_ref()).map(|l| l.2).sum(),
         wasted_m: wasted(log),
-        replans: ex.counters.replans,
-        repairs: ex.counters.repairs,
+        replans: ex.counters().replans,
+        repairs: ex.counters().repairs,
         ..MissionOutcome::default()
     };
     let mut achieved_at: HashMap<&str, Time> = HashMap::new();
-    let mut rejected_at_intake: HashMap<&str, &str> = HashMap::new();
+    let mut rejected_at_intake: HashMap<&str, &FateReason> = HashMap::new();
     for c in &report.cycles {
         for e in &c.events {
             match e {
@@ -338,18 +334,16 @@ fn outcome(
                     achieved_at.entry(goal.as_str()).or_insert(c.time_ms);
                 }
                 TraceEvent::GoalRejected { goal, reason } => {
-                    rejected_at_intake
-                        .entry(goal.as_str())
-                        .or_insert(reason.as_str());
+                    rejected_at_intake.entry(goal.as_str()).or_insert(reason);
                 }
                 _ => {}
             }
         }
     }
-    let fates: HashMap<&str, (&Fate, &str)> = report
+    let fates: HashMap<&str, (&Fate, Option<&FateReason>)> = report
         .goals
         .iter()
-        .map(|g| (g.name.as_str(), (&g.fate, g.reason.as_str())))
+        .map(|g| (g.name.as_str(), (&g.fate, g.reason.as_ref())))
         .collect();
     for up in uploads {
         let name = up.goal.name.as_str();
@@ -361,21 +355,21 @@ fn outcome(
                 }
                 continue;
             }
-            Some((Fate::Rejected, reason)) => reason.to_string(),
+            Some((Fate::Rejected, reason)) => *reason,
             Some((Fate::Pending, _)) => {
                 out.pending += 1;
                 continue;
             }
             None => match rejected_at_intake.get(name) {
-                Some(reason) => reason.to_string(),
-                None if up.at_ms > report.duration_ms => "mission ended before it arrived".into(),
+                Some(reason) => Some(*reason),
+                None if up.at_ms > report.duration_ms => None,
                 None => {
                     out.pending += 1;
                     continue;
                 }
             },
         };
-        *out.rejected.entry(reason_class(&reason)).or_insert(0) += 1;
+        *out.rejected.entry(reason_class(reason)).or_insert(0) += 1;
     }
     for name in problem_goals {
         out.mission_goals += 1;

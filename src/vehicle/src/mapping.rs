@@ -35,3 +35,27 @@ pub struct DomainMapping {
     pub home_object: Option<ObjectId>,
     pub goals: BTreeMap<GoalKind, GoalTarget>,
 }
+
+/// Why a vehicle's name (a goal request, a reported state value) has no meaning in the domain.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "mapping", rename_all = "snake_case")]
+pub enum MappingError {
+    #[error("no goal mapping for {kind} items in the config")]
+    NoGoalMapping { kind: String },
+    #[error("no home object in the config's [mapping] for return-home items")]
+    NoHomeObject,
+    #[error("{kind} goal without a location")]
+    NoGoalLocation { kind: String },
+    #[error(
+        "no location type in the config's [mapping] for a new location at ({east:.1}, {north:.1})"
+    )]
+    NoLocationType { east: f64, north: f64 },
+    #[error("no position attribute in the config's [mapping]")]
+    NoPositionAttribute,
+    #[error("no attribute `{name}` in the domain")]
+    NoAttribute { name: String },
+    #[error("no object `{name}` in the problem")]
+    NoObject { name: String },
+    #[error("numbers are not state values of the domain")]
+    Number,
+}

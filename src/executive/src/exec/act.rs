@@ -9,6 +9,7 @@
 use super::dispatch_policy::Candidate;
 use super::executable::{action_executable, flawed_actions, goal_achievable, timepoint_executable};
 use super::executive::{Executive, Fate};
+use super::outcome::AbortReason;
 use super::p_t::classify;
 use super::squeeze::should_wait;
 use super::t_exec::{t_exec, TpKind};
@@ -43,7 +44,7 @@ impl Executive {
             let mut due: Vec<ActionId> = Vec::new();
             for &a in &pt.future {
                 let st = self.plan.action(a).start;
-                if self.plan.stn.is_executed(st) {
+                if self.plan.is_executed(st) {
                     continue;
                 }
                 let c = self.candidate(st, TpKind::Start);
@@ -71,8 +72,7 @@ impl Executive {
             }
             for &a in &running {
                 let act = self.plan.action(a);
-                if act.removed || self.plan.stn.is_executed(act.end) || self.stop_sent.contains(&a)
-                {
+                if act.removed || self.plan.is_executed(act.end) || self.stop_sent.contains(&a) {
                     continue;
                 }
                 let pre = self.plan.domain.task(act.task).preemption;
@@ -90,10 +90,10 @@ impl Executive {
             }
             for i in 0..self.plan.goals.len() {
                 let pg = self.plan.goals[i].clone();
-                if !pg.active || self.plan.stn.is_executed(pg.et) {
+                if !pg.active || self.plan.is_executed(pg.et) {
                     continue;
                 }
-                if !self.plan.stn.is_executed(pg.st) {
+                if !self.plan.is_executed(pg.st) {
                     let c = self.candidate(pg.st, TpKind::Goal);
                     let te = t_exec(c.kind, c.lb, c.ub, ts);
                     if te > now {
@@ -105,7 +105,7 @@ impl Executive {
                     {
                         continue;
                     }
-                    if self.plan.stn.execute(pg.st, now).is_err() {
+                    if self.plan.execute_at(pg.st, now).is_err() {
                         continue;
                     }
                     executed = true;
@@ -113,12 +113,12 @@ impl Executive {
                 let c = self.candidate(pg.et, TpKind::Goal);
                 if c.lb > now {
                     wake(c.lb, &mut next);
-                } else if timepoint_executable(&self.plan.stn, pg.et, now)
-                    && self.plan.stn.execute(pg.et, now).is_ok()
+                } else if timepoint_executable(self.plan.temporal_network(), pg.et, now)
+                    && self.plan.execute_at(pg.et, now).is_ok()
                 {
                     executed = true;
                     let name = self.plan.problem.goals[pg.goal.index()].name.clone();
-                    self.set_fate(pg.goal, Fate::Achieved, "");
+                    self.set_fate(pg.goal, Fate::Achieved, None);
                     self.trace(TraceEvent::GoalAchieved { goal: name });
                 }
             }
@@ -128,7 +128,7 @@ impl Executive {
             self.mark_changed();
         }
         for a in postponed {
-            if !self.plan.stn.is_executed(self.plan.action(a).start) {
+            if !self.plan.is_executed(self.plan.action(a).start) {
                 let action = self.action_text(a);
                 self.trace(TraceEvent::Postponed { action });
             }
@@ -141,21 +141,22 @@ impl Executive {
         Candidate {
             tp,
             kind,
-            lb: self.plan.stn.lb(tp),
-            ub: self.plan.stn.ub(tp),
+            lb: self.plan.earliest(tp),
+            ub: self.plan.latest(tp),
         }
     }
 
     /// `START a p_a i_a`, and the start timepoint executed at `now`.
     fn launch(&mut self, vehicle: &mut dyn Vehicle, a: ActionId, now: Time) -> bool {
         let st = self.plan.action(a).start;
-        if !timepoint_executable(&self.plan.stn, st, now) {
+        if !timepoint_executable(self.plan.temporal_network(), st, now) {
             return false;
         }
         if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
             self.action_failed(a, &format!("cannot be instantiated ({e})"), now);
-            let text = format!("cannot start {}: {e}", self.action_text(a));
-            self.abort.get_or_insert(text);
+            let action = self.action_text(a);
+            self.abort
+                .get_or_insert(AbortReason::CannotInstantiate { action, error: e });
             return false;
         }
         if let Some(reason) = self.launch_banned(a) {
@@ -168,19 +169,24 @@ impl Executive {
         let action = self.action_text(a);
         if let Err(e) = vehicle.start(cmd) {
             self.action_failed(a, &format!("refused by the vehicle ({e})"), now);
-            self.abort
-                .get_or_insert_with(|| format!("cannot start {action}: {e}"));
+            self.abort.get_or_insert_with(|| AbortReason::StartRefused {
+                action,
+                error: e.to_string(),
+            });
             return false;
         }
-        if let Err(e) = self.plan.stn.execute(st, now) {
-            self.abort = Some(format!("start of {action}: {e}"));
+        if let Err(e) = self.plan.execute_at(st, now) {
+            self.abort = Some(AbortReason::StartInconsistent {
+                action,
+                error: e.to_string(),
+            });
             return false;
         }
         self.started.insert(a, vid);
         self.by_vid.insert(vid, a);
         self.counters.launches += 1;
         let end = self.plan.action(a).end;
-        let (lb, ub) = (self.plan.stn.lb(end), self.plan.stn.ub(end));
+        let (lb, ub) = (self.plan.earliest(end), self.plan.latest(end));
         let planned_end_ms = Some((lb, (ub < crate::stn::INF).then_some(ub)));
         self.trace(TraceEvent::Launch {
             action,
@@ -200,12 +206,12 @@ impl Executive {
             .iter()
             .filter(|e| matches!(e.owner, Owner::Exogenous(_)))
             .map(|e| e.at)
-            .filter(|&tp| !self.plan.stn.is_executed(tp))
+            .filter(|&tp| !self.plan.is_executed(tp))
             .collect();
         for tp in tps {
-            let at = self.plan.stn.lb(tp);
+            let at = self.plan.earliest(tp);
             if at <= now {
-                if let Err(e) = self.plan.stn.execute(tp, at) {
+                if let Err(e) = self.plan.execute_at(tp, at) {
                     tracing::warn!("timed fact at {at} ms: {e}");
                 }
             } else if next.is_none_or(|n| at < n) {
@@ -234,7 +240,7 @@ impl Executive {
     /// A timepoint whose upper bound passed unexecuted (a report that did not come, an action or goal that
     /// could not start in time): the plan is not executable any more.
     fn detect_timeouts(&mut self, now: Time) {
-        let stn = &self.plan.stn;
+        let stn = self.plan.temporal_network();
         let mut late: Option<String> = None;
         let mut no_report: Vec<ActionId> = Vec::new();
         for a in self.plan.live_actions() {
@@ -253,7 +259,7 @@ impl Executive {
         for a in no_report {
             self.action_failed(a, "sent no report by its latest end", now);
         }
-        let stn = &self.plan.stn;
+        let stn = self.plan.temporal_network();
         for pg in self.plan.goals.iter().filter(|g| g.active) {
             if !stn.is_executed(pg.st) && stn.ub(pg.st) < now {
                 late = Some(format!(
@@ -266,7 +272,7 @@ impl Executive {
             self.trace(TraceEvent::Timeout {
                 timepoint: timepoint.clone(),
             });
-            self.abort = Some(format!("timeout on {timepoint}"));
+            self.abort = Some(AbortReason::Timeout { timepoint });
         }
     }
 }

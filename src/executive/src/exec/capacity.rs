@@ -9,11 +9,22 @@ use crate::model::{ResourceId, ResourceKind, Time};
 use crate::plan::{ActionId, PartialPlan};
 
 /// What the executive does next.
-#[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize)]
+#[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum CapacityOutcome {
     Abort,
     Repair,
     Nothing,
+}
+
+impl std::fmt::Display for CapacityOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            CapacityOutcome::Abort => "abort",
+            CapacityOutcome::Repair => "repair",
+            CapacityOutcome::Nothing => "nothing",
+        })
+    }
 }
 
 /// Sets r's capacity to `capacity` from time t on.
@@ -33,8 +44,7 @@ pub fn alter(
     setup.profile.push((t, capacity));
     // The aggregated level cannot exceed the new capacity (the lost part is gone).
     setup.level = setup.level.min(capacity);
-    plan.set_problem(Arc::new(problem));
-    plan.recompute_candidates();
+    plan.set_resource_problem(Arc::new(problem));
     let flawed = flawed_actions(plan);
     if !plan_executable(running, &flawed) {
         CapacityOutcome::Abort

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::executive::{Executive, Fate};
 use super::failures::PlanChangeKind;
+use super::outcome::AbortReason;
 use super::repair::RepairOutcome;
 use super::trace::{CycleRecord, TraceEvent};
 use crate::model::Time;
@@ -18,7 +19,7 @@ pub enum CycleOutcome {
     /// repair is in progress (wake up at the next cycle).
     Continue { next: Option<Time>, repairing: bool },
     /// The plan is not executable any more: call [`Executive::replan`].
-    Aborted(String),
+    Aborted(AbortReason),
     /// No action left and every goal settled.
     Finished,
 }
@@ -62,7 +63,7 @@ impl Executive {
             let running: Vec<_> = self.started.keys().copied().collect();
             for a in running {
                 let act = self.plan.action(a);
-                if !act.removed && !self.plan.stn.is_executed(act.end) {
+                if !act.removed && !self.plan.is_executed(act.end) {
                     self.stop(vehicle, a);
                 }
             }

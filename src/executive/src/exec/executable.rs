@@ -56,13 +56,13 @@ pub fn goal_achievable(plan: &PartialPlan, g: GoalId, t: Time) -> bool {
         pg.goal == g
             && pg.active
             && plan.cond(pg.cond).link.is_some()
-            && timepoint_executable(&plan.stn, pg.st, t)
+            && timepoint_executable(plan.temporal_network(), pg.st, t)
     })
 }
 
 /// Definition 4: a future action whose start timepoint is executable and which is not in A_t^f.
 pub fn action_executable(plan: &PartialPlan, a: ActionId, t: Time, flawed: &[ActionId]) -> bool {
-    !flawed.contains(&a) && timepoint_executable(&plan.stn, plan.action(a).start, t)
+    !flawed.contains(&a) && timepoint_executable(plan.temporal_network(), plan.action(a).start, t)
 }
 
 /// Definition 5: the networks are consistent (the plan refuses inconsistent changes, so they always are)

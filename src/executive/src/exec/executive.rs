@@ -11,6 +11,7 @@ use super::config::ExecConfig;
 use super::dispatch_policy::PlanDispatch;
 use super::failures::FailureMemory;
 use super::goal_insertion::Insertion;
+use super::outcome::{AbortReason, FateReason};
 use super::p_t::State;
 use super::repair::Repair;
 use super::trace::{CycleRecord, TraceEvent};
@@ -28,12 +29,22 @@ pub enum Fate {
     Pending,
 }
 
-/// A goal's fate and why.
+/// A goal's fate and why (the report writes the reason's text, empty without one).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GoalFate {
     pub name: String,
     pub fate: Fate,
-    pub reason: String,
+    #[serde(serialize_with = "super::outcome::reason_text")]
+    pub reason: Option<FateReason>,
+}
+
+impl GoalFate {
+    /// The reason's text, empty without one.
+    pub fn reason_text(&self) -> String {
+        self.reason
+            .as_ref()
+            .map_or(String::new(), |r| r.to_string())
+    }
 }
 
 /// Counters for the summary.
@@ -49,62 +60,62 @@ pub struct Counters {
 
 pub struct Executive {
     /// *ExecutingPlan*.
-    pub plan: PartialPlan,
-    pub cfg: ExecConfig,
-    pub policy: PlanDispatch,
-    pub hierarchy: Hierarchy,
+    pub(crate) plan: PartialPlan,
+    pub(crate) cfg: ExecConfig,
+    pub(crate) policy: PlanDispatch,
+    pub(crate) hierarchy: Hierarchy,
     /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
-    pub past: Vec<(f64, f64)>,
+    pub(crate) past: Vec<(f64, f64)>,
     /// LgcS_t.
-    pub state: State,
+    pub(crate) state: State,
     /// Started actions and their `i_a`.
-    pub started: BTreeMap<ActionId, u64>,
-    pub by_vid: BTreeMap<u64, ActionId>,
+    pub(crate) started: BTreeMap<ActionId, u64>,
+    pub(crate) by_vid: BTreeMap<u64, ActionId>,
     /// Preemptive actions an `END i_a` was sent to.
-    pub stop_sent: Vec<ActionId>,
+    pub(crate) stop_sent: Vec<ActionId>,
     /// The vehicle time (ms) of the plan's origin: report times are converted with it.
-    pub vehicle_origin_ms: u64,
+    pub(crate) vehicle_origin_ms: u64,
     /// Interruptions requested by message integration (sent in the act part).
-    pub interrupt: Vec<ActionId>,
-    pub next_vid: u64,
-    pub repair: Option<Repair>,
+    pub(crate) interrupt: Vec<ActionId>,
+    pub(crate) next_vid: u64,
+    pub(crate) repair: Option<Repair>,
     /// Plan repair requested by message integration.
-    pub repair_requested: bool,
+    pub(crate) repair_requested: bool,
     /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
-    pub abort: Option<String>,
-    pub fates: BTreeMap<GoalId, GoalFate>,
-    pub cycles: Vec<CycleRecord>,
-    pub counters: Counters,
+    pub(crate) abort: Option<AbortReason>,
+    pub(crate) fates: BTreeMap<GoalId, GoalFate>,
+    pub(crate) cycles: Vec<CycleRecord>,
+    pub(crate) counters: Counters,
     /// Events of the current cycle.
-    pub pending_trace: Vec<TraceEvent>,
+    pub(crate) pending_trace: Vec<TraceEvent>,
     /// Something changed since the repair tree was last developed (message or timepoint executed): the
     /// repair search restarts (§3.2).
-    pub changed: bool,
+    pub(crate) changed: bool,
     /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
     /// resolution).
-    pub level_tolerance: f64,
+    pub(crate) level_tolerance: f64,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
-    pub failures: FailureMemory,
+    pub(crate) failures: FailureMemory,
     /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
-    pub repair_episode_steps: u64,
+    pub(crate) repair_episode_steps: u64,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
-    pub mapping: crate::vehicle::mapping::DomainMapping,
+    pub(crate) mapping: crate::vehicle::mapping::DomainMapping,
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
-    pub insertions: VecDeque<Insertion>,
+    pub(crate) insertions: VecDeque<Insertion>,
     /// Uploads not answered yet, or with goals still being inserted, by number.
-    pub goal_batches: BTreeMap<u64, GoalBatch>,
-    pub next_batch: u64,
+    pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
+    pub(crate) next_batch: u64,
     /// Requested goals that never entered the plan (mapping, acceptance test or insertion failed), in the
     /// order they were refused.
-    pub refused: Vec<GoalFate>,
+    pub(crate) refused: Vec<GoalFate>,
     /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
-    pub replannings: Vec<super::replan::ReplanRecord>,
+    pub(crate) replannings: Vec<super::replan::ReplanRecord>,
     /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
-    pub insertion_stale: bool,
+    pub(crate) insertion_stale: bool,
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
     /// `resources[].reported`.
-    pub last_reported: Vec<Option<(Time, f64)>>,
+    pub(crate) last_reported: Vec<Option<(Time, f64)>>,
 }
 
 impl Executive {
@@ -124,7 +135,7 @@ impl Executive {
                     GoalFate {
                         name: g.name.clone(),
                         fate: Fate::Pending,
-                        reason: String::new(),
+                        reason: None,
                     },
                 );
             }
@@ -261,7 +272,7 @@ impl Executive {
         let inserting = self.insertions.iter().map(|i| GoalFate {
             name: i.goal.name.clone(),
             fate: Fate::Pending,
-            reason: "insertion into the plan in progress".into(),
+            reason: Some(FateReason::Inserting),
         });
         self.fates
             .values()
@@ -278,11 +289,133 @@ impl Executive {
         self.insertion_stale = true;
     }
 
-    pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: &str) {
+    pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: Option<FateReason>) {
         if let Some(f) = self.fates.get_mut(&g) {
             f.fate = fate;
-            f.reason = reason.to_string();
+            f.reason = reason;
         }
+    }
+
+    /// *ExecutingPlan*.
+    pub fn plan(&self) -> &PartialPlan {
+        &self.plan
+    }
+
+    pub fn config(&self) -> &ExecConfig {
+        &self.cfg
+    }
+
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// The cycles run so far, with their events.
+    pub fn cycles(&self) -> &[CycleRecord] {
+        &self.cycles
+    }
+
+    /// The events traced since the last cycle record.
+    pub fn pending_events(&self) -> &[TraceEvent] {
+        &self.pending_trace
+    }
+
+    /// Why execution is aborted, when it is (the caller then replans).
+    pub fn abort(&self) -> Option<&AbortReason> {
+        self.abort.as_ref()
+    }
+
+    /// The fates of the goals in the plan, by goal (see [`Self::goal_fates`] for every goal requested).
+    pub fn fates(&self) -> &BTreeMap<GoalId, GoalFate> {
+        &self.fates
+    }
+
+    /// The complete replannings of this mission.
+    pub fn replannings(&self) -> &[super::replan::ReplanRecord] {
+        &self.replannings
+    }
+
+    /// LgcS_t: the last known values.
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The aggregated level `[lev_lb, lev_ub]` of each resource due to the actions that left the plan.
+    pub fn past_levels(&self) -> &[(f64, f64)] {
+        &self.past
+    }
+
+    /// Whether action `a` was started (`START` sent) and is still remembered as such.
+    pub fn has_started(&self, a: ActionId) -> bool {
+        self.started.contains_key(&a)
+    }
+
+    /// The names of the new goals waiting for, or in, their insertion attempt, in the order they are tried.
+    pub fn insertion_queue(&self) -> Vec<&str> {
+        self.insertions
+            .iter()
+            .map(|i| i.goal.name.as_str())
+            .collect()
+    }
+
+    /// Whether an upload is still waiting for a goal's verdict.
+    pub fn has_unanswered_uploads(&self) -> bool {
+        !self.goal_batches.is_empty()
+    }
+
+    /// Reported levels within `tolerance` of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's resolution).
+    pub fn with_level_tolerance(mut self, tolerance: f64) -> Self {
+        self.level_tolerance = tolerance;
+        self
+    }
+
+    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
+    pub fn set_vehicle_origin(&mut self, ms: u64) {
+        self.vehicle_origin_ms = ms;
+    }
+
+    /// Aborts execution from outside the cycle (the next [`Self::replan`] says why).
+    pub fn abort_with(&mut self, reason: AbortReason) {
+        self.abort = Some(reason);
+    }
+
+    /// A value known from outside the messages (e.g. a state restored at start) enters LgcS_t at `t`.
+    pub fn set_state_value(
+        &mut self,
+        key: super::p_t::AttrInstance,
+        t: Time,
+        value: crate::model::Value,
+    ) {
+        self.state.set(key, t, value);
+    }
+
+    /// The aggregated past level of resource `r` is `[lb, ub]` (e.g. a level measured before the start).
+    pub fn set_past_level(&mut self, r: ResourceId, level: (f64, f64)) {
+        if let Some(p) = self.past.get_mut(r.index()) {
+            *p = level;
+        }
+    }
+
+    /// Seed 1 §3.3 "Goal request" straight into *ExecutingPlan* (no insertion attempt beside it): the
+    /// acceptance test at `now`, then the goal is an open condition left to plan repair.
+    pub fn request_goal(
+        &mut self,
+        goal: crate::model::Goal,
+        now: Time,
+    ) -> Result<GoalId, super::goal_request::Rejection> {
+        let name = goal.name.clone();
+        let running = super::p_t::classify(&self.plan, now).running;
+        let g = super::goal_request::request(&mut self.plan, goal, now, &running)?;
+        self.fates.insert(
+            g,
+            GoalFate {
+                name,
+                fate: Fate::Pending,
+                reason: None,
+            },
+        );
+        self.repair_requested = true;
+        self.mark_changed();
+        Ok(g)
     }
 
     /// The current time floor for new timepoints (§3.4: after the end of the current cycle).

@@ -245,7 +245,7 @@ pub fn dependent_goals(plan: &PartialPlan, a: ActionId) -> Vec<GoalId> {
                     UsageKind::Produce { .. } => continue,
                 };
                 // Necessarily before the production: it cannot have needed it.
-                if plan.stn.ub(when) < plan.stn.lb(at) {
+                if plan.latest(when) < plan.earliest(at) {
                     continue;
                 }
                 next.push(other.action);

@@ -17,9 +17,10 @@
 
 use super::executive::{Executive, Fate, GoalFate};
 use super::goal_request::request;
+use super::outcome::FateReason;
 use super::p_t::classify;
 use super::repair::RepairOutcome;
-use super::trace::TraceEvent;
+use super::trace::{RepairWork, TraceEvent};
 use crate::model::{Goal, GoalId, Time};
 use crate::plan::TimeFloor;
 use crate::planner::{FailReason, Search, StepOutcome};
@@ -71,9 +72,10 @@ impl Executive {
                         id: None,
                     });
                 }
-                Err(reason) => {
-                    self.refuse(&g.name, &reason);
-                    batch.decide(i, GoalVerdict::Rejected(reason));
+                Err(e) => {
+                    let reason = FateReason::Unmapped(e);
+                    batch.decide(i, GoalVerdict::Rejected(reason.to_string()));
+                    self.refuse(&g.name, reason);
                 }
             }
         }
@@ -106,7 +108,7 @@ impl Executive {
             return RepairOutcome::Idle;
         }
         if let Err(reason) = self.root_insertion(now) {
-            self.reject_insertion(&reason);
+            self.reject_insertion(reason);
             return self.next_insertion();
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
@@ -131,9 +133,7 @@ impl Executive {
         ins.cycles += 1;
         let (total, cycles) = (ins.steps, ins.cycles);
         // What the search last ran into: the reason a rejection gives beside the budget.
-        let why = search
-            .last_rejection()
-            .map_or(String::new(), |r| format!("; the last dead end: {r}"));
+        let dead_end = search.last_rejection().map(str::to_string);
         self.counters.repair_steps += steps;
         self.counters.insertion_steps += steps;
         match outcome {
@@ -142,16 +142,18 @@ impl Executive {
                 RepairOutcome::Solved
             }
             Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
-                self.reject_insertion(&format!(
-                    "plan repair found no plan with it ({r}{why}); the plan is kept as it was"
-                ));
+                self.reject_insertion(FateReason::InsertionFailed {
+                    failure: r.to_string(),
+                    dead_end,
+                });
                 self.next_insertion()
             }
             _ if cycles >= self.cfg.goal_insertion_cycles => {
-                self.reject_insertion(&format!(
-                    "plan repair did not insert it within {cycles} cycles ({total} steps{why}); the plan \
-                     is kept as it was"
-                ));
+                self.reject_insertion(FateReason::InsertionTimedOut {
+                    cycles,
+                    steps: total,
+                    dead_end,
+                });
                 self.next_insertion()
             }
             _ => {
@@ -163,7 +165,7 @@ impl Executive {
                 }
                 self.trace(TraceEvent::RepairStep {
                     steps,
-                    outcome: "inserting a new goal".into(),
+                    outcome: RepairWork::Inserting,
                 });
                 RepairOutcome::InProgress
             }
@@ -180,7 +182,7 @@ impl Executive {
     }
 
     /// (Re)roots the attempt in progress at *ExecutingPlan*: the acceptance test of §3.3 on a copy of it.
-    fn root_insertion(&mut self, now: Time) -> Result<(), String> {
+    fn root_insertion(&mut self, now: Time) -> Result<(), FateReason> {
         let stale = std::mem::take(&mut self.insertion_stale);
         let needs_root = self
             .insertions
@@ -189,12 +191,18 @@ impl Executive {
         if !needs_root {
             return Ok(());
         }
-        let mut root = self.repair_root(now)?;
+        let mut root = self
+            .repair_root(now)
+            .map_err(|e| FateReason::NotExecutable {
+                now_ms: e.now_ms,
+                error: e.source.to_string(),
+            })?;
         let running = classify(&self.plan, now).running;
         let Some(ins) = self.insertions.front_mut() else {
             return Ok(());
         };
-        let id = request(&mut root, ins.goal.clone(), now, &running).map_err(|e| e.to_string())?;
+        let id =
+            request(&mut root, ins.goal.clone(), now, &running).map_err(FateReason::Acceptance)?;
         ins.id = Some(id);
         // The first cycle searches as plan repair does (chronological depth-first: local, usually quick);
         // later ones with limited discrepancy search, so that one early wrong choice (e.g. where a download
@@ -225,7 +233,7 @@ impl Executive {
             GoalFate {
                 name: ins.goal.name.clone(),
                 fate: Fate::Pending,
-                reason: String::new(),
+                reason: None,
             },
         );
         self.trace(TraceEvent::RepairDone { steps: ins.steps });
@@ -236,26 +244,26 @@ impl Executive {
     }
 
     /// The attempt in progress failed: the goal is rejected, *ExecutingPlan* was never touched.
-    fn reject_insertion(&mut self, reason: &str) {
+    fn reject_insertion(&mut self, reason: FateReason) {
         let Some(ins) = self.insertions.pop_front() else {
             return;
         };
         self.insertion_stale = true;
         tracing::info!(goal = %ins.goal.name, steps = ins.steps, "new goal rejected: {reason}");
-        self.refuse(&ins.goal.name, reason);
         self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.to_string()));
+        self.refuse(&ins.goal.name, reason);
     }
 
     /// A requested goal that does not enter the plan: its fate and the trace say why.
-    fn refuse(&mut self, name: &str, reason: &str) {
+    fn refuse(&mut self, name: &str, reason: FateReason) {
         self.trace(TraceEvent::GoalRejected {
             goal: name.to_string(),
-            reason: reason.to_string(),
+            reason: reason.clone(),
         });
         self.refused.push(GoalFate {
             name: name.to_string(),
             fate: Fate::Rejected,
-            reason: reason.to_string(),
+            reason: Some(reason),
         });
     }
 

@@ -7,19 +7,19 @@ use std::sync::Arc;
 
 use crate::model::{Goal, GoalId, Time};
 use crate::plan::{ActionId, CondKind, PartialPlan, PlanError};
-use crate::stn::INF;
 
 /// Why a goal was rejected.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "test", rename_all = "snake_case")]
 pub enum Rejection {
-    #[error("duration or start window inconsistent with the plan: {0}")]
-    Window(String),
+    #[error("duration or start window inconsistent with the plan: {error}")]
+    Window { error: String },
     #[error(
         "cannot start at least d_achiev = {achiev_ms} ms after now ({now_ms} ms) within its window"
     )]
     TooLate { now_ms: Time, achiev_ms: Time },
-    #[error("conflicts with a running action: {0}")]
-    Running(String),
+    #[error("conflicts with a running action: {error}")]
+    Running { error: String },
 }
 
 /// Adds `goal` to the plan if the acceptance test passes; on rejection the plan is left as it was.
@@ -37,19 +37,18 @@ pub fn request(
     problem.goals.push(goal);
     plan.set_problem(Arc::new(problem));
     let result = (|| {
-        let cond = plan
-            .add_goal(g)
-            .map_err(|e| Rejection::Window(e.to_string()))?;
+        let cond = plan.add_goal(g).map_err(|e| Rejection::Window {
+            error: e.to_string(),
+        })?;
         let st = plan.cond(cond).from;
-        let origin = plan.stn.origin();
-        plan.stn
-            .add_constraint(origin, st, t.saturating_add(achiev), INF)
+        plan.not_before(st, t.saturating_add(achiev))
             .map_err(|_| Rejection::TooLate {
                 now_ms: t,
                 achiev_ms: achiev,
             })?;
-        order_after_threatened(plan, cond, running)
-            .map_err(|e| Rejection::Running(e.to_string()))?;
+        order_after_threatened(plan, cond, running).map_err(|e| Rejection::Running {
+            error: e.to_string(),
+        })?;
         Ok(g)
     })();
     if result.is_err() {
@@ -81,7 +80,7 @@ fn order_after_threatened(
                 && !plan.bindings.necessarily_equal(h.value, c.value)
         });
         if threatens {
-            plan.stn.add_precedence(end, c.from)?;
+            plan.order(end, c.from)?;
         }
     }
     Ok(())

@@ -5,8 +5,20 @@
 
 use crate::plan::{ActionId, PartialPlan, STerm};
 
+/// Why an action's argument could not be bound at its start.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InstantiateError {
+    /// No value of the argument's domain is consistent with the plan.
+    #[error("no value of {var} fits")]
+    NoValue { var: String },
+    /// The value chosen earlier was consistent but binding it failed.
+    #[error("binding {var} failed")]
+    BindingFailed { var: String },
+}
+
 /// Binds the unbound arguments of `a`; `Err` names the argument no value fits.
-pub fn instantiate_at_start(plan: &mut PartialPlan, a: ActionId) -> Result<(), String> {
+pub fn instantiate_at_start(plan: &mut PartialPlan, a: ActionId) -> Result<(), InstantiateError> {
     let vars = plan.action(a).vars.clone();
     for v in vars {
         if plan.bindings.value(STerm::Var(v)).is_some() {
@@ -34,15 +46,16 @@ pub fn instantiate_at_start(plan: &mut PartialPlan, a: ActionId) -> Result<(), S
         }
         // No value keeps the plan flawless: the first consistent one, plan repair handles the new flaws.
         let Some(o) = fallback else {
-            return Err(format!(
-                "no value of {} fits",
-                plan.term_name(STerm::Var(v))
-            ));
+            return Err(InstantiateError::NoValue {
+                var: plan.term_name(STerm::Var(v)),
+            });
         };
         let ok = plan.bindings.restrict_var(v, &[o]).is_ok()
             && plan.propagate_changed_bindings().is_ok();
         if !ok {
-            return Err(format!("binding {} failed", plan.term_name(STerm::Var(v))));
+            return Err(InstantiateError::BindingFailed {
+                var: plan.term_name(STerm::Var(v)),
+            });
         }
     }
     Ok(())

@@ -11,6 +11,7 @@ use serde::Serialize;
 use super::cycle::CycleOutcome;
 use super::executive::{Counters, Executive, Fate, GoalFate};
 use super::interrupt::{signal_name, Interrupt};
+use super::outcome::FateReason;
 use super::p_t::classify;
 use super::replan::{ReplanRecord, ReplanResult};
 use super::resource_bounds::level_bounds;
@@ -19,7 +20,7 @@ use crate::model::{ResourceId, Time};
 use crate::vehicle::goals::GoalBatch;
 use crate::vehicle::safe_stop::SafeStopReport;
 use crate::vehicle::{
-    ActionId as Vid, ActionStart, GoalRequest, Vehicle, VehicleError, VehicleEvent,
+    ActionId as Vid, ActionStart, GoalRequest, ReportStatus, Vehicle, VehicleError, VehicleEvent,
 };
 
 /// How mission time passes: the executive's clock and its sleep between cycles.
@@ -188,8 +189,8 @@ impl MissionReport {
                         if let Some(i) = planned_stop {
                             stopped_by_plan.swap_remove(i);
                         }
-                        if status == "nominal"
-                            || (status == "interrupted" && planned_stop.is_some())
+                        if *status == ReportStatus::Nominal
+                            || (*status == ReportStatus::Interrupted && planned_stop.is_some())
                         {
                             run.remove(action.as_str());
                         }
@@ -378,7 +379,7 @@ fn collect_stop_reports<V: Vehicle>(
     let outstanding = |ex: &Executive| {
         ex.stop_sent
             .iter()
-            .any(|a| ex.started.contains_key(a) && !ex.plan.stn.is_executed(ex.plan.action(*a).end))
+            .any(|a| ex.started.contains_key(a) && !ex.plan.is_executed(ex.plan.action(*a).end))
     };
     let mut held = std::mem::take(&mut v.held);
     loop {
@@ -472,17 +473,19 @@ impl Log {
         let mut goals = ex.goal_fates();
         if end == MissionEnd::CycleLimit {
             for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
-                g.reason = "mission cycle limit reached".into();
+                g.reason = Some(FateReason::CycleLimit);
             }
         }
         if end == MissionEnd::TimeLimit {
             for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
-                g.reason = "mission time limit reached".into();
+                g.reason = Some(FateReason::TimeLimit);
             }
         }
         if let MissionEnd::Interrupted(signal) = &end {
             for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
-                g.reason = format!("mission interrupted ({signal})");
+                g.reason = Some(FateReason::Interrupted {
+                    signal: signal.to_string(),
+                });
             }
         }
         MissionReport {

@@ -43,6 +43,7 @@ pub mod goal_request;
 pub mod instantiate;
 pub mod interrupt;
 pub mod mission;
+pub mod outcome;
 pub mod p_t;
 pub mod pacer;
 pub mod repair;

@@ -21,7 +21,7 @@ pub enum Phase {
 /// Definition 1's membership tests on the action's timepoint bounds.
 pub fn phase(plan: &PartialPlan, a: ActionId, t: Time) -> Phase {
     let act = plan.action(a);
-    let (st_ub, et_ub) = (plan.stn.ub(act.start), plan.stn.ub(act.end));
+    let (st_ub, et_ub) = (plan.latest(act.start), plan.latest(act.end));
     if st_ub >= t {
         Phase::Future
     } else if et_ub > t {
@@ -60,9 +60,7 @@ pub fn remove_past(plan: &mut PartialPlan, t: Time) -> Vec<ActionId> {
         .live_actions()
         .filter(|&a| {
             let act = plan.action(a);
-            plan.stn.is_executed(act.start)
-                && plan.stn.is_executed(act.end)
-                && plan.stn.ub(act.end) <= t
+            plan.is_executed(act.start) && plan.is_executed(act.end) && plan.latest(act.end) <= t
         })
         .collect();
     for &a in &past {
@@ -87,7 +85,7 @@ impl State {
     /// executed timepoints), keeping reported values that are more recent.
     pub fn refresh(&mut self, plan: &PartialPlan, t: Time) {
         for e in &plan.events {
-            let Some(at) = plan.stn.executed_at(e.at) else {
+            let Some(at) = plan.executed_at(e.at) else {
                 continue;
             };
             if at > t {
@@ -128,7 +126,7 @@ impl State {
 pub fn goals(plan: &PartialPlan, t: Time) -> Vec<GoalId> {
     plan.goals
         .iter()
-        .filter(|g| g.active && plan.stn.ub(g.et) >= t)
+        .filter(|g| g.active && plan.latest(g.et) >= t)
         .map(|g| g.goal)
         .collect()
 }

@@ -10,8 +10,9 @@
 //! otherwise a new tree is rooted at the new *ExecutingPlan*.
 
 use super::executive::Executive;
+use super::outcome::AbortReason;
 use super::p_t::classify;
-use super::trace::TraceEvent;
+use super::trace::{RepairWork, TraceEvent};
 use crate::model::Time;
 use crate::plan::{PartialPlan, TimeFloor};
 use crate::planner::{FailReason, Search, StepOutcome};
@@ -33,13 +34,29 @@ pub enum RepairOutcome {
     /// The budget ran out; the last labelled node is *ExecutingPlan*.
     InProgress,
     /// Dead end: execution is aborted.
-    Failed(String),
+    Failed(AbortReason),
+}
+
+/// The repair tree cannot be rooted: timepoints not executed yet cannot all be after now.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("plan not executable at {now_ms} ms: {source}")]
+pub struct NotExecutable {
+    pub now_ms: Time,
+    pub source: crate::stn::Inconsistent,
+}
+
+impl From<NotExecutable> for AbortReason {
+    fn from(e: NotExecutable) -> Self {
+        AbortReason::NotExecutable {
+            now_ms: e.now_ms,
+            error: e.source.to_string(),
+        }
+    }
 }
 
 /// Timepoints not executed yet cannot happen before `now`: the search must not move them into the past
 /// (e.g. a goal supported again by an effect that was executed before now).
 fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Inconsistent> {
-    let origin = plan.stn.origin();
     let mut tps: Vec<_> = plan
         .live_actions()
         .flat_map(|a| plan.action(a).tps.clone())
@@ -51,8 +68,8 @@ fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Incon
             .flat_map(|g| [g.st, g.et]),
     );
     for tp in tps {
-        if !plan.stn.is_executed(tp) && plan.stn.lb(tp) < now {
-            plan.stn.add_constraint(origin, tp, now, crate::stn::INF)?;
+        if !plan.is_executed(tp) && plan.earliest(tp) < now {
+            plan.not_before(tp, now)?;
         }
     }
     Ok(())
@@ -61,10 +78,12 @@ fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Incon
 impl Executive {
     /// The root of a repair tree: *ExecutingPlan* with its timepoints not executed yet no earlier than
     /// `now + 1`, and new timepoints after the end of this cycle (§3.4).
-    pub fn repair_root(&self, now: Time) -> Result<PartialPlan, String> {
+    pub fn repair_root(&self, now: Time) -> Result<PartialPlan, NotExecutable> {
         let mut root = self.plan.clone();
-        not_before(&mut root, now + 1)
-            .map_err(|e| format!("plan not executable at {now} ms: {e}"))?;
+        not_before(&mut root, now + 1).map_err(|source| NotExecutable {
+            now_ms: now,
+            source,
+        })?;
         root.set_time_floor(TimeFloor::At(self.cycle_end(now)));
         Ok(root)
     }
@@ -100,7 +119,8 @@ impl Executive {
         if self.repair.is_none() || changed {
             let root = match self.repair_root(now) {
                 Ok(r) => r,
-                Err(reason) => {
+                Err(e) => {
+                    let reason = AbortReason::from(e);
                     self.abort = Some(reason.clone());
                     return RepairOutcome::Failed(reason);
                 }
@@ -145,10 +165,9 @@ impl Executive {
         if finished {
             self.repair_episode_steps = 0;
         } else if self.repair_episode_steps > self.cfg.repair_episode_max_steps {
-            let reason = format!(
-                "plan repair did not converge within {} steps",
-                self.repair_episode_steps
-            );
+            let reason = AbortReason::RepairDiverged {
+                steps: self.repair_episode_steps,
+            };
             self.repair = None;
             self.repair_episode_steps = 0;
             self.abort = Some(reason.clone());
@@ -177,9 +196,9 @@ impl Executive {
                     plan.flaws().iter().map(|f| plan.flaw_text(f)).collect()
                 };
                 tracing::debug!(?flaws, "plan repair failed on the executing plan's flaws");
-                let reason = match dead_end {
-                    Some(d) => format!("plan repair failed: {r}; the last dead end: {d}"),
-                    None => format!("plan repair failed: {r}"),
+                let reason = AbortReason::RepairFailed {
+                    failure: r.to_string(),
+                    dead_end,
                 };
                 self.abort = Some(reason.clone());
                 RepairOutcome::Failed(reason)
@@ -190,7 +209,7 @@ impl Executive {
                 }
                 self.trace(TraceEvent::RepairStep {
                     steps,
-                    outcome: "in progress".into(),
+                    outcome: RepairWork::Repairing,
                 });
                 RepairOutcome::InProgress
             }

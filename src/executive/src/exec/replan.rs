@@ -17,15 +17,16 @@
 
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::executive::{Executive, Fate};
+use super::outcome::{AbortReason, FateReason};
 use super::trace::TraceEvent;
 use crate::model::{Fact, GoalId, Problem, Time};
 use crate::plan::{PartialPlan, PlanError, TimeFloor};
 use crate::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
 use crate::planner::{Search, StepOutcome};
-use crate::stn::{Timepoint, INF};
+use crate::stn::Timepoint;
 
 /// P_ti and its T_end.
 pub struct Extracted {
@@ -63,9 +64,7 @@ pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
 pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracted, PlanError> {
     let problem = Arc::new(extract_problem(ex, now));
     let mut plan = PartialPlan::new(ex.plan.domain.clone(), problem.clone())?;
-    let origin = plan.stn.origin();
-    let t_end = plan.stn.add_timepoint();
-    plan.stn.add_constraint(origin, t_end, now, plan.horizon)?;
+    let t_end = plan.add_planning_end(now)?;
     let mut incoherent = Vec::new();
     for pg in plan.goals.clone() {
         let g = &problem.goals[pg.goal.index()];
@@ -80,9 +79,8 @@ pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracte
         // Coherent with the current time: st^g can still be at or after now + d_achiev.
         let level = plan.save();
         let ok = plan
-            .stn
-            .add_constraint(origin, pg.st, now.saturating_add(g.achieve), INF)
-            .and_then(|_| plan.stn.add_precedence(t_end, pg.st).map(|_| ()));
+            .not_before(pg.st, now.saturating_add(g.achieve))
+            .and_then(|_| plan.order(t_end, pg.st));
         if ok.is_err() {
             plan.restore(level);
             plan.remove_goal(pg.goal);
@@ -107,7 +105,7 @@ pub fn goal_to_reject(plan: &PartialPlan) -> Option<GoalId> {
             let goal = &plan.problem.goals[g.goal.index()];
             (
                 goal.priority,
-                plan.stn.ub(g.st) - goal.achieve,
+                plan.latest(g.st) - goal.achieve,
                 std::cmp::Reverse(g.goal),
             )
         })
@@ -128,7 +126,7 @@ pub fn attempt_cap(first: u64, attempt: usize) -> u64 {
 }
 
 /// How a replanning attempt's search ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum AttemptEnd {
     /// A flawless plan.
@@ -153,7 +151,7 @@ impl std::fmt::Display for AttemptEnd {
 }
 
 /// How a complete replanning ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ReplanOutcome {
     /// A new plan was adopted.
@@ -175,7 +173,7 @@ impl std::fmt::Display for ReplanOutcome {
 }
 
 /// One attempt of a complete replanning.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AttemptRecord {
     pub attempt: u32,
     /// The goals it planned for.
@@ -183,7 +181,7 @@ pub struct AttemptRecord {
     pub steps: u64,
     pub end: AttemptEnd,
     /// Why a plan it found was not adopted (it needs a banned action; found after T_end).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub not_adopted: Option<String>,
 }
 
@@ -191,7 +189,8 @@ pub struct AttemptRecord {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Rejection {
     pub goal: String,
-    pub reason: String,
+    #[serde(serialize_with = "super::outcome::text")]
+    pub reason: FateReason,
 }
 
 /// One complete replanning, as the `--report` JSON keeps it.
@@ -201,7 +200,8 @@ pub struct ReplanRecord {
     pub time_ms: Time,
     pub end_ms: Time,
     /// What aborted execution.
-    pub abort: String,
+    #[serde(serialize_with = "super::outcome::text")]
+    pub abort: AbortReason,
     pub attempts: Vec<AttemptRecord>,
     /// Planning steps of the whole replanning: its attempts and the single-goal searches.
     pub steps: u64,
@@ -225,7 +225,7 @@ pub fn plan_until_limit(
     max_steps: u64,
     now: &dyn Fn() -> Time,
 ) -> AttemptEnd {
-    let limit = |s: &Search| s.plan().stn.ub(t_end).saturating_sub(slack);
+    let limit = |s: &Search| s.plan().latest(t_end).saturating_sub(slack);
     loop {
         if search.steps() >= max_steps {
             return AttemptEnd::StepCap;
@@ -294,7 +294,7 @@ impl SoloPlans {
                 let st = p.goals.iter().find(|pg| pg.goal == *g).map(|pg| pg.st);
                 (
                     goal.priority,
-                    st.map_or(0, |st| p.stn.ub(st) - goal.achieve),
+                    st.map_or(0, |st| p.latest(st) - goal.achieve),
                     std::cmp::Reverse(*g),
                 )
             })
@@ -311,10 +311,7 @@ impl Executive {
         refresh: &mut dyn FnMut(&mut Executive),
     ) -> ReplanResult {
         let started = now();
-        let abort = self
-            .abort
-            .clone()
-            .unwrap_or_else(|| "execution aborted".into());
+        let abort = self.abort.clone().unwrap_or(AbortReason::Unstated);
         let pending: Vec<GoalId> = self
             .fates
             .iter()
@@ -328,9 +325,11 @@ impl Executive {
             .iter()
             .filter_map(|g| self.fates.get(g))
             .filter(|f| f.fate == Fate::Rejected)
-            .map(|f| Rejection {
-                goal: f.name.clone(),
-                reason: f.reason.clone(),
+            .filter_map(|f| {
+                Some(Rejection {
+                    goal: f.name.clone(),
+                    reason: f.reason.clone()?,
+                })
             })
             .collect();
         let (outcome, kept, error) = match &result {
@@ -364,13 +363,7 @@ impl Executive {
 
     /// Traces an attempt and keeps its record.
     fn attempt_done(&mut self, attempts: &mut Vec<AttemptRecord>, a: AttemptRecord) {
-        self.trace(TraceEvent::Replan {
-            attempt: a.attempt,
-            goals: a.goals.clone(),
-            steps: a.steps,
-            end: a.end,
-            not_adopted: a.not_adopted.clone(),
-        });
+        self.trace(TraceEvent::Replan(a.clone()));
         attempts.push(a);
     }
 
@@ -401,7 +394,7 @@ impl Executive {
                     .map(|(&g, _)| g)
                     .collect();
                 for g in pending {
-                    self.reject_goal(g, "the mission's horizon has passed");
+                    self.reject_goal(g, FateReason::HorizonPassed);
                 }
                 let plan = self.plan.clone();
                 return ReplanResult::NoGoals(plan);
@@ -413,14 +406,12 @@ impl Executive {
             };
             for &g in &ext.incoherent {
                 let goal = &self.plan.problem.goals[g.index()];
-                let reason = format!(
-                    "its window is no longer reachable at the current time ({:.1} s, d_achiev {:.1} s, \
-                     start window {})",
-                    t as f64 / 1000.0,
-                    goal.achieve as f64 / 1000.0,
-                    goal.start_window
-                );
-                self.reject_goal(g, &reason);
+                let reason = FateReason::WindowPassed {
+                    now_ms: t,
+                    achieve_ms: goal.achieve,
+                    window: goal.start_window.to_string(),
+                };
+                self.reject_goal(g, reason);
             }
             dropped.extend(ext.incoherent.iter().copied());
             let mut ext = ext;
@@ -435,7 +426,11 @@ impl Executive {
                 let singles = single_goal_searches(&ext.plan, STEPS_PER_GOAL, false);
                 *steps += singles.steps;
                 for u in singles.unreachable {
-                    self.reject_goal(u.goal, &u.to_string());
+                    let reason = FateReason::Unreachable {
+                        name: u.name.clone(),
+                        why: u.reason.clone(),
+                    };
+                    self.reject_goal(u.goal, reason);
                     ext.plan.remove_goal(u.goal);
                     dropped.push(u.goal);
                 }
@@ -449,12 +444,11 @@ impl Executive {
             let spent = *steps;
             let max_steps = attempt_cap(first_cap, attempt).min(budget.saturating_sub(spent));
             if max_steps == 0 {
-                let why = self.abort.as_deref().unwrap_or("execution aborted");
-                let reason = format!(
-                    "abandoned by complete replanning after \"{why}\": its {spent} steps are spent with \
-                     no plan for the goals left"
-                );
-                return self.fall_back(&solo, &mut dropped, t_end, &reason, now, ext.plan);
+                let reason = FateReason::ReplanBudgetSpent {
+                    abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
+                    steps: spent,
+                };
+                return self.fall_back(&solo, &mut dropped, t_end, reason, now, ext.plan);
             }
             let alone = goals.len() == 1;
             let mut search = Search::new(ext.plan);
@@ -472,14 +466,17 @@ impl Executive {
                 let what = self.action_text_in(search.plan(), b.action);
                 record.not_adopted = Some(format!("it needs {what} ({})", b.reason));
                 self.attempt_done(attempts, record);
-                let reason = format!("no plan without {what}: {}", b.reason);
+                let reason = FateReason::NeedsBanned {
+                    action: what.clone(),
+                    ban: b.reason.clone(),
+                };
                 let goals = if b.goals.is_empty() {
                     goal_to_reject(search.plan()).into_iter().collect()
                 } else {
                     b.goals
                 };
                 for g in goals {
-                    self.reject_goal(g, &reason);
+                    self.reject_goal(g, reason.clone());
                     dropped.push(g);
                 }
                 refresh(self);
@@ -488,7 +485,7 @@ impl Executive {
             if let Some(mut plan) = solution {
                 plan.set_time_floor(TimeFloor::None);
                 // T_end happens now: planning is over, the new plan's first timepoints may follow it.
-                if plan.stn.execute(t_end, now()).is_ok() {
+                if plan.execute_at(t_end, now()).is_ok() {
                     self.attempt_done(attempts, record);
                     return ReplanResult::Plan(plan);
                 }
@@ -498,26 +495,21 @@ impl Executive {
             if alone && end != AttemptEnd::DeadEnd && solo.has(&active_goals(search.plan())) {
                 // The last goal's search ran out without proving it impossible, and a plan was found
                 // for it alone at the first attempt: that plan is kept.
-                let reason = format!("no plan found in {} steps ({end})", search.steps());
-                return self.fall_back(
-                    &solo,
-                    &mut dropped,
-                    t_end,
-                    &reason,
-                    now,
-                    search.into_plan(),
-                );
+                let reason = FateReason::NoPlanFound {
+                    end,
+                    steps: search.steps(),
+                };
+                return self.fall_back(&solo, &mut dropped, t_end, reason, now, search.into_plan());
             }
             let Some(g) = goal_to_reject(search.plan()) else {
                 return ReplanResult::NoGoals(search.into_plan());
             };
-            let why = self.abort.as_deref().unwrap_or("execution aborted");
-            let reason = format!(
-                "abandoned by complete replanning after \"{why}\": no plan for every remaining goal \
-                 ({end}, {} steps); this one has the lowest priority, then the least flexibility",
-                search.steps()
-            );
-            self.reject_goal(g, &reason);
+            let reason = FateReason::Abandoned {
+                abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
+                end,
+                steps: search.steps(),
+            };
+            self.reject_goal(g, reason);
             dropped.push(g);
             refresh(self);
         }
@@ -532,24 +524,24 @@ impl Executive {
         solo: &SoloPlans,
         dropped: &mut Vec<GoalId>,
         t_end: Timepoint,
-        reason: &str,
+        reason: FateReason,
         now: &dyn Fn() -> Time,
         left: PartialPlan,
     ) -> ReplanResult {
         let kept = solo.best(dropped).and_then(|(g, mut plan)| {
             plan.set_time_floor(TimeFloor::None);
-            plan.stn.execute(t_end, now()).is_ok().then_some((g, plan))
+            plan.execute_at(t_end, now()).is_ok().then_some((g, plan))
         });
         let reason = match &kept {
-            Some((g, _)) => format!(
-                "{reason}; the plan found for {} alone is kept",
-                self.plan.problem.goals[g.index()].name
-            ),
-            None => reason.to_string(),
+            Some((g, _)) => FateReason::OtherKept {
+                reason: Box::new(reason),
+                kept: self.plan.problem.goals[g.index()].name.clone(),
+            },
+            None => reason,
         };
         for g in left.goals.iter().filter(|g| g.active).map(|g| g.goal) {
             if kept.as_ref().is_none_or(|(k, _)| *k != g) {
-                self.reject_goal(g, &reason);
+                self.reject_goal(g, reason.clone());
                 dropped.push(g);
             }
         }

@@ -4,10 +4,9 @@
 
 use crate::model::Time;
 use crate::plan::{ActionId, PartialPlan, PlanError};
-use crate::stn::Timepoint;
 
 /// When the report came.
-#[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize)]
+#[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize, serde::Deserialize)]
 pub enum Timing {
     InBounds,
     TooLate,
@@ -16,9 +15,9 @@ pub enum Timing {
 
 pub fn timing(plan: &PartialPlan, a: ActionId, t: Time) -> Timing {
     let et = plan.action(a).end;
-    if t < plan.stn.lb(et) {
+    if t < plan.earliest(et) {
         Timing::TooEarly
-    } else if t > plan.stn.ub(et) {
+    } else if t > plan.latest(et) {
         Timing::TooLate
     } else {
         Timing::InBounds
@@ -28,33 +27,18 @@ pub fn timing(plan: &PartialPlan, a: ActionId, t: Time) -> Timing {
 /// Integrates the report's time; `Ok(false)` when the plan is not executable any more (too late).
 ///
 /// Too early: the old timepoint's constraints are removed (relaxed) and the timepoint is executed at t,
-/// then constrained before every timepoint that directly followed it. Reusing the timepoint's identity for
-/// the new end keeps the action's end events attached to it; the network is recomputed by the STN.
+/// then constrained before every timepoint that directly followed it
+/// ([`PartialPlan::execute_end_early`]).
 pub fn integrate(plan: &mut PartialPlan, a: ActionId, t: Time) -> Result<bool, PlanError> {
-    let (st, et) = (plan.action(a).start, plan.action(a).end);
+    let et = plan.action(a).end;
     match timing(plan, a, t) {
         Timing::TooLate => Ok(false),
         Timing::InBounds => {
-            plan.stn.execute(et, t)?;
+            plan.execute_at(et, t)?;
             Ok(true)
         }
         Timing::TooEarly => {
-            let origin = plan.stn.origin();
-            let followers: Vec<(Timepoint, Time)> = plan
-                .stn
-                .constraints_of(et)
-                .filter_map(|(_, k)| {
-                    (k.from == et && k.to != et && k.to != origin && k.to != st && k.lb >= 0)
-                        .then_some((k.to, k.lb))
-                })
-                .filter(|&(s, _)| !plan.stn.is_executed(s))
-                .collect();
-            plan.stn.relax_timepoint(et);
-            plan.stn.execute(et, t)?;
-            for (s, lb) in followers {
-                plan.stn.add_constraint(et, s, lb.max(0), crate::stn::INF)?;
-            }
-            plan.recompute_candidates();
+            plan.execute_end_early(a, t)?;
             Ok(true)
         }
     }

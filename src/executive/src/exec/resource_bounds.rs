@@ -46,11 +46,11 @@ pub fn past_level(
         }
         let (qlo, qhi) = plan.numeric.term(us.quantity);
         match us.kind {
-            UsageKind::Produce { at } if plan.stn.ub(at) < t => {
-                changes.push((plan.stn.ub(at), qlo, qhi, us.saturating));
+            UsageKind::Produce { at } if plan.latest(at) < t => {
+                changes.push((plan.latest(at), qlo, qhi, us.saturating));
             }
-            UsageKind::Consume { at } if plan.stn.ub(at) < t => {
-                changes.push((plan.stn.ub(at), -qhi, -qlo, false));
+            UsageKind::Consume { at } if plan.latest(at) < t => {
+                changes.push((plan.latest(at), -qhi, -qlo, false));
             }
             _ => {}
         }

@@ -17,7 +17,7 @@ use super::resource_bounds::{LevelBounds, LevelCase};
 use crate::model::ResourceKind;
 
 /// The verdict on one reported level.
-#[derive(Copy, Clone, PartialEq, Debug, serde::Serialize)]
+#[derive(Copy, Clone, PartialEq, Debug, serde::Serialize, serde::Deserialize)]
 pub enum LevelVerdict {
     Consistent,
     OverConsumption { c: f64 },

@@ -6,6 +6,7 @@
 use super::capacity::{alter, CapacityOutcome};
 use super::executable::{flawed_actions, plan_executable};
 use super::executive::Executive;
+use super::outcome::AbortReason;
 use super::p_t::{classify, remove_past};
 use super::report_timing::{integrate, timing};
 use super::resource_bounds::{fold_removed, level_bounds};
@@ -13,7 +14,7 @@ use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::integrate_state;
 use super::trace::TraceEvent;
 use crate::model::{Goal, GoalKind, Time, TimeInterval, Value};
-use crate::vehicle::mapping::GoalShape;
+use crate::vehicle::mapping::{GoalShape, MappingError};
 use crate::vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
 
 impl Executive {
@@ -36,11 +37,13 @@ impl Executive {
                 self.trace(TraceEvent::Capacity {
                     resource: c.resource.clone(),
                     capacity: c.capacity,
-                    outcome: format!("{outcome:?}").to_lowercase(),
+                    outcome,
                 });
                 match outcome {
                     CapacityOutcome::Abort => {
-                        self.abort = Some(format!("capacity of {} altered", c.resource))
+                        self.abort = Some(AbortReason::CapacityAltered {
+                            resource: c.resource.clone(),
+                        })
                     }
                     CapacityOutcome::Repair => self.repair_requested = true,
                     CapacityOutcome::Nothing => {}
@@ -64,8 +67,8 @@ impl Executive {
         let name = self.action_text(a);
         self.trace(TraceEvent::Report {
             action: name.clone(),
-            status: r.status.to_string(),
-            timing: format!("{when:?}"),
+            status: r.status,
+            timing: when,
             reason: r.reason.clone(),
         });
         match r.status {
@@ -79,11 +82,14 @@ impl Executive {
         match integrate(&mut self.plan, a, t) {
             Ok(true) => {}
             Ok(false) => {
-                self.abort = Some(format!("report of {name} too late"));
+                self.abort = Some(AbortReason::ReportTooLate { action: name });
                 return;
             }
             Err(e) => {
-                self.abort = Some(format!("report of {name}: {e}"));
+                self.abort = Some(AbortReason::ReportInconsistent {
+                    action: name,
+                    error: e.to_string(),
+                });
                 return;
             }
         }
@@ -127,24 +133,27 @@ impl Executive {
         if let Some(s) = problem.resources.get_mut(r.index()) {
             s.level = self.past[r.index()].0;
         }
-        self.plan.set_problem(std::sync::Arc::new(problem));
-        if u.verdict != LevelVerdict::Consistent {
+        let problem = std::sync::Arc::new(problem);
+        if u.verdict == LevelVerdict::Consistent {
+            // In bounds: the plan's resource conflicts stand as they were.
+            self.plan.set_problem(problem);
+        } else {
+            self.plan.set_resource_problem(problem);
             self.trace(TraceEvent::Level {
                 resource: l.resource.clone(),
                 level: l.level,
                 lb: b.lb,
                 ub: b.ub,
-                verdict: format!("{:?}", u.verdict),
+                verdict: u.verdict,
             });
-            self.plan.recompute_candidates();
         }
         if u.check_executable {
             let flawed = flawed_actions(&mut self.plan);
             if !plan_executable(&running, &flawed) {
-                self.abort = Some(format!(
-                    "{} level {} outside the plan's bounds",
-                    l.resource, l.level
-                ));
+                self.abort = Some(AbortReason::LevelOutOfBounds {
+                    resource: l.resource.clone(),
+                    level: l.level,
+                });
                 return;
             }
         }
@@ -166,24 +175,30 @@ impl Executive {
 
     /// The domain goal for a request, as the config's `[mapping.goals]` says: `attr(L) = true` or
     /// `attr() = L`; a new location object when the request names a place no object is at.
-    pub fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, String> {
+    pub fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, MappingError> {
         let what = g.kind.key();
-        let target = *self
-            .mapping
-            .goals
-            .get(&g.kind)
-            .ok_or_else(|| format!("no goal mapping for {what} items in the config"))?;
-        let loc = match (&g.location, g.kind) {
-            (_, crate::vehicle::GoalKind::ReturnHome) => self
+        let target =
+            *self
                 .mapping
-                .home_object
-                .ok_or("no home object in the config's [mapping] for return-home items")?,
+                .goals
+                .get(&g.kind)
+                .ok_or_else(|| MappingError::NoGoalMapping {
+                    kind: what.to_string(),
+                })?;
+        let loc = match (&g.location, g.kind) {
+            (_, crate::vehicle::GoalKind::ReturnHome) => {
+                self.mapping.home_object.ok_or(MappingError::NoHomeObject)?
+            }
             // A place the intake already named (a known object of the location type) is that object.
             (Some(l), _) => match self.known_location(l) {
                 Some(o) => o,
                 None => super::state_update::location_object(self, &l.name, l.at, None)?,
             },
-            (None, _) => return Err(format!("{what} goal without a location")),
+            (None, _) => {
+                return Err(MappingError::NoGoalLocation {
+                    kind: what.to_string(),
+                })
+            }
         };
         let (attr, args, value) = match target.shape {
             GoalShape::LocationIsTrue => (

@@ -4,6 +4,7 @@
 
 use super::executive::{Executive, Fate};
 use super::failures::{dependent_goals, Instance, PlanChangeKind};
+use super::outcome::{AbortReason, FateReason, PlanChurn};
 use super::trace::TraceEvent;
 use crate::model::{GoalId, Time};
 use crate::plan::{ActionId, PartialPlan, STerm};
@@ -25,12 +26,17 @@ impl Executive {
             return;
         };
         for g in dependent_goals(&self.plan, a) {
-            self.reject_goal(g, &reason);
+            self.reject_goal(
+                g,
+                FateReason::InstanceBanned {
+                    ban: reason.clone(),
+                },
+            );
         }
         // The plan (repaired) would insert the same instance again: a complete replanning, which does not
         // adopt a plan needing it, settles the rest.
         if self.abort.is_none() {
-            self.abort = Some(format!("{reason}: not tried again"));
+            self.abort = Some(AbortReason::InstanceBanned { ban: reason });
         }
     }
 
@@ -41,10 +47,13 @@ impl Executive {
     }
 
     /// Why action `a` must not be launched (a banned instance), if it must not.
-    pub fn launch_banned(&self, a: ActionId) -> Option<String> {
+    pub fn launch_banned(&self, a: ActionId) -> Option<AbortReason> {
         self.failures
             .banned_action(&self.plan, a)
-            .map(|(i, r)| format!("{i} is not launched again: {r}"))
+            .map(|(i, r)| AbortReason::LaunchBanned {
+                instance: i.to_string(),
+                ban: r.to_string(),
+            })
     }
 
     /// A plan change (repair or complete replanning) at `now`; past the per-minute bound, the goals served by
@@ -54,10 +63,13 @@ impl Executive {
         let Some(n) = self.failures.plan_changed(now, kind) else {
             return;
         };
-        let mut reason = format!("the plan changed {n} times within a minute of mission time");
+        let mut churn = PlanChurn {
+            changes: n,
+            failing: None,
+        };
         let mut goals = Vec::new();
         if let Some((inst, k)) = self.failures.most_failing() {
-            reason.push_str(&format!("; {inst} failed {k} times meanwhile"));
+            churn.failing = Some((inst.to_string(), k));
             for a in self.plan.live_actions().collect::<Vec<_>>() {
                 if inst.possibly(&self.plan, a) {
                     goals.extend(dependent_goals(&self.plan, a));
@@ -70,10 +82,10 @@ impl Executive {
         goals.sort();
         goals.dedup();
         for g in goals {
-            self.reject_goal(g, &reason);
+            self.reject_goal(g, FateReason::PlanChurn(churn.clone()));
         }
         if self.abort.is_none() {
-            self.abort = Some(reason);
+            self.abort = Some(AbortReason::PlanChurn(churn));
         }
     }
 
@@ -112,16 +124,13 @@ impl Executive {
     }
 
     /// Rejects goal `g` (once) with `reason`.
-    pub fn reject_goal(&mut self, g: GoalId, reason: &str) {
+    pub fn reject_goal(&mut self, g: GoalId, reason: FateReason) {
         if self.fates.get(&g).is_some_and(|f| f.fate != Fate::Pending) {
             return;
         }
         let name = self.plan.problem.goals[g.index()].name.clone();
-        self.set_fate(g, Fate::Rejected, reason);
-        self.trace(TraceEvent::GoalRejected {
-            goal: name,
-            reason: reason.into(),
-        });
+        self.set_fate(g, Fate::Rejected, Some(reason.clone()));
+        self.trace(TraceEvent::GoalRejected { goal: name, reason });
     }
 }
 

@@ -19,7 +19,7 @@ pub fn squeezed_running_end(
     tp: Timepoint,
     now: Time,
 ) -> Option<(ActionId, Time)> {
-    let stn = &plan.stn;
+    let stn = plan.temporal_network();
     let ends: Vec<(ActionId, Timepoint, Time)> = actions
         .iter()
         .map(|&a| (a, plan.action(a).start, plan.action(a).end))
@@ -53,5 +53,5 @@ pub fn should_wait(
     now: Time,
     ts: Time,
 ) -> bool {
-    now + ts <= plan.stn.ub(tp) && squeezed_running_end(plan, actions, tp, now).is_some()
+    now + ts <= plan.latest(tp) && squeezed_running_end(plan, actions, tp, now).is_some()
 }

@@ -15,6 +15,7 @@ use super::p_t::classify;
 use super::trace::TraceEvent;
 use crate::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
 use crate::plan::{ActionId, CondKind, EventId, LinkId, STerm};
+use crate::vehicle::mapping::MappingError;
 use crate::vehicle::{ActionReport, Enu, StateValue};
 
 /// Distance under which a reported position names a known location, m.
@@ -29,7 +30,7 @@ pub fn location_object(
     name: &str,
     at: Enu,
     from: Option<ObjectId>,
-) -> Result<ObjectId, String> {
+) -> Result<ObjectId, MappingError> {
     let home = ex.plan.problem.home;
     let ty = ex.mapping.location_type;
     let mut best: Option<(f64, ObjectId)> = None;
@@ -48,10 +49,10 @@ pub fn location_object(
         return Ok(o);
     }
     let Some(ty) = ty else {
-        return Err(format!(
-            "no location type in the config's [mapping] for a new location at ({:.1}, {:.1})",
-            at.east, at.north
-        ));
+        return Err(MappingError::NoLocationType {
+            east: at.east,
+            north: at.north,
+        });
     };
     let mut problem = (*ex.plan.problem).clone();
     let mut unique = name.to_string();
@@ -88,13 +89,13 @@ fn reported_value(
     var: &str,
     v: &StateValue,
     a: ActionId,
-) -> Result<(AttrId, Vec<ObjectId>, Value), String> {
+) -> Result<(AttrId, Vec<ObjectId>, Value), MappingError> {
     match v {
         StateValue::Position(p) => {
             let attr = ex
                 .mapping
                 .position
-                .ok_or("no position attribute in the config's [mapping]")?;
+                .ok_or(MappingError::NoPositionAttribute)?;
             let name = format!("L{}", ex.plan.problem.objects.len());
             // Where the action started from: the value its start event on the position changed.
             let act = ex.plan.action(a);
@@ -112,18 +113,18 @@ fn reported_value(
         }
         StateValue::Symbol(s) => {
             let d = &ex.plan.domain;
-            let attr = d
-                .attr_id(var)
-                .ok_or_else(|| format!("no attribute `{var}` in the domain"))?;
+            let attr = d.attr_id(var).ok_or_else(|| MappingError::NoAttribute {
+                name: var.to_string(),
+            })?;
             let o = ex
                 .plan
                 .problem
                 .object_id(s)
                 .or_else(|| d.object_id(s))
-                .ok_or_else(|| format!("no object `{s}` in the problem"))?;
+                .ok_or_else(|| MappingError::NoObject { name: s.clone() })?;
             Ok((attr, vec![], Value::Obj(o)))
         }
-        StateValue::Number(_) => Err("numbers are not state values of the domain".into()),
+        StateValue::Number(_) => Err(MappingError::Number),
     }
 }
 
@@ -302,8 +303,8 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
                 .iter()
                 .zip(&args)
                 .all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)));
-            let est_done = ex.plan.stn.ub(ex.plan.event(link.event).at) <= t;
-            let open_after = ex.plan.stn.ub(c.to) >= t;
+            let est_done = ex.plan.latest(ex.plan.event(link.event).at) <= t;
+            let open_after = ex.plan.latest(c.to) >= t;
             if same
                 && est_done
                 && open_after
@@ -322,24 +323,15 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     );
     broken.sort();
     broken.dedup();
-    for &l in &broken {
-        ex.plan.remove_link(l);
-    }
-    for (attr, args, value) in observed {
-        if let Err(e) = ex.plan.add_observation(attr, &args, value, t + 1) {
-            tracing::warn!("observed value not inserted: {e}");
-        }
+    for e in ex.plan.integrate_observations(&broken, observed, t + 1) {
+        tracing::warn!("observed value not inserted: {e}");
     }
     // Causal-link removal via the abstraction hierarchy.
-    ex.plan.recompute_candidates();
     let att_f = flawed_attributes(&mut ex.plan);
     let att_i = ex.hierarchy.closure(&att_f);
     let more = links_to_break(&ex.plan, &att_i, &running);
     let n = broken.len() + more.len();
-    for l in more {
-        ex.plan.remove_link(l);
-    }
-    ex.plan.recompute_candidates();
+    ex.plan.break_links(&more);
     if n > 0 {
         ex.trace(TraceEvent::LinksBroken { count: n });
     }

@@ -1,12 +1,58 @@
 //! What the executive did, cycle by cycle (the trace of seed 1 Fig. 6, and the `--report` JSON).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use super::replan::{AttemptEnd, ReplanOutcome};
+use super::capacity::CapacityOutcome;
+use super::outcome::{AbortReason, FateReason};
+use super::replan::{AttemptEnd, AttemptRecord, ReplanOutcome};
+use super::report_timing::Timing;
+use super::resource_report::LevelVerdict;
 use crate::model::Time;
+use crate::vehicle::ReportStatus;
+
+/// What a cycle's repair part was doing when its budget ran out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum RepairWork {
+    /// Repairing *ExecutingPlan*.
+    #[serde(rename = "in progress")]
+    Repairing,
+    /// A new goal's insertion attempt (src/exec/goal_insertion.rs).
+    #[serde(rename = "inserting a new goal")]
+    Inserting,
+}
+
+impl std::fmt::Display for RepairWork {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            RepairWork::Repairing => "in progress",
+            RepairWork::Inserting => "inserting a new goal",
+        })
+    }
+}
+
+/// A report's status as the vehicle layer prints it (`nominal`, `failed`, `interrupted`).
+mod status_text {
+    use crate::vehicle::ReportStatus;
+
+    pub fn serialize<S: serde::Serializer>(s: &ReportStatus, ser: S) -> Result<S::Ok, S::Error> {
+        ser.collect_str(s)
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<ReportStatus, D::Error> {
+        let text = <String as serde::Deserialize>::deserialize(d)?;
+        [
+            ReportStatus::Nominal,
+            ReportStatus::Interrupted,
+            ReportStatus::Failed,
+        ]
+        .into_iter()
+        .find(|s| s.to_string() == text)
+        .ok_or_else(|| serde::de::Error::custom(format!("unknown report status `{text}`")))
+    }
+}
 
 /// One entry of the trace.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum TraceEvent {
     Launch {
@@ -14,7 +60,7 @@ pub enum TraceEvent {
         vid: u64,
         /// The window `[lb, ub]` of the action's end in the plan when it started (ms since origin; no
         /// upper bound: `None`): the Gantt chart's planned window.
-        #[serde(skip_serializing_if = "Option::is_none")]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         planned_end_ms: Option<(Time, Option<Time>)>,
     },
     Stop {
@@ -23,10 +69,11 @@ pub enum TraceEvent {
     },
     Report {
         action: String,
-        status: String,
-        timing: String,
+        #[serde(with = "status_text")]
+        status: ReportStatus,
+        timing: Timing,
         /// Why a failed or interrupted action ended so, as the vehicle said.
-        #[serde(skip_serializing_if = "Option::is_none")]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         reason: Option<String>,
     },
     Level {
@@ -34,7 +81,7 @@ pub enum TraceEvent {
         level: f64,
         lb: f64,
         ub: f64,
-        verdict: String,
+        verdict: LevelVerdict,
     },
     /// A goal request mapped to the domain: its insertion attempt follows.
     GoalReceived {
@@ -45,7 +92,7 @@ pub enum TraceEvent {
     },
     GoalRejected {
         goal: String,
-        reason: String,
+        reason: FateReason,
     },
     GoalAchieved {
         goal: String,
@@ -53,7 +100,7 @@ pub enum TraceEvent {
     Capacity {
         resource: String,
         capacity: f64,
-        outcome: String,
+        outcome: CapacityOutcome,
     },
     Postponed {
         action: String,
@@ -63,24 +110,17 @@ pub enum TraceEvent {
     },
     RepairStep {
         steps: u64,
-        outcome: String,
+        outcome: RepairWork,
     },
     RepairDone {
         steps: u64,
     },
     Abort {
-        reason: String,
+        reason: AbortReason,
     },
     /// One attempt of a complete replanning (seed 1 §3.6): the goals it planned for, its planning steps,
     /// how its search ended, and why a plan it found was not adopted.
-    Replan {
-        attempt: u32,
-        goals: Vec<String>,
-        steps: u64,
-        end: AttemptEnd,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        not_adopted: Option<String>,
-    },
+    Replan(AttemptRecord),
     /// The end of a complete replanning: its outcome, the goals kept in the new plan and those it
     /// rejected (each also has its `goal_rejected` event with the reason).
     ReplanDone {
@@ -122,8 +162,8 @@ impl TraceEvent {
                 timing,
                 reason,
             } => match reason {
-                Some(why) => format!("report {action}: {status} ({timing}): {why}"),
-                None => format!("report {action}: {status} ({timing})"),
+                Some(why) => format!("report {action}: {status} ({timing:?}): {why}"),
+                None => format!("report {action}: {status} ({timing:?})"),
             },
             TraceEvent::Level {
                 resource,
@@ -131,7 +171,7 @@ impl TraceEvent {
                 lb,
                 ub,
                 verdict,
-            } => format!("{resource} = {level:.2} in [{lb:.2}, {ub:.2}]: {verdict}"),
+            } => format!("{resource} = {level:.2} in [{lb:.2}, {ub:.2}]: {verdict:?}"),
             TraceEvent::GoalReceived { goal } => {
                 format!("goal {goal} received: inserting it into the plan")
             }
@@ -150,13 +190,13 @@ impl TraceEvent {
             }
             TraceEvent::RepairDone { steps } => format!("plan repaired in {steps} steps"),
             TraceEvent::Abort { reason } => format!("execution aborted: {reason}"),
-            TraceEvent::Replan {
+            TraceEvent::Replan(AttemptRecord {
                 attempt,
                 goals,
                 steps,
                 end,
                 not_adopted,
-            } => {
+            }) => {
                 let goals = names(goals);
                 let what = match (end, not_adopted) {
                     (_, Some(why)) => format!("plan found in {steps} steps, not adopted: {why}"),
@@ -189,5 +229,94 @@ pub fn names(goals: &[String]) -> String {
         "none".into()
     } else {
         goals.join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exec::goal_request::Rejection;
+    use crate::exec::outcome::PlanChurn;
+    use crate::vehicle::mapping::MappingError;
+
+    /// The report is read back into the same events (`mavtempo report RUN.json`), typed reasons included.
+    #[test]
+    fn events_read_back_as_written() {
+        let abort = AbortReason::Timeout {
+            timepoint: "end of take_picture(p2)".into(),
+        };
+        let events = vec![
+            TraceEvent::Report {
+                action: "move(a, b)".into(),
+                status: ReportStatus::Interrupted,
+                timing: Timing::TooEarly,
+                reason: Some("stopped".into()),
+            },
+            TraceEvent::Level {
+                resource: "STORAGE".into(),
+                level: 1.5,
+                lb: 2.0,
+                ub: 2.0,
+                verdict: LevelVerdict::OverConsumption { c: 0.5 },
+            },
+            TraceEvent::Capacity {
+                resource: "STORAGE".into(),
+                capacity: 1.0,
+                outcome: CapacityOutcome::Abort,
+            },
+            TraceEvent::RepairStep {
+                steps: 3,
+                outcome: RepairWork::Inserting,
+            },
+            TraceEvent::Abort {
+                reason: abort.clone(),
+            },
+            TraceEvent::GoalRejected {
+                goal: "g2".into(),
+                reason: FateReason::OtherKept {
+                    reason: Box::new(FateReason::Abandoned {
+                        abort,
+                        end: AttemptEnd::TimeLimit,
+                        steps: 31,
+                    }),
+                    kept: "g3".into(),
+                },
+            },
+            TraceEvent::GoalRejected {
+                goal: "g6".into(),
+                reason: FateReason::Acceptance(Rejection::TooLate {
+                    now_ms: 1,
+                    achiev_ms: 2,
+                }),
+            },
+            TraceEvent::GoalRejected {
+                goal: "g7".into(),
+                reason: FateReason::Unmapped(MappingError::NoHomeObject),
+            },
+            TraceEvent::Abort {
+                reason: AbortReason::PlanChurn(PlanChurn {
+                    changes: 4,
+                    failing: Some(("buy(apple)".into(), 2)),
+                }),
+            },
+            TraceEvent::Replan(AttemptRecord {
+                attempt: 1,
+                goals: vec!["g1".into()],
+                steps: 9,
+                end: AttemptEnd::Solved,
+                not_adopted: None,
+            }),
+        ];
+        let json = serde_json::to_string(&events).expect("serialized");
+        let back: Vec<TraceEvent> = serde_json::from_str(&json).expect("read back");
+        assert_eq!(back, events);
+        // The texts the report's readers compare stay as they were.
+        assert!(json.contains(r#""status":"interrupted""#), "{json}");
+        assert!(json.contains(r#""timing":"TooEarly""#), "{json}");
+        assert!(json.contains(r#""outcome":"abort""#), "{json}");
+        assert!(
+            json.contains(r#""outcome":"inserting a new goal""#),
+            "{json}"
+        );
     }
 }

@@ -26,6 +26,7 @@ mod build;
 mod candidates;
 mod changes;
 mod envelope;
+mod exec_edits;
 mod export;
 pub mod flaws;
 mod numeric;
