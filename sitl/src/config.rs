@@ -155,10 +155,10 @@ impl SimConfig {
         if !(MIN_SPEEDUP..=MAX_SPEEDUP).contains(&self.speedup) {
             return Err(SimError::BadSpeedup(self.speedup));
         }
-        crate::link::Endpoint::parse(&self.listen)?;
-        self.scenario.check().map_err(|reason| SimError::Scenario {
+        mavaddr::Address::parse(&self.listen)?;
+        self.scenario.check().map_err(|e| SimError::Scenario {
             path: "(config)".into(),
-            reason,
+            reason: e.to_string(),
         })?;
         // Two different homes are a mistake to report, not a choice to make silently.
         match self.scenario.home {

@@ -6,6 +6,8 @@ use thiserror::Error;
 pub enum SimError {
     #[error("bad listen address `{addr}`: {reason} (expected tcpin:HOST:PORT, tcpout:HOST:PORT, udpin:HOST:PORT or udpout:HOST:PORT)")]
     BadAddress { addr: String, reason: String },
+    #[error("bad listen address {0} (expected tcpin:HOST:PORT, tcpout:HOST:PORT, udpin:HOST:PORT or udpout:HOST:PORT)")]
+    Address(#[from] mavaddr::AddressError),
     #[error("cannot open `{addr}`: {source}")]
     Io {
         addr: String,

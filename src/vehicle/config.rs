@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::Deserialize;
+use srctext::toml_file::KeyError;
 
 use super::binding_table::BindingTable;
 use super::geo::Home;
@@ -335,11 +336,6 @@ impl VehicleConfig {
     pub fn parse(text: &str, origin: &str) -> Result<Self, ConfigError> {
         let mut cfg: VehicleConfig =
             srctext::toml_file::parse(origin, text).map_err(|e| ConfigError::At(Box::new(e)))?;
-        let exec = cfg.exec.as_ref().map_or(Ok(()), |e| {
-            // The executive's messages name their key already.
-            e.validate()
-                .map_err(|e| (format!("exec.{}", e.key()), e.to_string()))
-        });
         let tables = std::mem::take(&mut cfg.tables);
         for (task, table) in tables {
             let binding = table.into_binding().map_err(|(key, reason)| {
@@ -353,12 +349,15 @@ impl VehicleConfig {
             cfg.actions.insert(task, binding);
         }
         cfg.validate()
-            .map_err(|(key, reason)| (key.clone(), format!("{key}: {reason}")))
-            .and(exec)
-            .map_err(|(key, message)| {
-                let e = srctext::toml_file::at_key(origin, text, &key, message);
+            .map_err(|e| ConfigError::At(Box::new(e.locate(origin, text))))?;
+        if let Some(e) = &cfg.exec {
+            // The executive's messages name their key already.
+            e.validate().map_err(|e| {
+                let key = format!("exec.{}", e.key());
+                let e = srctext::toml_file::at_key(origin, text, &key, e.to_string());
                 ConfigError::At(Box::new(e))
             })?;
+        }
         cfg.source = Some(ConfigSource {
             origin: origin.to_string(),
             text: text.to_string(),
@@ -367,10 +366,10 @@ impl VehicleConfig {
     }
 
     /// The first semantic error: the key path it is about and why.
-    fn validate(&self) -> Result<(), (String, String)> {
-        let invalid = |key: String, reason: &str| (key, reason.to_string());
+    fn validate(&self) -> Result<(), KeyError> {
+        let invalid = |key: String, reason: &str| KeyError::new(key, reason);
         super::endpoint::Address::parse(&self.link.address)
-            .map_err(|r| invalid("link.address".into(), &r))?;
+            .map_err(|r| invalid("link.address".into(), &r.to_string()))?;
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
@@ -413,7 +412,7 @@ impl VehicleConfig {
         if let Some(m) = &st.mode {
             let known: Vec<&str> = self.modes.by_key().iter().map(|(k, _)| *k).collect();
             if let Some(k) = m.values.keys().find(|k| !known.contains(&k.as_str())) {
-                return Err((
+                return Err(KeyError::new(
                     format!("state.mode.values.{k}"),
                     format!("not a mode of [modes] (they are: {})", known.join(", ")),
                 ));

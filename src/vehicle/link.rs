@@ -29,7 +29,7 @@ use super::types::{ActionId, ActionStart, VehicleEvent};
 #[derive(Debug, thiserror::Error)]
 pub enum LinkError {
     #[error("bad address: {0}")]
-    Address(String),
+    Address(#[from] super::endpoint::AddressError),
     #[error("{what}: {source}")]
     Io {
         what: String,
