@@ -22,12 +22,12 @@ pub enum VehicleKind {
 }
 
 impl FromStr for VehicleKind {
-    type Err = String;
+    type Err = SimError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.to_ascii_lowercase().as_str() {
             "rover" => Ok(Self::Rover),
             "auv" | "sub" => Ok(Self::Auv),
-            other => Err(format!("unknown vehicle `{other}` (rover or auv)")),
+            other => Err(SimError::UnknownVehicle(other.to_string())),
         }
     }
 }
@@ -212,7 +212,10 @@ mod tests {
 
     #[test]
     fn vehicle_kind_parses() {
-        assert_eq!("AUV".parse::<VehicleKind>(), Ok(VehicleKind::Auv));
-        assert!("plane".parse::<VehicleKind>().is_err());
+        assert_eq!("AUV".parse::<VehicleKind>().ok(), Some(VehicleKind::Auv));
+        assert!(matches!(
+            "plane".parse::<VehicleKind>(),
+            Err(SimError::UnknownVehicle(v)) if v == "plane"
+        ));
     }
 }

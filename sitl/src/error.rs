@@ -25,6 +25,10 @@ pub enum SimError {
     /// A scenario file wrong at `file:line:col` (the line shown).
     #[error("bad scenario {0}")]
     ScenarioAt(Box<srctext::Located>),
+    #[error("unknown profile `{0}` (default or ardupilot)")]
+    UnknownProfile(String),
+    #[error("unknown vehicle `{0}` (rover or auv)")]
+    UnknownVehicle(String),
     #[error("the simulator has stopped")]
     Stopped,
 }

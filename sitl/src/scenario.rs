@@ -157,12 +157,12 @@ pub enum Profile {
 }
 
 impl std::str::FromStr for Profile {
-    type Err = String;
+    type Err = SimError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.to_ascii_lowercase().as_str() {
             "default" => Ok(Self::Default),
             "ardupilot" => Ok(Self::Ardupilot),
-            other => Err(format!("unknown profile `{other}` (default or ardupilot)")),
+            other => Err(SimError::UnknownProfile(other.to_string())),
         }
     }
 }
