@@ -19,7 +19,9 @@ use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::mock::{Outcome, Scripted};
 use mavtempo::vehicle::ReportStatus;
 use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, ResourceLevel, StateValue};
-use rover_mock::{events, executive, fate, launches, nominal_moves, nominal_rover, rover, run};
+use rover_mock::{
+    events, executive, fate, launches, nominal_moves, nominal_rover, pictures, rover, run,
+};
 
 #[test]
 fn nominal_mission_achieves_both_goals_without_repair() {
@@ -58,10 +60,7 @@ fn e1_failed_picture_is_repaired_with_a_new_picture() {
         .iter()
         .any(|(t, e)| *t >= failed_at && matches!(e, TraceEvent::RepairDone { .. })));
     assert_eq!(r.counters.replans, 0);
-    let pictures: Vec<_> = launches(&r)
-        .into_iter()
-        .filter(|a| a.starts_with("take_picture"))
-        .collect();
+    let pictures = pictures(&r);
     assert_eq!(pictures.len(), 3, "{pictures:?}");
     assert_eq!(
         pictures[0], pictures[1],
@@ -97,10 +96,7 @@ fn a_hung_picture_cut_off_by_an_abort_is_taken_again() {
         .iter()
         .any(|(_, e)| matches!(e, TraceEvent::Timeout { .. })));
     assert!(r.counters.replans >= 1);
-    let pictures: Vec<_> = launches(&r)
-        .into_iter()
-        .filter(|a| a.starts_with("take_picture"))
-        .collect();
+    let pictures = pictures(&r);
     assert_eq!(pictures.len(), 3, "{pictures:?}");
     assert_eq!(pictures[0], pictures[1], "the hung picture is taken again");
     assert_eq!(

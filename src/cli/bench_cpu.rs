@@ -10,6 +10,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::demo::exec_config;
+use super::error::CliError;
 use super::mission_out::initial_plan;
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::exec::executive::Executive;
@@ -55,13 +56,13 @@ pub struct CpuFigures {
 }
 
 /// Runs the Dala mission for at most `limit_ms` of mission time (to its end when `None`) and measures it.
-pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
-    let domain =
-        Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
-    let problem = Arc::new(
-        lang::parse_problem("domains/rover/problems/dala.ixt", DALA, &domain)
-            .map_err(|e| e.to_string())?,
-    );
+pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, CliError> {
+    let domain = Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN)?);
+    let problem = Arc::new(lang::parse_problem(
+        "domains/rover/problems/dala.ixt",
+        DALA,
+        &domain,
+    )?);
     let plan = initial_plan(domain.clone(), problem.clone(), 200_000)?;
     let spec = SessionSpec::demo_rover(SCENARIO, "sitl/scenarios/dala.toml")?;
     let mut session = SitlSession::start(&domain, &problem, spec)?;
@@ -90,7 +91,7 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
     drop(session);
     let mission_s = report.duration_ms as f64 / 1_000.0;
     if mission_s <= 0.0 {
-        return Err("the mission did not run".into());
+        return Err(CliError::NoMission);
     }
     let cycle_cpu_s = report.cycle_times.total_us as f64 / 1e6;
     Ok(CpuFigures {

@@ -20,6 +20,7 @@ use self::invariants::{reason_class, Violation, END_MARGIN_MS};
 use super::demo::exec_config;
 use super::mission_out::{initial_plan, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use crate::cli::error::CliError;
 use crate::exec::executive::{Executive, Fate};
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
 use crate::exec::pacer::StepGate;
@@ -353,7 +354,14 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
                 goals: problem
                     .goals
                     .iter()
-                    .map(|g| (g.name.clone(), Fate::Rejected, e.clone(), "no_initial_plan"))
+                    .map(|g| {
+                        (
+                            g.name.clone(),
+                            Fate::Rejected,
+                            e.to_string(),
+                            "no_initial_plan",
+                        )
+                    })
                     .collect(),
                 held: problem.goals.iter().map(|g| g.name.clone()).collect(),
                 violations: Vec::new(),
@@ -362,7 +370,7 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     };
     let spec = match session_spec(m, problem.goals.len() as u32 + 1) {
         Ok(s) => s,
-        Err(e) => return failed(m, "no_error_exit", e),
+        Err(e) => return failed(m, "no_error_exit", e.to_string()),
     };
     let mut session = match SitlSession::start(&domain, &problem, spec) {
         Ok(s) => s,
@@ -445,12 +453,11 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     }
 }
 
-fn session_spec(m: &Mission, first_goal_number: u32) -> Result<SessionSpec, String> {
+fn session_spec(m: &Mission, first_goal_number: u32) -> Result<SessionSpec, CliError> {
     let mut spec = SessionSpec::demo_rover(&m.scenario, "soak scenario")?;
     if m.domain == SoakDomain::Auv {
         spec.config =
-            crate::vehicle::config::VehicleConfig::parse(AUV_CONFIG, "config/sitl-auv.toml")
-                .map_err(|e| e.to_string())?;
+            crate::vehicle::config::VehicleConfig::parse(AUV_CONFIG, "config/sitl-auv.toml")?;
         spec.vehicle = sitl::VehicleKind::Auv;
     }
     spec.seed = m.seed;

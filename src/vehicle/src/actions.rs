@@ -6,11 +6,11 @@ use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, 
 use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
 use super::config::{Autopilot, Binding, Mode, VehicleConfig};
-use super::geo::deg_e7;
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
 use super::telemetry::Telemetry;
 use super::types::{ActionId, ActionStart, Enu, ReportStatus, StateValue};
+use geodesy::deg_to_e7;
 
 /// What an action run needs from the driver.
 pub struct Ctx<'a> {
@@ -161,16 +161,31 @@ fn lawnmower(center: Enu, width: f64, height: f64, spacing: f64) -> Vec<Enu> {
     pts
 }
 
-fn location_arg(start: &ActionStart, name: &str) -> Result<Enu, String> {
+/// Why an action cannot start: its arguments or the vehicle's state refuse it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum StartError {
+    #[error("needs a location argument `{0}`")]
+    NoLocation(String),
+    #[error("another mission transfer is running")]
+    TransferBusy,
+    #[error("command {0} unknown to the dialect")]
+    UnknownCommand(u16),
+}
+
+fn location_arg(start: &ActionStart, name: &str) -> Result<Enu, StartError> {
     start
         .arg(name)
         .and_then(|a| a.as_enu())
-        .ok_or_else(|| format!("needs a location argument `{name}`"))
+        .ok_or_else(|| StartError::NoLocation(name.to_string()))
 }
 
 impl Run {
     /// Checks the arguments and issues the first messages.
-    pub fn begin(start: &ActionStart, binding: &Binding, ctx: &mut Ctx) -> Result<Self, String> {
+    pub fn begin(
+        start: &ActionStart,
+        binding: &Binding,
+        ctx: &mut Ctx,
+    ) -> Result<Self, StartError> {
         let mut run = Run {
             id: start.id,
             task: start.task.clone(),
@@ -218,7 +233,7 @@ impl Run {
                 run.goal = pts.last().copied();
                 run.expect_mode = Some(ctx.cfg.modes.auto.custom_mode());
                 if !ctx.mission.upload(id, items, ctx.now, ctx.out) {
-                    return Err("another mission transfer is running".into());
+                    return Err(StartError::TransferBusy);
                 }
                 run.phase = Phase::Uploading;
             }
@@ -296,8 +311,8 @@ impl Run {
             param2: 1.0,
             param3: 0.0,
             param4: f32::NAN,
-            x: deg_e7(lat),
-            y: deg_e7(lon),
+            x: deg_to_e7(lat),
+            y: deg_to_e7(lon),
             z: alt as f32,
             command: MavCmd::MAV_CMD_DO_REPOSITION,
             target_system: ctx.target.0,
@@ -831,9 +846,9 @@ impl Run {
 }
 
 /// The downlink's start: its command with p1 = 1.
-fn start_download(ctx: &mut Ctx, id: ActionId, command: u16) -> Result<(), String> {
+fn start_download(ctx: &mut Ctx, id: ActionId, command: u16) -> Result<(), StartError> {
     let Some(cmd) = num_traits::FromPrimitive::from_u16(command) else {
-        return Err(format!("command {command} unknown to the dialect"));
+        return Err(StartError::UnknownCommand(command));
     };
     ctx.command(
         id,

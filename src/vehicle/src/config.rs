@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::Deserialize;
+use srctext::toml_file::KeyError;
 
 use super::binding_table::BindingTable;
 use super::geo::Home;
@@ -349,11 +350,7 @@ impl VehicleConfig {
             cfg.actions.insert(task, binding);
         }
         cfg.validate()
-            .map_err(|(key, reason)| (key.clone(), format!("{key}: {reason}")))
-            .map_err(|(key, message)| {
-                let e = srctext::toml_file::at_key(origin, text, &key, message);
-                ConfigError::At(Box::new(e))
-            })?;
+            .map_err(|e| ConfigError::At(Box::new(e.locate(origin, text))))?;
         cfg.source = Some(ConfigSource {
             origin: origin.to_string(),
             text: text.to_string(),
@@ -362,10 +359,10 @@ impl VehicleConfig {
     }
 
     /// The first semantic error: the key path it is about and why.
-    fn validate(&self) -> Result<(), (String, String)> {
-        let invalid = |key: String, reason: &str| (key, reason.to_string());
+    fn validate(&self) -> Result<(), KeyError> {
+        let invalid = |key: String, reason: &str| KeyError::new(key, reason);
         super::endpoint::Address::parse(&self.link.address)
-            .map_err(|r| invalid("link.address".into(), &r))?;
+            .map_err(|r| invalid("link.address".into(), &r.to_string()))?;
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
@@ -408,7 +405,7 @@ impl VehicleConfig {
         if let Some(m) = &st.mode {
             let known: Vec<&str> = self.modes.by_key().iter().map(|(k, _)| *k).collect();
             if let Some(k) = m.values.keys().find(|k| !known.contains(&k.as_str())) {
-                return Err((
+                return Err(KeyError::new(
                     format!("state.mode.values.{k}"),
                     format!("not a mode of [modes] (they are: {})", known.join(", ")),
                 ));

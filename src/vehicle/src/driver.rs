@@ -183,7 +183,7 @@ impl Driver {
         let run = Run::begin(&action, &binding, &mut ctx).map_err(|reason| {
             VehicleError::BadArguments {
                 task: action.task.clone(),
-                reason,
+                reason: reason.to_string(),
             }
         })?;
         tracing::info!(id = action.id, task = %action.task, "action started");

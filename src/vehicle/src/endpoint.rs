@@ -11,51 +11,7 @@ use std::sync::Arc;
 use tokio::net::{TcpListener, TcpStream, UdpSocket};
 use tokio::sync::mpsc;
 
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Address {
-    TcpIn(String),
-    TcpOut(String),
-    UdpIn(String),
-    UdpOut(String),
-    Serial { port: String, baud: u32 },
-}
-
-impl Address {
-    pub fn parse(s: &str) -> Result<Self, String> {
-        let (kind, rest) = s
-            .split_once(':')
-            .ok_or_else(|| format!("`{s}`: expected KIND:ADDRESS with KIND one of udpin, udpout, tcpin, tcpout, serial"))?;
-        let host_port = |r: &str| -> Result<String, String> {
-            let (_, port) = r
-                .rsplit_once(':')
-                .ok_or_else(|| format!("`{s}`: expected HOST:PORT after `{kind}:`"))?;
-            port.parse::<u16>()
-                .map_err(|_| format!("`{s}`: `{port}` is not a port number"))?;
-            Ok(r.to_string())
-        };
-        match kind {
-            "tcpin" => Ok(Address::TcpIn(host_port(rest)?)),
-            "tcpout" => Ok(Address::TcpOut(host_port(rest)?)),
-            "udpin" => Ok(Address::UdpIn(host_port(rest)?)),
-            "udpout" => Ok(Address::UdpOut(host_port(rest)?)),
-            "serial" => {
-                let (port, baud) = rest
-                    .rsplit_once(':')
-                    .ok_or_else(|| format!("`{s}`: expected serial:PORT:BAUD"))?;
-                let baud = baud
-                    .parse()
-                    .map_err(|_| format!("`{s}`: `{baud}` is not a baud rate"))?;
-                Ok(Address::Serial {
-                    port: port.to_string(),
-                    baud,
-                })
-            }
-            other => Err(format!(
-                "`{s}`: unknown link kind `{other}` (udpin, udpout, tcpin, tcpout, serial)"
-            )),
-        }
-    }
-}
+pub use mavaddr::{Address, AddressError};
 
 /// An address made ready to (re)connect: listeners and UDP sockets are bound once.
 pub struct Transport {

@@ -31,11 +31,6 @@ impl Home {
     }
 }
 
-/// Degrees → the ×1e7 integers of MAVLink (saturating).
-pub fn deg_e7(deg: f64) -> i32 {
-    geodesy::deg_to_e7(deg)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -51,17 +46,5 @@ mod tests {
             prop_assert!((back.east - e).abs() < 1e-6 && (back.north - n).abs() < 1e-6);
             prop_assert!((back.up + 2.0).abs() < 1e-9);
         }
-    }
-
-    #[test]
-    fn one_degree_of_latitude_at_the_equator_is_110_6_km() {
-        let home = Home {
-            lat: 0.0,
-            lon: 0.0,
-            alt: 0.0,
-        };
-        // WGS-84 meridian radius at the equator: a (1 − e²).
-        let p = home.to_local(1.0, 0.0, 0.0);
-        assert!((p.north - 110_574.3).abs() < 1.0, "{p:?}");
     }
 }

@@ -17,7 +17,7 @@ use super::mission_client::{MissionClient, MissionOutcome};
 #[derive(Debug, thiserror::Error)]
 pub enum GoalSendError {
     #[error("bad address: {0}")]
-    Address(String),
+    Address(#[from] super::endpoint::AddressError),
     #[error("{0}")]
     Io(#[from] std::io::Error),
     #[error("no heartbeat from a companion (component 191) within {0:?}")]

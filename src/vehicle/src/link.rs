@@ -30,7 +30,7 @@ use super::types::{ActionId, ActionStart};
 #[derive(Debug, thiserror::Error)]
 pub enum LinkError {
     #[error("bad address: {0}")]
-    Address(String),
+    Address(#[from] super::endpoint::AddressError),
     #[error("{what}: {source}")]
     Io {
         what: String,

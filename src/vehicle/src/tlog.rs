@@ -51,13 +51,24 @@ impl Drop for TlogWriter {
     }
 }
 
+/// Why a `.tlog` does not read back; `at` is the byte offset in the file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TlogError {
+    #[error("truncated record at byte {at}")]
+    TruncatedRecord { at: usize },
+    #[error("byte {at}: 0x{byte:02x} is no MAVLink start marker")]
+    NoStartMarker { at: usize, byte: u8 },
+    #[error("truncated frame at byte {at}")]
+    TruncatedFrame { at: usize },
+}
+
 /// Reads a `.tlog` back: (timestamp µs, frame bytes) per record; the frame length comes from its header.
-pub fn read_tlog(bytes: &[u8]) -> Result<Vec<(u64, Vec<u8>)>, String> {
+pub fn read_tlog(bytes: &[u8]) -> Result<Vec<(u64, Vec<u8>)>, TlogError> {
     let mut out = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
         if bytes.len() < i + 10 {
-            return Err(format!("truncated record at byte {i}"));
+            return Err(TlogError::TruncatedRecord { at: i });
         }
         let mut ts = [0u8; 8];
         ts.copy_from_slice(&bytes[i..i + 8]);
@@ -65,15 +76,10 @@ pub fn read_tlog(bytes: &[u8]) -> Result<Vec<(u64, Vec<u8>)>, String> {
         let len = match f[0] {
             0xFE => 8 + usize::from(f[1]),
             0xFD => 12 + usize::from(f[1]) + if f[2] & 1 != 0 { 13 } else { 0 },
-            other => {
-                return Err(format!(
-                    "byte {}: 0x{other:02x} is no MAVLink start marker",
-                    i + 8
-                ))
-            }
+            byte => return Err(TlogError::NoStartMarker { at: i + 8, byte }),
         };
         if f.len() < len {
-            return Err(format!("truncated frame at byte {}", i + 8));
+            return Err(TlogError::TruncatedFrame { at: i + 8 });
         }
         out.push((u64::from_be_bytes(ts), f[..len].to_vec()));
         i += 8 + len;

@@ -29,8 +29,76 @@ struct Happening {
     del: Vec<Ground>,
 }
 
+/// The first reason a plan is not valid on its PDDL (steps are numbered from 1).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimulateError {
+    #[error("step {step} ({action}): {fault}")]
+    Step {
+        step: usize,
+        action: String,
+        fault: StepFault,
+    },
+    #[error("`?duration` is not simulated here")]
+    DurationInExpression,
+    #[error("{0} has no value")]
+    NoValue(String),
+    #[error("{first} and {second} interfere within ε at {at_ms} ms")]
+    Interfere {
+        first: String,
+        second: String,
+        at_ms: Time,
+    },
+    #[error("step {step}: {end} condition {atom} is not {value} at {at_ms} ms")]
+    Condition {
+        step: usize,
+        /// `start` or `end`.
+        end: &'static str,
+        atom: String,
+        value: bool,
+        at_ms: Time,
+    },
+    #[error("step {step}: over-all condition {atom} is not {value} at {at_ms} ms")]
+    OverAll {
+        step: usize,
+        atom: String,
+        value: bool,
+        at_ms: Time,
+    },
+    #[error("goals other than literals are not simulated")]
+    GoalNotLiteral,
+    #[error("goal {}{atom} is not reached", if *.positive { "" } else { "not " })]
+    GoalNotReached { atom: String, positive: bool },
+}
+
+/// What is wrong with one step on its own.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepFault {
+    #[error("no such action")]
+    NoSuchAction,
+    #[error("{expected} arguments, not {given}")]
+    Arity { expected: usize, given: usize },
+    #[error("unknown object `{0}`")]
+    UnknownObject(String),
+    #[error("`{0}` is not of the parameter's type")]
+    WrongType(String),
+    #[error("duration {duration} breaks its constraint ({bound})")]
+    Duration { duration: f64, bound: f64 },
+    #[error("an instantaneous action with a duration")]
+    InstantaneousWithDuration,
+    #[error("an (in)equality is false")]
+    Equality,
+    #[error("a numeric condition is false")]
+    NumericCondition,
+    #[error("numeric effects are not simulated")]
+    NumericEffect,
+}
+
 /// `Ok(makespan ms)` when the plan is valid, else the first reason it is not.
-pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<Time, String> {
+pub fn simulate(
+    d: &ast::Domain,
+    p: &ast::Problem,
+    plan: &[IpcStep],
+) -> Result<Time, SimulateError> {
     let mut state: BTreeSet<Ground> = BTreeSet::new();
     let mut values: HashMap<Ground, f64> = HashMap::new();
     let mut tils: Vec<(Time, Ground, bool)> = Vec::new();
@@ -78,26 +146,29 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
     let mut happenings: Vec<Happening> = Vec::new();
     let mut spans: Vec<(Time, Time, Vec<Cond>)> = Vec::new();
     for (k, s) in plan.iter().enumerate() {
-        let who = format!("step {} ({})", k + 1, s.action);
+        let who = |fault| SimulateError::Step {
+            step: k + 1,
+            action: s.action.clone(),
+            fault,
+        };
         let a = d
             .actions
             .iter()
             .find(|a| a.name.name == s.action)
-            .ok_or_else(|| format!("{who}: no such action"))?;
+            .ok_or_else(|| who(StepFault::NoSuchAction))?;
         if a.params.len() != s.args.len() {
-            return Err(format!(
-                "{who}: {} arguments, not {}",
-                a.params.len(),
-                s.args.len()
-            ));
+            return Err(who(StepFault::Arity {
+                expected: a.params.len(),
+                given: s.args.len(),
+            }));
         }
         let mut env: HashMap<String, String> = HashMap::new();
         for (p, v) in a.params.iter().zip(&s.args) {
             let t = types
                 .get(v.as_str())
-                .ok_or_else(|| format!("{who}: unknown object `{v}`"))?;
+                .ok_or_else(|| who(StepFault::UnknownObject(v.clone())))?;
             if !p.types.iter().any(|x| is_sub(t, &x.name)) {
-                return Err(format!("{who}: `{v}` is not of the parameter's type"));
+                return Err(who(StepFault::WrongType(v.clone())));
             }
             env.insert(p.name.name.clone(), v.clone());
         }
@@ -110,11 +181,14 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
                 Cmp::Ge | Cmp::Gt => dur + 0.0011 >= v,
             };
             if !ok {
-                return Err(format!("{who}: duration {dur} breaks its constraint ({v})"));
+                return Err(who(StepFault::Duration {
+                    duration: dur,
+                    bound: v,
+                }));
             }
         }
         if !a.durative && s.duration_ms != 0 {
-            return Err(format!("{who}: an instantaneous action with a duration"));
+            return Err(who(StepFault::InstantaneousWithDuration));
         }
         let mut pre: [Vec<(Ground, bool)>; 3] = Default::default();
         for (w, l) in &a.conditions {
@@ -124,14 +198,14 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
                 Lit::Neg(x) => slot.push((ground(x, &env), false)),
                 Lit::Equal(x, y, eq, _) => {
                     if (name(x, &env) == name(y, &env)) != *eq {
-                        return Err(format!("{who}: an (in)equality is false"));
+                        return Err(who(StepFault::Equality));
                     }
                 }
                 Lit::Compare(c, x, y, _) => {
                     let (x, y) = (eval(x, &env, &values)?, eval(y, &env, &values)?);
                     let ok = c.holds(x, y);
                     if !ok {
-                        return Err(format!("{who}: a numeric condition is false"));
+                        return Err(who(StepFault::NumericCondition));
                     }
                 }
             }
@@ -143,7 +217,7 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
             match e {
                 Effect::Add(x) => add[i].push(ground(x, &env)),
                 Effect::Del(x) => del[i].push(ground(x, &env)),
-                Effect::Num(..) => return Err(format!("{who}: numeric effects are not simulated")),
+                Effect::Num(..) => return Err(who(StepFault::NumericEffect)),
             }
         }
         let [ps, po, pe] = pre;
@@ -190,12 +264,11 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
                     usize::MAX => "a timed initial literal".to_string(),
                     k => format!("step {}", k + 1),
                 };
-                return Err(format!(
-                    "{} and {} interfere within ε at {} ms",
-                    name(x),
-                    name(y),
-                    x.at.min(y.at)
-                ));
+                return Err(SimulateError::Interfere {
+                    first: name(x),
+                    second: name(y),
+                    at_ms: x.at.min(y.at),
+                });
             }
         }
     }
@@ -224,16 +297,17 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
         for h in &now {
             for (g, v) in &h.pre {
                 if state.contains(g) != *v {
-                    return Err(format!(
-                        "step {}: {} condition {} is not {v} at {t} ms",
-                        h.step + 1,
-                        if h.when == When::Start {
+                    return Err(SimulateError::Condition {
+                        step: h.step + 1,
+                        end: if h.when == When::Start {
                             "start"
                         } else {
                             "end"
                         },
-                        show(g)
-                    ));
+                        atom: show(g),
+                        value: *v,
+                        at_ms: t,
+                    });
                 }
             }
         }
@@ -251,11 +325,12 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
             if *s <= t && t < *e {
                 for (g, v) in inv {
                     if state.contains(g) != *v {
-                        return Err(format!(
-                            "step {}: over-all condition {} is not {v} at {t} ms",
-                            k + 1,
-                            show(g)
-                        ));
+                        return Err(SimulateError::OverAll {
+                            step: k + 1,
+                            atom: show(g),
+                            value: *v,
+                            at_ms: t,
+                        });
                     }
                 }
             }
@@ -265,15 +340,14 @@ pub fn simulate(d: &ast::Domain, p: &ast::Problem, plan: &[IpcStep]) -> Result<T
         let (a, positive) = match l {
             Lit::Pos(a) => (a, true),
             Lit::Neg(a) => (a, false),
-            _ => return Err("goals other than literals are not simulated".into()),
+            _ => return Err(SimulateError::GoalNotLiteral),
         };
         let g = ground(a, &HashMap::new());
         if state.contains(&g) != positive {
-            return Err(format!(
-                "goal {}{} is not reached",
-                if positive { "" } else { "not " },
-                show(&g)
-            ));
+            return Err(SimulateError::GoalNotReached {
+                atom: show(&g),
+                positive,
+            });
         }
     }
     Ok(plan
@@ -316,10 +390,10 @@ fn eval(
     e: &NExpr,
     env: &HashMap<String, String>,
     values: &HashMap<Ground, f64>,
-) -> Result<f64, String> {
+) -> Result<f64, SimulateError> {
     Ok(match e {
         NExpr::Num(v, _) => *v,
-        NExpr::Duration(_) => return Err("`?duration` is not simulated here".into()),
+        NExpr::Duration(_) => return Err(SimulateError::DurationInExpression),
         NExpr::Neg(a, _) => -eval(a, env, values)?,
         NExpr::Bin(op, a, b, _) => {
             let (x, y) = (eval(a, env, values)?, eval(b, env, values)?);
@@ -334,7 +408,7 @@ fn eval(
             let g = ground(f, env);
             *values
                 .get(&g)
-                .ok_or_else(|| format!("{} has no value", show(&g)))?
+                .ok_or_else(|| SimulateError::NoValue(show(&g)))?
         }
     })
 }

@@ -51,9 +51,9 @@ pub enum SolveError {
     #[error("checker: plan REJECTED: {0}")]
     Rejected(String, f64),
     #[error("no IPC plan: {0}")]
-    Ipc(String, f64),
+    Ipc(writer::IpcError, f64),
     #[error("the IPC plan fails its replay on the PDDL: {0}")]
-    Replay(String, f64),
+    Replay(simulate::SimulateError, f64),
 }
 
 impl SolveError {

@@ -33,7 +33,27 @@ struct Instance {
     effects: Vec<(When, Term, Option<Term>, bool)>,
 }
 
-/// The task, or why the action can never apply (it is then dropped).
+/// Why an action can never apply (it is then dropped, with a note saying why).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Inapplicable {
+    #[error("no combination of its parameters has a duration")]
+    NoDuration,
+    #[error("its duration constraints have no solution")]
+    DurationUnsatisfiable,
+    #[error("an (in)equality between constants is false")]
+    ConstantEquality,
+    #[error("a numeric condition between constants is false")]
+    ConstantComparison,
+    #[error("its condition on `{0}` is never true")]
+    NeverTrue(String),
+    #[error("it requires a value and its absence at once")]
+    ValueAndAbsence,
+    #[error("it requires two different values of one atom at once")]
+    TwoValues,
+    #[error("its effect on a multi-valued variable does not say the value it replaces")]
+    NoReplacedValue,
+}
+
 /// Ground combinations of an action's parameters beyond which the translation refuses (a duration given
 /// by a static function of the parameters makes one task per combination).
 const MAX_DURATION_GROUNDINGS: usize = 20_000;
@@ -42,7 +62,10 @@ const MAX_DURATION_GROUNDINGS: usize = 20_000;
 /// (`(slew_time ?from ?to)`) — one per combination of those parameters where the function is defined,
 /// each with the parameters bound (`?from in {a}`) and its own fixed duration. Empty with the reason when
 /// the action can never apply.
-pub(super) fn tasks(cx: &mut Cx, a: &ast::Action) -> Result<Result<Vec<Task>, String>, PddlError> {
+pub(super) fn tasks(
+    cx: &mut Cx,
+    a: &ast::Action,
+) -> Result<Result<Vec<Task>, Inapplicable>, PddlError> {
     let mut used: Vec<usize> = Vec::new();
     for (_, e, _) in &a.duration {
         duration_params(e, a, &mut used);
@@ -74,7 +97,7 @@ pub(super) fn tasks(cx: &mut Cx, a: &ast::Action) -> Result<Result<Vec<Task>, St
             .collect();
     }
     let mut out = Vec::new();
-    let mut last_why = String::from("no combination of its parameters has a duration");
+    let mut last_why = Inapplicable::NoDuration;
     for combo in combos {
         let fixed: Vec<(usize, ObjectId)> = used.iter().copied().zip(combo).collect();
         match task(cx, a, &fixed) {
@@ -117,7 +140,7 @@ fn task(
     cx: &mut Cx,
     a: &ast::Action,
     fixed: &[(usize, ObjectId)],
-) -> Result<Result<Task, String>, PddlError> {
+) -> Result<Result<Task, Inapplicable>, PddlError> {
     let src = cx.ds;
     let mut t = Task::new(
         a.name.name.clone(),
@@ -193,7 +216,7 @@ fn task(
         ub = Some(0);
     }
     if ub.is_some_and(|u| u < lb) {
-        return Ok(Err("its duration constraints have no solution".into()));
+        return Ok(Err(Inapplicable::DurationUnsatisfiable));
     }
     t.temporal.push(TemporalConstraint {
         from: ST,
@@ -212,7 +235,7 @@ fn task(
                 let (x, y) = (term(cx, x)?, term(cx, y)?);
                 match (x, y) {
                     (Term::Obj(p), Term::Obj(q)) if (p == q) != *eq => {
-                        return Ok(Err("an (in)equality between constants is false".into()))
+                        return Ok(Err(Inapplicable::ConstantEquality))
                     }
                     (Term::Obj(_), Term::Obj(_)) => {}
                     _ => t.bindings.push(if *eq {
@@ -232,7 +255,7 @@ fn task(
                 };
                 let ok = c.holds(x, y);
                 if !ok {
-                    return Ok(Err("a numeric condition between constants is false".into()));
+                    return Ok(Err(Inapplicable::ConstantComparison));
                 }
             }
             Lit::Pos(atom) | Lit::Neg(atom) => {
@@ -246,10 +269,7 @@ fn task(
                     } => match static_condition(cx, atom, &args, &params, positive, &mut t) {
                         Some(true) => {}
                         Some(false) => {
-                            return Ok(Err(format!(
-                                "its condition on `{}` is never true",
-                                atom.pred.name
-                            )))
+                            return Ok(Err(Inapplicable::NeverTrue(atom.pred.name.clone())))
                         }
                         None => static_holds.push((attr, args, positive, *w)),
                     },
@@ -445,7 +465,7 @@ fn static_condition(
 
 /// Merges a required value into `slot`: a binding when two variables (or a variable and a constant) must
 /// be equal; `Err` when two constants differ.
-fn unify(slot: &mut Option<Term>, v: Term, t: &mut Task) -> Result<(), String> {
+fn unify(slot: &mut Option<Term>, v: Term, t: &mut Task) -> Result<(), Inapplicable> {
     match *slot {
         None => *slot = Some(v),
         Some(x) if x == v => {}
@@ -453,11 +473,11 @@ fn unify(slot: &mut Option<Term>, v: Term, t: &mut Task) -> Result<(), String> {
             if matches!(v, Term::Var(_)) || matches!(x, Term::Var(_)) =>
         {
             if matches!(v, Term::Unknown) {
-                return Err("it requires a value and its absence at once".into());
+                return Err(Inapplicable::ValueAndAbsence);
             }
             t.bindings.push(Binding::Eq(x, v));
         }
-        Some(_) => return Err("it requires two different values of one atom at once".into()),
+        Some(_) => return Err(Inapplicable::TwoValues),
     }
     Ok(())
 }
@@ -472,7 +492,7 @@ fn any_bool(t: &mut Task) -> Term {
     Term::Var(v)
 }
 
-fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), String> {
+fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), Inapplicable> {
     let mut s_req = None;
     let mut mid = None;
     let mut e_req = None;
@@ -484,42 +504,41 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), String> {
         };
         unify(slot, *v, t)?;
     }
-    let eff = |when: When, t: &mut Task, req: &mut Option<Term>| -> Result<Option<Term>, String> {
-        let mut added: Option<Term> = None;
-        let mut deleted = false;
-        for (w, v, removed, add) in &inst.effects {
-            if *w != when {
-                continue;
+    let eff =
+        |when: When, t: &mut Task, req: &mut Option<Term>| -> Result<Option<Term>, Inapplicable> {
+            let mut added: Option<Term> = None;
+            let mut deleted = false;
+            for (w, v, removed, add) in &inst.effects {
+                if *w != when {
+                    continue;
+                }
+                if let Some(r) = removed {
+                    unify(req, *r, t)?;
+                }
+                if *add {
+                    unify(&mut added, *v, t)?;
+                } else {
+                    deleted = true;
+                }
             }
-            if let Some(r) = removed {
-                unify(req, *r, t)?;
-            }
-            if *add {
-                unify(&mut added, *v, t)?;
+            // PDDL applies deletions before additions at one instant.
+            let removed = if inst.boolean {
+                Term::Obj(Domain::FALSE)
             } else {
-                deleted = true;
-            }
-        }
-        // PDDL applies deletions before additions at one instant.
-        let removed = if inst.boolean {
-            Term::Obj(Domain::FALSE)
-        } else {
-            Term::Unknown
+                Term::Unknown
+            };
+            Ok(added.or(deleted.then_some(removed)))
         };
-        Ok(added.or(deleted.then_some(removed)))
-    };
     let e_s = eff(When::Start, t, &mut s_req)?;
     let e_e = eff(When::End, t, &mut e_req)?;
-    let from_or_any = |req: Option<Term>, to: Term, t: &mut Task| -> Result<Term, String> {
+    let from_or_any = |req: Option<Term>, to: Term, t: &mut Task| -> Result<Term, Inapplicable> {
         match req {
             Some(v) => Ok(v),
             // An add needs the atom false before (re-adding a true atom is never useful to a plan, and the
             // fixed `from` spares the search an establisher choice); a deletion takes any prior value.
             None if inst.boolean && to == Term::Obj(Domain::TRUE) => Ok(Term::Obj(Domain::FALSE)),
             None if inst.boolean => Ok(any_bool(t)),
-            None => Err(
-                "its effect on a multi-valued variable does not say the value it replaces".into(),
-            ),
+            None => Err(Inapplicable::NoReplacedValue),
         }
     };
     if let Some(v) = e_s {

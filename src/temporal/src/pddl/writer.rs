@@ -66,20 +66,44 @@ impl fmt::Display for IpcPlan {
     }
 }
 
+/// Why a checked solution has no IPC plan (each names the action it is about).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum IpcError {
+    #[error("{0}: unknown task")]
+    UnknownTask(String),
+    #[error("{0}: variable without a value")]
+    Unbound(String),
+    #[error("{0}: a parameter is +oo")]
+    Infinite(String),
+    #[error("{0}: timepoint missing")]
+    NoTimepoint(String),
+    #[error("a constraint names an unknown timepoint")]
+    UnknownTimepoint,
+    #[error("the plan's network is inconsistent once actions are ε-separated")]
+    Inconsistent,
+}
+
+/// A line of an IPC plan that does not read as `start: (action args) [duration]` (numbered from 1).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("line {line}: expected `start: (action args) [duration]`")]
+pub struct IpcLineError {
+    pub line: usize,
+}
+
 /// The IPC plan of a checked solution (`checked`: what the independent checker instantiated).
 pub fn ipc_plan(
     domain: &Domain,
     problem: &Problem,
     sol: &Solution,
     checked: &Checked,
-) -> Result<IpcPlan, String> {
+) -> Result<IpcPlan, IpcError> {
     let times = separated_schedule(sol)?;
     let mut steps = Vec::new();
     for a in &sol.actions {
         let task = domain
             .tasks
             .get(a.task.index())
-            .ok_or_else(|| format!("{}: unknown task", a.name))?;
+            .ok_or_else(|| IpcError::UnknownTask(a.name.clone()))?;
         let mut args = Vec::new();
         for t in a.args.iter().take(task.n_params) {
             let o = match *t {
@@ -87,14 +111,14 @@ pub fn ipc_plan(
                 PlanTerm::Var(v) => *checked
                     .bindings
                     .get(v.index())
-                    .ok_or_else(|| format!("{}: variable without a value", a.name))?,
-                PlanTerm::Unknown => return Err(format!("{}: a parameter is +oo", a.name)),
+                    .ok_or_else(|| IpcError::Unbound(a.name.clone()))?,
+                PlanTerm::Unknown => return Err(IpcError::Infinite(a.name.clone())),
             };
             args.push(problem.object_name(o).to_string());
         }
         let at = |tp: Option<&crate::plan::solution::PlanTp>| {
             tp.and_then(|t| times.get(t.index()).copied())
-                .ok_or_else(|| format!("{}: timepoint missing", a.name))
+                .ok_or_else(|| IpcError::NoTimepoint(a.name.clone()))
         };
         let (st, et) = (at(a.timepoints.first())?, at(a.timepoints.last())?);
         steps.push(IpcStep {
@@ -110,7 +134,7 @@ pub fn ipc_plan(
 
 /// The earliest times of the solution's network where every ordering between two actions' timepoints (or
 /// an action's and a timed initial literal's) is at least [`EPSILON_MS`].
-fn separated_schedule(sol: &Solution) -> Result<Vec<Time>, String> {
+fn separated_schedule(sol: &Solution) -> Result<Vec<Time>, IpcError> {
     let n = sol.timepoints.len();
     // Who a timepoint belongs to: an action, or itself (a timed literal's change, a goal); the origin none.
     let mut owner: Vec<Option<usize>> = (0..n)
@@ -144,7 +168,7 @@ fn separated_schedule(sol: &Solution) -> Result<Vec<Time>, String> {
         let mut changed = false;
         for &(f, to, lb, ub) in &edges {
             if f >= n || to >= n {
-                return Err("a constraint names an unknown timepoint".into());
+                return Err(IpcError::UnknownTimepoint);
             }
             if let Some(l) = lb {
                 if t[to] < t[f] + l {
@@ -163,22 +187,22 @@ fn separated_schedule(sol: &Solution) -> Result<Vec<Time>, String> {
             return if t.first().copied().unwrap_or(0) == 0 {
                 Ok(t)
             } else {
-                Err("the plan's network is inconsistent once actions are ε-separated".into())
+                Err(IpcError::Inconsistent)
             };
         }
     }
-    Err("the plan's network is inconsistent once actions are ε-separated".into())
+    Err(IpcError::Inconsistent)
 }
 
 /// Reads an IPC plan (`start: (action args) [duration]` per line; `;` comments and blank lines skipped).
-pub fn parse_ipc(text: &str) -> Result<Vec<IpcStep>, String> {
+pub fn parse_ipc(text: &str) -> Result<Vec<IpcStep>, IpcLineError> {
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.split(';').next().unwrap_or("").trim();
         if line.is_empty() {
             continue;
         }
-        let bad = || format!("line {}: expected `start: (action args) [duration]`", i + 1);
+        let bad = || IpcLineError { line: i + 1 };
         let (start, rest) = line.split_once(':').ok_or_else(bad)?;
         let open = rest.find('(').ok_or_else(bad)?;
         let close = rest.find(')').ok_or_else(bad)?;
@@ -193,7 +217,7 @@ pub fn parse_ipc(text: &str) -> Result<Vec<IpcStep>, String> {
             .and_then(|r| r.trim().strip_prefix('['))
             .and_then(|r| r.strip_suffix(']'))
             .ok_or_else(bad)?;
-        let ms = |s: &str| -> Result<Time, String> {
+        let ms = |s: &str| -> Result<Time, IpcLineError> {
             s.trim()
                 .parse::<f64>()
                 .map(|v| (v * 1000.0).round() as Time)

@@ -28,7 +28,7 @@ mod temporal;
 mod timeline;
 mod violation;
 
-pub use violation::{Lapse, Rejected, Violation};
+pub use violation::{Lapse, LinkFault, NumericFault, Rejected, Violation};
 
 use crate::model::{Domain, ObjectId, Problem, Term, Time, TimeInterval, TpId, Value};
 use crate::plan::solution::{PlanAction, PlanTerm, PlanTp, Solution};

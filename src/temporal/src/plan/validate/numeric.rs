@@ -8,7 +8,7 @@ use crate::model::{NumConstraint, NumTerm, NumVarId, Task, MS_PER_S};
 use crate::plan::solution::PlanAction;
 
 use super::bind::close_enough;
-use super::{Ctx, Violation};
+use super::{Ctx, NumericFault, Violation};
 
 /// A closed real interval `[lo, hi]` (infinite ends allowed).
 pub(super) type Iv = (f64, f64);
@@ -51,7 +51,7 @@ fn reported(task: &Task, a: &PlanAction) -> Vec<Iv> {
         .collect()
 }
 
-fn action(cx: &Ctx, task: &Task, a: &PlanAction) -> Result<Vec<Iv>, String> {
+fn action(cx: &Ctx, task: &Task, a: &PlanAction) -> Result<Vec<Iv>, NumericFault> {
     let mut dom = reported(task, a);
     let name = |v: NumVarId| {
         task.num_vars
@@ -60,10 +60,11 @@ fn action(cx: &Ctx, task: &Task, a: &PlanAction) -> Result<Vec<Iv>, String> {
     };
     for (i, (lo, hi)) in dom.iter().enumerate() {
         if *lo > *hi {
-            return Err(format!(
-                "{} has an empty domain: declared ∩ reported = [{lo}, {hi}]",
-                name(NumVarId::from_index(i))
-            ));
+            return Err(NumericFault::EmptyDomain {
+                var: name(NumVarId::from_index(i)),
+                lo: *lo,
+                hi: *hi,
+            });
         }
     }
     // The values the schedule and the instantiation fix.
@@ -82,39 +83,36 @@ fn action(cx: &Ctx, task: &Task, a: &PlanAction) -> Result<Vec<Iv>, String> {
                     _ => None,
                 };
                 let Some(d) = d else {
-                    return Err(format!(
-                        "{} = distance({}, {}): a location without coordinates",
-                        name(*var),
-                        cx.value_name(pv),
-                        cx.value_name(qv)
-                    ));
+                    return Err(NumericFault::NoCoordinates {
+                        var: name(*var),
+                        from: cx.value_name(pv),
+                        to: cx.value_name(qv),
+                    });
                 };
                 (*var, d, "the distance")
             }
             _ => continue,
         };
         let Some(slot) = dom.get_mut(var.index()) else {
-            return Err(format!("unknown numeric variable #{}", var.0));
+            return Err(NumericFault::UnknownVariable(var.0));
         };
         if !close_enough(x, slot.0, slot.1) {
-            return Err(format!(
-                "{} = {x} ({what}) is outside its bounds [{}, {}]",
-                name(var),
-                slot.0,
-                slot.1
-            ));
+            return Err(NumericFault::OutOfBounds {
+                var: name(var),
+                value: x,
+                what,
+                lo: slot.0,
+                hi: slot.1,
+            });
         }
         *slot = (x, x);
     }
     for _ in 0..ROUNDS {
         let before = dom.clone();
         for c in &task.numeric {
-            narrow(c, &mut dom).map_err(|()| {
-                format!(
-                    "{} has no solution within the bounds {}",
-                    show(c, &name),
-                    show_doms(&dom, &name)
-                )
+            narrow(c, &mut dom).map_err(|()| NumericFault::NoSolution {
+                constraint: show(c, &name),
+                domains: show_doms(&dom, &name),
             })?;
         }
         if dom == before {

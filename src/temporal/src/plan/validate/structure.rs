@@ -131,16 +131,35 @@ pub(super) fn check(d: &Domain, p: &Problem, s: &Solution) -> Vec<Violation> {
     out
 }
 
+/// A reference of a causal link to nothing.
+#[derive(Debug, thiserror::Error)]
+enum Dangling {
+    #[error("unknown attribute {0}")]
+    Attr(u32),
+    #[error("unknown timed fact #{0}")]
+    Timed(usize),
+    #[error("unknown action id {0}")]
+    Action(u32),
+    #[error("action {action} has no {what} #{index}")]
+    Part {
+        action: String,
+        what: &'static str,
+        index: usize,
+    },
+    #[error("unknown goal id {0}")]
+    Goal(u32),
+}
+
 /// The link's establisher and consumer exist (their contents are compared later, over time).
-fn link_ok(d: &Domain, p: &Problem, s: &Solution, l: &CausalLink) -> Result<(), String> {
+fn link_ok(d: &Domain, p: &Problem, s: &Solution, l: &CausalLink) -> Result<(), Dangling> {
     if l.attr.index() >= d.attrs.len() {
-        return Err(format!("unknown attribute {}", l.attr.0));
+        return Err(Dangling::Attr(l.attr.0));
     }
     match l.establisher {
         Establisher::Initial => {}
         Establisher::Timed { index } => {
             if index >= p.exogenous.len() {
-                return Err(format!("unknown timed fact #{index}"));
+                return Err(Dangling::Timed(index));
             }
         }
         Establisher::Event { action, event } => {
@@ -154,7 +173,7 @@ fn link_ok(d: &Domain, p: &Problem, s: &Solution, l: &CausalLink) -> Result<(), 
         }
         Consumer::Goal { goal } => {
             if goal.index() >= p.goals.len() {
-                return Err(format!("unknown goal id {}", goal.0));
+                return Err(Dangling::Goal(goal.0));
             }
         }
     }
@@ -167,14 +186,16 @@ fn part(
     s: &Solution,
     action: ActionId,
     index: usize,
-    what: &str,
+    what: &'static str,
     count: impl Fn(&Task) -> usize,
-) -> Result<(), String> {
-    let a = s
-        .action(action)
-        .ok_or(format!("unknown action id {}", action.0))?;
+) -> Result<(), Dangling> {
+    let a = s.action(action).ok_or(Dangling::Action(action.0))?;
     if index >= d.tasks.get(a.task.index()).map_or(0, count) {
-        return Err(format!("action {} has no {what} #{index}", a.name));
+        return Err(Dangling::Part {
+            action: a.name.clone(),
+            what,
+            index,
+        });
     }
     Ok(())
 }

@@ -8,7 +8,7 @@ use crate::model::{AttrId, Time, Value};
 use crate::plan::solution::{CausalLink, Consumer, Establisher, PlanTp};
 
 use super::violation::Lapse;
-use super::{Ctx, Violation};
+use super::{Ctx, LinkFault, Violation};
 
 type Instance = (AttrId, Vec<Value>);
 
@@ -228,28 +228,28 @@ fn link_label(cx: &Ctx, i: usize, l: &CausalLink) -> String {
 }
 
 /// The link's proposition and interval are those of its establisher and consumer (instantiated).
-fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
+fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), LinkFault> {
     let args: Vec<Value> = l.args.iter().map(|&t| cx.value(t)).collect();
     let value = cx.value(l.value);
-    let same = |attr: AttrId, a: &[Value], v: Value, role: &str| {
+    let same = |attr: AttrId, a: &[Value], v: Value, role: &'static str| {
         if attr != l.attr || a != args.as_slice() || v != value {
-            Err(format!(
-                "its proposition {} = {} differs from its {role}'s {} = {}",
-                cx.instance_name(l.attr, &args),
-                cx.value_name(value),
-                cx.instance_name(attr, a),
-                cx.value_name(v)
-            ))
+            Err(LinkFault::Proposition {
+                instance: cx.instance_name(l.attr, &args),
+                value: cx.value_name(value),
+                role,
+                role_instance: cx.instance_name(attr, a),
+                role_value: cx.value_name(v),
+            })
         } else {
             Ok(())
         }
     };
-    let at = |tp: PlanTp, want: Option<PlanTp>, role: &str| match want {
+    let at = |tp: PlanTp, want: Option<PlanTp>, role: &'static str| match want {
         Some(w) if w == tp => Ok(()),
-        _ => Err(format!(
-            "its interval bound {} is not its {role}'s timepoint",
-            cx.s.tp_name(tp)
-        )),
+        _ => Err(LinkFault::NotAtBound {
+            tp: cx.s.tp_name(tp).to_string(),
+            role,
+        }),
     };
     match l.establisher {
         Establisher::Initial => {
@@ -262,15 +262,14 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
             let fa: Vec<Value> = f.fact.args.iter().map(|&o| Value::Obj(o)).collect();
             same(f.fact.attr, &fa, f.fact.value, "exogenous change")?;
             if cx.time(l.from) != f.at {
-                return Err(format!(
-                    "it starts at {} ms, not at the exogenous change's {} ms",
-                    cx.time(l.from),
-                    f.at
-                ));
+                return Err(LinkFault::NotAtExogenousChange {
+                    start: cx.time(l.from),
+                    change: f.at,
+                });
             }
         }
         Establisher::Event { action, event } => {
-            let a = cx.s.action(action).ok_or("unknown establisher")?;
+            let a = cx.s.action(action).ok_or(LinkFault::UnknownEstablisher)?;
             let e = &cx.d.task(a.task).events[event];
             let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
             same(e.attr, &ea, cx.term(a, e.to), "establishing event")?;
@@ -279,14 +278,14 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), String> {
     }
     match l.consumer {
         Consumer::Hold { action, hold } => {
-            let a = cx.s.action(action).ok_or("unknown consumer")?;
+            let a = cx.s.action(action).ok_or(LinkFault::UnknownConsumer)?;
             let h = &cx.d.task(a.task).holds[hold];
             let ha: Vec<Value> = h.args.iter().map(|&t| cx.term(a, t)).collect();
             same(h.attr, &ha, cx.term(a, h.value), "supported hold")?;
             supported(cx, l, a, (h.from, h.to), "hold")?;
         }
         Consumer::EventFrom { action, event } => {
-            let a = cx.s.action(action).ok_or("unknown consumer")?;
+            let a = cx.s.action(action).ok_or(LinkFault::UnknownConsumer)?;
             let e = &cx.d.task(a.task).events[event];
             let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
             same(e.attr, &ea, cx.term(a, e.from), "supported event")?;
@@ -313,24 +312,22 @@ fn supported(
     l: &CausalLink,
     a: &crate::plan::solution::PlanAction,
     (start, end): (crate::model::TpId, crate::model::TpId),
-    what: &str,
-) -> Result<(), String> {
+    what: &'static str,
+) -> Result<(), LinkFault> {
     if a.tp(end) != Some(l.to) {
-        return Err(format!(
-            "its interval bound {} is not the end of the {what} it supports",
-            cx.s.tp_name(l.to)
-        ));
+        return Err(LinkFault::NotAtSupportedEnd {
+            tp: cx.s.tp_name(l.to).to_string(),
+            what,
+        });
     }
-    precedes(cx, l, cx.at(a, start), &format!("the {what} it supports"))
+    precedes(cx, l, cx.at(a, start), what)
 }
 
 /// Footnote 3 of seed 1: the establisher precedes what it supports (it may not start after it).
-fn precedes(cx: &Ctx, l: &CausalLink, start: Time, what: &str) -> Result<(), String> {
+fn precedes(cx: &Ctx, l: &CausalLink, start: Time, what: &'static str) -> Result<(), LinkFault> {
     let from = cx.time(l.from);
     if from > start {
-        return Err(format!(
-            "its establisher at {from} ms comes after the start of {what} at {start} ms"
-        ));
+        return Err(LinkFault::EstablisherAfter { from, what, start });
     }
     Ok(())
 }

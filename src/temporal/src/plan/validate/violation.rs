@@ -46,7 +46,10 @@ pub enum Violation {
     Binding { action: String, reason: String },
     /// A numeric constraint cannot be satisfied within the reported bounds at the schedule.
     #[error("{action}: numeric constraint unsatisfiable: {reason}")]
-    Numeric { action: String, reason: String },
+    Numeric {
+        action: String,
+        reason: NumericFault,
+    },
     /// An event's `from` value is not the attribute's value just before it.
     #[error("{action}: event on {instance} at {time} ms requires the value {expected} but it is {actual}")]
     EventFrom {
@@ -72,7 +75,7 @@ pub enum Violation {
     LinkBroken { link: String, lapse: Lapse },
     /// A causal link does not match its establisher or consumer.
     #[error("causal link {link}: {reason}")]
-    LinkMismatch { link: String, reason: String },
+    LinkMismatch { link: String, reason: LinkFault },
     /// A goal marked achieved whose proposition does not hold over its window.
     #[error("goal {goal}: {lapse}")]
     GoalBroken { goal: String, lapse: Lapse },
@@ -127,6 +130,62 @@ pub enum Violation {
         action: String,
         time: Time,
         capacity: f64,
+    },
+}
+
+/// Why an action's numeric variables have no values (names are the task's, `?dist`).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NumericFault {
+    #[error("{var} has an empty domain: declared ∩ reported = [{lo}, {hi}]")]
+    EmptyDomain { var: String, lo: f64, hi: f64 },
+    #[error("{var} = distance({from}, {to}): a location without coordinates")]
+    NoCoordinates {
+        var: String,
+        from: String,
+        to: String,
+    },
+    #[error("unknown numeric variable #{0}")]
+    UnknownVariable(u32),
+    /// The value the schedule or the instantiation fixes (`what`: the scheduled duration, the distance).
+    #[error("{var} = {value} ({what}) is outside its bounds [{lo}, {hi}]")]
+    OutOfBounds {
+        var: String,
+        value: f64,
+        what: &'static str,
+        lo: f64,
+        hi: f64,
+    },
+    #[error("{constraint} has no solution within the bounds {domains}")]
+    NoSolution { constraint: String, domains: String },
+}
+
+/// How a causal link disagrees with its establisher or consumer (`role`: which of them).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LinkFault {
+    #[error("its proposition {instance} = {value} differs from its {role}'s {role_instance} = {role_value}")]
+    Proposition {
+        instance: String,
+        value: String,
+        role: &'static str,
+        role_instance: String,
+        role_value: String,
+    },
+    #[error("its interval bound {tp} is not its {role}'s timepoint")]
+    NotAtBound { tp: String, role: &'static str },
+    #[error("it starts at {start} ms, not at the exogenous change's {change} ms")]
+    NotAtExogenousChange { start: Time, change: Time },
+    #[error("unknown establisher")]
+    UnknownEstablisher,
+    #[error("unknown consumer")]
+    UnknownConsumer,
+    #[error("its interval bound {tp} is not the end of the {what} it supports")]
+    NotAtSupportedEnd { tp: String, what: &'static str },
+    /// Footnote 3 of seed 1: the establisher may not start after what it supports.
+    #[error("its establisher at {from} ms comes after the start of the {what} it supports at {start} ms")]
+    EstablisherAfter {
+        from: Time,
+        what: &'static str,
+        start: Time,
     },
 }
 
