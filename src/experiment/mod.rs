@@ -258,7 +258,7 @@ pub struct MissionOutcome {
     pub mission_goals: u64,
 }
 
-/// Short names for the rejection reasons (src/exec/outcome.rs); `None`: the mission ended before the goal
+/// Short names for the rejection reasons (src/executive/src/exec/outcome.rs); `None`: the mission ended before the goal
 /// arrived.
 fn reason_class(reason: Option<&FateReason>) -> String {
     let class = match reason.map(FateReason::cause) {

@@ -1,9 +1,11 @@
 //! The experiment's vehicle: travels between places at a seeded speed (a travel task is one with `from`
 //! and `to` location arguments), other tasks take a seeded time within their bounds; it keeps an odometer and
-//! a log of what it did, and delivers the ground station's goal lists at their arrival times. Manual clock:
-//! its [`Pacer`] jumps to the next thing due, so a 12-hour mission runs in milliseconds.
+//! a log of what it did, and delivers the ground station's goal lists at their arrival times. It is the
+//! executive tests' [`MockVehicle`] (clock, reports, their order) with durations drawn from the actions'
+//! arguments. Manual clock: its [`Pacer`] jumps to the next thing due, so a 12-hour mission runs in
+//! milliseconds.
 
-use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::collections::{BTreeMap, HashMap};
 use std::time::Duration;
 
 use rand::Rng;
@@ -11,9 +13,9 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::exec::mission::Pacer;
 use crate::model::Time;
-use crate::vehicle::goals::GoalBatch;
+use crate::vehicle::mock::{Outcome, Scripted};
 use crate::vehicle::{
-    ActionId, ActionReport, ActionStart, Enu, GoalRequest, ReportStatus, StateValue, Vehicle,
+    ActionId, ActionStart, Enu, GoalRequest, MockVehicle, ReportStatus, StateValue, Vehicle,
     VehicleError, VehicleEvent,
 };
 
@@ -43,13 +45,14 @@ struct Running {
     leg: Option<(String, Enu, String, Enu)>,
 }
 
+/// The scripted mock with travel times drawn from the actions' arguments: the mock keeps the clock, the
+/// reports and their order; this keeps what the experiment measures (legs, the log).
 pub struct KinematicVehicle {
-    now_ms: u64,
+    mock: MockVehicle,
     rng: ChaCha8Rng,
     times: HashMap<String, TaskTime>,
     running: BTreeMap<ActionId, Running>,
     goals: BTreeMap<u64, Vec<GoalRequest>>,
-    ready: VecDeque<VehicleEvent>,
     pub log: Vec<Done>,
     /// Whether a stopped walk reports where it stopped (a vehicle without a position sensor does not).
     report_positions: bool,
@@ -62,12 +65,11 @@ fn dist(a: Enu, b: Enu) -> f64 {
 impl KinematicVehicle {
     pub fn new(rng: ChaCha8Rng, times: HashMap<String, TaskTime>) -> Self {
         KinematicVehicle {
-            now_ms: 0,
+            mock: MockVehicle::new(),
             rng,
             times,
             running: BTreeMap::new(),
             goals: BTreeMap::new(),
-            ready: VecDeque::new(),
             log: Vec::new(),
             report_positions: true,
         }
@@ -90,44 +92,44 @@ impl KinematicVehicle {
         report.into_iter().chain(goal).min()
     }
 
+    /// A goal list comes after the reports due at its time.
     fn advance_to(&mut self, t: u64) {
-        self.now_ms = self.now_ms.max(t);
-        loop {
-            let due_report = self
-                .running
-                .iter()
-                .filter(|(_, r)| r.end_ms <= self.now_ms)
-                .min_by_key(|(id, r)| (r.end_ms, **id))
-                .map(|(id, _)| *id);
-            let due_goal = self
-                .goals
-                .keys()
-                .next()
-                .copied()
-                .filter(|&g| g <= self.now_ms);
-            match (due_report, due_goal) {
-                (Some(id), g) if g.is_none_or(|g| self.running[&id].end_ms <= g) => {
-                    self.finish(id, ReportStatus::Nominal)
-                }
-                (_, Some(g)) => {
-                    if let Some(batch) = self.goals.remove(&g) {
-                        self.ready
-                            .push_back(VehicleEvent::Goals(GoalBatch::detached(batch)));
-                    }
-                }
-                _ => break,
-            }
+        while let Some(entry) = self.goals.first_entry().filter(|e| *e.key() <= t) {
+            let (g, batch) = entry.remove_entry();
+            self.mock.advance_to(g);
+            self.log_finished();
+            self.mock.at(g, Scripted::Goals(batch));
+            self.mock.advance_to(g);
+        }
+        self.mock.advance_to(t);
+        self.log_finished();
+    }
+
+    /// Logs the actions whose nominal reports the mock has just made ready.
+    fn log_finished(&mut self) {
+        let done: Vec<ActionId> = self
+            .mock
+            .ready()
+            .filter_map(|e| match e {
+                VehicleEvent::Report(r) if r.status == ReportStatus::Nominal => Some(r.id),
+                _ => None,
+            })
+            .filter(|id| self.running.contains_key(id))
+            .collect();
+        for id in done {
+            self.finish(id, ReportStatus::Nominal);
         }
     }
 
-    fn finish(&mut self, id: ActionId, status: ReportStatus) {
+    /// Logs an action's end (nominal, or stopped now); a stopped travel's state is where it stopped.
+    fn finish(&mut self, id: ActionId, status: ReportStatus) -> Vec<(String, StateValue)> {
         let Some(r) = self.running.remove(&id) else {
-            return;
+            return Vec::new();
         };
         let end = if status == ReportStatus::Nominal {
             r.end_ms
         } else {
-            self.now_ms.min(r.end_ms)
+            self.mock.now_ms().min(r.end_ms)
         };
         let mut state = Vec::new();
         let leg = r.leg.map(|(from, a, to, b)| {
@@ -153,14 +155,7 @@ impl KinematicVehicle {
             end_ms: end,
             leg,
         });
-        self.ready.push_back(VehicleEvent::Report(ActionReport {
-            id,
-            status,
-            time_ms: end,
-            resources: Vec::new(),
-            state,
-            reason: (status != ReportStatus::Nominal).then(|| "stopped (END)".to_string()),
-        }));
+        state
     }
 }
 
@@ -196,36 +191,37 @@ impl Vehicle for KinematicVehicle {
             }
             TaskTime::Fixed { lo, hi } => (self.rng.gen_range(lo..=hi).max(0) as u64, None),
         };
+        let now = self.mock.now_ms();
         self.running.insert(
             a.id,
             Running {
-                task: a.task,
-                start_ms: self.now_ms,
-                end_ms: self.now_ms + duration,
+                task: a.task.clone(),
+                start_ms: now,
+                end_ms: now + duration,
                 leg,
             },
         );
-        Ok(())
+        self.mock.start_with(a, Outcome::nominal(duration))
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
         if !self.running.contains_key(&id) {
             return Err(VehicleError::NotRunning(id));
         }
-        self.finish(id, ReportStatus::Interrupted);
-        Ok(())
+        let state = self.finish(id, ReportStatus::Interrupted);
+        self.mock.stop_with(id, state)
     }
 
     fn try_event(&mut self) -> Option<VehicleEvent> {
-        self.ready.pop_front()
+        self.mock.try_event()
     }
 
-    fn wait_event(&mut self, _timeout: Duration) -> Option<VehicleEvent> {
-        self.ready.pop_front()
+    fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent> {
+        self.mock.wait_event(timeout)
     }
 
     fn now_ms(&self) -> u64 {
-        self.now_ms
+        self.mock.now_ms()
     }
 }
 
@@ -239,7 +235,7 @@ impl Pacer<KinematicVehicle> for KinematicPacer {
     }
 
     fn now(&self, v: &KinematicVehicle) -> Time {
-        v.now_ms.min(i64::MAX as u64) as Time
+        v.now_ms().min(i64::MAX as u64) as Time
     }
 
     fn wait(&mut self, v: &mut KinematicVehicle, until: Time) -> Option<VehicleEvent> {

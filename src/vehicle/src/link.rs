@@ -674,33 +674,11 @@ impl Drop for MavlinkVehicle {
 
 impl Vehicle for MavlinkVehicle {
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
-        let now = self.shared.clock_now();
-        {
-            let mut d = self
-                .shared
-                .driver
-                .lock()
-                .map_err(|_| VehicleError::Closed)?;
-            d.start(action, now)?;
-            self.deliver(&mut d);
-        }
-        self.shared.notify.notify_one();
-        Ok(())
+        self.drive(|d, now| d.start(action, now))
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
-        let now = self.shared.clock_now();
-        {
-            let mut d = self
-                .shared
-                .driver
-                .lock()
-                .map_err(|_| VehicleError::Closed)?;
-            d.stop(id, now)?;
-            self.deliver(&mut d);
-        }
-        self.shared.notify.notify_one();
-        Ok(())
+        self.drive(|d, now| d.stop(id, now))
     }
 
     fn try_event(&mut self) -> Option<VehicleEvent> {
@@ -733,6 +711,26 @@ impl MavlinkVehicle {
 
 impl MavlinkVehicle {
     /// Hands the driver's events to the channel, under its lock as the pump does (their order is kept).
+    /// `START` / `END` on the driver at the link clock's now; what it reports is delivered and the link
+    /// task woken to send what it queued.
+    fn drive(
+        &mut self,
+        f: impl FnOnce(&mut Driver, u64) -> Result<(), VehicleError>,
+    ) -> Result<(), VehicleError> {
+        let now = self.shared.clock_now();
+        {
+            let mut d = self
+                .shared
+                .driver
+                .lock()
+                .map_err(|_| VehicleError::Closed)?;
+            f(&mut d, now)?;
+            self.deliver(&mut d);
+        }
+        self.shared.notify.notify_one();
+        Ok(())
+    }
+
     fn deliver(&self, d: &mut Driver) {
         for e in d.take_events() {
             let _ = self.events_tx.send(e);

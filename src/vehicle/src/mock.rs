@@ -170,6 +170,56 @@ impl MockVehicle {
         self.running.contains_key(&id)
     }
 
+    /// The events ready to be taken, oldest first.
+    pub fn ready(&self) -> impl Iterator<Item = &VehicleEvent> {
+        self.ready.iter()
+    }
+
+    /// Starts an action with an outcome the caller computed (a travel time from the action's arguments)
+    /// instead of the one scripted for its task.
+    pub fn start_with(
+        &mut self,
+        action: ActionStart,
+        outcome: Outcome,
+    ) -> Result<(), VehicleError> {
+        if self.running.contains_key(&action.id) {
+            return Err(VehicleError::AlreadyRunning(action.id));
+        }
+        self.log.push(format!(
+            "{} START {} {}",
+            self.now_ms, action.task, action.id
+        ));
+        self.order += 1;
+        self.due.insert(
+            (self.now_ms + outcome.after_ms, self.order),
+            Due::Report(action.id),
+        );
+        self.running.insert(action.id, (action.task, outcome));
+        Ok(())
+    }
+
+    /// Stops an action now; its report carries `state` (e.g. where a stopped motion is).
+    pub fn stop_with(
+        &mut self,
+        id: ActionId,
+        state: Vec<(String, StateValue)>,
+    ) -> Result<(), VehicleError> {
+        self.running
+            .remove(&id)
+            .ok_or(VehicleError::NotRunning(id))?;
+        self.log.push(format!("{} END {id}", self.now_ms));
+        let report = self.make_report(
+            id,
+            self.now_ms,
+            ReportStatus::Interrupted,
+            state,
+            Some("stopped (END)".into()),
+            &[],
+        );
+        self.ready.push_back(VehicleEvent::Report(report));
+        Ok(())
+    }
+
     fn make_report(
         &mut self,
         id: ActionId,
@@ -219,36 +269,13 @@ impl Vehicle for MockVehicle {
             queue.front().cloned()
         }
         .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?;
-        self.log.push(format!(
-            "{} START {} {}",
-            self.now_ms, action.task, action.id
-        ));
-        self.order += 1;
-        self.due.insert(
-            (self.now_ms + outcome.after_ms, self.order),
-            Due::Report(action.id),
-        );
-        self.running.insert(action.id, (action.task, outcome));
-        Ok(())
+        self.start_with(action, outcome)
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
-        let (task, _) = self
-            .running
-            .remove(&id)
-            .ok_or(VehicleError::NotRunning(id))?;
-        self.log.push(format!("{} END {id}", self.now_ms));
-        let state = self.on_stop.get(&task).cloned().unwrap_or_default();
-        let report = self.make_report(
-            id,
-            self.now_ms,
-            ReportStatus::Interrupted,
-            state,
-            Some("stopped (END)".into()),
-            &[],
-        );
-        self.ready.push_back(VehicleEvent::Report(report));
-        Ok(())
+        let (task, _) = self.running.get(&id).ok_or(VehicleError::NotRunning(id))?;
+        let state = self.on_stop.get(task).cloned().unwrap_or_default();
+        self.stop_with(id, state)
     }
 
     fn try_event(&mut self) -> Option<VehicleEvent> {

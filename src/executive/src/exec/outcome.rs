@@ -41,7 +41,7 @@ pub enum AbortReason {
     StartRefused { action: String, error: String },
     #[error("start of {action}: {error}")]
     StartInconsistent { action: String, error: String },
-    /// A banned action instance is due to start (src/exec/failures.rs).
+    /// A banned action instance is due to start (src/executive/src/exec/failures.rs).
     #[error("{instance} is not launched again: {ban}")]
     LaunchBanned { instance: String, ban: String },
     /// An action instance failed the same way k times in a row: it is banned.
@@ -131,7 +131,7 @@ pub enum FateReason {
         achieve_ms: Time,
         window: String,
     },
-    /// No plan achieves it even alone (src/planner/reachability.rs).
+    /// No plan achieves it even alone (src/temporal/src/planner/reachability.rs).
     #[error("goal {name} cannot be achieved: planned alone, {why}")]
     Unreachable { name: String, why: String },
     /// The replanning's plan needs a banned action instance.

@@ -16,7 +16,7 @@ pub enum RepairWork {
     /// Repairing *ExecutingPlan*.
     #[serde(rename = "in progress")]
     Repairing,
-    /// A new goal's insertion attempt (src/exec/goal_insertion.rs).
+    /// A new goal's insertion attempt (src/executive/src/exec/goal_insertion.rs).
     #[serde(rename = "inserting a new goal")]
     Inserting,
 }
