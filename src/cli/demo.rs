@@ -144,9 +144,8 @@ pub fn run(args: DemoArgs) -> ExitCode {
                 println!("report written to {}", path.display());
             }
             if let Some(path) = &args.html {
-                let page = crate::report::charts_of(&run.report).and_then(|c| {
-                    crate::report::write_page(path, "mavtempo demo", &c).map_err(|e| e.to_string())
-                });
+                let page = crate::report::charts_of(&run.report)
+                    .and_then(|c| crate::report::write_page(path, "mavtempo demo", &c));
                 if let Err(e) = page {
                     eprintln!("mavtempo demo: {e}");
                     return ExitCode::FAILURE;

@@ -100,9 +100,8 @@ pub fn run(args: RunArgs) -> ExitCode {
                 }
             }
             if let Some(path) = &args.html {
-                let page = crate::report::charts_of(&report).and_then(|c| {
-                    crate::report::write_page(path, "mavtempo run", &c).map_err(|e| e.to_string())
-                });
+                let page = crate::report::charts_of(&report)
+                    .and_then(|c| crate::report::write_page(path, "mavtempo run", &c));
                 if let Err(e) = page {
                     eprintln!("mavtempo run: {e}");
                     return ExitCode::FAILURE;
