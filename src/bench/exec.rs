@@ -107,7 +107,7 @@ pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
         plan.bindings.unify(STerm::Var(vars[1]), STerm::Obj(to))?;
         if let Some(e) = prev_end {
             let st = plan.action(act).start;
-            plan.stn.add_precedence(e, st)?;
+            plan.order(e, st)?;
         }
         let ev = plan.action(act).events[0];
         let cond = plan

@@ -48,7 +48,7 @@ pub enum CliError {
     Write { path: String, source: io::Error },
     /// The report's page (charts or HTML) could not be made or written.
     #[error("{0}")]
-    Page(String),
+    Page(#[from] crate::report::ReportError),
     /// A runtime, handler or thread the command needs (`what` names it).
     #[error("{what}: {source}")]
     Setup {

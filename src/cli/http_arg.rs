@@ -66,7 +66,7 @@ pub fn goal_form(home: Home, gcs: String, gate: Option<Arc<StepGate>>) -> GoalFo
                 if let (false, Some(g)) = (reached, &gate) {
                     g.cancel_goal_batch();
                 }
-                r.map_err(|e| e.to_string())
+                r
             })
         }),
     }

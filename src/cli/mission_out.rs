@@ -40,9 +40,8 @@ impl MissionOutArgs {
             println!("report written to {}", path.display());
         }
         if let Some(path) = &self.html {
-            let charts = crate::report::charts_of(r).map_err(|e| CliError::Page(e.to_string()))?;
-            crate::report::write_page(path, title, &charts)
-                .map_err(|e| CliError::Page(e.to_string()))?;
+            let charts = crate::report::charts_of(r)?;
+            crate::report::write_page(path, title, &charts)?;
             println!("page written to {}", path.display());
         }
         Ok(())

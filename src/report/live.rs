@@ -31,7 +31,7 @@ use super::html;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, MissionReport};
 use crate::exec::trace::CycleRecord;
-use crate::vehicle::goal_client::GoalSendReport;
+use crate::vehicle::goal_client::{GoalSendError, GoalSendReport};
 use crate::vehicle::goals::is_final_verdict_text;
 use crate::vehicle::items::MissionItem;
 use crate::vehicle::link::PositionProbe;
@@ -41,7 +41,9 @@ pub const RENDER_EVERY: Duration = Duration::from_millis(250);
 
 /// Sends a goal upload through the companion's intake and returns the ground station's account.
 pub type GoalSubmit = Arc<
-    dyn Fn(Vec<MissionItem>) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, String>> + Send>>
+    dyn Fn(
+            Vec<MissionItem>,
+        ) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, GoalSendError>> + Send>>
         + Send
         + Sync,
 >;
@@ -368,7 +370,7 @@ async fn goal(
     };
     let goal = match parse_goal(&fields) {
         Ok(g) => g,
-        Err(e) => return answer(StatusCode::BAD_REQUEST, false, e),
+        Err(e) => return answer(StatusCode::BAD_REQUEST, false, e.to_string()),
     };
     let items = (form.items)(&goal);
     match (form.submit)(items).await {
@@ -384,15 +386,29 @@ async fn goal(
     }
 }
 
+/// Why the page's goal form cannot be read.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FormError {
+    #[error("missing field {field}")]
+    Missing { field: String },
+    #[error("{field}: not a number: {value:?}")]
+    NotANumber { field: String, value: String },
+}
+
 /// The form's fields as numbers; a missing or non-numeric field names itself.
-pub fn parse_goal(fields: &BTreeMap<String, String>) -> Result<PictureGoal, String> {
-    let num = |k: &str| -> Result<f64, String> {
-        let v = fields.get(k).ok_or_else(|| format!("missing field {k}"))?;
+pub fn parse_goal(fields: &BTreeMap<String, String>) -> Result<PictureGoal, FormError> {
+    let num = |k: &str| -> Result<f64, FormError> {
+        let v = fields.get(k).ok_or_else(|| FormError::Missing {
+            field: k.to_string(),
+        })?;
         v.trim()
             .parse::<f64>()
             .ok()
             .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("{k}: not a number: {v:?}"))
+            .ok_or_else(|| FormError::NotANumber {
+                field: k.to_string(),
+                value: v.clone(),
+            })
     };
     Ok(PictureGoal {
         east: num("east")?,

@@ -26,6 +26,9 @@ pub enum ReportError {
         path: String,
         source: std::io::Error,
     },
+    /// An in-memory report that does not read back as one (a bug, not an input error).
+    #[error("the mission report does not read back: {0}")]
+    ReadBack(#[from] serde_json::Error),
 }
 
 /// Reads a mission report (`demo`/`run`/`soak --report FILE`).
@@ -112,8 +115,8 @@ pub fn write_page(path: &Path, title: &str, c: &Charts) -> Result<(), ReportErro
 }
 
 /// The charts of an in-memory report (no file between): through its JSON, as `mavtempo report` reads it.
-pub fn charts_of(r: &crate::exec::mission::MissionReport) -> Result<Charts, String> {
-    let value = serde_json::to_value(r).map_err(|e| e.to_string())?;
-    let view: RunView = serde_json::from_value(value).map_err(|e| e.to_string())?;
+pub fn charts_of(r: &crate::exec::mission::MissionReport) -> Result<Charts, ReportError> {
+    let value = serde_json::to_value(r)?;
+    let view: RunView = serde_json::from_value(value)?;
     Ok(Charts::from_report(&view))
 }
