@@ -324,6 +324,15 @@ impl Executive {
         self.abort.as_ref()
     }
 
+    /// The goals still pending (held, neither achieved nor rejected), in goal order.
+    pub fn pending_goals(&self) -> Vec<GoalId> {
+        self.fates
+            .iter()
+            .filter(|(_, f)| f.fate == Fate::Pending)
+            .map(|(&g, _)| g)
+            .collect()
+    }
+
     /// The fates of the goals in the plan, by goal (see [`Self::goal_fates`] for every goal requested).
     pub fn fates(&self) -> &BTreeMap<GoalId, GoalFate> {
         &self.fates

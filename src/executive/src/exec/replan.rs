@@ -312,12 +312,7 @@ impl Executive {
     ) -> ReplanResult {
         let started = now();
         let abort = self.abort.clone().unwrap_or(AbortReason::Unstated);
-        let pending: Vec<GoalId> = self
-            .fates
-            .iter()
-            .filter(|(_, f)| f.fate == Fate::Pending)
-            .map(|(&g, _)| g)
-            .collect();
+        let pending = self.pending_goals();
         let mut attempts = Vec::new();
         let mut steps = 0;
         let result = self.replan_attempts(now, refresh, &mut attempts, &mut steps);
@@ -387,13 +382,7 @@ impl Executive {
             let t = now();
             if t >= self.plan.horizon {
                 // Nothing can be planned past the mission's end: what is left is settled here.
-                let pending: Vec<GoalId> = self
-                    .fates
-                    .iter()
-                    .filter(|(_, f)| f.fate == Fate::Pending)
-                    .map(|(&g, _)| g)
-                    .collect();
-                for g in pending {
+                for g in self.pending_goals() {
                     self.reject_goal(g, FateReason::HorizonPassed);
                 }
                 let plan = self.plan.clone();

@@ -218,6 +218,30 @@ fn ranked_flaws(
     (threats, unary, open, top)
 }
 
+/// The open conditions among `open` at rank `top` or above, most urgent (least latest time of the condition)
+/// first, then most recent: the order the selection examines them in.
+fn open_candidates(
+    plan: &PartialPlan,
+    open: Vec<(Flaw, u64)>,
+    top: u64,
+) -> Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> {
+    let mut candidates: Vec<_> = open
+        .into_iter()
+        .filter(|&(_, rank)| rank >= top)
+        .filter_map(|(f, rank)| match f {
+            Flaw::OpenCondition(c) => Some((
+                plan.stn.ub(plan.cond(c).from),
+                std::cmp::Reverse(c.0),
+                f,
+                rank,
+            )),
+            _ => None,
+        })
+        .collect();
+    candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+    candidates
+}
+
 /// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
 ///
 /// Forced conflicts were mostly applied by [`propagate_forced`] at the end of the previous step, so only
@@ -233,20 +257,7 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> Option<(Flaw
     // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
     // recent); the scan stops at the first zero-commitment one, which no later one can beat
     // but by being a dead end — found at the next step anyway.
-    let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> = open
-        .into_iter()
-        .filter(|&(_, rank)| rank >= top)
-        .filter_map(|(f, rank)| match f {
-            Flaw::OpenCondition(c) => Some((
-                plan.stn.ub(plan.cond(c).from),
-                std::cmp::Reverse(c.0),
-                f,
-                rank,
-            )),
-            _ => None,
-        })
-        .collect();
-    candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+    let candidates = open_candidates(plan, open, top);
     for (i, (urgency, std::cmp::Reverse(recency), f, rank)) in candidates.into_iter().enumerate() {
         let pos = (2, i);
         let key_of = |n| key_n(rank, n, false, true, 3, urgency, recency);
@@ -386,23 +397,7 @@ mod tests {
             let rank = rank_reservoir(plan, h, &f);
             consider(key(rank, &rs, false, 2, 0, 0), f, rs);
         }
-        // Open conditions at the best rank in the order the key ranks equal counts (most urgent, then most
-        // recent); the scan stops at the first zero-commitment one, which no later one can beat
-        // but by being a dead end — found at the next step anyway.
-        let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> = open
-            .into_iter()
-            .filter(|&(_, rank)| rank >= top)
-            .filter_map(|(f, rank)| match f {
-                Flaw::OpenCondition(c) => Some((
-                    plan.stn.ub(plan.cond(c).from),
-                    std::cmp::Reverse(c.0),
-                    f,
-                    rank,
-                )),
-                _ => None,
-            })
-            .collect();
-        candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+        let candidates = open_candidates(plan, open, top);
         for (urgency, std::cmp::Reverse(recency), f, rank) in candidates {
             let rs = resolvers(plan, &f);
             let forced = zero_commitment(&rs);
