@@ -14,7 +14,7 @@ use super::config::{Binding, ConfigSource, GoalMapping, Mapping, VehicleConfig};
 use super::geo::Home;
 use super::types::GoalKind;
 use crate::mapping::{DomainMapping, GoalShape, GoalTarget};
-use crate::model::{Domain, Problem, ResourceKind, TypeId, TypeKind};
+use mavtempo_temporal::model::{Domain, Problem, ResourceKind, TypeId, TypeKind};
 
 /// Homes further apart than this (horizontally) are reported: one of them is probably wrong.
 pub const HOME_TOLERANCE_M: f64 = 5.0;
@@ -538,7 +538,7 @@ fn goal_shape(
     name: &str,
     location_type: Option<TypeId>,
     type_declared: bool,
-) -> Option<(crate::model::AttrId, GoalShape)> {
+) -> Option<(mavtempo_temporal::model::AttrId, GoalShape)> {
     let d = issues.domain;
     let Some(attr) = d.attr_id(name) else {
         issues.error(

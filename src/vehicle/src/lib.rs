@@ -12,9 +12,6 @@
 //! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
 //!   that pump bytes through the core.
 
-// The temporal core, named at the root so that `crate::model::…` reads as the layer it is.
-use mavtempo_temporal::model;
-
 pub mod actions;
 pub mod api;
 pub mod binding_table;

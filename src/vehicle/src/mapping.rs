@@ -5,8 +5,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::model::{AttrId, ObjectId, TypeId};
 use crate::GoalKind;
+use mavtempo_temporal::model::{AttrId, ObjectId, TypeId};
 
 /// How a goal sits on its attribute.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

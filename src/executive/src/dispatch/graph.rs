@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::model::GoalKind;
+use mavtempo_temporal::model::GoalKind;
 
 macro_rules! key {
     ($(#[$doc:meta])* $name:ident) => {

@@ -33,7 +33,7 @@ use super::graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, Node,
 };
 use super::search::GoalSearch;
-use crate::model::GoalKind;
+use mavtempo_temporal::model::GoalKind;
 
 #[derive(Clone, Debug)]
 enum Undo {

@@ -18,8 +18,10 @@ use super::graph::{
     ActionKey, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
 };
 use super::marking::Marking;
-use crate::model::{GoalId, GoalKind};
-use crate::plan::{ActionId, ChangeCursor, LinkEnds, LinkId, Owner, PartialPlan, PlanChange};
+use mavtempo_temporal::model::{GoalId, GoalKind};
+use mavtempo_temporal::plan::{
+    ActionId, ChangeCursor, LinkEnds, LinkId, Owner, PartialPlan, PlanChange,
+};
 
 fn action_key(a: ActionId) -> ActionKey {
     ActionKey(a.0)

@@ -17,7 +17,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::stn::{Time, INF};
+use mavtempo_temporal::stn::{Time, INF};
 
 /// The window `[lb, ub]` of a start timepoint (relative to the origin; `ub >= INF` is unbounded).
 #[derive(Copy, Clone, Eq, PartialEq, Debug, Serialize)]

@@ -12,7 +12,7 @@
 use std::collections::{HashSet, VecDeque};
 
 use super::graph::{ActionKey, CausalView, Node};
-use crate::model::GoalKind;
+use mavtempo_temporal::model::GoalKind;
 
 /// Algorithm 2 with reusable scratch space (one per dispatcher, so a decision allocates nothing once warm).
 #[derive(Clone, Debug, Default)]

@@ -9,12 +9,12 @@
 //! Grounding: the paper grounds the operator's parameter bound to att_m; here attributes are closed over at
 //! the attribute (not instance) level, which can only break more links, never fewer.
 
-use crate::model::AttrId;
-use crate::plan::{ActionId, LinkId, Owner, PartialPlan};
+use mavtempo_temporal::model::AttrId;
+use mavtempo_temporal::plan::{ActionId, LinkId, Owner, PartialPlan};
 
 /// The abstraction hierarchy computed offline from the domain: the planner's, whose dependencies between
 /// attributes are the main attributes of the paper ([`Hierarchy::closure`] gives Att^i).
-pub use crate::planner::hierarchy::Hierarchy;
+pub use mavtempo_temporal::planner::hierarchy::Hierarchy;
 
 /// Att^f: the attributes of the open conditions and threatened links of the plan.
 pub fn flawed_attributes(plan: &mut PartialPlan) -> Vec<AttrId> {
@@ -22,8 +22,10 @@ pub fn flawed_attributes(plan: &mut PartialPlan) -> Vec<AttrId> {
         .flaws()
         .iter()
         .filter_map(|f| match f {
-            crate::plan::Flaw::OpenCondition(c) => Some(plan.cond(*c).attr),
-            crate::plan::Flaw::Threat { link, .. } => Some(plan.cond(plan.link(*link).cond).attr),
+            mavtempo_temporal::plan::Flaw::OpenCondition(c) => Some(plan.cond(*c).attr),
+            mavtempo_temporal::plan::Flaw::Threat { link, .. } => {
+                Some(plan.cond(plan.link(*link).cond).attr)
+            }
             _ => None,
         })
         .collect();

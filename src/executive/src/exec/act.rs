@@ -14,9 +14,9 @@ use super::p_t::classify;
 use super::squeeze::should_wait;
 use super::t_exec::{t_exec, TpKind};
 use super::trace::TraceEvent;
-use crate::model::{Preemption, Time};
-use crate::plan::{ActionId, Owner};
-use crate::vehicle::Vehicle;
+use mavtempo_temporal::model::{Preemption, Time};
+use mavtempo_temporal::plan::{ActionId, Owner};
+use mavtempo_vehicle::Vehicle;
 
 impl Executive {
     /// The act part at time `now`; returns the next time something is due (to sleep until).
@@ -137,7 +137,7 @@ impl Executive {
         next
     }
 
-    fn candidate(&self, tp: crate::stn::Timepoint, kind: TpKind) -> Candidate {
+    fn candidate(&self, tp: mavtempo_temporal::stn::Timepoint, kind: TpKind) -> Candidate {
         Candidate {
             tp,
             kind,
@@ -187,7 +187,7 @@ impl Executive {
         self.counters.launches += 1;
         let end = self.plan.action(a).end;
         let (lb, ub) = (self.plan.earliest(end), self.plan.latest(end));
-        let planned_end_ms = Some((lb, (ub < crate::stn::INF).then_some(ub)));
+        let planned_end_ms = Some((lb, (ub < mavtempo_temporal::stn::INF).then_some(ub)));
         self.trace(TraceEvent::Launch {
             action,
             vid,

@@ -5,8 +5,8 @@
 use std::sync::Arc;
 
 use super::executable::{flawed_actions, plan_executable};
-use crate::model::{ResourceId, ResourceKind, Time};
-use crate::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::model::{ResourceId, ResourceKind, Time};
+use mavtempo_temporal::plan::{ActionId, PartialPlan};
 
 /// What the executive does next.
 #[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize, serde::Deserialize)]

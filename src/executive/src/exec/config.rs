@@ -6,8 +6,8 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::dispatch::PolicyKind;
-use crate::model::Time;
-use crate::vehicle::config::{ConfigError as VehicleConfigError, VehicleConfig};
+use mavtempo_temporal::model::Time;
+use mavtempo_vehicle::config::{ConfigError as VehicleConfigError, VehicleConfig};
 
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -9,8 +9,8 @@ use super::failures::PlanChangeKind;
 use super::outcome::AbortReason;
 use super::repair::RepairOutcome;
 use super::trace::{CycleRecord, TraceEvent};
-use crate::model::Time;
-use crate::vehicle::Vehicle;
+use mavtempo_temporal::model::Time;
+use mavtempo_vehicle::Vehicle;
 
 /// What the cycle leaves for the caller.
 #[derive(Clone, Debug, PartialEq)]

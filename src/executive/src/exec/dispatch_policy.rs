@@ -7,9 +7,9 @@ use super::t_exec::{t_exec, TpKind};
 use crate::dispatch::{
     DispatchPolicy, GoalSearch, PlanMarking, PlanView, PolicyKind, StartWindow, SupportForm,
 };
-use crate::model::Time;
-use crate::plan::{ActionId, PartialPlan};
-use crate::stn::Timepoint;
+use mavtempo_temporal::model::Time;
+use mavtempo_temporal::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::stn::Timepoint;
 
 /// What the executive sees of one timepoint it may execute.
 #[derive(Copy, Clone, Debug)]

@@ -1,8 +1,8 @@
 //! Definitions 2–5 of seed 1 §3.1: executable timepoint, achievable goal, executable action, executable plan.
 
-use crate::model::{GoalId, Time};
-use crate::plan::{ActionId, PartialPlan};
-use crate::stn::{Stn, Timepoint};
+use mavtempo_temporal::model::{GoalId, Time};
+use mavtempo_temporal::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::stn::{Stn, Timepoint};
 
 /// The timepoints that must directly precede `tp` (a constraint stated between them forces `p ≤ tp`),
 /// the origin excluded. A synchronisation (`[0, 0]`) orders neither: both are executed together.

@@ -15,10 +15,10 @@ use super::outcome::{AbortReason, FateReason};
 use super::p_t::State;
 use super::repair::Repair;
 use super::trace::{CycleRecord, TraceEvent};
-use crate::model::{GoalId, ResourceId, Time};
-use crate::plan::{ActionId, PartialPlan};
-use crate::vehicle::goals::GoalBatch;
-use crate::vehicle::{ActionStart, Arg, Enu};
+use mavtempo_temporal::model::{GoalId, ResourceId, Time};
+use mavtempo_temporal::plan::{ActionId, PartialPlan};
+use mavtempo_vehicle::goals::GoalBatch;
+use mavtempo_vehicle::{ActionStart, Arg, Enu};
 
 /// The fate of a goal at the end of a run.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -100,7 +100,7 @@ pub struct Executive {
     pub(crate) repair_episode_steps: u64,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
-    pub(crate) mapping: crate::vehicle::mapping::DomainMapping,
+    pub(crate) mapping: mavtempo_vehicle::mapping::DomainMapping,
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
     pub(crate) insertions: VecDeque<Insertion>,
     /// Uploads not answered yet, or with goals still being inserted, by number.
@@ -168,7 +168,7 @@ impl Executive {
             level_tolerance: super::resource_report::EPS,
             failures,
             repair_episode_steps: 0,
-            mapping: crate::vehicle::mapping::DomainMapping::default(),
+            mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
             insertions: VecDeque::new(),
             goal_batches: BTreeMap::new(),
             next_batch: 0,
@@ -180,8 +180,8 @@ impl Executive {
     }
 
     /// The vehicle configuration's `[mapping]`, resolved against this plan's domain
-    /// ([`crate::vehicle::config_check::check`]).
-    pub fn with_mapping(mut self, mapping: crate::vehicle::mapping::DomainMapping) -> Self {
+    /// ([`mavtempo_vehicle::config_check::check`]).
+    pub fn with_mapping(mut self, mapping: mavtempo_vehicle::mapping::DomainMapping) -> Self {
         self.mapping = mapping;
         self
     }
@@ -226,7 +226,7 @@ impl Executive {
         let task = plan.domain.task(act.task);
         let args: Vec<String> = act.vars[..task.n_params]
             .iter()
-            .map(|&v| plan.term_name(crate::plan::STerm::Var(v)))
+            .map(|&v| plan.term_name(mavtempo_temporal::plan::STerm::Var(v)))
             .collect();
         format!("{}({})", task.name, args.join(", "))
     }
@@ -239,8 +239,12 @@ impl Executive {
         let mut args = Vec::new();
         for (i, p) in task.params().iter().enumerate() {
             let v = act.vars[i];
-            let arg = match self.plan.bindings.value(crate::plan::STerm::Var(v)) {
-                Some(crate::model::Value::Obj(o)) => {
+            let arg = match self
+                .plan
+                .bindings
+                .value(mavtempo_temporal::plan::STerm::Var(v))
+            {
+                Some(mavtempo_temporal::model::Value::Obj(o)) => {
                     let (name, obj) = (
                         self.plan.problem.object_name(o).to_string(),
                         self.plan.problem.object(o),
@@ -250,7 +254,7 @@ impl Executive {
                         None => Arg::Symbol(name),
                     }
                 }
-                _ => Arg::Symbol(self.plan.term_name(crate::plan::STerm::Var(v))),
+                _ => Arg::Symbol(self.plan.term_name(mavtempo_temporal::plan::STerm::Var(v))),
             };
             args.push((p.name.trim_start_matches('?').to_string(), arg));
         }
@@ -392,7 +396,7 @@ impl Executive {
         &mut self,
         key: super::p_t::AttrInstance,
         t: Time,
-        value: crate::model::Value,
+        value: mavtempo_temporal::model::Value,
     ) {
         self.state.set(key, t, value);
     }
@@ -408,7 +412,7 @@ impl Executive {
     /// acceptance test at `now`, then the goal is an open condition left to plan repair.
     pub fn request_goal(
         &mut self,
-        goal: crate::model::Goal,
+        goal: mavtempo_temporal::model::Goal,
         now: Time,
     ) -> Result<GoalId, super::goal_request::Rejection> {
         let name = goal.name.clone();

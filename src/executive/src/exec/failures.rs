@@ -12,8 +12,8 @@
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
-use crate::model::{GoalId, Time};
-use crate::plan::{ActionId, Owner, PartialPlan, STerm, UsageKind};
+use mavtempo_temporal::model::{GoalId, Time};
+use mavtempo_temporal::plan::{ActionId, Owner, PartialPlan, STerm, UsageKind};
 
 /// A grounded action instance: the task's name and its arguments' names (`?` when unbound).
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]

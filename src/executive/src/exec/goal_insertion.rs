@@ -21,11 +21,11 @@ use super::outcome::FateReason;
 use super::p_t::classify;
 use super::repair::RepairOutcome;
 use super::trace::{RepairWork, TraceEvent};
-use crate::model::{Goal, GoalId, Time};
-use crate::plan::TimeFloor;
-use crate::planner::{FailReason, Search, StepOutcome};
-use crate::vehicle::goals::GoalBatch;
-use crate::vehicle::GoalVerdict;
+use mavtempo_temporal::model::{Goal, GoalId, Time};
+use mavtempo_temporal::plan::TimeFloor;
+use mavtempo_temporal::planner::{FailReason, Search, StepOutcome};
+use mavtempo_vehicle::goals::GoalBatch;
+use mavtempo_vehicle::GoalVerdict;
 
 /// A requested goal waiting for, or in, its insertion attempt.
 pub struct Insertion {

@@ -5,8 +5,8 @@
 
 use std::sync::Arc;
 
-use crate::model::{Goal, GoalId, Time};
-use crate::plan::{ActionId, CondKind, PartialPlan, PlanError};
+use mavtempo_temporal::model::{Goal, GoalId, Time};
+use mavtempo_temporal::plan::{ActionId, CondKind, PartialPlan, PlanError};
 
 /// Why a goal was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]
@@ -62,7 +62,7 @@ pub fn request(
 /// a proposition in a": same attribute, possibly the same instance, a value possibly different.
 fn order_after_threatened(
     plan: &mut PartialPlan,
-    cond: crate::plan::CondId,
+    cond: mavtempo_temporal::plan::CondId,
     running: &[ActionId],
 ) -> Result<(), PlanError> {
     let c = plan.cond(cond).clone();

@@ -3,7 +3,7 @@
 //! executed, each argument still unbound is bound to the first value of its domain that keeps the binding
 //! CSP and the STN consistent and adds no flaw (so the executing plan stays a solution plan).
 
-use crate::plan::{ActionId, PartialPlan, STerm};
+use mavtempo_temporal::plan::{ActionId, PartialPlan, STerm};
 
 /// Why an action's argument could not be bound at its start.
 #[derive(Clone, Debug, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]

@@ -16,10 +16,10 @@ use super::p_t::classify;
 use super::replan::{ReplanRecord, ReplanResult};
 use super::resource_bounds::level_bounds;
 use super::trace::{CycleRecord, TraceEvent};
-use crate::model::{ResourceId, Time};
-use crate::vehicle::goals::GoalBatch;
-use crate::vehicle::safe_stop::SafeStopReport;
-use crate::vehicle::{
+use mavtempo_temporal::model::{ResourceId, Time};
+use mavtempo_vehicle::goals::GoalBatch;
+use mavtempo_vehicle::safe_stop::SafeStopReport;
+use mavtempo_vehicle::{
     ActionId as Vid, ActionStart, GoalRequest, ReportStatus, Vehicle, VehicleError, VehicleEvent,
 };
 
@@ -157,7 +157,7 @@ pub struct MissionReport {
     /// How the vehicle became ready (a fix, arming, the estimator) before the mission (set by the caller
     /// that waited).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub ready: Option<crate::vehicle::readiness::ReadyReport>,
+    pub ready: Option<mavtempo_vehicle::readiness::ReadyReport>,
 }
 
 impl MissionReport {
@@ -501,7 +501,7 @@ impl Log {
                 .domain
                 .resources
                 .iter()
-                .filter(|r| r.kind == crate::model::ResourceKind::Reservoir)
+                .filter(|r| r.kind == mavtempo_temporal::model::ResourceKind::Reservoir)
                 .map(|r| r.name.clone())
                 .collect(),
             track: self.track,
@@ -555,11 +555,13 @@ pub fn places(ex: &Executive) -> Vec<Place> {
         .enumerate()
         .filter_map(|(i, o)| {
             let (east, north, _) = o.local(home)?;
-            let id = crate::model::ObjectId::from_index(i);
+            let id = mavtempo_temporal::model::ObjectId::from_index(i);
             let goals = problem
                 .goals
                 .iter()
-                .filter(|g| g.args.contains(&id) || g.value == crate::model::Value::Obj(id))
+                .filter(|g| {
+                    g.args.contains(&id) || g.value == mavtempo_temporal::model::Value::Obj(id)
+                })
                 .map(|g| g.name.clone())
                 .collect();
             Some(Place {

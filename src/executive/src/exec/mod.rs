@@ -20,7 +20,7 @@
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
 //! | §3.3 message routing | [`sense`] |
 //! | §3.3 state values from non-nominal reports, new locations | [`state_update`] |
-//! | the domain's names given a vehicle meaning (position, locations, goals) | [`crate::vehicle::mapping`] |
+//! | the domain's names given a vehicle meaning (position, locations, goals) | [`mavtempo_vehicle::mapping`] |
 //! | §3.2, §3.4 plan repair across cycles | [`repair`] |
 //! | §3.5 act: ExecTPs, launch / stop, postponement, timeouts | [`act`] |
 //! | §3.6 complete replanning: P_ti, T_end, slack d, goal rejection | [`replan`] |
@@ -58,4 +58,4 @@ pub mod state_update;
 pub mod t_exec;
 pub mod trace;
 
-pub use crate::vehicle::mapping::DomainMapping;
+pub use mavtempo_vehicle::mapping::DomainMapping;

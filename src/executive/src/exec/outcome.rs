@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::goal_request::Rejection;
 use super::replan::AttemptEnd;
-use crate::model::Time;
+use mavtempo_temporal::model::Time;
 
 /// Why execution was aborted (the cycle stops, a complete replanning follows, seed 1 §3.6).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, thiserror::Error)]
@@ -92,7 +92,7 @@ impl std::fmt::Display for PlanChurn {
 pub enum FateReason {
     /// The request cannot be read as a domain goal (the config's `[mapping]`).
     #[error("{0}")]
-    Unmapped(crate::vehicle::mapping::MappingError),
+    Unmapped(mavtempo_vehicle::mapping::MappingError),
     /// §3.3 goal request acceptance test.
     #[error("{0}")]
     Acceptance(Rejection),

@@ -7,8 +7,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::model::{AttrId, GoalId, ObjectId, Time, Value};
-use crate::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::model::{AttrId, GoalId, ObjectId, Time, Value};
+use mavtempo_temporal::plan::{ActionId, PartialPlan};
 
 /// Where an action stands at time t (Definition 1).
 #[derive(Copy, Clone, Eq, PartialEq, Debug)]

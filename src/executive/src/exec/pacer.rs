@@ -8,9 +8,9 @@ use std::time::{Duration, Instant};
 use super::cycle::mission_time as since;
 use super::interrupt::Interrupt;
 use super::mission::Pacer;
-use crate::model::Time;
-use crate::vehicle::link::LinkCounts;
-use crate::vehicle::{MavlinkVehicle, MockVehicle, Vehicle, VehicleEvent};
+use mavtempo_temporal::model::Time;
+use mavtempo_vehicle::link::LinkCounts;
+use mavtempo_vehicle::{MavlinkVehicle, MockVehicle, Vehicle, VehicleEvent};
 
 /// MockVehicle's manual clock: waiting jumps to the next scripted event or to `until`.
 #[derive(Debug, Default)]

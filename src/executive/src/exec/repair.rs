@@ -13,9 +13,9 @@ use super::executive::Executive;
 use super::outcome::AbortReason;
 use super::p_t::classify;
 use super::trace::{RepairWork, TraceEvent};
-use crate::model::Time;
-use crate::plan::{PartialPlan, TimeFloor};
-use crate::planner::{FailReason, Search, StepOutcome};
+use mavtempo_temporal::model::Time;
+use mavtempo_temporal::plan::{PartialPlan, TimeFloor};
+use mavtempo_temporal::planner::{FailReason, Search, StepOutcome};
 
 /// A repair search in progress.
 pub struct Repair {
@@ -42,7 +42,7 @@ pub enum RepairOutcome {
 #[error("plan not executable at {now_ms} ms: {source}")]
 pub struct NotExecutable {
     pub now_ms: Time,
-    pub source: crate::stn::Inconsistent,
+    pub source: mavtempo_temporal::stn::Inconsistent,
 }
 
 impl From<NotExecutable> for AbortReason {
@@ -56,7 +56,10 @@ impl From<NotExecutable> for AbortReason {
 
 /// Timepoints not executed yet cannot happen before `now`: the search must not move them into the past
 /// (e.g. a goal supported again by an effect that was executed before now).
-fn not_before(plan: &mut PartialPlan, now: Time) -> Result<(), crate::stn::Inconsistent> {
+fn not_before(
+    plan: &mut PartialPlan,
+    now: Time,
+) -> Result<(), mavtempo_temporal::stn::Inconsistent> {
     let mut tps: Vec<_> = plan
         .live_actions()
         .flat_map(|a| plan.action(a).tps.clone())

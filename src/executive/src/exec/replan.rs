@@ -22,11 +22,11 @@ use serde::{Deserialize, Serialize};
 use super::executive::{Executive, Fate};
 use super::outcome::{AbortReason, FateReason};
 use super::trace::TraceEvent;
-use crate::model::{Fact, GoalId, Problem, Time};
-use crate::plan::{PartialPlan, PlanError, TimeFloor};
-use crate::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
-use crate::planner::{Search, StepOutcome};
-use crate::stn::Timepoint;
+use mavtempo_temporal::model::{Fact, GoalId, Problem, Time};
+use mavtempo_temporal::plan::{PartialPlan, PlanError, TimeFloor};
+use mavtempo_temporal::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
+use mavtempo_temporal::planner::{Search, StepOutcome};
+use mavtempo_temporal::stn::Timepoint;
 
 /// P_ti and its T_end.
 pub struct Extracted {

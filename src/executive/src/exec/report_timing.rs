@@ -2,8 +2,8 @@
 //! `et = t`; too late, the plan is not executable any more (timeout); too early, a new end timepoint set to t
 //! is created, constrained before the timepoints that had to follow the old one, and the old one is relaxed.
 
-use crate::model::Time;
-use crate::plan::{ActionId, PartialPlan, PlanError};
+use mavtempo_temporal::model::Time;
+use mavtempo_temporal::plan::{ActionId, PartialPlan, PlanError};
 
 /// When the report came.
 #[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize, serde::Deserialize)]

@@ -6,8 +6,8 @@
 //! `past` (seed 1 §3.4: "executed resource propositions are aggregated in one proposition"); it starts as the
 //! problem's initial level (the paper's C(r)).
 
-use crate::model::{ResourceId, Time};
-use crate::plan::{ActionId, PartialPlan, UsageKind};
+use mavtempo_temporal::model::{ResourceId, Time};
+use mavtempo_temporal::plan::{ActionId, PartialPlan, UsageKind};
 
 /// Which formula gives the level.
 #[derive(Copy, Clone, Eq, PartialEq, Debug, serde::Serialize)]

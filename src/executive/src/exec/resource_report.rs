@@ -14,7 +14,7 @@
 //! aggregated past level (the one proposition the executed usages are aggregated into, §3.4).
 
 use super::resource_bounds::{LevelBounds, LevelCase};
-use crate::model::ResourceKind;
+use mavtempo_temporal::model::ResourceKind;
 
 /// The verdict on one reported level.
 #[derive(Copy, Clone, PartialEq, Debug, serde::Serialize, serde::Deserialize)]

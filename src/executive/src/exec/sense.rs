@@ -13,9 +13,9 @@ use super::resource_bounds::{fold_removed, level_bounds};
 use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::integrate_state;
 use super::trace::TraceEvent;
-use crate::model::{Goal, GoalKind, Time, TimeInterval, Value};
-use crate::vehicle::mapping::{GoalShape, MappingError};
-use crate::vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
+use mavtempo_temporal::model::{Goal, GoalKind, Time, TimeInterval, Value};
+use mavtempo_vehicle::mapping::{GoalShape, MappingError};
+use mavtempo_vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
 
 impl Executive {
     /// Integrates one message received at time `now`.
@@ -164,7 +164,10 @@ impl Executive {
 
     /// The object a goal location names when the intake recognised it (`new` false) and it is of the location
     /// type.
-    fn known_location(&self, l: &crate::vehicle::GoalLocation) -> Option<crate::model::ObjectId> {
+    fn known_location(
+        &self,
+        l: &mavtempo_vehicle::GoalLocation,
+    ) -> Option<mavtempo_temporal::model::ObjectId> {
         if l.new {
             return None;
         }
@@ -186,7 +189,7 @@ impl Executive {
                     kind: what.to_string(),
                 })?;
         let loc = match (&g.location, g.kind) {
-            (_, crate::vehicle::GoalKind::ReturnHome) => {
+            (_, mavtempo_vehicle::GoalKind::ReturnHome) => {
                 self.mapping.home_object.ok_or(MappingError::NoHomeObject)?
             }
             // A place the intake already named (a known object of the location type) is that object.
@@ -204,7 +207,7 @@ impl Executive {
             GoalShape::LocationIsTrue => (
                 target.attr,
                 vec![loc],
-                Value::Obj(crate::model::Domain::TRUE),
+                Value::Obj(mavtempo_temporal::model::Domain::TRUE),
             ),
             GoalShape::ValueIsLocation => (target.attr, vec![], Value::Obj(loc)),
         };

@@ -6,8 +6,8 @@ use super::executive::{Executive, Fate};
 use super::failures::{dependent_goals, Instance, PlanChangeKind};
 use super::outcome::{AbortReason, FateReason, PlanChurn};
 use super::trace::TraceEvent;
-use crate::model::{GoalId, Time};
-use crate::plan::{ActionId, PartialPlan, STerm};
+use mavtempo_temporal::model::{GoalId, Time};
+use mavtempo_temporal::plan::{ActionId, PartialPlan, STerm};
 
 /// Why a replanning's plan cannot be adopted: it needs a banned instance.
 pub struct BannedInPlan {

@@ -6,9 +6,9 @@
 //! waits (as a dynamic-controllability "wait") while it keeps at least one timestep of flexibility, i.e.
 //! until the running action ends or waiting would cost the plan; then it is executed as the paper does.
 
-use crate::model::Time;
-use crate::plan::{ActionId, PartialPlan};
-use crate::stn::{Timepoint, INF};
+use mavtempo_temporal::model::Time;
+use mavtempo_temporal::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::stn::{Timepoint, INF};
 
 /// The action whose end's upper bound would be lowered by executing `tp` at `now`, if one would, with the
 /// bound it would get. `actions` are the started actions and those whose start is executed at `now` too

@@ -13,10 +13,10 @@ use super::abstraction::{flawed_attributes, links_to_break};
 use super::executive::Executive;
 use super::p_t::classify;
 use super::trace::TraceEvent;
-use crate::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
-use crate::plan::{ActionId, CondKind, EventId, LinkId, STerm};
-use crate::vehicle::mapping::MappingError;
-use crate::vehicle::{ActionReport, Enu, StateValue};
+use mavtempo_temporal::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
+use mavtempo_temporal::plan::{ActionId, CondKind, EventId, LinkId, STerm};
+use mavtempo_vehicle::mapping::MappingError;
+use mavtempo_vehicle::{ActionReport, Enu, StateValue};
 
 /// Distance under which a reported position names a known location, m.
 pub const SAME_PLACE_M: f64 = 2.0;
@@ -245,7 +245,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
             .find(|(at, args, _)| *at == attr && same_instance(args));
         let happened = match report {
             Some((_, _, v)) => ex.plan.bindings.necessarily_equal(ev.to, (*v).into()),
-            None => preemptive && r.status == crate::vehicle::ReportStatus::Interrupted,
+            None => preemptive && r.status == mavtempo_vehicle::ReportStatus::Interrupted,
         };
         if happened {
             continue;

@@ -2,7 +2,7 @@
 //! early-preemptive action at `T_lb`; the end of a late-preemptive action at `T_ub − ts`; the end of a
 //! non-preemptive action at `T_ub` (it cannot be commanded: reaching it without a report is a timeout).
 
-use crate::model::{Preemption, Time};
+use mavtempo_temporal::model::{Preemption, Time};
 
 /// What a timepoint is, for execution.
 #[derive(Copy, Clone, Eq, PartialEq, Debug)]

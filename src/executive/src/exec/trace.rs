@@ -7,8 +7,8 @@ use super::outcome::{AbortReason, FateReason};
 use super::replan::{AttemptEnd, AttemptRecord, ReplanOutcome};
 use super::report_timing::Timing;
 use super::resource_report::LevelVerdict;
-use crate::model::Time;
-use crate::vehicle::ReportStatus;
+use mavtempo_temporal::model::Time;
+use mavtempo_vehicle::ReportStatus;
 
 /// What a cycle's repair part was doing when its budget ran out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -32,7 +32,7 @@ impl std::fmt::Display for RepairWork {
 
 /// A report's status as the vehicle layer prints it (`nominal`, `failed`, `interrupted`).
 mod status_text {
-    use crate::vehicle::ReportStatus;
+    use mavtempo_vehicle::ReportStatus;
 
     pub fn serialize<S: serde::Serializer>(s: &ReportStatus, ser: S) -> Result<S::Ok, S::Error> {
         ser.collect_str(s)
@@ -237,7 +237,7 @@ mod tests {
     use super::*;
     use crate::exec::goal_request::Rejection;
     use crate::exec::outcome::PlanChurn;
-    use crate::vehicle::mapping::MappingError;
+    use mavtempo_vehicle::mapping::MappingError;
 
     /// The report is read back into the same events (`mavtempo report RUN.json`), typed reasons included.
     #[test]
