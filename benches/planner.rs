@@ -29,7 +29,7 @@ fn grid(c: &mut Criterion) {
     let Ok(d) = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")) else {
         return;
     };
-    let text = mavtempo::planner::bench::rover_grid_problem(10);
+    let text = mavtempo::lang::generate::rover_grid_problem(10);
     let Ok(p) = mavtempo::lang::parse_problem("grid10", &text, &d) else {
         return;
     };

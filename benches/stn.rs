@@ -2,7 +2,7 @@
 //! Floyd–Warshall solve of the same plan-like network (the figures of `mavtempo bench stn`, with statistics).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use mavtempo::stn::bench::plan_like;
+use mavtempo::bench::stn::plan_like;
 use mavtempo::stn::{floyd_warshall, Stn, Timepoint};
 
 fn timepoints(stn: &Stn) -> Vec<Timepoint> {

@@ -1,16 +1,22 @@
 //! mavtempo: IxTeT-eXeC style temporal planning, execution and plan repair for MAVLink vehicles.
 //!
-//! Data flow: `lang` → `model` → `planner` (over `plan`, `stn`) → `exec` → `dispatch` → `vehicle`.
+//! The layers are crates, each depending only on those below it:
+//! - `mavtempo-temporal` (src/temporal): `lang` / `pddl` → `model` → `planner` over `plan` and `stn`; the
+//!   independent plan checker `plan::validate`;
+//! - `mavtempo-vehicle` (src/vehicle): the [`vehicle::Vehicle`] interface, its mock and its MAVLink
+//!   implementation, configuration and goal intake;
+//! - `mavtempo-executive` (src/executive): the executive (`exec`) and the dispatch policies (`dispatch`);
+//! - this package, the application: the command line (`cli`), the pictures of a run (`report`), the
+//!   benchmarks (`bench`), the dispatch experiment (`experiment`), the fuzz targets (`fuzz`) and the stepped
+//!   SITL (`sitl_pacer`). It names the layers' modules at its root, so a user writes `mavtempo::model`.
 
+pub use mavtempo_executive::{dispatch, exec};
+pub use mavtempo_temporal::{lang, model, pddl, plan, planner, stn};
+pub use mavtempo_vehicle as vehicle;
+
+pub mod bench;
 pub mod cli;
-pub mod dispatch;
-pub mod exec;
+pub mod experiment;
 pub mod fuzz;
-pub mod lang;
-pub mod model;
-pub mod pddl;
-pub mod plan;
-pub mod planner;
 pub mod report;
-pub mod stn;
-pub mod vehicle;
+pub mod sitl_pacer;

@@ -3,7 +3,7 @@
 //! place checked — type errors, unknown keys, out-of-range values and nan/inf, in the vehicle tables and in
 //! `[exec]`.
 
-use mavtempo::vehicle::config::VehicleConfig;
+use mavtempo::exec::config::MissionConfig;
 use toml_edit::{value, DocumentMut, Item, Table};
 
 const SHIPPED: &str = include_str!("../config/sitl-rover.toml");
@@ -287,7 +287,7 @@ fn every_kind_of_error_is_reported_at_its_line_and_column() {
         } else {
             value_col
         };
-        let err = VehicleConfig::parse(&text, "rover.toml")
+        let err = MissionConfig::parse(&text, "rover.toml")
             .err()
             .unwrap_or_else(|| panic!("{kind} {path} = {new}: accepted"))
             .to_string();
@@ -308,8 +308,8 @@ fn every_kind_of_error_is_reported_at_its_line_and_column() {
 fn the_unmutated_config_with_exec_is_accepted() {
     let (cfg, text) = (with_exec(), with_exec().to_string());
     assert!(cfg.get("exec").is_some());
-    let parsed = VehicleConfig::parse(&text, "rover.toml").unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(parsed.exec.map(|e| e.timestep_ms), Some(1300));
+    let parsed = MissionConfig::parse(&text, "rover.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(parsed.exec.timestep_ms, 1300);
 }
 
 #[test]
@@ -320,7 +320,7 @@ fn a_config_that_is_not_utf8_names_the_file_and_the_byte() {
     let at = SHIPPED.find("lon = ").expect("lon");
     bytes[at + 2] = 0xff; // line 18, column 3
     std::fs::write(&path, &bytes).expect("write");
-    let err = VehicleConfig::load(&path).unwrap_err().to_string();
+    let err = MissionConfig::load(&path).unwrap_err().to_string();
     assert!(
         err.starts_with(&format!(
             "{}:18:3: error: invalid UTF-8 (byte 0xff)",
@@ -355,7 +355,7 @@ fn a_wrong_type_anywhere_is_reported_on_its_own_line() {
             set(&mut doc, &path, Item::Value(new.parse().expect("value")));
             let text = doc.to_string();
             let key = path.rsplit('.').next().unwrap_or_default();
-            let err = VehicleConfig::parse(&text, "c.toml")
+            let err = MissionConfig::parse(&text, "c.toml")
                 .err()
                 .unwrap_or_else(|| panic!("{path} = {new}: accepted"))
                 .to_string();

@@ -9,6 +9,7 @@ use std::io::Write;
 use mavtempo::cli::demo::{run_demo, DemoRun, DemoSetup};
 use mavtempo::exec::mission::MissionEnd;
 use mavtempo::exec::trace::TraceEvent;
+use mavtempo::vehicle::ReportStatus;
 
 const FIG2: &str = include_str!("../sitl/scenarios/fig2.toml");
 
@@ -35,14 +36,14 @@ fn achieved(run: &DemoRun) -> Vec<String> {
 }
 
 /// The reports of `task`'s instances: (action, status).
-fn reports(run: &DemoRun, task: &str) -> Vec<(String, String)> {
+fn reports(run: &DemoRun, task: &str) -> Vec<(String, ReportStatus)> {
     run.report
         .cycles
         .iter()
         .flat_map(|c| &c.events)
         .filter_map(|e| match e {
             TraceEvent::Report { action, status, .. } if action.starts_with(task) => {
-                Some((action.clone(), status.clone()))
+                Some((action.clone(), *status))
             }
             _ => None,
         })
@@ -83,7 +84,7 @@ fn a_lossy_radio_costs_no_goal() {
         .iter()
         .flat_map(|c| &c.events)
         .filter_map(|e| match e {
-            TraceEvent::GoalRejected { goal, reason } if !reason.is_empty() => Some(goal),
+            TraceEvent::GoalRejected { goal, .. } => Some(goal),
             _ => None,
         })
         .collect();
@@ -100,7 +101,9 @@ fn a_restart_mid_move_resumes_the_move() {
     // No move failed: the one under way when the autopilot restarted was re-armed and re-sent.
     let moves = reports(&rebooted, "move(");
     assert!(
-        moves.iter().all(|(_, status)| status != "failed"),
+        moves
+            .iter()
+            .all(|(_, status)| *status != ReportStatus::Failed),
         "{moves:?}"
     );
     assert_eq!(
@@ -110,10 +113,10 @@ fn a_restart_mid_move_resumes_the_move() {
     );
     // The pictures after the restart are recognised as before it (the camera's times are on the
     // restarted clock): only the scenario's own failures (e1 fails, e2 hangs), as in the clean run.
-    let not_nominal = |run: &DemoRun| -> Vec<(String, String)> {
+    let not_nominal = |run: &DemoRun| -> Vec<(String, ReportStatus)> {
         reports(run, "")
             .into_iter()
-            .filter(|(_, status)| status != "nominal")
+            .filter(|(_, status)| *status != ReportStatus::Nominal)
             .collect()
     };
     assert_eq!(not_nominal(&rebooted), not_nominal(&clean));
@@ -136,7 +139,7 @@ fault = { kind = "nav_fails", duration_s = 5000.0 }
     let rejected: Vec<&String> = events
         .iter()
         .filter_map(|e| match e {
-            TraceEvent::GoalRejected { goal, reason } if !reason.is_empty() => Some(goal),
+            TraceEvent::GoalRejected { goal, .. } => Some(goal),
             _ => None,
         })
         .collect();

@@ -19,7 +19,6 @@ use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::cycle::CycleOutcome;
 use mavtempo::exec::executable::{action_executable, flawed_actions};
 use mavtempo::exec::executive::{Executive, Fate, GoalFate};
-use mavtempo::exec::goal_request::request;
 use mavtempo::exec::p_t::classify;
 use mavtempo::exec::replan::ReplanResult;
 use mavtempo::exec::trace::TraceEvent;
@@ -117,7 +116,7 @@ fn run(
         inject(&mut ex, t);
         let outcome = ex.cycle(&mut v, t);
         let events = ex
-            .cycles
+            .cycles()
             .last()
             .map(|c| c.events.clone())
             .unwrap_or_default();
@@ -133,10 +132,10 @@ fn run(
             }
         }
         check_algorithm_1(&mut ex, kind, t, &events, &ub_before);
-        ub_before = classify(&ex.plan, t)
+        ub_before = classify(ex.plan(), t)
             .future
             .iter()
-            .map(|&a| (a, ex.plan.stn.ub(ex.plan.action(a).start)))
+            .map(|&a| (a, ex.plan().stn.ub(ex.plan().action(a).start)))
             .collect();
         let (next, repairing) = match outcome {
             CycleOutcome::Continue { next, repairing } => (next, repairing),
@@ -150,7 +149,7 @@ fn run(
                 other => panic!("{kind} at {t}: replanning gave {other:?}"),
             },
         };
-        // The live loop's wake-up rule (src/exec/mission.rs).
+        // The live loop's wake-up rule (src/executive/src/exec/mission.rs).
         t = if repairing || stopped {
             t + 1
         } else {
@@ -169,15 +168,16 @@ fn check_algorithm_1(
     events: &[TraceEvent],
     ub_before: &BTreeMap<ActionId, Time>,
 ) {
-    let flawed = flawed_actions(&mut ex.plan);
-    let future = classify(&ex.plan, now).future;
+    // The flaw caches are filled on a copy: the executive's plan is only read.
+    let flawed = flawed_actions(&mut ex.plan().clone());
+    let future = classify(ex.plan(), now).future;
     for a in future {
-        let st = ex.plan.action(a).start;
-        if ex.plan.stn.is_executed(st) || !action_executable(&ex.plan, a, now, &flawed) {
+        let st = ex.plan().action(a).start;
+        if ex.plan().stn.is_executed(st) || !action_executable(ex.plan(), a, now, &flawed) {
             continue;
         }
-        let (lb, ub) = (ex.plan.stn.lb(st), ex.plan.stn.ub(st));
-        let supports = search_for_goal(&PlanView(&ex.plan), ActionKey(a.0));
+        let (lb, ub) = (ex.plan().stn.lb(st), ex.plan().stn.ub(st));
+        let supports = search_for_goal(&PlanView(ex.plan()), ActionKey(a.0));
         assert!(
             !due(kind, supports, lb, ub, now),
             "{kind} at {now}: {} is executable and due (supports {supports}, [{lb}, {ub}]) but waits",
@@ -192,23 +192,23 @@ fn check_algorithm_1(
             continue;
         };
         let Some(a) = ex
-            .plan
+            .plan()
             .live_actions()
             .chain(
-                ex.plan
+                ex.plan()
                     .actions
                     .iter()
                     .enumerate()
                     .map(|(i, _)| ActionId(i as u32)),
             )
             .find(|&a| {
-                ex.plan.stn.executed_at(ex.plan.action(a).start) == Some(now)
+                ex.plan().stn.executed_at(ex.plan().action(a).start) == Some(now)
                     && &ex.action_text(a) == action
             })
         else {
             continue;
         };
-        let supports = search_for_goal(&PlanView(&ex.plan), ActionKey(a.0));
+        let supports = search_for_goal(&PlanView(ex.plan()), ActionKey(a.0));
         if let (false, Some(&ub)) = (supports && kind != PolicyKind::Latest, ub_before.get(&a)) {
             assert!(
                 ub - TS <= now,
@@ -285,11 +285,11 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
     let plan = planned("domains/shopping/problems/day.ixt");
     for kind in GOAL_DRIVEN {
         let mut inject = |ex: &mut Executive, t: Time| {
-            if t < hm(9, 0) || ex.fates.values().any(|f| f.name == "have_shirt") {
+            if t < hm(9, 0) || ex.fates().values().any(|f| f.name == "have_shirt") {
                 return;
             }
-            let p = ex.plan.problem.clone();
-            let d = ex.plan.domain.clone();
+            let p = ex.plan().problem.clone();
+            let d = ex.plan().domain.clone();
             let shirt = Goal {
                 name: "have_shirt".into(),
                 kind: GoalKind::External,
@@ -301,17 +301,7 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
                 duration: TimeInterval::closed(0, 0),
                 achieve: 25 * MIN,
             };
-            let running = classify(&ex.plan, t).running;
-            let g = request(&mut ex.plan, shirt, t, &running).expect("shirt accepted");
-            ex.fates.insert(
-                g,
-                GoalFate {
-                    name: "have_shirt".into(),
-                    fate: Fate::Pending,
-                    reason: String::new(),
-                },
-            );
-            ex.repair_requested = true;
+            ex.request_goal(shirt, t).expect("shirt accepted");
         };
         let r = run(plan.clone(), kind, &shopping_script(), &mut inject);
         assert_eq!(

@@ -1,7 +1,7 @@
-//! The dispatch experiment (src/dispatch/experiment) on a few seeds: every uploaded goal ends achieved,
+//! The dispatch experiment (src/executive/src/dispatch/experiment) on a few seeds: every uploaded goal ends achieved,
 //! rejected or pending (the counts add up), runs are reproducible per seed, and the policies differ.
 
-use mavtempo::dispatch::experiment::{run, ExperimentOptions};
+use mavtempo::experiment::{run, ExperimentOptions};
 
 #[test]
 fn counts_add_up_and_runs_repeat() {
@@ -36,7 +36,7 @@ fn counts_add_up_and_runs_repeat() {
         }
     }
     let again = run(&opts, &mut |_, _| {}).expect("scenarios plan");
-    let key = |r: &mavtempo::dispatch::experiment::Row| {
+    let key = |r: &mavtempo::experiment::Row| {
         (
             r.arrived,
             r.achieved,

@@ -1,4 +1,4 @@
-//! The marking kept from the plan's change log (src/dispatch/plan_adapter.rs) against Algorithm 2 run on the
+//! The marking kept from the plan's change log (src/executive/src/dispatch/plan_adapter.rs) against Algorithm 2 run on the
 //! plan's structure itself (an oracle that never reads the log): after every planning step of the shipped
 //! shopping and AUV problems (with their backtracks), and through the executive's edits — past actions
 //! leaving, links broken, a backtrack over those, a repaired clone replacing the plan, an unrelated plan.

@@ -9,9 +9,10 @@
 //! are the papers' plans exactly: 20-minute walks, and the trailing `Go(home, ?)` whose start has no upper
 //! bound, which the planner's plans (bounded by the problem's horizon) never contain.
 
+use mavtempo::bench::dispatcher::Dispatcher;
 use mavtempo::dispatch::{
-    ActionKey, CausalGraph, Change, Dispatcher, Establisher, GoalKey, Link, LinkKey, Marking, Node,
-    PolicyKind, StartWindow, SupportForm, Tick,
+    ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey, Marking, Node, PolicyKind,
+    StartWindow, SupportForm, Tick,
 };
 use mavtempo::model::GoalKind;
 use mavtempo::stn::{Stn, Time, Timepoint, INF};

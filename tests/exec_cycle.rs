@@ -10,6 +10,10 @@ use std::sync::Arc;
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::cycle::CycleOutcome;
 use mavtempo::exec::executive::{Executive, Fate};
+use mavtempo::exec::goal_request::Rejection;
+use mavtempo::exec::outcome::{AbortReason, FateReason};
+use mavtempo::exec::report_timing::Timing;
+use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::model::{Goal, GoalKind, Time, TimeInterval, Value};
@@ -135,7 +139,7 @@ fn run(ex: &mut Executive, v: &mut MockVehicle, until: Time) -> (CycleOutcome, T
 }
 
 fn events(ex: &Executive) -> Vec<(Time, TraceEvent)> {
-    ex.cycles
+    ex.cycles()
         .iter()
         .flat_map(|c| c.events.iter().map(move |e| (c.time_ms, e.clone())))
         .collect()
@@ -165,10 +169,10 @@ fn nominal_run_launches_in_order_and_achieves_the_goal() {
     assert_eq!(launch_time(&ex, "take_picture"), Some(4_000));
     assert_eq!(ex.goal_fates()[0].fate, Fate::Achieved);
     // Both actions are past: they left the plan, their effects are in S_t.
-    assert_eq!(ex.plan.num_actions(), 0);
+    assert_eq!(ex.plan().num_actions(), 0);
     let r = ex.resource("STORAGE").unwrap();
     assert!(
-        (ex.past[r.index()].0 - 2.1).abs() < 1e-9,
+        (ex.past_levels()[r.index()].0 - 2.1).abs() < 1e-9,
         "the level is exact after the report"
     );
 }
@@ -187,7 +191,13 @@ fn report_too_early_creates_a_new_end_and_the_goal_is_still_achieved() {
     assert_eq!(out, CycleOutcome::Finished);
     let start = launch_time(&ex, "take_picture").expect("launched");
     assert!(events(&ex).iter().any(|(t, e)| *t == start + 2_000
-        && matches!(e, TraceEvent::Report { timing, .. } if timing == "TooEarly")));
+        && matches!(
+            e,
+            TraceEvent::Report {
+                timing: Timing::TooEarly,
+                ..
+            }
+        )));
     assert_eq!(ex.goal_fates()[0].fate, Fate::Achieved);
 }
 
@@ -199,7 +209,9 @@ fn missing_report_of_a_non_preemptive_action_times_out() {
     v.script("take_picture", Outcome::nominal(60_000));
     let (out, t) = run(&mut ex, &mut v, 60_000);
     match out {
-        CycleOutcome::Aborted(reason) => assert!(reason.contains("timeout"), "{reason}"),
+        CycleOutcome::Aborted(reason) => {
+            assert!(matches!(reason, AbortReason::Timeout { .. }), "{reason}")
+        }
         o => panic!("{o:?}"),
     }
     // take_picture lasts at most 20 s: the timeout is detected in the first cycle after start + 20 s.
@@ -219,10 +231,15 @@ fn over_consumption_reported_is_integrated_and_repair_requested() {
     );
     let (out, _) = run(&mut ex, &mut v, 60_000);
     assert_eq!(out, CycleOutcome::Finished);
-    assert!(events(&ex).iter().any(|(_, e)| matches!(e,
-        TraceEvent::Level { verdict, .. } if verdict.starts_with("OverConsumption"))));
+    assert!(events(&ex).iter().any(|(_, e)| matches!(
+        e,
+        TraceEvent::Level {
+            verdict: LevelVerdict::OverConsumption { .. },
+            ..
+        }
+    )));
     let r = ex.resource("STORAGE").unwrap();
-    assert!((ex.past[r.index()].0 - 1.5).abs() < 1e-9);
+    assert!((ex.past_levels()[r.index()].0 - 1.5).abs() < 1e-9);
 }
 
 #[test]
@@ -260,11 +277,11 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
         "stopped at {stop}, ub {ub}"
     );
     // The reported position is no known location: a new location object, the robot's position in S_t.
-    let at = ex.plan.domain.attr_id("AT_ROBOT").unwrap();
-    let Some(Value::Obj(o)) = ex.state.get(&(at, vec![])) else {
+    let at = ex.plan().domain.attr_id("AT_ROBOT").unwrap();
+    let Some(Value::Obj(o)) = ex.state().get(&(at, vec![])) else {
         panic!("no position in S_t");
     };
-    assert!(ex.plan.problem.object_name(o).starts_with('L'));
+    assert!(ex.plan().problem.object_name(o).starts_with('L'));
 }
 
 #[test]
@@ -307,12 +324,15 @@ fn goal_requests_accepted_and_rejected_through_the_vehicle() {
     // g7 never entered the plan: its fate says why.
     assert!(fates.iter().any(|f| f.name == "g7"
         && f.fate == mavtempo::exec::executive::Fate::Rejected
-        && !f.reason.is_empty()));
+        && matches!(
+            f.reason,
+            Some(FateReason::Acceptance(Rejection::TooLate { .. }))
+        )));
     assert!(events(&ex).iter().any(|(_, e)| matches!(e,
         TraceEvent::GoalRejected { goal, .. } if goal == "g7")));
     // g6 is an open condition: plan repair was started on it (not an abort).
-    assert!(ex.counters.repair_steps > 0, "no repair step");
-    assert!(ex.abort.is_none(), "aborted: {:?}", ex.abort);
+    assert!(ex.counters().repair_steps > 0, "no repair step");
+    assert!(ex.abort().is_none(), "aborted: {:?}", ex.abort());
 }
 
 #[test]

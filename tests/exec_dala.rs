@@ -18,12 +18,15 @@ use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
 use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::report_timing::Timing;
+use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::model::Time;
 use mavtempo::plan::PartialPlan;
 use mavtempo::planner::{Budget, Search, StepOutcome};
 use mavtempo::vehicle::mock::Outcome;
+use mavtempo::vehicle::ReportStatus;
 use mavtempo::vehicle::{Enu, MockVehicle, StateValue};
 
 const TS: Time = 2_000;
@@ -151,7 +154,7 @@ fn slow_move_is_stopped_before_w1_and_the_rover_moves_on_after_repair() {
         .any(|(_, _, e)| matches!(e, TraceEvent::Timeout { .. })));
     assert!(ev.iter().any(|(i, _, e)| *i > stop_cycle
         && matches!(e, TraceEvent::Report { action, status, .. }
-            if action == "move(l0, l1)" && status == "interrupted")));
+            if action == "move(l0, l1)" && *status == ReportStatus::Interrupted)));
     // Plan repair, not replanning, spread over several cycles: a move from the new location where the rover
     // stopped to l1, launched once (from the last executable node, before the repair's end at the latest).
     assert_eq!(r.counters.replans, 0);
@@ -205,7 +208,7 @@ fn early_picture_end_gets_a_new_end_timepoint_and_the_ptu_move_starts_at_once() 
         .iter()
         .find_map(|(i, t, e)| match e {
             TraceEvent::Report { action, timing, .. }
-                if action == "take_picture(l0)" && timing == "TooEarly" =>
+                if action == "take_picture(l0)" && *timing == Timing::TooEarly =>
             {
                 Some((*i, *t))
             }
@@ -215,7 +218,7 @@ fn early_picture_end_gets_a_new_end_timepoint_and_the_ptu_move_starts_at_once() 
     assert_eq!(reported, shot + 3_000);
     assert!(ev.iter().any(|(i, _, e)| *i == report_cycle
         && matches!(e, TraceEvent::Level { resource, verdict, .. }
-            if resource == "STORAGE" && verdict.starts_with("OverProduction"))));
+            if resource == "STORAGE" && matches!(verdict, LevelVerdict::OverProduction { .. }))));
     // Repaired, not replanned.
     assert!(ev
         .iter()

@@ -7,15 +7,11 @@ mod shopping;
 use mavtempo::exec::cycle::CycleOutcome;
 use mavtempo::exec::executive::Fate;
 use mavtempo::exec::trace::TraceEvent;
-use mavtempo::vehicle::mock::Outcome;
-use mavtempo::vehicle::MockVehicle;
 
 #[test]
 fn shopping_day_planned_then_executed_achieves_both_goals() {
     let mut ex = shopping::day_executive(shopping::day_config());
-    let mut v = MockVehicle::new();
-    v.script("go", Outcome::nominal(16 * 60_000));
-    v.script("buy", Outcome::nominal(5 * 60_000));
+    let mut v = shopping::day_vehicle();
     let mut t = 0;
     let out = loop {
         v.advance_to(t as u64);
@@ -28,7 +24,7 @@ fn shopping_day_planned_then_executed_achieves_both_goals() {
         }
         // Wake up as the live executive does: at the next due timepoint, at the latest one timestep later,
         // and right away when a message is coming (the report of a stopped action).
-        let stopped = ex.cycles.last().is_some_and(|c| {
+        let stopped = ex.cycles().last().is_some_and(|c| {
             c.events
                 .iter()
                 .any(|e| matches!(e, TraceEvent::Stop { .. }))
@@ -41,11 +37,8 @@ fn shopping_day_planned_then_executed_achieves_both_goals() {
     };
     assert_eq!(out, CycleOutcome::Finished, "{:?}", ex.goal_fates());
     assert!(ex.goal_fates().iter().all(|f| f.fate == Fate::Achieved));
-    let launches = ex
-        .cycles
-        .iter()
-        .flat_map(|c| &c.events)
-        .filter(|e| matches!(e, TraceEvent::Launch { .. }))
-        .count();
-    assert!(launches >= 3, "go, buy, go home at least");
+    assert!(
+        shopping::launches(ex.cycles()) >= 3,
+        "go, buy, go home at least"
+    );
 }

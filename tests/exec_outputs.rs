@@ -17,7 +17,8 @@ use mavtempo::cli::demo::{run_demo, DemoSetup};
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::mission::MissionEnd;
-use mavtempo::exec::replan::{AttemptEnd, ReplanOutcome, ReplanResult};
+use mavtempo::exec::outcome::{AbortReason, FateReason};
+use mavtempo::exec::replan::{AttemptEnd, AttemptRecord, ReplanOutcome, ReplanResult};
 use mavtempo::exec::trace::{CycleRecord, TraceEvent};
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::plan::PartialPlan;
@@ -71,10 +72,12 @@ fn fig2_abort_and_replanning_reach_the_trace_and_the_report() {
         .position(|c| has(c, |e| matches!(e, TraceEvent::Timeout { .. })))
         .expect("e2's timeout");
     assert!(
-        has(
-            &seen[at],
-            |e| matches!(e, TraceEvent::Abort { reason } if reason.contains("timeout"))
-        ),
+        has(&seen[at], |e| matches!(
+            e,
+            TraceEvent::Abort {
+                reason: AbortReason::Timeout { .. }
+            }
+        )),
         "the abort is in the cycle that timed out: {:?}",
         seen[at].events
     );
@@ -84,13 +87,13 @@ fn fig2_abort_and_replanning_reach_the_trace_and_the_report() {
         .events
         .iter()
         .filter_map(|e| match e {
-            TraceEvent::Replan {
+            TraceEvent::Replan(AttemptRecord {
                 attempt,
                 steps,
                 end,
                 goals,
                 ..
-            } => {
+            }) => {
                 assert!(!goals.is_empty());
                 Some((*attempt, *steps, *end))
             }
@@ -122,12 +125,26 @@ fn fig2_abort_and_replanning_reach_the_trace_and_the_report() {
     assert!(done.1.contains(&"g3".to_string()), "{:?}", done.1);
     // The report: the same replanning as data.
     let rec = &run.report.replannings[0];
-    assert!(rec.abort.contains("timeout"), "{}", rec.abort);
+    assert!(
+        matches!(rec.abort, AbortReason::Timeout { .. }),
+        "{}",
+        rec.abort
+    );
     assert_eq!(rec.outcome, ReplanOutcome::NewPlan);
     assert_eq!(rec.kept, done.1);
     assert_eq!(rec.rejected.len(), 1);
     assert_eq!(rec.rejected[0].goal, "g2");
-    assert!(rec.rejected[0].reason.contains("time limit l"));
+    assert!(
+        matches!(
+            rec.rejected[0].reason,
+            FateReason::Abandoned {
+                end: AttemptEnd::TimeLimit,
+                ..
+            }
+        ),
+        "{:?}",
+        rec.rejected[0].reason
+    );
     assert_eq!(
         rec.attempts
             .iter()
@@ -180,11 +197,11 @@ fn the_replanning_that_ends_a_mission_reaches_the_observer_and_the_report() {
     let rec = run.report.replannings.last().expect("a replanning");
     assert_eq!(rec.outcome, ReplanOutcome::NoGoals);
     assert!(rec.kept.is_empty());
-    assert!(!rec.abort.is_empty());
+    assert_ne!(rec.abort, AbortReason::Unstated);
     let rejected_here: Vec<&str> = rec.rejected.iter().map(|r| r.goal.as_str()).collect();
     for g in &run.report.goals {
         assert_eq!(g.fate, Fate::Rejected, "{g:?}");
-        assert!(!g.reason.is_empty());
+        assert!(g.reason.is_some());
         let by_a_replanning = run
             .report
             .replannings
@@ -210,7 +227,10 @@ fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
         replan_max_steps: 40,
         ..ExecConfig::default()
     });
-    ex.abort = Some("test abort".into());
+    let test_abort = AbortReason::Timeout {
+        timepoint: "a test's".into(),
+    };
+    ex.abort_with(test_abort.clone());
     let result = ex.replan(&|| 0, &mut |_| {});
     let ReplanResult::Plan(plan) = result else {
         panic!("expected a plan, got {result:?}");
@@ -222,16 +242,24 @@ fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
         .map(|g| plan.problem.goals[g.goal.index()].name.clone())
         .collect();
     assert_eq!(active, ["g3"]);
-    let rec = ex.replannings.last().expect("record");
+    let rec = ex.replannings().last().expect("record");
     assert_eq!(rec.outcome, ReplanOutcome::NewPlan);
     assert_eq!(rec.kept, ["g3"]);
     assert_eq!(rec.rejected.len(), 4, "{:?}", rec.rejected);
-    assert!(rec.rejected.iter().all(|r| r.reason.contains("test abort")));
+    assert!(
+        rec.rejected.iter().all(|r| matches!(
+            r.reason.cause(),
+            FateReason::ReplanBudgetSpent { abort, .. } | FateReason::Abandoned { abort, .. }
+                if *abort == test_abort
+        )),
+        "{:?}",
+        rec.rejected
+    );
     // The whole replanning stays within twice the cap, plus the single-goal searches (300 steps each).
     let attempts: u64 = rec.attempts.iter().map(|a| a.steps).sum();
     assert!(attempts <= 80, "{attempts}");
     assert!(rec.steps <= 80 + 5 * 300, "{}", rec.steps);
-    let g3 = ex.fates.values().find(|f| f.name == "g3").expect("g3");
+    let g3 = ex.fates().values().find(|f| f.name == "g3").expect("g3");
     assert_eq!(g3.fate, Fate::Pending);
 }
 
@@ -250,9 +278,9 @@ fn a_failed_move_leaves_the_rover_still() {
     let m = mapping::rover(&plan);
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(m);
     let a = ex
-        .plan
+        .plan()
         .live_actions()
-        .find(|&a| ex.plan.domain.task(ex.plan.action(a).task).name == "move")
+        .find(|&a| ex.plan().domain.task(ex.plan().action(a).task).name == "move")
         .expect("a move");
     let report = mavtempo::vehicle::ActionReport {
         id: 1,
@@ -267,13 +295,13 @@ fn a_failed_move_leaves_the_rover_still() {
     };
     mavtempo::exec::state_update::integrate_state(&mut ex, a, &report, 5_000);
     let status = ex
-        .plan
+        .plan()
         .domain
         .attr_id("ROBOT_STATUS")
         .expect("ROBOT_STATUS");
-    let still = ex.plan.problem.object_id("STILL").expect("STILL");
+    let still = ex.plan().problem.object_id("STILL").expect("STILL");
     assert_eq!(
-        ex.state.get(&(status, Vec::new())),
+        ex.state().get(&(status, Vec::new())),
         Some(mavtempo::model::Value::Obj(still))
     );
 }

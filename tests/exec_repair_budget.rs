@@ -60,7 +60,7 @@ fn cfg() -> ExecConfig {
 /// Repair steps done by the first cycle.
 fn first_cycle_steps(ex: &mut Executive, v: &mut dyn Vehicle) -> u64 {
     let _ = ex.cycle(v, 0);
-    let c = ex.cycles.first().expect("a cycle");
+    let c = ex.cycles().first().expect("a cycle");
     let steps = c.events.iter().find_map(|e| match e {
         TraceEvent::RepairStep { steps, .. } => Some(*steps),
         _ => None,
@@ -79,7 +79,7 @@ fn the_repair_budget_is_mu_ts_of_mission_time() {
         now: Cell::new(5_000),
         tick_ms: 100,
     };
-    ex.vehicle_origin_ms = 5_000;
+    ex.set_vehicle_origin(5_000);
     assert_eq!(first_cycle_steps(&mut ex, &mut v), 5);
     // Mission time running three times faster (a vehicle at a higher speed-up): one step.
     let mut ex = unplanned(cfg());

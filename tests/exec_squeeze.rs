@@ -1,4 +1,4 @@
-//! Contingent durations are not squeezed (src/exec/squeeze.rs): a start that could go now but would shorten
+//! Contingent durations are not squeezed (src/executive/src/exec/squeeze.rs): a start that could go now but would shorten
 //! the upper bound of a running action's end waits until that action ends (while it keeps flexibility),
 //! instead of forcing the running action to be stopped short or to time out.
 //!

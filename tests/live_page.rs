@@ -65,7 +65,8 @@ fn snapshot_times(addr: SocketAddr, n: usize) -> Vec<u64> {
 }
 
 /// The goals of a demo run, with their fates.
-type DemoGoals = std::thread::JoinHandle<Result<Vec<(String, Fate)>, String>>;
+type DemoGoals =
+    std::thread::JoinHandle<Result<Vec<(String, Fate)>, mavtempo::cli::error::CliError>>;
 
 /// The demo at 20x with its live page; the address it printed.
 fn start(goals: bool) -> (SocketAddr, Interrupt, DemoGoals) {

@@ -80,7 +80,7 @@ fn rover_dala_is_solved_and_checked() {
 #[test]
 fn generated_rover_grid_is_solved_and_checked() {
     let d = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")).expect("domain");
-    let text = mavtempo::planner::bench::rover_grid_problem(8);
+    let text = mavtempo::lang::generate::rover_grid_problem(8);
     let p = mavtempo::lang::parse_problem("grid8.ixt", &text, &d).expect("generated problem");
     let n = check_solved("grid8", Arc::new(d), Arc::new(p));
     // 8 pictures, 8 moves, a pan-and-tilt move down and back up per picture at most.
@@ -140,7 +140,7 @@ fn rover_fig2_wider_windows_stay_solvable() {
 /// production, so the storage envelope no longer drifts with the pictures' uncertain sizes.
 #[test]
 fn random_rover_missions_of_eight_pictures_are_solved_and_checked() {
-    use mavtempo::planner::suite::generate::{problem, SuiteDomain};
+    use mavtempo::bench::suite::generate::{problem, SuiteDomain};
     let d = Arc::new(
         mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")).expect("domain"),
     );

@@ -43,7 +43,7 @@ fn fig2_charts_follow_the_trace_and_the_bounds_of_the_report() {
     for b in &c.bars {
         let reported = times(&r, |e| {
             matches!(e, TraceEvent::Report { action, status, .. }
-                if *action == b.action && *status == b.status)
+                if *action == b.action && status.to_string() == b.status)
         });
         let end = b
             .end_ms

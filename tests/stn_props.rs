@@ -386,7 +386,7 @@ proptest! {
 /// Builds a plan-like network and checks it against the oracle after every few insertions and executions.
 #[test]
 fn generated_plan_like_network_equals_floyd_warshall() {
-    let plan = mavtempo::stn::bench::plan_like(60, 7);
+    let plan = mavtempo::bench::stn::plan_like(60, 7);
     let mut stn = Stn::new();
     for _ in 0..plan.timepoints {
         stn.add_timepoint();

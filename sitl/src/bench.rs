@@ -12,8 +12,9 @@ use tokio::net::TcpStream;
 
 use crate::config::{ClockMode, SimConfig};
 use crate::error::SimError;
-use crate::geo::{e7, LocalFrame};
+use crate::geo::LocalFrame;
 use crate::sim::SimHandle;
+use geodesy::deg_to_e7;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct SpeedupReport {
@@ -144,8 +145,8 @@ async fn start_mission(
         let p = frame.to_geo(items[usize::from(seq).min(items.len() - 1)]);
         c.send(MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
             seq,
-            x: e7(p.lat),
-            y: e7(p.lon),
+            x: deg_to_e7(p.lat),
+            y: deg_to_e7(p.lon),
             command: MavCmd::MAV_CMD_NAV_WAYPOINT,
             frame: MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
             autocontinue: 1,

@@ -22,12 +22,12 @@ pub enum VehicleKind {
 }
 
 impl FromStr for VehicleKind {
-    type Err = String;
+    type Err = SimError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.to_ascii_lowercase().as_str() {
             "rover" => Ok(Self::Rover),
             "auv" | "sub" => Ok(Self::Auv),
-            other => Err(format!("unknown vehicle `{other}` (rover or auv)")),
+            other => Err(SimError::UnknownVehicle(other.to_string())),
         }
     }
 }
@@ -155,10 +155,10 @@ impl SimConfig {
         if !(MIN_SPEEDUP..=MAX_SPEEDUP).contains(&self.speedup) {
             return Err(SimError::BadSpeedup(self.speedup));
         }
-        crate::link::Endpoint::parse(&self.listen)?;
-        self.scenario.check().map_err(|reason| SimError::Scenario {
+        mavaddr::Address::parse(&self.listen)?;
+        self.scenario.check().map_err(|e| SimError::Scenario {
             path: "(config)".into(),
-            reason,
+            reason: e.to_string(),
         })?;
         // Two different homes are a mistake to report, not a choice to make silently.
         match self.scenario.home {
@@ -212,7 +212,10 @@ mod tests {
 
     #[test]
     fn vehicle_kind_parses() {
-        assert_eq!("AUV".parse::<VehicleKind>(), Ok(VehicleKind::Auv));
-        assert!("plane".parse::<VehicleKind>().is_err());
+        assert_eq!("AUV".parse::<VehicleKind>().ok(), Some(VehicleKind::Auv));
+        assert!(matches!(
+            "plane".parse::<VehicleKind>(),
+            Err(SimError::UnknownVehicle(v)) if v == "plane"
+        ));
     }
 }

@@ -6,6 +6,8 @@ use thiserror::Error;
 pub enum SimError {
     #[error("bad listen address `{addr}`: {reason} (expected tcpin:HOST:PORT, tcpout:HOST:PORT, udpin:HOST:PORT or udpout:HOST:PORT)")]
     BadAddress { addr: String, reason: String },
+    #[error("bad listen address {0} (expected tcpin:HOST:PORT, tcpout:HOST:PORT, udpin:HOST:PORT or udpout:HOST:PORT)")]
+    Address(#[from] mavaddr::AddressError),
     #[error("cannot open `{addr}`: {source}")]
     Io {
         addr: String,
@@ -23,6 +25,10 @@ pub enum SimError {
     /// A scenario file wrong at `file:line:col` (the line shown).
     #[error("bad scenario {0}")]
     ScenarioAt(Box<srctext::Located>),
+    #[error("unknown profile `{0}` (default or ardupilot)")]
+    UnknownProfile(String),
+    #[error("unknown vehicle `{0}` (rover or auv)")]
+    UnknownVehicle(String),
     #[error("the simulator has stopped")]
     Stopped,
 }

@@ -11,6 +11,8 @@ use tokio::io::AsyncWriteExt;
 use tokio::net::{TcpListener, TcpStream, UdpSocket};
 use tokio::sync::mpsc;
 
+use mavaddr::Address;
+
 use crate::error::SimError;
 
 pub type PeerId = u64;
@@ -21,35 +23,6 @@ pub struct Inbound {
     pub peer: PeerId,
     pub header: MavHeader,
     pub msg: MavMessage,
-}
-
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Endpoint {
-    TcpIn(String),
-    TcpOut(String),
-    UdpIn(String),
-    UdpOut(String),
-}
-
-impl Endpoint {
-    pub fn parse(addr: &str) -> Result<Self, SimError> {
-        let bad = |reason: &str| SimError::BadAddress {
-            addr: addr.to_string(),
-            reason: reason.to_string(),
-        };
-        let (kind, rest) = addr.split_once(':').ok_or_else(|| bad("missing scheme"))?;
-        if rest.rsplit_once(':').is_none() {
-            return Err(bad("missing port"));
-        }
-        let rest = rest.to_string();
-        match kind {
-            "tcpin" => Ok(Self::TcpIn(rest)),
-            "tcpout" => Ok(Self::TcpOut(rest)),
-            "udpin" => Ok(Self::UdpIn(rest)),
-            "udpout" => Ok(Self::UdpOut(rest)),
-            _ => Err(bad("unknown scheme")),
-        }
-    }
 }
 
 enum Sink {
@@ -180,8 +153,8 @@ impl Link {
         };
         let peers = Peers::default();
         let mut tasks = Vec::new();
-        let local_addr = match Endpoint::parse(addr)? {
-            Endpoint::TcpIn(hp) => {
+        let local_addr = match Address::parse(addr)? {
+            Address::TcpIn(hp) => {
                 let listener = TcpListener::bind(&hp).await.map_err(io)?;
                 let local = listener.local_addr().map_err(io)?;
                 let peers2 = peers.clone();
@@ -203,19 +176,19 @@ impl Link {
                 }));
                 local
             }
-            Endpoint::TcpOut(hp) => {
+            Address::TcpOut(hp) => {
                 let stream = TcpStream::connect(&hp).await.map_err(io)?;
                 let local = stream.local_addr().map_err(io)?;
                 serve_tcp(stream, 1, peers.clone(), inbound);
                 local
             }
-            Endpoint::UdpIn(hp) => {
+            Address::UdpIn(hp) => {
                 let sock = Arc::new(UdpSocket::bind(&hp).await.map_err(io)?);
                 let local = sock.local_addr().map_err(io)?;
                 tasks.push(tokio::spawn(serve_udp(sock, None, peers.clone(), inbound)));
                 local
             }
-            Endpoint::UdpOut(hp) => {
+            Address::UdpOut(hp) => {
                 let target: SocketAddr = tokio::net::lookup_host(&hp)
                     .await
                     .map_err(io)?
@@ -238,6 +211,12 @@ impl Link {
                     inbound,
                 )));
                 local
+            }
+            Address::Serial { .. } => {
+                return Err(SimError::BadAddress {
+                    addr: addr.to_string(),
+                    reason: "a serial port is not simulated".into(),
+                })
             }
         };
         Ok(Self {
@@ -320,13 +299,12 @@ async fn serve_udp(
 mod tests {
     use super::*;
 
-    #[test]
-    fn endpoints_parse() {
-        assert_eq!(
-            Endpoint::parse("tcpin:127.0.0.1:5760").ok(),
-            Some(Endpoint::TcpIn("127.0.0.1:5760".into()))
-        );
-        assert!(Endpoint::parse("serial:/dev/ttyS0").is_err());
-        assert!(Endpoint::parse("udpin:localhost").is_err());
+    #[tokio::test]
+    async fn only_sockets_open() {
+        let (tx, _rx) = mpsc::channel(1);
+        let serial = Link::open("serial:/dev/ttyS0:57600", tx.clone()).await;
+        assert!(matches!(serial, Err(SimError::BadAddress { .. })));
+        let no_port = Link::open("udpin:localhost", tx).await;
+        assert!(matches!(no_port, Err(SimError::Address(_))));
     }
 }

@@ -2,6 +2,7 @@
 //! The format is documented in `sitl/README.md`; every table rejects unknown keys by name.
 
 use serde::Deserialize;
+use srctext::toml_file::KeyError;
 
 use crate::error::SimError;
 
@@ -156,12 +157,12 @@ pub enum Profile {
 }
 
 impl std::str::FromStr for Profile {
-    type Err = String;
+    type Err = SimError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.to_ascii_lowercase().as_str() {
             "default" => Ok(Self::Default),
             "ardupilot" => Ok(Self::Ardupilot),
-            other => Err(format!("unknown profile `{other}` (default or ardupilot)")),
+            other => Err(SimError::UnknownProfile(other.to_string())),
         }
     }
 }
@@ -440,26 +441,13 @@ impl Scenario {
     pub fn parse(text: &str, origin: &str) -> Result<Self, SimError> {
         let at = |e| SimError::ScenarioAt(Box::new(e));
         let scenario: Scenario = srctext::toml_file::parse(origin, text).map_err(at)?;
-        scenario.check_keys().map_err(|(key, reason)| {
-            at(srctext::toml_file::at_key(
-                origin,
-                text,
-                &key,
-                format!("{key}: {reason}"),
-            ))
-        })?;
+        scenario.check().map_err(|e| at(e.locate(origin, text)))?;
         Ok(scenario)
     }
 
-    /// The first problem as one message.
-    pub(crate) fn check(&self) -> Result<(), String> {
-        self.check_keys()
-            .map_err(|(key, reason)| format!("{key}: {reason}"))
-    }
-
     /// The first problem: the key path it is about (`slow_zones.1`) and why.
-    fn check_keys(&self) -> Result<(), (String, String)> {
-        let bad = |key: &str, reason: &str| Err((key.to_string(), reason.to_string()));
+    pub(crate) fn check(&self) -> Result<(), KeyError> {
+        let bad = |key: &str, reason: &str| Err(KeyError::new(key, reason));
         let c = &self.camera;
         if !(c.size_min_mib > 0.0 && c.size_min_mib <= c.size_max_mib) {
             return bad(
@@ -509,13 +497,13 @@ impl Scenario {
             for (i, z) in zones.iter().enumerate() {
                 check_zone(z).map_err(|(key, e)| {
                     let path = format!("{name}.{i}.{key}");
-                    (path.trim_end_matches('.').to_string(), e)
+                    KeyError::new(path.trim_end_matches('.'), e)
                 })?;
             }
         }
         for (i, w) in self.visibility_windows.iter().enumerate() {
             if !(w.start_s < w.end_s && w.rate_mib_per_s >= 0.0) {
-                return Err((
+                return Err(KeyError::new(
                     format!("visibility_windows.{i}"),
                     format!(
                         "[{}, {}]: need start_s < end_s and rate_mib_per_s >= 0",
@@ -525,18 +513,18 @@ impl Scenario {
             }
         }
         for (i, f) in self.faults.iter().enumerate() {
-            check_fault(f).map_err(|e| (format!("faults.{i}"), e))?;
+            check_fault(f).map_err(|e| KeyError::new(format!("faults.{i}"), e))?;
         }
         Ok(())
     }
 }
 
 /// A zone's first problem: the key it is about and why.
-fn check_zone(z: &Zone) -> Result<(), (&'static str, String)> {
+fn check_zone(z: &Zone) -> Result<(), (&'static str, &'static str)> {
     if z.center_m.is_some() == z.center.is_some() {
         return Err((
             "",
-            "give exactly one of center_m = [north, east] or center = [lat, lon]".into(),
+            "give exactly one of center_m = [north, east] or center = [lat, lon]",
         ));
     }
     if z.center.is_some_and(|[lat, lon]| {
@@ -544,16 +532,17 @@ fn check_zone(z: &Zone) -> Result<(), (&'static str, String)> {
     }) {
         return Err((
             "center",
-            "[lat, lon]: lat must be in [-90, 90] and lon in [-180, 180]".into(),
+            "[lat, lon]: lat must be in [-90, 90] and lon in [-180, 180]",
         ));
     }
     if z.radius_m <= 0.0 || !(0.0..=1.0).contains(&z.speed_factor) {
-        return Err(("", "need radius_m > 0 and speed_factor in [0, 1]".into()));
+        return Err(("", "need radius_m > 0 and speed_factor in [0, 1]"));
     }
     Ok(())
 }
 
-fn check_fault(f: &FaultSpec) -> Result<(), String> {
+/// A fault's first problem, as its reason (the caller names the key).
+fn check_fault(f: &FaultSpec) -> Result<(), std::borrow::Cow<'static, str>> {
     let t = &f.when;
     if t.at_s.is_some() == t.on.is_some() {
         return Err("`when` needs exactly one of at_s or on".into());
@@ -571,7 +560,9 @@ fn check_fault(f: &FaultSpec) -> Result<(), String> {
     }
     let prob = |p: f64| (0.0..=1.0).contains(&p);
     match &f.fault {
-        Fault::SlowZone { zone } => check_zone(zone).map_err(|(key, e)| format!("{key} {e}")),
+        Fault::SlowZone { zone } => {
+            check_zone(zone).map_err(|(key, e)| format!("{key} {e}").into())
+        }
         Fault::PictureDuration { capture_time_s, .. }
             if !(capture_time_s.is_finite()
                 && *capture_time_s >= 0.0

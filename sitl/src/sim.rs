@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
+use mavaddr::Address;
 use tokio::sync::{mpsc, oneshot, watch};
 use tokio::time::Instant;
 
@@ -14,7 +15,7 @@ use crate::autopilot::{Autopilot, Dest};
 use crate::config::{ClockMode, SimConfig};
 use crate::error::SimError;
 use crate::faults::Delivery;
-use crate::link::{Endpoint, Inbound, Link, Peers};
+use crate::link::{Inbound, Link, Peers};
 use crate::scenario::Fault;
 use crate::snapshot::Snapshot;
 
@@ -166,11 +167,13 @@ pub async fn spawn(config: SimConfig) -> Result<SimHandle, SimError> {
     let (in_tx, in_rx) = mpsc::channel::<Inbound>(4096);
     let link = Link::open(&config.listen, in_tx).await?;
     let local_addr = link.local_addr;
-    let client_address = match Endpoint::parse(&config.listen)? {
-        Endpoint::TcpIn(_) => format!("tcpout:{local_addr}"),
-        Endpoint::UdpIn(_) => format!("udpout:{local_addr}"),
-        Endpoint::TcpOut(hp) => format!("tcpin:{hp}"),
-        Endpoint::UdpOut(hp) => format!("udpin:{hp}"),
+    let client_address = match Address::parse(&config.listen)? {
+        Address::TcpIn(_) => format!("tcpout:{local_addr}"),
+        Address::UdpIn(_) => format!("udpout:{local_addr}"),
+        Address::TcpOut(hp) => format!("tcpin:{hp}"),
+        Address::UdpOut(hp) => format!("udpin:{hp}"),
+        // Refused by `Link::open` above: the simulator listens on sockets only.
+        Address::Serial { .. } => config.listen.clone(),
     };
     let ap = Autopilot::new(&config);
     let clock = SimClock::default();

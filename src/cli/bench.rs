@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 
-use crate::stn::bench as stn_bench;
+use crate::bench::stn as stn_bench;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -162,7 +162,7 @@ fn bench_stn(json: bool) -> ExitCode {
 }
 
 fn bench_dispatch(json: bool) -> ExitCode {
-    let figures = match crate::dispatch::bench::run(&[200, 2_000], 20_000, 2026) {
+    let figures = match crate::bench::dispatch::run(&[200, 2_000], 20_000, 2026) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("bench dispatch: {e}");
@@ -219,7 +219,7 @@ fn print_json_lines<T: serde::Serialize>(what: &str, rows: &[T]) -> ExitCode {
 }
 
 fn bench_link(json: bool) -> ExitCode {
-    match crate::vehicle::bench::run_link_bench(21, 200_000) {
+    match crate::bench::vehicle::run_link_bench(21, 200_000) {
         Ok(b) if json => match serde_json::to_string(&b) {
             Ok(line) => {
                 println!("{line}");
@@ -245,7 +245,7 @@ fn bench_link(json: bool) -> ExitCode {
 }
 
 fn bench_plan(json: bool) -> ExitCode {
-    let figures = match crate::planner::bench::run(std::path::Path::new("domains"), 20_000) {
+    let figures = match crate::bench::plan::run(std::path::Path::new("domains"), 20_000) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("bench plan: {e}");
@@ -279,7 +279,7 @@ fn bench_plan(json: bool) -> ExitCode {
 
 fn bench_cycle(json: bool) -> ExitCode {
     for n in [200, 2_000] {
-        match crate::exec::bench::run(n, 100) {
+        match crate::bench::exec::run(n, 100) {
             Ok(f) if json => match serde_json::to_string(&f) {
                 Ok(line) => println!("{line}"),
                 Err(e) => {
@@ -301,7 +301,7 @@ fn bench_cycle(json: bool) -> ExitCode {
 }
 
 fn bench_repair(json: bool) -> ExitCode {
-    let figures = match crate::exec::bench_repair::run() {
+    let figures = match crate::bench::repair::run() {
         Ok(f) => f,
         Err(e) => {
             eprintln!("bench repair: {e}");

@@ -10,6 +10,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::demo::exec_config;
+use super::error::CliError;
 use super::mission_out::initial_plan;
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::exec::executive::Executive;
@@ -55,20 +56,21 @@ pub struct CpuFigures {
 }
 
 /// Runs the Dala mission for at most `limit_ms` of mission time (to its end when `None`) and measures it.
-pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
-    let domain =
-        Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?);
-    let problem = Arc::new(
-        lang::parse_problem("domains/rover/problems/dala.ixt", DALA, &domain)
-            .map_err(|e| e.to_string())?,
-    );
+pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, CliError> {
+    let domain = Arc::new(lang::parse_domain("domains/rover/rover.ixt", DOMAIN)?);
+    let problem = Arc::new(lang::parse_problem(
+        "domains/rover/problems/dala.ixt",
+        DALA,
+        &domain,
+    )?);
     let plan = initial_plan(domain.clone(), problem.clone(), 200_000)?;
     let spec = SessionSpec::demo_rover(SCENARIO, "sitl/scenarios/dala.toml")?;
     let mut session = SitlSession::start(&domain, &problem, spec)?;
     let cfg = exec_config();
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
-    let mut ex = Executive::new(plan, cfg).with_mapping(session.mapping.clone());
-    ex.level_tolerance = LEVEL_TOLERANCE;
+    let mut ex = Executive::new(plan, cfg)
+        .with_mapping(session.mapping.clone())
+        .with_level_tolerance(LEVEL_TOLERANCE);
     let opts = MissionOptions {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),
         ..MissionOptions::default()
@@ -89,7 +91,7 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, String> {
     drop(session);
     let mission_s = report.duration_ms as f64 / 1_000.0;
     if mission_s <= 0.0 {
-        return Err("the mission did not run".into());
+        return Err(CliError::NoMission);
     }
     let cycle_cpu_s = report.cycle_times.total_us as f64 / 1e6;
     Ok(CpuFigures {
@@ -172,7 +174,7 @@ pub fn run(json: bool) -> ExitCode {
         f.wall_s
     );
     for g in &f.goals {
-        println!("  {:<12} {:?} {}", g.name, g.fate, g.reason);
+        println!("  {:<12} {:?} {}", g.name, g.fate, g.reason_text());
     }
     println!(
         "most launches of one action: {}",

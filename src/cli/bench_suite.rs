@@ -4,8 +4,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use super::bench::BenchArgs;
-use crate::planner::suite::generate::{Mission, SuiteDomain};
-use crate::planner::suite::{self, pddl, SuiteOptions, SuiteRun};
+use crate::bench::suite::generate::{Mission, SuiteDomain};
+use crate::bench::suite::{self, pddl, SuiteOptions, SuiteRun};
 
 pub fn run(args: &BenchArgs) -> ExitCode {
     let domain = match args.domain.as_deref() {

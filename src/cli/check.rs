@@ -3,6 +3,7 @@
 //! `mavtempo check --config FILE DOMAIN [PROBLEM]`: checks a vehicle configuration against its domain (and
 //! problem), printing every mismatch ([`crate::vehicle::config_check`]).
 
+use super::error::CliError;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -130,21 +131,20 @@ fn header(path: &Path) -> Result<FileKind, Diagnostics> {
 }
 
 /// `check --config FILE DOMAIN [PROBLEM]`.
-fn check_config(config: &Path, files: &[PathBuf]) -> Result<(), String> {
+fn check_config(config: &Path, files: &[PathBuf]) -> Result<(), CliError> {
     let (domain_path, problem_path) = match files {
         [d] => (d, None),
         [d, p] => (d, Some(p)),
         _ => {
-            return Err(format!(
-                "check --config {}: give the domain and optionally the problem, got {} files",
-                config.display(),
-                files.len()
-            ))
+            return Err(CliError::CheckFiles {
+                config: config.display().to_string(),
+                files: files.len(),
+            })
         }
     };
-    let domain = lang::load_domain(domain_path).map_err(|e| e.to_string())?;
+    let domain = lang::load_domain(domain_path)?;
     let problem = match problem_path {
-        Some(p) => Some(lang::load_problem(p, &domain).map_err(|e| e.to_string())?),
+        Some(p) => Some(lang::load_problem(p, &domain)?),
         None => None,
     };
     let (cfg, _) = super::run::load_config(config)?;
@@ -173,7 +173,7 @@ pub fn checked_config(
     cfg: &VehicleConfig,
     domain: &Domain,
     problem: Option<&Problem>,
-) -> Result<CheckedConfig, String> {
+) -> Result<CheckedConfig, CliError> {
     match config_check::check(cfg, domain, problem) {
         Ok(c) => {
             for w in &c.warnings {
@@ -191,11 +191,12 @@ pub fn checked_config(
                 .iter()
                 .filter(|i| i.severity == config_check::Severity::Error)
                 .count();
-            Err(format!(
-                "{}\n{origin} does not match domain `{}`: {errors} error(s)",
-                lines.join("\n"),
-                domain.name
-            ))
+            Err(CliError::ConfigMismatch {
+                issues: lines.join("\n"),
+                origin: origin.to_string(),
+                domain: domain.name.clone(),
+                errors,
+            })
         }
     }
 }

@@ -12,7 +12,8 @@ use std::time::Duration;
 
 use clap::Args;
 
-use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
+use super::error::CliError;
+use super::mission_out::{initial_plan, print_summary, MissionOutArgs, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
@@ -41,10 +42,6 @@ pub struct DemoArgs {
     /// executive's clock, as fast as the machine goes (deterministic).
     #[arg(long)]
     pub speedup: Option<f64>,
-    /// Write the mission report (cycles, events, plan changes, goals with fates and reasons, resource
-    /// levels vs bounds) as JSON.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
     /// A problem instead of the built-in Fig. 2 (domains/rover/problems/fig2.ixt).
     #[arg(long)]
     pub problem: Option<PathBuf>,
@@ -73,17 +70,10 @@ pub struct DemoArgs {
     /// Seeds the simulator's picture sizes and link faults (loss, duplication, reordering).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Print only the summary, not the per-cycle trace.
-    #[arg(long)]
-    pub quiet: bool,
-    /// Planning steps for the initial plan.
-    #[arg(long, default_value_t = 200_000)]
-    pub max_steps: u64,
     #[command(flatten)]
     pub dispatch: super::dispatch_arg::DispatchArg,
-    /// Write the report's page (Gantt chart, resources against their bounds, map, goals) as one HTML file.
-    #[arg(long)]
-    pub html: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: MissionOutArgs,
     #[command(flatten)]
     pub http: super::http_arg::HttpArg,
 }
@@ -108,14 +98,14 @@ pub fn run(args: DemoArgs) -> ExitCode {
             at_ms: (args.upload_at * 1000.0).round() as crate::model::Time,
             items: UploadItems::File(file),
         }),
-        max_steps: args.max_steps,
+        max_steps: args.out.max_steps,
         seed: args.seed,
         dispatch: args.dispatch.dispatch,
         interrupt: interrupt.clone(),
         http: args.http.spec(),
     };
     let mut printer = TracePrinter::default();
-    let quiet = args.quiet;
+    let quiet = args.out.quiet;
     let result = run_demo(
         &setup,
         &mut |line: &str| {
@@ -136,22 +126,9 @@ pub fn run(args: DemoArgs) -> ExitCode {
                 println!("{u}");
             }
             print_summary(&run.report);
-            if let Some(path) = &args.report {
-                if let Err(e) = write_report(path, &run.report) {
-                    eprintln!("mavtempo demo: {e}");
-                    return ExitCode::FAILURE;
-                }
-                println!("report written to {}", path.display());
-            }
-            if let Some(path) = &args.html {
-                let page = crate::report::charts_of(&run.report).and_then(|c| {
-                    crate::report::write_page(path, "mavtempo demo", &c).map_err(|e| e.to_string())
-                });
-                if let Err(e) = page {
-                    eprintln!("mavtempo demo: {e}");
-                    return ExitCode::FAILURE;
-                }
-                println!("page written to {}", path.display());
+            if let Err(e) = args.out.write(&run.report, "mavtempo demo") {
+                eprintln!("mavtempo demo: {e}");
+                return ExitCode::FAILURE;
             }
             if let Some(hold) = run.hold {
                 if !matches!(run.report.end, MissionEnd::Interrupted(_)) {
@@ -241,11 +218,9 @@ pub enum UploadItems {
 }
 
 impl UploadItems {
-    fn items(&self, home: crate::vehicle::geo::Home) -> Result<Vec<MissionItem>, String> {
+    fn items(&self, home: crate::vehicle::geo::Home) -> Result<Vec<MissionItem>, CliError> {
         match self {
-            UploadItems::File(p) => crate::vehicle::goal_files::load(p)
-                .map(|f| f.items)
-                .map_err(|e| e.to_string()),
+            UploadItems::File(p) => Ok(crate::vehicle::goal_files::load(p)?.items),
             UploadItems::PicturesAt(places) => Ok(picture_items(home, places)),
         }
     }
@@ -270,14 +245,14 @@ pub(crate) struct LiveHold {
     _session: SitlSession,
 }
 
-fn read(path: &Path) -> Result<String, String> {
-    srctext::read(path).map_err(|e| e.to_string())
+fn read(path: &Path) -> Result<String, CliError> {
+    Ok(srctext::read(path)?)
 }
 
-fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
+fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), CliError> {
     let domain = match &setup.domain {
-        Some(p) => lang::load_domain(p).map_err(|e| e.to_string())?,
-        None => lang::parse_domain("domains/rover/rover.ixt", DOMAIN).map_err(|e| e.to_string())?,
+        Some(p) => lang::load_domain(p)?,
+        None => lang::parse_domain("domains/rover/rover.ixt", DOMAIN)?,
     };
     let domain = Arc::new(domain);
     let (name, text) = match &setup.problem {
@@ -287,12 +262,12 @@ fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), 
             FIG2.to_string(),
         ),
     };
-    let problem = lang::parse_problem(&name, &text, &domain).map_err(|e| e.to_string())?;
+    let problem = lang::parse_problem(&name, &text, &domain)?;
     Ok((domain, Arc::new(problem)))
 }
 
 /// The session's configuration and scenario from the setup (see [`DemoArgs::scenario`]).
-fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, String), String> {
+fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, String), CliError> {
     let (scenario, scenario_name) = match (&setup.scenario, &setup.problem) {
         (Some(p), _) => (read(p)?, p.display().to_string()),
         (None, None) => (SCENARIO.to_string(), "sitl/scenarios/fig2.toml".to_string()),
@@ -310,9 +285,9 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
     };
     let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
     if let Some(p) = &setup.config {
+        // The whole file is checked, its `[exec]` table too, though the demo's executive keeps its own.
         spec.config =
-            crate::vehicle::config::VehicleConfig::parse(&read(p)?, &p.display().to_string())
-                .map_err(|e| e.to_string())?;
+            crate::exec::config::MissionConfig::parse(&read(p)?, &p.display().to_string())?.vehicle;
     }
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;
@@ -338,7 +313,7 @@ pub fn run_demo(
     setup: &DemoSetup,
     say: &mut dyn FnMut(&str),
     observe: &mut dyn FnMut(&CycleRecord),
-) -> Result<DemoRun, String> {
+) -> Result<DemoRun, CliError> {
     let (domain, problem) = load(setup)?;
     say(&format!(
         "planning {} ({} goals)...",
@@ -363,8 +338,8 @@ pub fn run_demo(
     ));
     let mut ex = Executive::new(plan, exec_config())
         .with_policy(setup.dispatch)
-        .with_mapping(session.mapping.clone());
-    ex.level_tolerance = LEVEL_TOLERANCE;
+        .with_mapping(session.mapping.clone())
+        .with_level_tolerance(LEVEL_TOLERANCE);
     // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
     let gate = Arc::new(StepGate::default());
     let mut live = match &setup.http {
@@ -372,8 +347,13 @@ pub fn run_demo(
             let form = h.goals.then(|| {
                 super::http_arg::goal_form(home, format!("tcpout:{gcs}"), Some(gate.clone()))
             });
-            let server = crate::report::live::start(rt.handle(), h.addr, form)
-                .map_err(|e| format!("--http {}: {e}", h.addr))?;
+            let server =
+                crate::report::live::start(rt.handle(), h.addr, form).map_err(|source| {
+                    CliError::Http {
+                        addr: h.addr,
+                        source,
+                    }
+                })?;
             say(&format!("http listening on http://{}/", server.addr));
             let probe = session.vehicle.position_probe();
             Some(crate::report::live::LiveServer {

@@ -1,5 +1,5 @@
 //! `mavtempo experiment dispatch [--seeds N] [--json]`: the dispatch policies compared on the shipped
-//! missions with goals arriving at random (src/dispatch/experiment). A progress bar on stderr; a table on
+//! missions with goals arriving at random (src/executive/src/dispatch/experiment). A progress bar on stderr; a table on
 //! stdout, or one JSON object per scenario and policy with `--json`.
 
 use std::io::Write;
@@ -7,8 +7,8 @@ use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
 
-use crate::dispatch::experiment::{self, ExperimentOptions, Row};
 use crate::dispatch::PolicyKind;
+use crate::experiment::{self, ExperimentOptions, Row};
 
 #[derive(Args, Debug)]
 pub struct ExperimentArgs {

@@ -33,16 +33,19 @@ pub struct FuzzArgs {
 #[derive(Debug, Clone)]
 pub struct Targets(Vec<Target>);
 
+/// A `--target` that names no fuzz target.
+#[derive(Debug, thiserror::Error)]
+#[error("`{0}`: expected all, domain, problem, config, scenario, goals or intake")]
+pub struct UnknownTarget(String);
+
 /// `all`, or one target's name.
-fn targets(s: &str) -> Result<Targets, String> {
+fn targets(s: &str) -> Result<Targets, UnknownTarget> {
     if s == "all" {
         return Ok(Targets(Target::ALL.to_vec()));
     }
     <Target as clap::ValueEnum>::from_str(s, false)
         .map(|t| Targets(vec![t]))
-        .map_err(|_| {
-            format!("`{s}`: expected all, domain, problem, config, scenario, goals or intake")
-        })
+        .map_err(|_| UnknownTarget(s.to_string()))
 }
 
 pub fn run(args: FuzzArgs) -> ExitCode {

@@ -1,9 +1,12 @@
 //! What `run` and `demo` share: the initial plan, the per-cycle trace (like seed 1 Fig. 6), the final summary
 //! and the `--report` JSON.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use clap::Args;
+
+use super::error::CliError;
 use crate::exec::executive::Fate;
 use crate::exec::mission::MissionReport;
 use crate::exec::trace::{names, CycleRecord, TraceEvent};
@@ -11,16 +14,54 @@ use crate::model::{Domain, Problem};
 use crate::plan::PartialPlan;
 use crate::planner::{solve, Budget};
 
+/// What `run` and `demo` plan with and write: the initial plan's budget, the trace, the report and its page.
+#[derive(Args, Debug, Clone)]
+pub struct MissionOutArgs {
+    /// Planning steps for the initial plan.
+    #[arg(long, default_value_t = 200_000)]
+    pub max_steps: u64,
+    /// Print only the summary, not the per-cycle trace.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Write the mission report (cycles, events, plan changes, goals with fates and reasons, resource
+    /// levels vs bounds) as JSON.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Write the report's page (Gantt chart, resources against their bounds, map, goals) as one HTML file.
+    #[arg(long)]
+    pub html: Option<PathBuf>,
+}
+
+impl MissionOutArgs {
+    /// Writes the `--report` JSON and the `--html` page asked for (`title`: the page's), saying where.
+    pub fn write(&self, r: &MissionReport, title: &str) -> Result<(), CliError> {
+        if let Some(path) = &self.report {
+            write_report(path, r)?;
+            println!("report written to {}", path.display());
+        }
+        if let Some(path) = &self.html {
+            let charts = crate::report::charts_of(r).map_err(|e| CliError::Page(e.to_string()))?;
+            crate::report::write_page(path, title, &charts)
+                .map_err(|e| CliError::Page(e.to_string()))?;
+            println!("page written to {}", path.display());
+        }
+        Ok(())
+    }
+}
+
 /// The planner's plan for the initial problem.
 pub fn initial_plan(
     domain: Arc<Domain>,
     problem: Arc<Problem>,
     max_steps: u64,
-) -> Result<PartialPlan, String> {
+) -> Result<PartialPlan, CliError> {
     let name = problem.name.clone();
     solve(domain, problem, Budget::steps(max_steps))
         .map(|p| p.plan)
-        .map_err(|e| format!("no initial plan for {name}: {e}"))
+        .map_err(|failure| CliError::NoInitialPlan {
+            problem: name,
+            failure,
+        })
 }
 
 /// The per-cycle trace: a cycle is printed when something happened in it; a postponed action is printed
@@ -81,10 +122,9 @@ pub fn print_summary(r: &MissionReport) {
             Fate::Rejected => "REJECTED",
             Fate::Pending => "pending",
         };
-        if g.reason.is_empty() {
-            println!("  {:<6} {fate}", g.name);
-        } else {
-            println!("  {:<6} {fate}: {}", g.name, g.reason);
+        match &g.reason {
+            None => println!("  {:<6} {fate}", g.name),
+            Some(reason) => println!("  {:<6} {fate}: {reason}", g.name),
         }
     }
     for rp in &r.replannings {
@@ -125,9 +165,12 @@ pub fn print_summary(r: &MissionReport) {
     }
 }
 
-pub fn write_report(path: &Path, r: &MissionReport) -> Result<(), String> {
-    let text = serde_json::to_string_pretty(r).map_err(|e| format!("report serialisation: {e}"))?;
-    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+pub fn write_report(path: &Path, r: &MissionReport) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(r)?;
+    std::fs::write(path, text).map_err(|source| CliError::Write {
+        path: path.display().to_string(),
+        source,
+    })
 }
 
 /// One line on how the vehicle became ready (`run`, `demo`).

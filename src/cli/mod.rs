@@ -7,6 +7,7 @@ mod bench_suite;
 mod check;
 pub mod demo;
 mod dispatch_arg;
+pub mod error;
 mod experiment;
 mod fuzz;
 mod goal;

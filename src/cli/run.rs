@@ -10,7 +10,8 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 
-use super::mission_out::{initial_plan, print_summary, write_report, TracePrinter};
+use super::error::CliError;
+use super::mission_out::{initial_plan, print_summary, MissionOutArgs, TracePrinter};
 use super::shutdown::Signals;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
@@ -49,12 +50,6 @@ pub struct RunArgs {
     /// Record every MAVLink frame to this .tlog.
     #[arg(long)]
     pub tlog: Option<PathBuf>,
-    /// Write the mission report as JSON.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// Planning steps for the initial plan.
-    #[arg(long, default_value_t = 200_000)]
-    pub max_steps: u64,
     /// Wall seconds to wait for the vehicle's first heartbeat and clock.
     #[arg(long, default_value_t = 30)]
     pub link_timeout: u64,
@@ -62,15 +57,11 @@ pub struct RunArgs {
     /// second per vehicle second.
     #[arg(long, default_value_t = 1.0)]
     pub speedup: f64,
-    /// Print only the summary, not the per-cycle trace.
-    #[arg(long)]
-    pub quiet: bool,
     /// When actions start: earliest, latest or goal-driven[:search|:marking] (overrides [exec] dispatch).
     #[arg(long, value_name = "POLICY")]
     pub dispatch: Option<crate::dispatch::PolicyKind>,
-    /// Write the report's page (Gantt chart, resources against their bounds, map, goals) as one HTML file.
-    #[arg(long)]
-    pub html: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: MissionOutArgs,
     #[command(flatten)]
     pub http: super::http_arg::HttpArg,
 }
@@ -93,21 +84,9 @@ pub fn run(args: RunArgs) -> ExitCode {
     match mission(&args, &signals) {
         Ok((report, live)) => {
             print_summary(&report);
-            if let Some(path) = &args.report {
-                if let Err(e) = write_report(path, &report) {
-                    eprintln!("mavtempo run: {e}");
-                    return ExitCode::FAILURE;
-                }
-            }
-            if let Some(path) = &args.html {
-                let page = crate::report::charts_of(&report).and_then(|c| {
-                    crate::report::write_page(path, "mavtempo run", &c).map_err(|e| e.to_string())
-                });
-                if let Err(e) = page {
-                    eprintln!("mavtempo run: {e}");
-                    return ExitCode::FAILURE;
-                }
-                println!("page written to {}", path.display());
+            if let Err(e) = args.out.write(&report, "mavtempo run") {
+                eprintln!("mavtempo run: {e}");
+                return ExitCode::FAILURE;
             }
             if let Some(keep) = live {
                 if !matches!(report.end, MissionEnd::Interrupted(_)) {
@@ -129,26 +108,23 @@ pub fn run(args: RunArgs) -> ExitCode {
 }
 
 /// Stops the start-up when a signal came before the mission began: nothing was sent to the vehicle.
-fn not_interrupted(interrupt: &Interrupt) -> Result<(), String> {
+fn not_interrupted(interrupt: &Interrupt) -> Result<(), CliError> {
     match interrupt.signal_name() {
-        Some(name) => Err(format!(
-            "{name} before the mission started: nothing sent to the vehicle, no report"
-        )),
+        Some(name) => Err(CliError::Interrupted(name)),
         None => Ok(()),
     }
 }
 
 /// The vehicle configuration and the optional `[exec]` table of the same file, both checked (errors at
 /// `file:line:col`).
-pub fn load_config(path: &Path) -> Result<(VehicleConfig, ExecConfig), String> {
-    let mut vehicle = VehicleConfig::load(path).map_err(|e| e.to_string())?;
-    let exec = vehicle.exec.take().unwrap_or_default();
-    Ok((vehicle, exec))
+pub fn load_config(path: &Path) -> Result<(VehicleConfig, ExecConfig), CliError> {
+    let both = crate::exec::config::MissionConfig::load(path)?;
+    Ok((both.vehicle, both.exec))
 }
 
-fn load_problem(args: &RunArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), String> {
-    let domain = Arc::new(lang::load_domain(&args.domain).map_err(|e| e.to_string())?);
-    let problem = lang::load_problem(&args.problem, &domain).map_err(|e| e.to_string())?;
+fn load_problem(args: &RunArgs) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), CliError> {
+    let domain = Arc::new(lang::load_domain(&args.domain)?);
+    let problem = lang::load_problem(&args.problem, &domain)?;
     Ok((domain, Arc::new(problem)))
 }
 
@@ -167,15 +143,21 @@ fn initial_goals(
     path: &Path,
     known: &KnownLocations,
     first: u32,
-) -> Result<Vec<GoalRequest>, String> {
-    let file = goal_files::load(path).map_err(|e| e.to_string())?;
-    items_to_goals(&file.items, known, first).map_err(|e| format!("{}: {e}", path.display()))
+) -> Result<Vec<GoalRequest>, CliError> {
+    let file = goal_files::load(path)?;
+    items_to_goals(&file.items, known, first).map_err(|error| CliError::GoalItems {
+        file: path.display().to_string(),
+        error,
+    })
 }
 
-fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<LiveKeep>), String> {
+fn mission(
+    args: &RunArgs,
+    signals: &Signals,
+) -> Result<(MissionReport, Option<LiveKeep>), CliError> {
     let interrupt = &signals.interrupt;
     if !(args.speedup.is_finite() && args.speedup > 0.0) {
-        return Err(format!("--speedup must be > 0, got {}", args.speedup));
+        return Err(CliError::Speedup(args.speedup));
     }
     let (cfg, mut exec_cfg) = load_config(&args.config)?;
     exec_cfg.dispatch = args.dispatch.unwrap_or(exec_cfg.dispatch);
@@ -193,7 +175,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<L
         problem.name,
         problem.goals.len()
     );
-    let plan = initial_plan(domain, problem.clone(), args.max_steps)?;
+    let plan = initial_plan(domain, problem.clone(), args.out.max_steps)?;
     println!("initial plan: {} actions", plan.num_actions());
     not_interrupted(interrupt)?;
     let opts = LinkOptions {
@@ -207,8 +189,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<L
         first_goal_number: first + goals.len() as u32,
     };
     let ready_limit_s = checked.vehicle.ready.timeout_s;
-    let mut vehicle =
-        MavlinkVehicle::connect_blocking(checked.vehicle, opts).map_err(|e| e.to_string())?;
+    let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
         signals.before_exit_at_once(flush);
     }
@@ -216,10 +197,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<L
     while vehicle.target().is_none() || vehicle.now_ms() == 0 {
         not_interrupted(interrupt)?;
         if Instant::now() >= deadline {
-            return Err(format!(
-                "no heartbeat and clock from the vehicle within {} s",
-                args.link_timeout
-            ));
+            return Err(CliError::NoHeartbeat(args.link_timeout));
         }
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -236,7 +214,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<L
         });
         not_interrupted(interrupt)?;
         if !report.ready {
-            return Err(report.why_not(ready_limit_s));
+            return Err(CliError::NotReady(report.why_not(ready_limit_s)));
         }
         println!("{}", super::mission_out::ready_line(&report));
         ready = Some(report);
@@ -246,7 +224,7 @@ fn mission(args: &RunArgs, signals: &Signals) -> Result<(MissionReport, Option<L
     let home = checked.home;
     let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
     let mut printer = TracePrinter::default();
-    let quiet = args.quiet;
+    let quiet = args.out.quiet;
     let mut live = match args.http.spec() {
         Some(h) => Some(start_live(&h, args, &vehicle, home)?),
         None => None,
@@ -292,15 +270,18 @@ fn start_live(
     args: &RunArgs,
     vehicle: &MavlinkVehicle,
     home: Home,
-) -> Result<(crate::report::live::LiveServer, tokio::runtime::Runtime), String> {
+) -> Result<(crate::report::live::LiveServer, tokio::runtime::Runtime), CliError> {
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(1)
         .enable_all()
         .build()
-        .map_err(|e| format!("live page runtime: {e}"))?;
+        .map_err(|source| CliError::Setup {
+            what: "live page runtime",
+            source,
+        })?;
     let form = if h.goals {
         let (Some(gcs), Some(addr)) = (&args.gcs, vehicle.gcs_addr()) else {
-            return Err("--http-goals needs --gcs (the form uploads there)".into());
+            return Err(CliError::HttpGoalsWithoutGcs);
         };
         let transport = if gcs.starts_with("udp") {
             "udpout"
@@ -317,8 +298,11 @@ fn start_live(
     } else {
         None
     };
-    let server = crate::report::live::start(rt.handle(), h.addr, form)
-        .map_err(|e| format!("--http {}: {e}", h.addr))?;
+    let server =
+        crate::report::live::start(rt.handle(), h.addr, form).map_err(|source| CliError::Http {
+            addr: h.addr,
+            source,
+        })?;
     println!("http listening on http://{}/", server.addr);
     let server = crate::report::live::LiveServer {
         addr: server.addr,

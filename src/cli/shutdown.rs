@@ -9,6 +9,7 @@ use std::sync::{Arc, Mutex};
 
 use tokio::signal::unix::{signal, SignalKind};
 
+use super::error::CliError;
 use crate::exec::interrupt::{signal_name, Interrupt};
 
 /// What runs before a second signal's exit: quick, and never waiting for a lock.
@@ -31,16 +32,22 @@ impl Signals {
 
 /// Takes SIGINT and SIGTERM from their default (killing the process) from now on: they set the returned
 /// interrupt, a second one exits. Listens on a thread of its own, whatever the caller's runtimes.
-pub fn listen() -> Result<Signals, String> {
+pub fn listen() -> Result<Signals, CliError> {
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_io()
         .build()
-        .map_err(|e| format!("signal handling: tokio runtime: {e}"))?;
+        .map_err(|source| CliError::Setup {
+            what: "signal handling: tokio runtime",
+            source,
+        })?;
     let (mut int, mut term) = {
         // Registered here, before returning: a signal that comes right after is caught.
         let _in_runtime = rt.enter();
-        let int = signal(SignalKind::interrupt()).map_err(|e| format!("SIGINT handler: {e}"))?;
-        let term = signal(SignalKind::terminate()).map_err(|e| format!("SIGTERM handler: {e}"))?;
+        let handler = |kind: SignalKind, what| {
+            signal(kind).map_err(|source| CliError::Setup { what, source })
+        };
+        let int = handler(SignalKind::interrupt(), "SIGINT handler")?;
+        let term = handler(SignalKind::terminate(), "SIGTERM handler")?;
         (int, term)
     };
     let interrupt = Interrupt::default();
@@ -75,7 +82,10 @@ pub fn listen() -> Result<Signals, String> {
                 }
             })
         })
-        .map_err(|e| format!("signal handling thread: {e}"))?;
+        .map_err(|source| CliError::Setup {
+            what: "signal handling thread",
+            source,
+        })?;
     Ok(Signals { interrupt, at_once })
 }
 

@@ -42,7 +42,7 @@ pub fn run(args: SimArgs) -> ExitCode {
     }
 }
 
-fn configure(args: &SimArgs) -> Result<sitl::SimConfig, String> {
+fn configure(args: &SimArgs) -> Result<sitl::SimConfig, sitl::SimError> {
     let mut config = sitl::SimConfig {
         listen: args.listen.clone(),
         speedup: args.speedup,
@@ -51,17 +51,17 @@ fn configure(args: &SimArgs) -> Result<sitl::SimConfig, String> {
         ..sitl::SimConfig::default()
     };
     if let Some(path) = &args.scenario {
-        config.scenario = sitl::Scenario::load(path).map_err(|e| e.to_string())?;
+        config.scenario = sitl::Scenario::load(path)?;
     }
     if let Some(home) = &args.home {
-        config.home = sitl::parse_home(home).map_err(|e| e.to_string())?;
+        config.home = sitl::parse_home(home)?;
         // The command line wins over the scenario's [home].
         config.scenario.home = None;
     }
     if let Some(profile) = &args.profile {
         config.scenario.autopilot.profile = profile.parse()?;
     }
-    config.validate().map_err(|e| e.to_string())?;
+    config.validate()?;
     Ok(config)
 }
 
@@ -145,6 +145,9 @@ mod tests {
         assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Default);
         assert_eq!((cfg.home_point().lat, cfg.home_point().lon), (43.5, 1.25));
         let err = configure(&args(Some("px4"), None)).expect_err("unknown profile");
-        assert!(err.contains("unknown profile `px4`"), "{err}");
+        assert!(
+            matches!(&err, sitl::SimError::UnknownProfile(p) if p == "px4"),
+            "{err}"
+        );
     }
 }

@@ -5,9 +5,11 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crate::exec::pacer::{SitlStepPacer, StepGate};
+use super::error::CliError;
+use crate::exec::pacer::StepGate;
 use crate::exec::DomainMapping;
 use crate::model::{Domain, Problem};
+use crate::sitl_pacer::SitlStepPacer;
 use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::geo::Home;
 use crate::vehicle::link::{Decider, LinkOptions};
@@ -53,11 +55,10 @@ pub struct SessionSpec {
 
 impl SessionSpec {
     /// The demo's rover: config/demo-rover.toml with `scenario` (TOML text, `scenario_name` for messages).
-    pub fn demo_rover(scenario: &str, scenario_name: &str) -> Result<SessionSpec, String> {
+    pub fn demo_rover(scenario: &str, scenario_name: &str) -> Result<SessionSpec, CliError> {
         Ok(SessionSpec {
-            config: VehicleConfig::parse(DEMO_CONFIG, "config/demo-rover.toml")
-                .map_err(|e| e.to_string())?,
-            scenario: sitl::Scenario::parse(scenario, scenario_name).map_err(|e| e.to_string())?,
+            config: VehicleConfig::parse(DEMO_CONFIG, "config/demo-rover.toml")?,
+            scenario: sitl::Scenario::parse(scenario, scenario_name)?,
             vehicle: sitl::VehicleKind::Rover,
             speedup: None,
             first_goal_number: 1,
@@ -73,13 +74,16 @@ impl SitlSession {
         domain: &Domain,
         problem: &Problem,
         spec: SessionSpec,
-    ) -> Result<SitlSession, String> {
+    ) -> Result<SitlSession, CliError> {
         let checked = super::check::checked_config(&spec.config, domain, Some(problem))?;
         let rt = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
             .enable_all()
             .build()
-            .map_err(|e| format!("tokio runtime: {e}"))?;
+            .map_err(|source| CliError::Setup {
+                what: "tokio runtime",
+                source,
+            })?;
         let home = checked.home;
         let mut cfg = checked.vehicle;
         // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock
@@ -100,11 +104,8 @@ impl SitlSession {
             sim_cfg.clock = sitl::ClockMode::Paced;
             sim_cfg.speedup = s;
         }
-        sim_cfg.validate().map_err(|e| e.to_string())?;
-        let sim = Arc::new(
-            rt.block_on(sitl::spawn(sim_cfg))
-                .map_err(|e| e.to_string())?,
-        );
+        sim_cfg.validate()?;
+        let sim = Arc::new(rt.block_on(sitl::spawn(sim_cfg))?);
         let known = super::run::known_locations(home, problem);
         let opts = LinkOptions {
             address: Some(sim.client_address().to_string()),
@@ -117,12 +118,10 @@ impl SitlSession {
             ..LinkOptions::default()
         };
         let ready_limit_s = cfg.ready.timeout_s;
-        let vehicle = rt
-            .block_on(MavlinkVehicle::connect(cfg, opts))
-            .map_err(|e| e.to_string())?;
+        let vehicle = rt.block_on(MavlinkVehicle::connect(cfg, opts))?;
         let gcs = vehicle
             .gcs_addr()
-            .ok_or("the ground-station endpoint has no address")?
+            .ok_or(CliError::NoGcsAddress)?
             .to_string();
         let stepped = spec.speedup.is_none();
         link_up(&rt, &sim, &vehicle, stepped)?;
@@ -176,7 +175,7 @@ fn wait_ready(
     vehicle: &MavlinkVehicle,
     speedup: Option<f64>,
     limit_s: f64,
-) -> Result<Option<ReadyReport>, String> {
+) -> Result<Option<ReadyReport>, CliError> {
     if limit_s <= 0.0 {
         return Ok(None);
     }
@@ -203,7 +202,7 @@ fn wait_ready(
     if report.ready {
         Ok(Some(report))
     } else {
-        Err(report.why_not(limit_s))
+        Err(CliError::NotReady(report.why_not(limit_s)))
     }
 }
 
@@ -215,12 +214,12 @@ fn link_up(
     sim: &Arc<sitl::SimHandle>,
     vehicle: &MavlinkVehicle,
     stepped: bool,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     if stepped {
         let deadline = Instant::now() + Duration::from_secs(10);
         while sim.peer_count() == 0 {
             if Instant::now() >= deadline {
-                return Err("the vehicle link did not connect to the SITL".into());
+                return Err(CliError::SitlNotConnected);
             }
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -230,9 +229,7 @@ fn link_up(
                 return Ok(());
             }
             // The events (link up, levels) stay for the executive's first cycle.
-            pacer
-                .step_settled(vehicle, 200)
-                .map_err(|e| e.to_string())?;
+            pacer.step_settled(vehicle, 200)?;
         }
     } else {
         for _ in 0..200 {
@@ -242,5 +239,5 @@ fn link_up(
             std::thread::sleep(Duration::from_millis(10));
         }
     }
-    Err("no telemetry from the SITL rover".into())
+    Err(CliError::NoTelemetry)
 }

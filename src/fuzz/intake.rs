@@ -196,7 +196,7 @@ const TICK: u8 = 12;
 const STREAM: u8 = 13;
 
 /// Runs one input through the intake; a panic is the only failure.
-pub fn run(bytes: &[u8]) -> Result<(), String> {
+pub fn run(bytes: &[u8]) -> Result<(), super::targets::Oops> {
     decisions(bytes);
     Ok(())
 }

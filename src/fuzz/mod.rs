@@ -7,6 +7,8 @@ pub mod intake;
 pub mod mutate;
 pub mod targets;
 
+pub use targets::Oops;
+
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -62,7 +64,7 @@ impl Target {
     }
 
     /// Runs one input: `Err` for an input handled wrongly without a panic.
-    pub fn exec(self, input: &[u8]) -> Result<(), String> {
+    pub fn exec(self, input: &[u8]) -> Result<(), Oops> {
         match self {
             Target::Domain => targets::domain(input),
             Target::Problem => targets::problem(input),
@@ -145,7 +147,7 @@ type Generator = dyn Fn(&mut ChaCha8Rng) -> Vec<u8>;
 struct Harness<'a> {
     name: &'a str,
     corpus: &'a [Vec<u8>],
-    exec: &'a dyn Fn(&[u8]) -> Result<(), String>,
+    exec: &'a dyn Fn(&[u8]) -> Result<(), Oops>,
     generate: Option<&'a Generator>,
 }
 
@@ -199,7 +201,7 @@ fn run_fn(h: &Harness<'_>, execs: u64, seed: u64, save: &Path) -> Outcome {
             slowest = slowest.max(t.elapsed());
             let message = match result {
                 Ok(Ok(())) => continue,
-                Ok(Err(wrong)) => wrong,
+                Ok(Err(wrong)) => wrong.to_string(),
                 Err(payload) => LAST_PANIC
                     .with(|l| l.borrow_mut().take())
                     .unwrap_or_else(|| panic_text(payload.as_ref())),
@@ -230,10 +232,10 @@ fn run_fn(h: &Harness<'_>, execs: u64, seed: u64, save: &Path) -> Outcome {
 }
 
 /// Replays one saved input: `Err` with the failure when it still fails.
-pub fn replay(target: Target, input: &[u8]) -> Result<(), String> {
+pub fn replay(target: Target, input: &[u8]) -> Result<(), Oops> {
     match catch_unwind(AssertUnwindSafe(|| target.exec(input))) {
         Ok(r) => r,
-        Err(payload) => Err(panic_text(payload.as_ref())),
+        Err(payload) => Err(Oops::Panic(panic_text(payload.as_ref()))),
     }
 }
 
@@ -259,12 +261,12 @@ mod tests {
     fn panics_are_caught_counted_by_kind_and_saved() {
         let dir = std::env::temp_dir().join(format!("mavtempo-fuzz-test-{}", std::process::id()));
         let corpus = vec![b"abcdefgh".to_vec()];
-        let exec = |i: &[u8]| -> Result<(), String> {
+        let exec = |i: &[u8]| -> Result<(), Oops> {
             if i.contains(&b'[') {
                 panic!("bracket at {}", i.len());
             }
             if i.is_empty() {
-                return Err("empty".into());
+                return Err(Oops::Utf8Unlocated("empty".into()));
             }
             Ok(())
         };

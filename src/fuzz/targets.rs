@@ -3,9 +3,10 @@
 
 use std::sync::OnceLock;
 
+use crate::exec::config::MissionConfig;
 use crate::lang;
 use crate::model::{Domain, Problem};
-use crate::vehicle::config::{ConfigError, VehicleConfig};
+use crate::vehicle::config::ConfigError;
 use crate::vehicle::geo::Home;
 use crate::vehicle::goal_files;
 use crate::vehicle::goals::{items_to_goals, KnownLocations};
@@ -92,8 +93,23 @@ pub fn goals_corpus() -> Vec<Vec<u8>> {
     .to_vec()
 }
 
-/// Why an input failed without panicking.
-pub type Oops = String;
+/// Why an input failed: handled wrongly without a panic, or a panic (its message and place).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Oops {
+    #[error("UTF-8 error badly located: {0}")]
+    Utf8Unlocated(String),
+    #[error("{what}: error at {line}:{col} outside the text ({lines} lines)")]
+    Outside {
+        what: &'static str,
+        line: usize,
+        col: usize,
+        lines: usize,
+    },
+    #[error("{what} error without a place: {message}")]
+    NoPlace { what: &'static str, message: String },
+    #[error("{0}")]
+    Panic(String),
+}
 
 /// The text, or `None` when the bytes are not UTF-8 — then the reader's error must locate the bad byte.
 fn text(bytes: &[u8]) -> Result<Option<&str>, Oops> {
@@ -102,7 +118,7 @@ fn text(bytes: &[u8]) -> Result<Option<&str>, Oops> {
         Err(e) => {
             let lines = bytes.iter().filter(|&&b| b == b'\n').count() + 1;
             if e.line == 0 || e.line > lines || e.col == 0 {
-                return Err(format!("UTF-8 error badly located: {e}"));
+                return Err(Oops::Utf8Unlocated(e.to_string()));
             }
             Ok(None)
         }
@@ -110,12 +126,15 @@ fn text(bytes: &[u8]) -> Result<Option<&str>, Oops> {
 }
 
 /// An error must point at a line of the text (or just past its end).
-fn located(text: &str, line: usize, col: usize, what: &str) -> Result<(), Oops> {
+fn located(text: &str, line: usize, col: usize, what: &'static str) -> Result<(), Oops> {
     let lines = text.split('\n').count();
     if line == 0 || line > lines || col == 0 {
-        return Err(format!(
-            "{what}: error at {line}:{col} outside the text ({lines} lines)"
-        ));
+        return Err(Oops::Outside {
+            what,
+            line,
+            col,
+            lines,
+        });
     }
     Ok(())
 }
@@ -145,12 +164,15 @@ pub fn problem(bytes: &[u8]) -> Result<(), Oops> {
 /// The vehicle configuration with its `[exec]`, then checked against each shipped domain and problem.
 pub fn config(bytes: &[u8]) -> Result<(), Oops> {
     let Some(t) = text(bytes)? else { return Ok(()) };
-    match VehicleConfig::parse(t, "f") {
+    match MissionConfig::parse(t, "f") {
         Err(ConfigError::At(e)) => located(t, e.line, e.col, "config"),
-        Err(e) => Err(format!("config error without a place: {e}")),
+        Err(e) => Err(Oops::NoPlace {
+            what: "config",
+            message: e.to_string(),
+        }),
         Ok(cfg) => {
             for (d, p) in domains() {
-                let _ = crate::vehicle::config_check::check(&cfg, d, Some(p));
+                let _ = crate::vehicle::config_check::check(&cfg.vehicle, d, Some(p));
             }
             Ok(())
         }
@@ -161,7 +183,10 @@ pub fn scenario(bytes: &[u8]) -> Result<(), Oops> {
     let Some(t) = text(bytes)? else { return Ok(()) };
     match sitl::Scenario::parse(t, "f") {
         Err(sitl::SimError::ScenarioAt(e)) => located(t, e.line, e.col, "scenario"),
-        Err(e) => Err(format!("scenario error without a place: {e}")),
+        Err(e) => Err(Oops::NoPlace {
+            what: "scenario",
+            message: e.to_string(),
+        }),
         Ok(_) => Ok(()),
     }
 }

@@ -2,12 +2,14 @@
 //! folded cycle by cycle from a live mission: pure functions, no drawing.
 //!
 //! The report is read through views of the fields the charts need, so reports written before a field
-//! existed (no `track`, no `planned_end_ms`) still draw.
+//! existed (no `track`, no `planned_end_ms`) still draw; the cycles' events are the executive's
+//! [`TraceEvent`]s read back.
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::exec::trace::TraceEvent;
 use crate::model::Time;
 
 /// A mission report as the charts read it.
@@ -70,44 +72,7 @@ pub struct PlaceView {
 pub struct CycleView {
     pub time_ms: Time,
     #[serde(default)]
-    pub events: Vec<EventView>,
-}
-
-/// The trace events the charts draw; the others are read as `Other`.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum EventView {
-    Launch {
-        action: String,
-        #[serde(default)]
-        planned_end_ms: Option<(Time, Option<Time>)>,
-    },
-    Report {
-        action: String,
-        status: String,
-        #[serde(default)]
-        reason: Option<String>,
-    },
-    GoalReceived {
-        goal: String,
-    },
-    GoalAccepted {
-        goal: String,
-    },
-    GoalRejected {
-        goal: String,
-        reason: String,
-    },
-    GoalAchieved {
-        goal: String,
-    },
-    RepairDone {},
-    Abort {
-        reason: String,
-    },
-    ReplanDone {},
-    #[serde(other)]
-    Other,
+    pub events: Vec<TraceEvent>,
 }
 
 /// One executed action: from its start to its report (`end_ms: None`: still running).
@@ -210,9 +175,10 @@ impl Charts {
                     .push(format!("[{:>7.1} s] {line}", t as f64 / 1000.0));
             }
             match e {
-                EventView::Launch {
+                TraceEvent::Launch {
                     action,
                     planned_end_ms,
+                    ..
                 } => self.bars.push(Bar {
                     action: action.clone(),
                     start_ms: t,
@@ -220,7 +186,7 @@ impl Charts {
                     status: "running".into(),
                     planned_end_ms: *planned_end_ms,
                 }),
-                EventView::Report { action, status, .. } => {
+                TraceEvent::Report { action, status, .. } => {
                     // The report closes the latest bar of that action still open.
                     if let Some(b) = self
                         .bars
@@ -229,16 +195,16 @@ impl Charts {
                         .find(|b| &b.action == action && b.end_ms.is_none())
                     {
                         b.end_ms = Some(t.max(b.start_ms));
-                        b.status = status.clone();
+                        b.status = status.to_string();
                     }
                 }
-                EventView::GoalReceived { goal } => self.mark(t, MarkKind::GoalArrival, goal),
-                EventView::GoalAchieved { goal } => self.mark(t, MarkKind::GoalAchieved, goal),
-                EventView::GoalRejected { goal, .. } => self.mark(t, MarkKind::GoalRejected, goal),
-                EventView::RepairDone {} => self.mark(t, MarkKind::Repair, "repair"),
-                EventView::Abort { .. } => self.mark(t, MarkKind::Abort, "abort"),
-                EventView::ReplanDone {} => self.mark(t, MarkKind::Replan, "replan"),
-                EventView::GoalAccepted { .. } | EventView::Other => {}
+                TraceEvent::GoalReceived { goal } => self.mark(t, MarkKind::GoalArrival, goal),
+                TraceEvent::GoalAchieved { goal } => self.mark(t, MarkKind::GoalAchieved, goal),
+                TraceEvent::GoalRejected { goal, .. } => self.mark(t, MarkKind::GoalRejected, goal),
+                TraceEvent::RepairDone { .. } => self.mark(t, MarkKind::Repair, "repair"),
+                TraceEvent::Abort { .. } => self.mark(t, MarkKind::Abort, "abort"),
+                TraceEvent::ReplanDone { .. } => self.mark(t, MarkKind::Replan, "replan"),
+                _ => {}
             }
         }
         let excess = self.events.len().saturating_sub(LAST_EVENTS);
@@ -316,25 +282,26 @@ pub fn end_text(end: &serde_json::Value) -> String {
 }
 
 /// The trace line of an event the page lists (the others stay in the JSON).
-fn event_line(e: &EventView) -> Option<String> {
+fn event_line(e: &TraceEvent) -> Option<String> {
     Some(match e {
-        EventView::Launch { action, .. } => format!("START {action}"),
-        EventView::Report {
+        TraceEvent::Launch { action, .. } => format!("START {action}"),
+        TraceEvent::Report {
             action,
             status,
             reason,
+            ..
         } => match reason {
             Some(why) => format!("report {action}: {status}: {why}"),
             None => format!("report {action}: {status}"),
         },
-        EventView::GoalReceived { goal } => format!("goal {goal} received"),
-        EventView::GoalAccepted { goal } => format!("goal {goal} accepted"),
-        EventView::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
-        EventView::GoalAchieved { goal } => format!("goal {goal} achieved"),
-        EventView::RepairDone {} => "plan repaired".into(),
-        EventView::Abort { reason } => format!("execution aborted: {reason}"),
-        EventView::ReplanDone {} => "complete replanning done".into(),
-        EventView::Other => return None,
+        TraceEvent::GoalReceived { goal } => format!("goal {goal} received"),
+        TraceEvent::GoalAccepted { goal } => format!("goal {goal} accepted"),
+        TraceEvent::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
+        TraceEvent::GoalAchieved { goal } => format!("goal {goal} achieved"),
+        TraceEvent::RepairDone { .. } => "plan repaired".into(),
+        TraceEvent::Abort { reason } => format!("execution aborted: {reason}"),
+        TraceEvent::ReplanDone { .. } => "complete replanning done".into(),
+        _ => return None,
     })
 }
 
@@ -342,21 +309,26 @@ fn event_line(e: &EventView) -> Option<String> {
 mod tests {
     use super::*;
 
-    fn cycle(time_ms: Time, events: Vec<EventView>) -> CycleView {
+    use crate::exec::report_timing::Timing;
+    use crate::vehicle::ReportStatus;
+
+    fn cycle(time_ms: Time, events: Vec<TraceEvent>) -> CycleView {
         CycleView { time_ms, events }
     }
 
-    fn launch(a: &str) -> EventView {
-        EventView::Launch {
+    fn launch(a: &str) -> TraceEvent {
+        TraceEvent::Launch {
             action: a.into(),
+            vid: 1,
             planned_end_ms: Some((4_000, None)),
         }
     }
 
-    fn report(a: &str, status: &str) -> EventView {
-        EventView::Report {
+    fn report(a: &str, status: ReportStatus) -> TraceEvent {
+        TraceEvent::Report {
             action: a.into(),
-            status: status.into(),
+            status,
+            timing: Timing::InBounds,
             reason: None,
         }
     }
@@ -365,9 +337,12 @@ mod tests {
     fn a_bar_spans_launch_to_report_and_a_relaunch_is_a_new_bar() {
         let mut c = Charts::default();
         c.push_cycle(&cycle(1_000, vec![launch("a"), launch("b")]));
-        c.push_cycle(&cycle(3_000, vec![report("a", "failed")]));
-        c.push_cycle(&cycle(4_000, vec![launch("a"), report("zz", "nominal")]));
-        c.push_cycle(&cycle(6_000, vec![report("a", "nominal")]));
+        c.push_cycle(&cycle(3_000, vec![report("a", ReportStatus::Failed)]));
+        c.push_cycle(&cycle(
+            4_000,
+            vec![launch("a"), report("zz", ReportStatus::Nominal)],
+        ));
+        c.push_cycle(&cycle(6_000, vec![report("a", ReportStatus::Nominal)]));
         let spans: Vec<_> = c
             .bars
             .iter()
@@ -412,7 +387,7 @@ mod tests {
         for i in 0..(LAST_EVENTS as i64 + 5) {
             c.push_cycle(&cycle(
                 i,
-                vec![EventView::GoalAchieved {
+                vec![TraceEvent::GoalAchieved {
                     goal: format!("g{i}"),
                 }],
             ));

@@ -117,7 +117,7 @@ impl LiveFeed {
             .into_iter()
             .enumerate()
             .filter(|(i, _)| {
-                let kind = ex.plan.domain.resources.get(*i).map(|r| r.kind);
+                let kind = ex.plan().domain.resources.get(*i).map(|r| r.kind);
                 kind == Some(crate::model::ResourceKind::Reservoir)
             })
             .map(|(i, (resource, lb, ub))| SampleView {
@@ -146,15 +146,15 @@ impl LiveFeed {
             .goal_fates()
             .into_iter()
             .map(|g| GoalView {
+                reason: g.reason_text(),
                 name: g.name,
                 fate: serde_json::to_value(&g.fate)
                     .ok()
                     .and_then(|v| v.as_str().map(str::to_string))
                     .unwrap_or_default(),
-                reason: g.reason,
             })
             .collect();
-        let counters = counters_of(&ex.counters);
+        let counters = counters_of(ex.counters());
         let at = self.position.as_ref().and_then(|p| p());
         let moved = at.filter(|&p| moved_on(self.last_position, p));
         if moved.is_some() {
@@ -196,9 +196,9 @@ fn counters_of(c: &crate::exec::executive::Counters) -> BTreeMap<String, serde_j
 
 /// The actions of *ExecutingPlan* not started yet: earliest start and end.
 fn planned_bars(ex: &Executive) -> Vec<PlannedBar> {
-    let plan = &ex.plan;
+    let plan = ex.plan();
     plan.live_actions()
-        .filter(|a| !ex.started.contains_key(a))
+        .filter(|&a| !ex.has_started(a))
         .map(|a| {
             let act = plan.action(a);
             PlannedBar {

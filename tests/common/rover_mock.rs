@@ -123,6 +123,14 @@ pub fn launches(r: &MissionReport) -> Vec<String> {
         .collect()
 }
 
+/// The pictures launched, in order.
+pub fn pictures(r: &MissionReport) -> Vec<String> {
+    launches(r)
+        .into_iter()
+        .filter(|a| a.starts_with("take_picture"))
+        .collect()
+}
+
 pub fn fate(r: &MissionReport, name: &str) -> Fate {
     r.goals
         .iter()

@@ -1,13 +1,17 @@
 //! Seed 2's shopping day planned and handed to an executive (the mock-vehicle executive tests' set-up).
+#![allow(dead_code)]
 
 use std::path::Path;
 use std::sync::Arc;
 
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::Executive;
+use mavtempo::exec::trace::{CycleRecord, TraceEvent};
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::plan::PartialPlan;
 use mavtempo::planner::{Budget, Search, StepOutcome};
+use mavtempo::vehicle::mock::Outcome;
+use mavtempo::vehicle::MockVehicle;
 
 /// ts 30 s, μ 0.6, d 30 s, 200 repair steps per cycle: the day's executive parameters in these tests.
 pub fn day_config() -> ExecConfig {
@@ -28,4 +32,21 @@ pub fn day_executive(cfg: ExecConfig) -> Executive {
     let mut search = Search::new(root);
     assert_eq!(search.run(Budget::steps(20_000)), StepOutcome::Solved);
     Executive::new(search.into_plan(), cfg)
+}
+
+/// The day's vehicle when all goes well: the walk takes 16 min, the shopping 5 min.
+pub fn day_vehicle() -> MockVehicle {
+    let mut v = MockVehicle::new();
+    v.script("go", Outcome::nominal(16 * 60_000));
+    v.script("buy", Outcome::nominal(5 * 60_000));
+    v
+}
+
+/// How many actions the cycles launched.
+pub fn launches(cycles: &[CycleRecord]) -> usize {
+    cycles
+        .iter()
+        .flat_map(|c| &c.events)
+        .filter(|e| matches!(e, TraceEvent::Launch { .. }))
+        .count()
 }

@@ -6,9 +6,9 @@
 use mavlink::dialects::ardupilotmega::*;
 
 use super::{Autopilot, Dest};
-use crate::geo::e7;
 use crate::payload::MAX_PICTURES_PER_REQUEST;
 use crate::scenario::CameraBackend;
+use geodesy::deg_to_e7;
 
 /// AP_Camera's counters as the autopilot reports them; they start again at each boot.
 #[derive(Debug, Clone, Default)]
@@ -112,8 +112,8 @@ impl Autopilot {
         MavMessage::CAMERA_IMAGE_CAPTURED(CAMERA_IMAGE_CAPTURED_DATA {
             time_utc: self.epoch_unix_us + self.now_ms * 1000,
             time_boot_ms: self.time_boot_ms(),
-            lat: e7(geo.lat),
-            lon: e7(geo.lon),
+            lat: deg_to_e7(geo.lat),
+            lon: deg_to_e7(geo.lon),
             alt: -(self.kin.depth * 1000.0) as i32,
             relative_alt: 0,
             q: [1.0, 0.0, 0.0, 0.0],

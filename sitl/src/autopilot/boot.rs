@@ -3,9 +3,9 @@
 //! `reboot` fault starts them again.
 
 use super::Autopilot;
-use crate::geo::e7;
 use crate::scenario::Profile;
 use crate::time::secs_to_ms;
+use geodesy::deg_to_e7;
 
 /// The failing check ArduPilot reports at a fraction of `ready_after_s`: AP_Arming_Rover's
 /// `pre_arm_checks` stops at "System not initialised" until the scheduler is up, then
@@ -40,7 +40,7 @@ impl Autopilot {
             return (0, 0);
         }
         let geo = self.frame.to_geo(self.kin.pos);
-        (e7(geo.lat), e7(geo.lon))
+        (deg_to_e7(geo.lat), deg_to_e7(geo.lon))
     }
 
     /// Why an unforced arming is refused now, one STATUSTEXT each (empty: it may arm). Forced

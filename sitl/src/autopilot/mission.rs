@@ -8,7 +8,7 @@ use mavlink::dialects::ardupilotmega::*;
 
 use super::{Autopilot, Dest, Mode, Sender};
 use crate::config::MissionRequestKind;
-use crate::geo::e7;
+use geodesy::deg_to_e7;
 
 /// Largest mission accepted (ArduPilot's storage holds a few hundred on small boards).
 const MAX_ITEMS: u16 = 700;
@@ -46,7 +46,7 @@ impl Item {
         let global = is_global(m.frame);
         let conv = |v: f32| {
             if global {
-                e7(f64::from(v))
+                deg_to_e7(f64::from(v))
             } else {
                 (f64::from(v) * 1e4).round() as i32
             }
@@ -136,8 +136,8 @@ impl Autopilot {
             command: MavCmd::MAV_CMD_NAV_WAYPOINT,
             autocontinue: 1,
             p: [0.0; 4],
-            x: e7(home.lat),
-            y: e7(home.lon),
+            x: deg_to_e7(home.lat),
+            y: deg_to_e7(home.lon),
             z: 0.0,
             param5: 0.0,
         }

@@ -7,7 +7,7 @@ use mavlink::dialects::ardupilotmega::*;
 
 use super::{Autopilot, Dest, Mode};
 use crate::config::VehicleKind;
-use crate::geo::e7;
+use geodesy::deg_to_e7;
 
 pub const HEARTBEAT: u32 = 0;
 pub const SYS_STATUS: u32 = 1;
@@ -183,8 +183,8 @@ impl Autopilot {
             }),
             GPS_RAW_INT => MavMessage::GPS_RAW_INT(GPS_RAW_INT_DATA {
                 time_usec: self.now_ms * 1000,
-                lat: e7(geo.lat),
-                lon: e7(geo.lon),
+                lat: deg_to_e7(geo.lat),
+                lon: deg_to_e7(geo.lon),
                 alt: alt_mm,
                 eph: 80,
                 epv: 120,
@@ -273,8 +273,8 @@ impl Autopilot {
             HOME_POSITION => {
                 let home = self.frame.origin();
                 MavMessage::HOME_POSITION(HOME_POSITION_DATA {
-                    latitude: e7(home.lat),
-                    longitude: e7(home.lon),
+                    latitude: deg_to_e7(home.lat),
+                    longitude: deg_to_e7(home.lon),
                     q: [1.0, 0.0, 0.0, 0.0],
                     time_usec: self.now_ms * 1000,
                     ..Default::default()

@@ -135,7 +135,7 @@ fn rover(seed: u64, rng: &mut ChaCha8Rng) -> Mission {
     } else {
         rng.gen_range(70..100) as f64
     };
-    let mut p = crate::planner::suite::native::rover_opening(
+    let mut p = crate::bench::suite::native::rover_opening(
         &format!("`mavtempo soak` (seed {seed})"),
         &format!("soak{seed}"),
         horizon_s,
@@ -339,7 +339,7 @@ fn auv(seed: u64, rng: &mut ChaCha8Rng) -> Mission {
         .sum::<f64>();
     let horizon_s = ((legs + 1500.0 * n as f64) * 1.6 / 60.0).ceil() * 60.0;
     let priorities: Vec<u32> = (0..n).map(|_| rng.gen_range(1..=3)).collect();
-    let p = crate::planner::suite::native::auv_problem(
+    let p = crate::bench::suite::native::auv_problem(
         &format!("`mavtempo soak` (seed {seed})"),
         &format!("soak{seed}"),
         &vents,

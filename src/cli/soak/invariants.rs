@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use crate::exec::executive::Fate;
 use crate::exec::mission::{MissionEnd, MissionReport};
+use crate::exec::outcome::{AbortReason, FateReason};
 use crate::exec::trace::TraceEvent;
 
 /// The most times one action instance (a task with its arguments) may be launched in a row without
@@ -50,7 +51,7 @@ pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violatio
                 "goal_settled",
                 format!("{} still pending at the end ({:?})", g.name, report.end),
             ),
-            Fate::Rejected if g.reason.trim().is_empty() => v(
+            Fate::Rejected if g.reason_text().trim().is_empty() => v(
                 "rejected_with_reason",
                 format!("{} rejected without a reason", g.name),
             ),
@@ -59,7 +60,7 @@ pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violatio
     }
     for e in report.cycles.iter().flat_map(|c| &c.events) {
         if let TraceEvent::GoalRejected { goal, reason } = e {
-            if reason.trim().is_empty() {
+            if reason.to_string().trim().is_empty() {
                 v(
                     "rejected_with_reason",
                     format!("{goal} rejected without a reason"),
@@ -89,22 +90,24 @@ pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violatio
     out
 }
 
-/// The class of a rejection reason, for the summary's counts.
-pub fn reason_class(reason: &str) -> &'static str {
-    let r = reason.to_ascii_lowercase();
-    if r.contains("times in a row") || r.contains("no plan without") {
-        "repeated_failure"
-    } else if r.contains("within a minute") {
-        "plan_change_bound"
-    } else if r.contains("window is no longer reachable") {
-        "window_passed"
-    } else if r.contains("horizon") {
-        "horizon"
-    } else if r.contains("abandoned by complete replanning") {
-        "replanning"
-    } else if r.contains("no initial plan") {
-        "no_initial_plan"
-    } else {
-        "other"
+/// The class of a rejection reason, for the summary's counts. A goal abandoned by the replanning that a
+/// repeated failure or the plan-change bound caused is counted under that cause.
+pub fn reason_class(reason: Option<&FateReason>) -> &'static str {
+    let abort_class = |a: &AbortReason| match a {
+        AbortReason::InstanceBanned { .. } | AbortReason::LaunchBanned { .. } => "repeated_failure",
+        AbortReason::PlanChurn(_) => "plan_change_bound",
+        _ => "replanning",
+    };
+    match reason.map(FateReason::cause) {
+        Some(FateReason::InstanceBanned { .. } | FateReason::NeedsBanned { .. }) => {
+            "repeated_failure"
+        }
+        Some(FateReason::PlanChurn(_)) => "plan_change_bound",
+        Some(FateReason::WindowPassed { .. }) => "window_passed",
+        Some(FateReason::HorizonPassed) => "horizon",
+        Some(FateReason::Abandoned { abort, .. } | FateReason::ReplanBudgetSpent { abort, .. }) => {
+            abort_class(abort)
+        }
+        Some(_) | None => "other",
     }
 }

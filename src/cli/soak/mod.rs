@@ -20,6 +20,7 @@ use self::invariants::{reason_class, Violation, END_MARGIN_MS};
 use super::demo::exec_config;
 use super::mission_out::{initial_plan, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use crate::cli::error::CliError;
 use crate::exec::executive::{Executive, Fate};
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
 use crate::exec::pacer::StepGate;
@@ -63,7 +64,8 @@ pub struct SoakArgs {
 struct Outcome {
     report: Option<MissionReport>,
     /// Goals with their fates (all rejected when there was no initial plan).
-    goals: Vec<(String, Fate, String)>,
+    /// Each goal's name, fate, reason and the reason's class.
+    goals: Vec<(String, Fate, String, &'static str)>,
     /// The names of the problem's goals (the others were uploaded).
     held: Vec<String>,
     violations: Vec<Violation>,
@@ -170,12 +172,12 @@ pub fn run(args: SoakArgs) -> ExitCode {
                 outcome
                     .goals
                     .iter()
-                    .any(|(h, f, _)| h == g && *f == Fate::Achieved)
+                    .any(|(h, f, _, _)| h == g && *f == Fate::Achieved)
             };
             let kept = baseline.is_ok_and(|b| {
                 b.goals
                     .iter()
-                    .all(|(g, fate, _)| *fate != Fate::Achieved || achieved(g))
+                    .all(|(g, fate, _, _)| *fate != Fate::Achieved || achieved(g))
             });
             *sum.kept_goals.get_or_insert(0) += u64::from(kept);
         }
@@ -240,9 +242,9 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
     let total = o.goals.len() as u64;
     sum.goals += total;
     sum.achieved += achieved;
-    for (goal, fate, reason) in &o.goals {
+    for (goal, fate, reason, class) in &o.goals {
         if *fate == Fate::Rejected {
-            *sum.rejected.entry(reason_class(reason).into()).or_default() += 1;
+            *sum.rejected.entry((*class).into()).or_default() += 1;
             sum.rejections.push(Rejection {
                 seed: m.seed,
                 goal: goal.clone(),
@@ -264,7 +266,7 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
         s.goals += total;
         s.achieved += achieved;
     }
-    let held: Vec<&(String, Fate, String)> =
+    let held: Vec<&(String, Fate, String, &str)> =
         o.goals.iter().filter(|g| o.held.contains(&g.0)).collect();
     sum.held_goals += held.len() as u64;
     sum.held_achieved += held.iter().filter(|g| g.1 == Fate::Achieved).count() as u64;
@@ -352,7 +354,14 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
                 goals: problem
                     .goals
                     .iter()
-                    .map(|g| (g.name.clone(), Fate::Rejected, e.clone()))
+                    .map(|g| {
+                        (
+                            g.name.clone(),
+                            Fate::Rejected,
+                            e.to_string(),
+                            "no_initial_plan",
+                        )
+                    })
                     .collect(),
                 held: problem.goals.iter().map(|g| g.name.clone()).collect(),
                 violations: Vec::new(),
@@ -361,14 +370,15 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     };
     let spec = match session_spec(m, problem.goals.len() as u32 + 1) {
         Ok(s) => s,
-        Err(e) => return failed(m, "no_error_exit", e),
+        Err(e) => return failed(m, "no_error_exit", e.to_string()),
     };
     let mut session = match SitlSession::start(&domain, &problem, spec) {
         Ok(s) => s,
         Err(e) => return failed(m, "no_error_exit", format!("SITL session: {e}")),
     };
-    let mut ex = Executive::new(plan, exec_config()).with_mapping(session.mapping.clone());
-    ex.level_tolerance = LEVEL_TOLERANCE;
+    let mut ex = Executive::new(plan, exec_config())
+        .with_mapping(session.mapping.clone())
+        .with_level_tolerance(LEVEL_TOLERANCE);
     let (home, gcs) = (session.home, session.gcs.clone());
     let rt = session.rt.handle().clone();
     let mut pending: Vec<&Upload> = m.uploads.iter().collect();
@@ -428,7 +438,10 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     let goals = report
         .goals
         .iter()
-        .map(|g| (g.name.clone(), g.fate.clone(), g.reason.clone()))
+        .map(|g| {
+            let class = reason_class(g.reason.as_ref());
+            (g.name.clone(), g.fate.clone(), g.reason_text(), class)
+        })
         .collect();
     let violations = invariants::check(m.seed, &report, horizon_ms);
     drop(session);
@@ -440,12 +453,11 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
     }
 }
 
-fn session_spec(m: &Mission, first_goal_number: u32) -> Result<SessionSpec, String> {
+fn session_spec(m: &Mission, first_goal_number: u32) -> Result<SessionSpec, CliError> {
     let mut spec = SessionSpec::demo_rover(&m.scenario, "soak scenario")?;
     if m.domain == SoakDomain::Auv {
         spec.config =
-            crate::vehicle::config::VehicleConfig::parse(AUV_CONFIG, "config/sitl-auv.toml")
-                .map_err(|e| e.to_string())?;
+            crate::vehicle::config::VehicleConfig::parse(AUV_CONFIG, "config/sitl-auv.toml")?;
         spec.vehicle = sitl::VehicleKind::Auv;
     }
     spec.seed = m.seed;

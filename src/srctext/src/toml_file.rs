@@ -27,6 +27,28 @@ pub fn parse<T: DeserializeOwned>(file: &str, text: &str) -> Result<T, Located> 
     })
 }
 
+/// A semantic error found after parsing: the key path it is about (`slow_zones.1.radius_m`) and why.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{key}: {reason}")]
+pub struct KeyError {
+    pub key: String,
+    pub reason: String,
+}
+
+impl KeyError {
+    pub fn new(key: impl Into<String>, reason: impl Into<String>) -> Self {
+        Self {
+            key: key.into(),
+            reason: reason.into(),
+        }
+    }
+
+    /// The error placed on its key in `text` (see [`at_key`]), the message `key: reason`.
+    pub fn locate(&self, file: &str, text: &str) -> Located {
+        at_key(file, text, &self.key, self.to_string())
+    }
+}
+
 /// `message` placed on the key path `key` (`actions.move.speed_m_s`, `slow_zones.1.radius_m`): at its
 /// value when written, else at the closest written table or key on the way, else at the start.
 pub fn at_key(file: &str, text: &str, key: &str, message: impl Into<String>) -> Located {

@@ -1,0 +1,254 @@
+//! The executive's parameters (seed 1 §3.2, §3.6): the timestep ts, the share μ of it given to plan repair,
+//! and the slack d kept at the end of a complete replanning.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::dispatch::PolicyKind;
+use crate::model::Time;
+use crate::vehicle::config::{ConfigError as VehicleConfigError, VehicleConfig};
+
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExecConfig {
+    /// ts: the maximum duration of a cycle, ms (seed 1 §4: 1.3 s; §5: 2 s).
+    #[serde(default = "default_ts")]
+    pub timestep_ms: Time,
+    /// μ: the share of ts allotted to plan repair (seed 1: 0.6).
+    #[serde(default = "default_mu")]
+    pub repair_share: f64,
+    /// d: slack saved at the end of complete replanning for the cycle's initialisation, ms.
+    #[serde(default = "default_slack")]
+    pub replan_slack_ms: Time,
+    /// Deterministic runs (tests, demo): plan repair and replanning budgets in planning steps instead of
+    /// mission time (μ·n steps per cycle; a replanning attempt at most 40·n steps).
+    #[serde(default)]
+    pub repair_max_steps: Option<u64>,
+    /// Hard cap on the plan repair steps of one cycle, whatever the clock does: the μ·ts deadline is in
+    /// mission time, which does not move while a stepped simulator or a manual clock waits for the cycle.
+    #[serde(default = "default_repair_cycle_steps")]
+    pub repair_cycle_max_steps: u64,
+    /// Planning steps one plan repair may take over all its cycles (its tree restarted or not) before it
+    /// is given up: execution is aborted and a complete replanning follows. A repair that never converges
+    /// would otherwise go on for the rest of the mission.
+    #[serde(default = "default_repair_episode_steps")]
+    pub repair_episode_max_steps: u64,
+    /// Hard cap on the planning steps of the first complete replanning attempt (§3.6), for the same reason:
+    /// past it the attempt ends as if the time limit l were reached. Each further attempt (one goal fewer)
+    /// gets half the steps of the one before, down to a sixteenth: a whole replanning stays within about
+    /// twice this (plus a sixteenth per further goal dropped), and so does its memory.
+    #[serde(default = "default_replan_steps")]
+    pub replan_max_steps: u64,
+    /// Cycles of plan repair (μ·ts, or μ·n steps, each) a new goal's insertion into the plan may take; past
+    /// them the goal is rejected and the plan stays as it was (src/executive/src/exec/goal_insertion.rs).
+    #[serde(default = "default_insertion_cycles")]
+    pub goal_insertion_cycles: u32,
+    /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
+    #[serde(default)]
+    pub dispatch: PolicyKind,
+    /// k: an action instance failing the same way this many times in a row is banned and the goals that
+    /// depend on it are rejected (src/executive/src/exec/failures.rs).
+    #[serde(default = "default_same_failures")]
+    pub same_failure_limit: u32,
+    /// Plan repairs plus complete replannings allowed within any minute of mission time; past it a goal is
+    /// rejected with the count as the reason.
+    #[serde(default = "default_changes_per_min")]
+    pub max_plan_changes_per_min: u32,
+}
+
+fn default_ts() -> Time {
+    2_000
+}
+fn default_mu() -> f64 {
+    0.6
+}
+fn default_slack() -> Time {
+    2_000
+}
+fn default_insertion_cycles() -> u32 {
+    3
+}
+fn default_same_failures() -> u32 {
+    3
+}
+fn default_changes_per_min() -> u32 {
+    12
+}
+fn default_repair_episode_steps() -> u64 {
+    20_000
+}
+/// A planning step costs tens of µs on a rover plan: 20,000 steps are about μ·ts at the default ts.
+fn default_repair_cycle_steps() -> u64 {
+    20_000
+}
+/// An attempt's steps: generous for missions of a few dozen goals, bounded for a stepped simulator.
+fn default_replan_steps() -> u64 {
+    100_000
+}
+
+impl Default for ExecConfig {
+    fn default() -> Self {
+        ExecConfig {
+            timestep_ms: default_ts(),
+            repair_share: default_mu(),
+            replan_slack_ms: default_slack(),
+            repair_max_steps: None,
+            repair_cycle_max_steps: default_repair_cycle_steps(),
+            repair_episode_max_steps: default_repair_episode_steps(),
+            replan_max_steps: default_replan_steps(),
+            goal_insertion_cycles: default_insertion_cycles(),
+            dispatch: PolicyKind::default(),
+            same_failure_limit: default_same_failures(),
+            max_plan_changes_per_min: default_changes_per_min(),
+        }
+    }
+}
+
+/// A bad `[exec]` table.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ConfigError {
+    #[error("exec.timestep_ms must be in ]0, 3600000] (an hour), got {0}")]
+    Timestep(Time),
+    #[error("exec.repair_share must be in ]0, 1], got {0}")]
+    Share(f64),
+    #[error("exec.replan_slack_ms must be in [0, 3600000] (an hour), got {0}")]
+    Slack(Time),
+    #[error("exec.{0} must be at least 1")]
+    Positive(&'static str),
+    #[error("exec.{0} must be positive")]
+    StepCap(&'static str),
+}
+
+const HOUR_MS: Time = 3_600_000;
+
+impl ConfigError {
+    /// The key of `[exec]` the error is about.
+    pub fn key(&self) -> &'static str {
+        match self {
+            ConfigError::Timestep(_) => "timestep_ms",
+            ConfigError::Share(_) => "repair_share",
+            ConfigError::Slack(_) => "replan_slack_ms",
+            ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
+        }
+    }
+}
+
+impl ExecConfig {
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        // An hour at most: a cycle or a slack past it is a typo, and huge values overflow time sums.
+        if self.timestep_ms <= 0 || self.timestep_ms > HOUR_MS {
+            return Err(ConfigError::Timestep(self.timestep_ms));
+        }
+        if !(self.repair_share > 0.0 && self.repair_share <= 1.0) {
+            return Err(ConfigError::Share(self.repair_share));
+        }
+        if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
+            return Err(ConfigError::Slack(self.replan_slack_ms));
+        }
+        if self.same_failure_limit == 0 {
+            return Err(ConfigError::Positive("same_failure_limit"));
+        }
+        if self.goal_insertion_cycles == 0 {
+            return Err(ConfigError::Positive("goal_insertion_cycles"));
+        }
+        if self.max_plan_changes_per_min == 0 {
+            return Err(ConfigError::Positive("max_plan_changes_per_min"));
+        }
+        if self.repair_cycle_max_steps == 0 {
+            return Err(ConfigError::StepCap("repair_cycle_max_steps"));
+        }
+        if self.repair_episode_max_steps == 0 {
+            return Err(ConfigError::StepCap("repair_episode_max_steps"));
+        }
+        if self.replan_max_steps == 0 {
+            return Err(ConfigError::StepCap("replan_max_steps"));
+        }
+        Ok(())
+    }
+
+    /// μ·ts: the plan repair budget of one cycle, ms.
+    pub fn repair_budget_ms(&self) -> Time {
+        (self.timestep_ms as f64 * self.repair_share) as Time
+    }
+}
+
+/// What a vehicle configuration file is to the executive: its vehicle part and its `[exec]` table.
+#[derive(Debug, Clone)]
+pub struct MissionConfig {
+    pub vehicle: VehicleConfig,
+    pub exec: ExecConfig,
+}
+
+/// The keys of a configuration file the executive reads; the vehicle layer reads (and checks) the rest.
+#[derive(Deserialize)]
+struct ExecSection {
+    #[serde(default)]
+    exec: Option<ExecConfig>,
+}
+
+impl MissionConfig {
+    pub fn load(path: &Path) -> Result<Self, VehicleConfigError> {
+        let text = srctext::read(path)?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates the whole file, the `[exec]` table too; `origin` names the source in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, VehicleConfigError> {
+        let vehicle = VehicleConfig::parse(text, origin)?;
+        let exec = ExecConfig::parse_section(text, origin)?;
+        Ok(MissionConfig { vehicle, exec })
+    }
+}
+
+impl ExecConfig {
+    /// The `[exec]` table of a configuration's text (the defaults when there is none), validated; errors at
+    /// the table's lines.
+    pub fn parse_section(text: &str, origin: &str) -> Result<Self, VehicleConfigError> {
+        let at = |e| VehicleConfigError::At(Box::new(e));
+        let section: ExecSection = srctext::toml_file::parse(origin, text).map_err(at)?;
+        let exec = section.exec.unwrap_or_default();
+        exec.validate().map_err(|e| {
+            // The executive's messages name their key already.
+            let key = format!("exec.{}", e.key());
+            at(srctext::toml_file::at_key(
+                origin,
+                text,
+                &key,
+                e.to_string(),
+            ))
+        })?;
+        Ok(exec)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_caps_have_defaults_and_must_be_positive() {
+        let cfg: ExecConfig = toml::from_str("timestep_ms = 1300").expect("parses");
+        assert_eq!(cfg.repair_cycle_max_steps, 20_000);
+        assert_eq!(cfg.replan_max_steps, 100_000);
+        assert_eq!(cfg.validate(), Ok(()));
+        let cfg: ExecConfig =
+            toml::from_str("replan_max_steps = 0\nrepair_cycle_max_steps = 5").expect("parses");
+        assert_eq!(cfg.repair_cycle_max_steps, 5);
+        assert_eq!(
+            cfg.validate(),
+            Err(ConfigError::StepCap("replan_max_steps"))
+        );
+    }
+
+    #[test]
+    fn goal_insertion_cycles_default_to_3_and_must_be_positive() {
+        let cfg: ExecConfig = toml::from_str("").expect("parses");
+        assert_eq!(cfg.goal_insertion_cycles, 3);
+        let cfg: ExecConfig = toml::from_str("goal_insertion_cycles = 0").expect("parses");
+        assert_eq!(
+            cfg.validate(),
+            Err(ConfigError::Positive("goal_insertion_cycles"))
+        );
+    }
+}

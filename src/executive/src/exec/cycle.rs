@@ -1,0 +1,96 @@
+//! The execution cycle (seed 1 §3.2): the executive wakes up when a message arrived, a timepoint is due or a
+//! plan repair is in progress; it senses (integrates the messages), repairs for at most μ·ts, and acts. After
+//! every step an executable plan is in hand; otherwise execution is aborted and a complete replanning starts.
+
+use std::time::Instant;
+
+use super::executive::{Executive, Fate};
+use super::failures::PlanChangeKind;
+use super::outcome::AbortReason;
+use super::repair::RepairOutcome;
+use super::trace::{CycleRecord, TraceEvent};
+use crate::model::Time;
+use crate::vehicle::Vehicle;
+
+/// What the cycle leaves for the caller.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CycleOutcome {
+    /// Next wake-up: this time (a due timepoint), or as soon as a message arrives; `repairing` when a
+    /// repair is in progress (wake up at the next cycle).
+    Continue { next: Option<Time>, repairing: bool },
+    /// The plan is not executable any more: call [`Executive::replan`].
+    Aborted(AbortReason),
+    /// No action left and every goal settled.
+    Finished,
+}
+
+/// Vehicle ms → ms since the plan's origin (the vehicle time `origin_ms`).
+pub fn mission_time(vehicle_ms: u64, origin_ms: u64) -> Time {
+    vehicle_ms.saturating_sub(origin_ms).min(i64::MAX as u64) as Time
+}
+
+impl Executive {
+    pub fn cycle(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> CycleOutcome {
+        let t0 = Instant::now();
+        while let Some(ev) = vehicle.try_event() {
+            self.integrate(ev, now);
+        }
+        let t1 = Instant::now();
+        let mut repairing = false;
+        if self.abort.is_none() {
+            // The repair's μ·ts is mission time: the vehicle's clock, as the pacer reads it.
+            let origin = self.vehicle_origin_ms;
+            let v: &dyn Vehicle = vehicle;
+            let clock = || mission_time(v.now_ms(), origin);
+            match self.repair_phase(now, &clock) {
+                RepairOutcome::InProgress => repairing = true,
+                RepairOutcome::Solved => self.plan_changed(now, PlanChangeKind::Repair),
+                _ => {}
+            }
+        }
+        // Uploads are answered once this cycle's insertion attempt had its share (its verdict, or "to follow").
+        self.answer_goal_batches();
+        let t2 = Instant::now();
+        let next = if self.abort.is_none() {
+            self.act(vehicle, now)
+        } else {
+            None
+        };
+        let aborted = self.abort.clone();
+        if let Some(reason) = &aborted {
+            // P_ts: running preemptive actions are stopped, none is kept. The abort and its stops are
+            // this cycle's events.
+            let running: Vec<_> = self.started.keys().copied().collect();
+            for a in running {
+                let act = self.plan.action(a);
+                if !act.removed && !self.plan.is_executed(act.end) {
+                    self.stop(vehicle, a);
+                }
+            }
+            self.trace(TraceEvent::Abort {
+                reason: reason.clone(),
+            });
+        }
+        let t3 = Instant::now();
+        let index = self.cycles.len() as u64 + 1;
+        let events = std::mem::take(&mut self.pending_trace);
+        self.cycles.push(CycleRecord {
+            index,
+            time_ms: now,
+            sense_us: (t1 - t0).as_micros() as u64,
+            repair_us: (t2 - t1).as_micros() as u64,
+            act_us: (t3 - t2).as_micros() as u64,
+            events,
+        });
+        if let Some(reason) = aborted {
+            return CycleOutcome::Aborted(reason);
+        }
+        let busy = self.plan.live_actions().next().is_some();
+        let pending =
+            self.fates.values().any(|f| f.fate == Fate::Pending) || !self.insertions.is_empty();
+        if !busy && !pending {
+            return CycleOutcome::Finished;
+        }
+        CycleOutcome::Continue { next, repairing }
+    }
+}

@@ -1,0 +1,425 @@
+//! The executive: the executing plan P_t and what it remembers between cycles. The cycle itself is in
+//! [`super::cycle`], message integration in [`super::sense`], the act part in [`super::act`], plan repair in
+//! [`super::repair`] and complete replanning in [`super::replan`].
+
+use std::collections::{BTreeMap, VecDeque};
+
+use serde::Serialize;
+
+use super::abstraction::Hierarchy;
+use super::config::ExecConfig;
+use super::dispatch_policy::PlanDispatch;
+use super::failures::FailureMemory;
+use super::goal_insertion::Insertion;
+use super::outcome::{AbortReason, FateReason};
+use super::p_t::State;
+use super::repair::Repair;
+use super::trace::{CycleRecord, TraceEvent};
+use crate::model::{GoalId, ResourceId, Time};
+use crate::plan::{ActionId, PartialPlan};
+use crate::vehicle::goals::GoalBatch;
+use crate::vehicle::{ActionStart, Arg, Enu};
+
+/// The fate of a goal at the end of a run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fate {
+    Achieved,
+    Rejected,
+    Pending,
+}
+
+/// A goal's fate and why (the report writes the reason's text, empty without one).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GoalFate {
+    pub name: String,
+    pub fate: Fate,
+    #[serde(serialize_with = "super::outcome::reason_text")]
+    pub reason: Option<FateReason>,
+}
+
+impl GoalFate {
+    /// The reason's text, empty without one.
+    pub fn reason_text(&self) -> String {
+        self.reason
+            .as_ref()
+            .map_or(String::new(), |r| r.to_string())
+    }
+}
+
+/// Counters for the summary.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Counters {
+    pub repairs: u64,
+    pub repair_steps: u64,
+    /// The part of `repair_steps` spent inserting new goals (src/executive/src/exec/goal_insertion.rs).
+    pub insertion_steps: u64,
+    pub replans: u64,
+    pub launches: u64,
+}
+
+pub struct Executive {
+    /// *ExecutingPlan*.
+    pub(crate) plan: PartialPlan,
+    pub(crate) cfg: ExecConfig,
+    pub(crate) policy: PlanDispatch,
+    pub(crate) hierarchy: Hierarchy,
+    /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
+    pub(crate) past: Vec<(f64, f64)>,
+    /// LgcS_t.
+    pub(crate) state: State,
+    /// Started actions and their `i_a`.
+    pub(crate) started: BTreeMap<ActionId, u64>,
+    pub(crate) by_vid: BTreeMap<u64, ActionId>,
+    /// Preemptive actions an `END i_a` was sent to.
+    pub(crate) stop_sent: Vec<ActionId>,
+    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
+    pub(crate) vehicle_origin_ms: u64,
+    /// Interruptions requested by message integration (sent in the act part).
+    pub(crate) interrupt: Vec<ActionId>,
+    pub(crate) next_vid: u64,
+    pub(crate) repair: Option<Repair>,
+    /// Plan repair requested by message integration.
+    pub(crate) repair_requested: bool,
+    /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
+    pub(crate) abort: Option<AbortReason>,
+    pub(crate) fates: BTreeMap<GoalId, GoalFate>,
+    pub(crate) cycles: Vec<CycleRecord>,
+    pub(crate) counters: Counters,
+    /// Events of the current cycle.
+    pub(crate) pending_trace: Vec<TraceEvent>,
+    /// Something changed since the repair tree was last developed (message or timepoint executed): the
+    /// repair search restarts (§3.2).
+    pub(crate) changed: bool,
+    /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
+    /// resolution).
+    pub(crate) level_tolerance: f64,
+    /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
+    pub(crate) failures: FailureMemory,
+    /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
+    pub(crate) repair_episode_steps: u64,
+    /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
+    /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
+    pub(crate) mapping: crate::vehicle::mapping::DomainMapping,
+    /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
+    pub(crate) insertions: VecDeque<Insertion>,
+    /// Uploads not answered yet, or with goals still being inserted, by number.
+    pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
+    pub(crate) next_batch: u64,
+    /// Requested goals that never entered the plan (mapping, acceptance test or insertion failed), in the
+    /// order they were refused.
+    pub(crate) refused: Vec<GoalFate>,
+    /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
+    pub(crate) replannings: Vec<super::replan::ReplanRecord>,
+    /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
+    pub(crate) insertion_stale: bool,
+    /// The last level the vehicle reported for each resource and when (ms since origin): the report's
+    /// `resources[].reported`.
+    pub(crate) last_reported: Vec<Option<(Time, f64)>>,
+}
+
+impl Executive {
+    /// An executive over a solution plan (the planner's output, or a hand-built plan in tests).
+    pub fn new(plan: PartialPlan, cfg: ExecConfig) -> Self {
+        let past = plan
+            .problem
+            .resources
+            .iter()
+            .map(|s| (s.level, s.level))
+            .collect();
+        let mut fates = BTreeMap::new();
+        for pg in &plan.goals {
+            if let Some(g) = plan.problem.goals.get(pg.goal.index()) {
+                fates.insert(
+                    pg.goal,
+                    GoalFate {
+                        name: g.name.clone(),
+                        fate: Fate::Pending,
+                        reason: None,
+                    },
+                );
+            }
+        }
+        let last_reported = vec![None; plan.problem.resources.len()];
+        let hierarchy = Hierarchy::new(&plan.domain);
+        let policy = PlanDispatch::new(cfg.dispatch);
+        let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
+        Executive {
+            plan,
+            cfg,
+            policy,
+            hierarchy,
+            past,
+            state: State::default(),
+            started: BTreeMap::new(),
+            by_vid: BTreeMap::new(),
+            stop_sent: Vec::new(),
+            vehicle_origin_ms: 0,
+            interrupt: Vec::new(),
+            next_vid: 1,
+            repair: None,
+            repair_requested: false,
+            abort: None,
+            fates,
+            cycles: Vec::new(),
+            counters: Counters::default(),
+            pending_trace: Vec::new(),
+            changed: false,
+            level_tolerance: super::resource_report::EPS,
+            failures,
+            repair_episode_steps: 0,
+            mapping: crate::vehicle::mapping::DomainMapping::default(),
+            insertions: VecDeque::new(),
+            goal_batches: BTreeMap::new(),
+            next_batch: 0,
+            refused: Vec::new(),
+            replannings: Vec::new(),
+            insertion_stale: false,
+            last_reported,
+        }
+    }
+
+    /// The vehicle configuration's `[mapping]`, resolved against this plan's domain
+    /// ([`crate::vehicle::config_check::check`]).
+    pub fn with_mapping(mut self, mapping: crate::vehicle::mapping::DomainMapping) -> Self {
+        self.mapping = mapping;
+        self
+    }
+
+    pub fn with_policy(mut self, kind: crate::dispatch::PolicyKind) -> Self {
+        self.cfg.dispatch = kind;
+        self.policy = PlanDispatch::new(kind);
+        self
+    }
+
+    pub fn trace(&mut self, e: TraceEvent) {
+        tracing::debug!("{}", e.line());
+        self.pending_trace.push(e);
+    }
+
+    /// The events traced since the last cycle (an abort, a replanning and its rejections) as a record of
+    /// their own at `now`, when there are any: how a mission that ends between cycles keeps them.
+    pub fn flush_trace(&mut self, now: Time) -> Option<CycleRecord> {
+        if self.pending_trace.is_empty() {
+            return None;
+        }
+        let c = CycleRecord {
+            index: self.cycles.len() as u64 + 1,
+            time_ms: now,
+            sense_us: 0,
+            repair_us: 0,
+            act_us: 0,
+            events: std::mem::take(&mut self.pending_trace),
+        };
+        self.cycles.push(c.clone());
+        Some(c)
+    }
+
+    /// The action's name with its grounded parameters, e.g. `move(base, p1)`.
+    pub fn action_text(&self, a: ActionId) -> String {
+        self.action_text_in(&self.plan, a)
+    }
+
+    /// [`Self::action_text`] of an action of another plan (e.g. a replanning's).
+    pub fn action_text_in(&self, plan: &PartialPlan, a: ActionId) -> String {
+        let act = plan.action(a);
+        let task = plan.domain.task(act.task);
+        let args: Vec<String> = act.vars[..task.n_params]
+            .iter()
+            .map(|&v| plan.term_name(crate::plan::STerm::Var(v)))
+            .collect();
+        format!("{}({})", task.name, args.join(", "))
+    }
+
+    /// `START a p_a i_a`: the task name and its grounded parameters in vehicle terms.
+    pub fn start_command(&self, a: ActionId, vid: u64) -> ActionStart {
+        let act = self.plan.action(a);
+        let task = self.plan.domain.task(act.task);
+        let home = self.plan.problem.home;
+        let mut args = Vec::new();
+        for (i, p) in task.params().iter().enumerate() {
+            let v = act.vars[i];
+            let arg = match self.plan.bindings.value(crate::plan::STerm::Var(v)) {
+                Some(crate::model::Value::Obj(o)) => {
+                    let (name, obj) = (
+                        self.plan.problem.object_name(o).to_string(),
+                        self.plan.problem.object(o),
+                    );
+                    match obj.and_then(|ob| ob.local(home.as_ref())) {
+                        Some((e, n, u)) => Arg::location(&name, Enu::new(e, n, u)),
+                        None => Arg::Symbol(name),
+                    }
+                }
+                _ => Arg::Symbol(self.plan.term_name(crate::plan::STerm::Var(v))),
+            };
+            args.push((p.name.trim_start_matches('?').to_string(), arg));
+        }
+        ActionStart {
+            id: vid,
+            task: task.name.clone(),
+            args,
+        }
+    }
+
+    /// The resource named `name` in the domain.
+    pub fn resource(&self, name: &str) -> Option<ResourceId> {
+        self.plan.domain.resource_id(name)
+    }
+
+    /// Goal fates in the order of the problem, then the goals refused before they entered the plan, then
+    /// those whose insertion is still in progress (pending).
+    pub fn goal_fates(&self) -> Vec<GoalFate> {
+        let inserting = self.insertions.iter().map(|i| GoalFate {
+            name: i.goal.name.clone(),
+            fate: Fate::Pending,
+            reason: Some(FateReason::Inserting),
+        });
+        self.fates
+            .values()
+            .cloned()
+            .chain(self.refused.iter().cloned())
+            .chain(inserting)
+            .collect()
+    }
+
+    /// Something changed in *ExecutingPlan* (a message integrated, a timepoint executed): the repair tree
+    /// and the insertion in progress start again from it (§3.2).
+    pub fn mark_changed(&mut self) {
+        self.changed = true;
+        self.insertion_stale = true;
+    }
+
+    pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: Option<FateReason>) {
+        if let Some(f) = self.fates.get_mut(&g) {
+            f.fate = fate;
+            f.reason = reason;
+        }
+    }
+
+    /// *ExecutingPlan*.
+    pub fn plan(&self) -> &PartialPlan {
+        &self.plan
+    }
+
+    pub fn config(&self) -> &ExecConfig {
+        &self.cfg
+    }
+
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// The cycles run so far, with their events.
+    pub fn cycles(&self) -> &[CycleRecord] {
+        &self.cycles
+    }
+
+    /// The events traced since the last cycle record.
+    pub fn pending_events(&self) -> &[TraceEvent] {
+        &self.pending_trace
+    }
+
+    /// Why execution is aborted, when it is (the caller then replans).
+    pub fn abort(&self) -> Option<&AbortReason> {
+        self.abort.as_ref()
+    }
+
+    /// The fates of the goals in the plan, by goal (see [`Self::goal_fates`] for every goal requested).
+    pub fn fates(&self) -> &BTreeMap<GoalId, GoalFate> {
+        &self.fates
+    }
+
+    /// The complete replannings of this mission.
+    pub fn replannings(&self) -> &[super::replan::ReplanRecord] {
+        &self.replannings
+    }
+
+    /// LgcS_t: the last known values.
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The aggregated level `[lev_lb, lev_ub]` of each resource due to the actions that left the plan.
+    pub fn past_levels(&self) -> &[(f64, f64)] {
+        &self.past
+    }
+
+    /// Whether action `a` was started (`START` sent) and is still remembered as such.
+    pub fn has_started(&self, a: ActionId) -> bool {
+        self.started.contains_key(&a)
+    }
+
+    /// The names of the new goals waiting for, or in, their insertion attempt, in the order they are tried.
+    pub fn insertion_queue(&self) -> Vec<&str> {
+        self.insertions
+            .iter()
+            .map(|i| i.goal.name.as_str())
+            .collect()
+    }
+
+    /// Whether an upload is still waiting for a goal's verdict.
+    pub fn has_unanswered_uploads(&self) -> bool {
+        !self.goal_batches.is_empty()
+    }
+
+    /// Reported levels within `tolerance` of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's resolution).
+    pub fn with_level_tolerance(mut self, tolerance: f64) -> Self {
+        self.level_tolerance = tolerance;
+        self
+    }
+
+    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
+    pub fn set_vehicle_origin(&mut self, ms: u64) {
+        self.vehicle_origin_ms = ms;
+    }
+
+    /// Aborts execution from outside the cycle (the next [`Self::replan`] says why).
+    pub fn abort_with(&mut self, reason: AbortReason) {
+        self.abort = Some(reason);
+    }
+
+    /// A value known from outside the messages (e.g. a state restored at start) enters LgcS_t at `t`.
+    pub fn set_state_value(
+        &mut self,
+        key: super::p_t::AttrInstance,
+        t: Time,
+        value: crate::model::Value,
+    ) {
+        self.state.set(key, t, value);
+    }
+
+    /// The aggregated past level of resource `r` is `[lb, ub]` (e.g. a level measured before the start).
+    pub fn set_past_level(&mut self, r: ResourceId, level: (f64, f64)) {
+        if let Some(p) = self.past.get_mut(r.index()) {
+            *p = level;
+        }
+    }
+
+    /// Seed 1 §3.3 "Goal request" straight into *ExecutingPlan* (no insertion attempt beside it): the
+    /// acceptance test at `now`, then the goal is an open condition left to plan repair.
+    pub fn request_goal(
+        &mut self,
+        goal: crate::model::Goal,
+        now: Time,
+    ) -> Result<GoalId, super::goal_request::Rejection> {
+        let name = goal.name.clone();
+        let running = super::p_t::classify(&self.plan, now).running;
+        let g = super::goal_request::request(&mut self.plan, goal, now, &running)?;
+        self.fates.insert(
+            g,
+            GoalFate {
+                name,
+                fate: Fate::Pending,
+                reason: None,
+            },
+        );
+        self.repair_requested = true;
+        self.mark_changed();
+        Ok(g)
+    }
+
+    /// The current time floor for new timepoints (§3.4: after the end of the current cycle).
+    pub fn cycle_end(&self, now: Time) -> Time {
+        now + self.cfg.timestep_ms
+    }
+}

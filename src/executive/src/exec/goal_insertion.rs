@@ -1,0 +1,275 @@
+//! A new goal's bounded insertion attempt: a new goal never costs the goals already held.
+//!
+//! Seed 1 §3.3 puts a goal that passes the acceptance test into *ExecutingPlan* as an open condition and
+//! leaves it to plan repair (§3.4); when repair fails, execution is aborted and complete replanning (§3.6)
+//! drops goals by priority and flexibility — so a target that cannot be reached (a picture 50 km away) is
+//! accepted at once, stops the running move, and costs every goal less flexible than itself.
+//!
+//! Here the insertion is an attempt beside *ExecutingPlan*: plan repair of a copy of it with the new goal
+//! (the acceptance test passed on that copy), ordered depth-first as repair is, given the cycle's repair
+//! share (μ·ts, or μ·n steps) for at most `goal_insertion_cycles` cycles and started again from
+//! *ExecutingPlan* whenever that changes (§3.2: a message integrated, a timepoint executed). *ExecutingPlan*
+//! runs on untouched meanwhile. A solution becomes *ExecutingPlan* and the goal is accepted; a dead end, or
+//! the cycles spent, rejects the goal with the planner's reason and the plan is the one it was before the
+//! goal: no running action stopped, no goal already held considered. One attempt at a time, the highest
+//! priority first (then in order of arrival); an attempt runs only in cycles with nothing else to repair,
+//! so that its failure is the new goal's alone.
+
+use super::executive::{Executive, Fate, GoalFate};
+use super::goal_request::request;
+use super::outcome::FateReason;
+use super::p_t::classify;
+use super::repair::RepairOutcome;
+use super::trace::{RepairWork, TraceEvent};
+use crate::model::{Goal, GoalId, Time};
+use crate::plan::TimeFloor;
+use crate::planner::{FailReason, Search, StepOutcome};
+use crate::vehicle::goals::GoalBatch;
+use crate::vehicle::GoalVerdict;
+
+/// A requested goal waiting for, or in, its insertion attempt.
+pub struct Insertion {
+    pub goal: Goal,
+    /// The upload it came in (its number) and its index there: where the verdict goes.
+    pub reply: (u64, usize),
+    /// The attempt's search, rooted at a copy of *ExecutingPlan* with the goal; `None` before the attempt
+    /// starts and when *ExecutingPlan* changed under it.
+    search: Option<Search>,
+    /// Planning steps spent, over all the attempt's cycles.
+    pub steps: u64,
+    /// Cycles in which the attempt was developed.
+    pub cycles: u32,
+    /// The goal's id in the attempt's plan.
+    id: Option<GoalId>,
+}
+
+impl Insertion {
+    fn started(&self) -> bool {
+        self.search.is_some() || self.cycles > 0
+    }
+}
+
+impl Executive {
+    /// An upload (or the goals requested at the start): each goal the mapping can read waits for its
+    /// insertion attempt; the others are refused with the reason. The upload is answered at the end of this
+    /// cycle's repair part ([`Executive::answer_goal_batches`]).
+    pub fn receive_goals(&mut self, mut batch: GoalBatch) {
+        let number = self.next_batch;
+        self.next_batch += 1;
+        let requests = batch.goals.clone();
+        for (i, g) in requests.iter().enumerate() {
+            match self.goal_from_request(g) {
+                Ok(goal) => {
+                    self.trace(TraceEvent::GoalReceived {
+                        goal: g.name.clone(),
+                    });
+                    self.queue_insertion(Insertion {
+                        goal,
+                        reply: (number, i),
+                        search: None,
+                        steps: 0,
+                        cycles: 0,
+                        id: None,
+                    });
+                }
+                Err(e) => {
+                    let reason = FateReason::Unmapped(e);
+                    batch.decide(i, GoalVerdict::Rejected(reason.to_string()));
+                    self.refuse(&g.name, reason);
+                }
+            }
+        }
+        self.goal_batches.insert(number, batch);
+    }
+
+    /// Behind the attempt in progress and every waiting goal of at least its priority.
+    fn queue_insertion(&mut self, ins: Insertion) {
+        let at = self
+            .insertions
+            .iter()
+            .position(|q| !q.started() && q.goal.priority < ins.goal.priority)
+            .unwrap_or(self.insertions.len());
+        self.insertions.insert(at, ins);
+    }
+
+    /// Answers the uploads not answered yet (goals still being inserted: "verdict to follow") and forgets
+    /// those whose every goal has its final verdict.
+    pub fn answer_goal_batches(&mut self) {
+        for b in self.goal_batches.values_mut() {
+            b.answer_now();
+        }
+        self.goal_batches.retain(|_, b| !b.settled());
+    }
+
+    /// The repair part of a cycle with nothing else to repair: the insertion attempt in progress, for this
+    /// cycle's repair budget.
+    pub fn insertion_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
+        if self.insertions.is_empty() {
+            return RepairOutcome::Idle;
+        }
+        if let Err(reason) = self.root_insertion(now) {
+            self.reject_insertion(reason);
+            return self.next_insertion();
+        }
+        let (max_steps, deadline) = self.cycle_budget(clock);
+        let Some(ins) = self.insertions.front_mut() else {
+            return RepairOutcome::Idle;
+        };
+        let Some(search) = ins.search.as_mut() else {
+            return RepairOutcome::Idle;
+        };
+        let first = search.steps();
+        let outcome = loop {
+            if search.steps() - first >= max_steps || deadline.is_some_and(|d| clock() >= d) {
+                break None;
+            }
+            match search.step() {
+                StepOutcome::Progress => {}
+                other => break Some(other),
+            }
+        };
+        let steps = search.steps() - first;
+        ins.steps += steps;
+        ins.cycles += 1;
+        let (total, cycles) = (ins.steps, ins.cycles);
+        // What the search last ran into: the reason a rejection gives beside the budget.
+        let dead_end = search.last_rejection().map(str::to_string);
+        self.counters.repair_steps += steps;
+        self.counters.insertion_steps += steps;
+        match outcome {
+            Some(StepOutcome::Solved) => {
+                self.accept_insertion();
+                RepairOutcome::Solved
+            }
+            Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
+                self.reject_insertion(FateReason::InsertionFailed {
+                    failure: r.to_string(),
+                    dead_end,
+                });
+                self.next_insertion()
+            }
+            _ if cycles >= self.cfg.goal_insertion_cycles => {
+                self.reject_insertion(FateReason::InsertionTimedOut {
+                    cycles,
+                    steps: total,
+                    dead_end,
+                });
+                self.next_insertion()
+            }
+            _ => {
+                if cycles == 1 {
+                    // Re-rooted next cycle with limited discrepancy search (see `root_insertion`).
+                    if let Some(ins) = self.insertions.front_mut() {
+                        ins.search = None;
+                    }
+                }
+                self.trace(TraceEvent::RepairStep {
+                    steps,
+                    outcome: RepairWork::Inserting,
+                });
+                RepairOutcome::InProgress
+            }
+        }
+    }
+
+    /// After an attempt ended: the next one waits for the next cycle, which comes as soon as a repair's.
+    fn next_insertion(&self) -> RepairOutcome {
+        if self.insertions.is_empty() {
+            RepairOutcome::Idle
+        } else {
+            RepairOutcome::InProgress
+        }
+    }
+
+    /// (Re)roots the attempt in progress at *ExecutingPlan*: the acceptance test of §3.3 on a copy of it.
+    fn root_insertion(&mut self, now: Time) -> Result<(), FateReason> {
+        let stale = std::mem::take(&mut self.insertion_stale);
+        let needs_root = self
+            .insertions
+            .front()
+            .is_some_and(|i| i.search.is_none() || stale);
+        if !needs_root {
+            return Ok(());
+        }
+        let mut root = self
+            .repair_root(now)
+            .map_err(|e| FateReason::NotExecutable {
+                now_ms: e.now_ms,
+                error: e.source.to_string(),
+            })?;
+        let running = classify(&self.plan, now).running;
+        let Some(ins) = self.insertions.front_mut() else {
+            return Ok(());
+        };
+        let id =
+            request(&mut root, ins.goal.clone(), now, &running).map_err(FateReason::Acceptance)?;
+        ins.id = Some(id);
+        // The first cycle searches as plan repair does (chronological depth-first: local, usually quick);
+        // later ones with limited discrepancy search, so that one early wrong choice (e.g. where a download
+        // for a fourth picture goes) does not use up the attempt's cycles.
+        ins.search = Some(if ins.cycles == 0 {
+            Search::depth_first(root)
+        } else {
+            Search::new(root)
+        });
+        Ok(())
+    }
+
+    /// The attempt in progress found a plan: it becomes *ExecutingPlan*, the goal is accepted.
+    fn accept_insertion(&mut self) {
+        let Some(ins) = self.insertions.pop_front() else {
+            return;
+        };
+        let (Some(search), Some(id)) = (ins.search, ins.id) else {
+            return;
+        };
+        let mut plan = search.into_plan();
+        plan.set_time_floor(TimeFloor::None);
+        self.plan = plan;
+        self.insertion_stale = true;
+        self.counters.repairs += 1;
+        self.fates.insert(
+            id,
+            GoalFate {
+                name: ins.goal.name.clone(),
+                fate: Fate::Pending,
+                reason: None,
+            },
+        );
+        self.trace(TraceEvent::RepairDone { steps: ins.steps });
+        self.trace(TraceEvent::GoalAccepted {
+            goal: ins.goal.name.clone(),
+        });
+        self.decide_goal(ins.reply, GoalVerdict::Accepted);
+    }
+
+    /// The attempt in progress failed: the goal is rejected, *ExecutingPlan* was never touched.
+    fn reject_insertion(&mut self, reason: FateReason) {
+        let Some(ins) = self.insertions.pop_front() else {
+            return;
+        };
+        self.insertion_stale = true;
+        tracing::info!(goal = %ins.goal.name, steps = ins.steps, "new goal rejected: {reason}");
+        self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.to_string()));
+        self.refuse(&ins.goal.name, reason);
+    }
+
+    /// A requested goal that does not enter the plan: its fate and the trace say why.
+    fn refuse(&mut self, name: &str, reason: FateReason) {
+        self.trace(TraceEvent::GoalRejected {
+            goal: name.to_string(),
+            reason: reason.clone(),
+        });
+        self.refused.push(GoalFate {
+            name: name.to_string(),
+            fate: Fate::Rejected,
+            reason: Some(reason),
+        });
+    }
+
+    fn decide_goal(&mut self, (batch, i): (u64, usize), verdict: GoalVerdict) {
+        if let Some(b) = self.goal_batches.get_mut(&batch) {
+            b.decide(i, verdict);
+        }
+    }
+}

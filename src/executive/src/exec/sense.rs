@@ -1,0 +1,237 @@
+//! Sensing (seed 1 §3.2, §3.3): integrating the vehicle's messages into *ExecutingPlan*. Each message kind
+//! is delegated to the file holding its rule; this file only routes and records. A goal request is mapped
+//! to the domain here and waits for its insertion attempt (goal_insertion: the acceptance test of §3.3,
+//! then a bounded plan repair beside the plan).
+
+use super::capacity::{alter, CapacityOutcome};
+use super::executable::{flawed_actions, plan_executable};
+use super::executive::Executive;
+use super::outcome::AbortReason;
+use super::p_t::{classify, remove_past};
+use super::report_timing::{integrate, timing};
+use super::resource_bounds::{fold_removed, level_bounds};
+use super::resource_report::{integrate_level, LevelVerdict};
+use super::state_update::integrate_state;
+use super::trace::TraceEvent;
+use crate::model::{Goal, GoalKind, Time, TimeInterval, Value};
+use crate::vehicle::mapping::{GoalShape, MappingError};
+use crate::vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
+
+impl Executive {
+    /// Integrates one message received at time `now`.
+    pub fn integrate(&mut self, event: VehicleEvent, now: Time) {
+        self.mark_changed();
+        match event {
+            VehicleEvent::Report(r) => self.integrate_report(r, now),
+            VehicleEvent::Resource(l) => self.integrate_level(&l, now),
+            VehicleEvent::Capacity(c) => {
+                let Some(r) = self.resource(&c.resource) else {
+                    tracing::warn!(resource = %c.resource, "capacity of an unknown resource ignored");
+                    return;
+                };
+                let running = classify(&self.plan, now).running;
+                let outcome = alter(&mut self.plan, r, c.capacity, now, &running);
+                let p = &mut self.past[r.index()];
+                p.0 = p.0.min(c.capacity);
+                p.1 = p.1.min(c.capacity);
+                self.trace(TraceEvent::Capacity {
+                    resource: c.resource.clone(),
+                    capacity: c.capacity,
+                    outcome,
+                });
+                match outcome {
+                    CapacityOutcome::Abort => {
+                        self.abort = Some(AbortReason::CapacityAltered {
+                            resource: c.resource.clone(),
+                        })
+                    }
+                    CapacityOutcome::Repair => self.repair_requested = true,
+                    CapacityOutcome::Nothing => {}
+                }
+            }
+            VehicleEvent::Goals(batch) => self.receive_goals(batch),
+            VehicleEvent::Link(status) => tracing::info!(?status, "vehicle link"),
+        }
+    }
+
+    /// Report upon an action's completion: its time, then the levels, then (not nominal) the state.
+    fn integrate_report(&mut self, r: ActionReport, now: Time) {
+        let Some(&a) = self.by_vid.get(&r.id) else {
+            tracing::warn!(id = r.id, "report for an unknown action ignored");
+            return;
+        };
+        // The report carries the vehicle time of the completion (a stopped action ended when the END was
+        // obeyed, usually a cycle before the report is integrated).
+        let t = (r.time_ms.saturating_sub(self.vehicle_origin_ms) as Time).clamp(0, now);
+        let when = timing(&self.plan, a, t);
+        let name = self.action_text(a);
+        self.trace(TraceEvent::Report {
+            action: name.clone(),
+            status: r.status,
+            timing: when,
+            reason: r.reason.clone(),
+        });
+        match r.status {
+            ReportStatus::Failed => {
+                let why = r.reason.as_deref().unwrap_or("no reason given");
+                self.action_failed(a, &format!("failed ({why})"), t);
+            }
+            ReportStatus::Nominal => self.action_succeeded(a),
+            ReportStatus::Interrupted => {}
+        }
+        match integrate(&mut self.plan, a, t) {
+            Ok(true) => {}
+            Ok(false) => {
+                self.abort = Some(AbortReason::ReportTooLate { action: name });
+                return;
+            }
+            Err(e) => {
+                self.abort = Some(AbortReason::ReportInconsistent {
+                    action: name,
+                    error: e.to_string(),
+                });
+                return;
+            }
+        }
+        if r.status != ReportStatus::Nominal {
+            integrate_state(self, a, &r, t);
+        }
+        for l in &r.resources {
+            self.integrate_level(l, t);
+        }
+        self.stop_sent.retain(|&x| x != a);
+        for p in remove_past(&mut self.plan, t) {
+            fold_removed(&self.plan, p, &mut self.past);
+        }
+        self.state.refresh(&self.plan, t);
+    }
+
+    /// A resource level: compared with `[RscL_lb, RscL_ub]` and adjusted (resource_report).
+    fn integrate_level(&mut self, l: &ResourceLevel, t: Time) {
+        let Some(r) = self.resource(&l.resource) else {
+            return;
+        };
+        if let Some(slot) = self.last_reported.get_mut(r.index()) {
+            *slot = Some((t, l.level));
+        }
+        for p in remove_past(&mut self.plan, t) {
+            fold_removed(&self.plan, p, &mut self.past);
+        }
+        let running = classify(&self.plan, t).running;
+        let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
+        let kind = self.plan.domain.resource(r).kind;
+        let u = integrate_level(&b, l.level, kind, self.level_tolerance);
+        // The constraint on the level is posted on the past part: every still-counted usage is subtracted
+        // back out so that eq. (1) gives the new level.
+        let counted = (
+            b.past_lb - self.past[r.index()].0,
+            b.past_ub - self.past[r.index()].1,
+        );
+        self.past[r.index()] = (u.past.0 - counted.0, u.past.1 - counted.1);
+        // The reservoir envelope starts from the (pessimistic) aggregated level.
+        let mut problem = (*self.plan.problem).clone();
+        if let Some(s) = problem.resources.get_mut(r.index()) {
+            s.level = self.past[r.index()].0;
+        }
+        let problem = std::sync::Arc::new(problem);
+        if u.verdict == LevelVerdict::Consistent {
+            // In bounds: the plan's resource conflicts stand as they were.
+            self.plan.set_problem(problem);
+        } else {
+            self.plan.set_resource_problem(problem);
+            self.trace(TraceEvent::Level {
+                resource: l.resource.clone(),
+                level: l.level,
+                lb: b.lb,
+                ub: b.ub,
+                verdict: u.verdict,
+            });
+        }
+        if u.check_executable {
+            let flawed = flawed_actions(&mut self.plan);
+            if !plan_executable(&running, &flawed) {
+                self.abort = Some(AbortReason::LevelOutOfBounds {
+                    resource: l.resource.clone(),
+                    level: l.level,
+                });
+                return;
+            }
+        }
+        if u.repair {
+            self.repair_requested = true;
+        }
+    }
+
+    /// The object a goal location names when the intake recognised it (`new` false) and it is of the location
+    /// type.
+    fn known_location(&self, l: &crate::vehicle::GoalLocation) -> Option<crate::model::ObjectId> {
+        if l.new {
+            return None;
+        }
+        let o = self.plan.problem.object_id(&l.name)?;
+        let ty = self.plan.problem.object(o)?.ty;
+        (Some(ty) == self.mapping.location_type).then_some(o)
+    }
+
+    /// The domain goal for a request, as the config's `[mapping.goals]` says: `attr(L) = true` or
+    /// `attr() = L`; a new location object when the request names a place no object is at.
+    pub fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, MappingError> {
+        let what = g.kind.key();
+        let target =
+            *self
+                .mapping
+                .goals
+                .get(&g.kind)
+                .ok_or_else(|| MappingError::NoGoalMapping {
+                    kind: what.to_string(),
+                })?;
+        let loc = match (&g.location, g.kind) {
+            (_, crate::vehicle::GoalKind::ReturnHome) => {
+                self.mapping.home_object.ok_or(MappingError::NoHomeObject)?
+            }
+            // A place the intake already named (a known object of the location type) is that object.
+            (Some(l), _) => match self.known_location(l) {
+                Some(o) => o,
+                None => super::state_update::location_object(self, &l.name, l.at, None)?,
+            },
+            (None, _) => {
+                return Err(MappingError::NoGoalLocation {
+                    kind: what.to_string(),
+                })
+            }
+        };
+        let (attr, args, value) = match target.shape {
+            GoalShape::LocationIsTrue => (
+                target.attr,
+                vec![loc],
+                Value::Obj(crate::model::Domain::TRUE),
+            ),
+            GoalShape::ValueIsLocation => (target.attr, vec![], Value::Obj(loc)),
+        };
+        let ms = |s: f64| (s * 1000.0).round() as Time;
+        let window_hi = if g.start_window_s.1.is_finite() {
+            ms(g.start_window_s.1)
+        } else {
+            self.plan.horizon
+        };
+        let dur_hi = if g.duration_s.1.is_finite() {
+            ms(g.duration_s.1)
+        } else {
+            self.plan.horizon
+        };
+        Ok(Goal {
+            name: g.name.clone(),
+            kind: GoalKind::External,
+            priority: i64::from(g.priority),
+            attr,
+            args,
+            value,
+            start_window: TimeInterval::closed(
+                ms(g.start_window_s.0),
+                window_hi.min(self.plan.horizon),
+            ),
+            duration: TimeInterval::closed(ms(g.duration_s.0), dur_hi),
+            achieve: ms(g.d_achiev_s),
+        })
+    }
+}

@@ -1,0 +1,414 @@
+//! Replays an IPC plan on the PDDL domain and problem themselves (not on the translation): PDDL 2.1
+//! durative-action semantics with ε-separation. Each action is a start happening and an end happening;
+//! `at start` / `at end` conditions are checked in the state before the happening, `over all` conditions in
+//! every state strictly inside the action, goals in the final state; two happenings closer than ε must not
+//! interfere (one's effects touching the other's conditions or effects). Numeric fluents are not
+//! simulated: plans of domains with numeric effects or conditions on fluents are refused.
+
+use std::collections::{BTreeSet, HashMap};
+
+use super::ast::{self, Arg, Atom, Cmp, Effect, Init, Lit, NExpr, When};
+use super::writer::IpcStep;
+use crate::model::Time;
+
+/// The least separation (ms) the simulator demands between interfering happenings: PDDL's ε as most
+/// validators take it (0.001 s).
+pub const CHECK_EPSILON_MS: Time = 1;
+
+type Ground = (String, Vec<String>);
+
+/// A condition: the atom and whether it must be true.
+type Cond = (Ground, bool);
+
+struct Happening {
+    at: Time,
+    step: usize,
+    when: When,
+    pre: Vec<(Ground, bool)>,
+    add: Vec<Ground>,
+    del: Vec<Ground>,
+}
+
+/// The first reason a plan is not valid on its PDDL (steps are numbered from 1).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimulateError {
+    #[error("step {step} ({action}): {fault}")]
+    Step {
+        step: usize,
+        action: String,
+        fault: StepFault,
+    },
+    #[error("`?duration` is not simulated here")]
+    DurationInExpression,
+    #[error("{0} has no value")]
+    NoValue(String),
+    #[error("{first} and {second} interfere within ε at {at_ms} ms")]
+    Interfere {
+        first: String,
+        second: String,
+        at_ms: Time,
+    },
+    #[error("step {step}: {end} condition {atom} is not {value} at {at_ms} ms")]
+    Condition {
+        step: usize,
+        /// `start` or `end`.
+        end: &'static str,
+        atom: String,
+        value: bool,
+        at_ms: Time,
+    },
+    #[error("step {step}: over-all condition {atom} is not {value} at {at_ms} ms")]
+    OverAll {
+        step: usize,
+        atom: String,
+        value: bool,
+        at_ms: Time,
+    },
+    #[error("goals other than literals are not simulated")]
+    GoalNotLiteral,
+    #[error("goal {}{atom} is not reached", if *.positive { "" } else { "not " })]
+    GoalNotReached { atom: String, positive: bool },
+}
+
+/// What is wrong with one step on its own.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepFault {
+    #[error("no such action")]
+    NoSuchAction,
+    #[error("{expected} arguments, not {given}")]
+    Arity { expected: usize, given: usize },
+    #[error("unknown object `{0}`")]
+    UnknownObject(String),
+    #[error("`{0}` is not of the parameter's type")]
+    WrongType(String),
+    #[error("duration {duration} breaks its constraint ({bound})")]
+    Duration { duration: f64, bound: f64 },
+    #[error("an instantaneous action with a duration")]
+    InstantaneousWithDuration,
+    #[error("an (in)equality is false")]
+    Equality,
+    #[error("a numeric condition is false")]
+    NumericCondition,
+    #[error("numeric effects are not simulated")]
+    NumericEffect,
+}
+
+/// `Ok(makespan ms)` when the plan is valid, else the first reason it is not.
+pub fn simulate(
+    d: &ast::Domain,
+    p: &ast::Problem,
+    plan: &[IpcStep],
+) -> Result<Time, SimulateError> {
+    let mut state: BTreeSet<Ground> = BTreeSet::new();
+    let mut values: HashMap<Ground, f64> = HashMap::new();
+    let mut tils: Vec<(Time, Ground, bool)> = Vec::new();
+    for i in &p.init {
+        match i {
+            Init::Atom(a, None) => {
+                state.insert(ground(a, &HashMap::new()));
+            }
+            Init::Atom(a, Some(t)) => tils.push((ms(*t), ground(a, &HashMap::new()), true)),
+            Init::NotAtom(a, t) => tils.push((ms(*t), ground(a, &HashMap::new()), false)),
+            Init::Value(f, v) => {
+                values.insert(ground(f, &HashMap::new()), *v);
+            }
+        }
+    }
+    let types: HashMap<&str, &str> = p
+        .objects
+        .iter()
+        .chain(&d.constants)
+        .map(|o| {
+            (
+                o.name.name.as_str(),
+                o.types.first().map_or("object", |t| t.name.as_str()),
+            )
+        })
+        .collect();
+    let parent: HashMap<&str, &str> = d
+        .types
+        .iter()
+        .map(|(c, p)| (c.name.as_str(), p.name.as_str()))
+        .collect();
+    let is_sub = |t: &str, anc: &str| {
+        let mut t = t;
+        for _ in 0..=parent.len() {
+            if t == anc || anc == "object" {
+                return true;
+            }
+            match parent.get(t) {
+                Some(p) => t = p,
+                None => return false,
+            }
+        }
+        false
+    };
+    let mut happenings: Vec<Happening> = Vec::new();
+    let mut spans: Vec<(Time, Time, Vec<Cond>)> = Vec::new();
+    for (k, s) in plan.iter().enumerate() {
+        let who = |fault| SimulateError::Step {
+            step: k + 1,
+            action: s.action.clone(),
+            fault,
+        };
+        let a = d
+            .actions
+            .iter()
+            .find(|a| a.name.name == s.action)
+            .ok_or_else(|| who(StepFault::NoSuchAction))?;
+        if a.params.len() != s.args.len() {
+            return Err(who(StepFault::Arity {
+                expected: a.params.len(),
+                given: s.args.len(),
+            }));
+        }
+        let mut env: HashMap<String, String> = HashMap::new();
+        for (p, v) in a.params.iter().zip(&s.args) {
+            let t = types
+                .get(v.as_str())
+                .ok_or_else(|| who(StepFault::UnknownObject(v.clone())))?;
+            if !p.types.iter().any(|x| is_sub(t, &x.name)) {
+                return Err(who(StepFault::WrongType(v.clone())));
+            }
+            env.insert(p.name.name.clone(), v.clone());
+        }
+        let dur = s.duration_ms as f64 / 1000.0;
+        for (c, e, _) in &a.duration {
+            let v = eval(e, &env, &values)?;
+            let ok = match c {
+                Cmp::Eq => (dur - v).abs() <= 0.0011,
+                Cmp::Le | Cmp::Lt => dur <= v + 0.0011,
+                Cmp::Ge | Cmp::Gt => dur + 0.0011 >= v,
+            };
+            if !ok {
+                return Err(who(StepFault::Duration {
+                    duration: dur,
+                    bound: v,
+                }));
+            }
+        }
+        if !a.durative && s.duration_ms != 0 {
+            return Err(who(StepFault::InstantaneousWithDuration));
+        }
+        let mut pre: [Vec<(Ground, bool)>; 3] = Default::default();
+        for (w, l) in &a.conditions {
+            let slot = &mut pre[*w as usize];
+            match l {
+                Lit::Pos(x) => slot.push((ground(x, &env), true)),
+                Lit::Neg(x) => slot.push((ground(x, &env), false)),
+                Lit::Equal(x, y, eq, _) => {
+                    if (name(x, &env) == name(y, &env)) != *eq {
+                        return Err(who(StepFault::Equality));
+                    }
+                }
+                Lit::Compare(c, x, y, _) => {
+                    let (x, y) = (eval(x, &env, &values)?, eval(y, &env, &values)?);
+                    let ok = c.holds(x, y);
+                    if !ok {
+                        return Err(who(StepFault::NumericCondition));
+                    }
+                }
+            }
+        }
+        let mut add: [Vec<Ground>; 2] = Default::default();
+        let mut del: [Vec<Ground>; 2] = Default::default();
+        for (w, e) in &a.effects {
+            let i = usize::from(*w == When::End);
+            match e {
+                Effect::Add(x) => add[i].push(ground(x, &env)),
+                Effect::Del(x) => del[i].push(ground(x, &env)),
+                Effect::Num(..) => return Err(who(StepFault::NumericEffect)),
+            }
+        }
+        let [ps, po, pe] = pre;
+        let [as_, ae] = add;
+        let [ds, de] = del;
+        let end = s.start_ms + s.duration_ms;
+        happenings.push(Happening {
+            at: s.start_ms,
+            step: k,
+            when: When::Start,
+            pre: ps,
+            add: as_,
+            del: ds,
+        });
+        happenings.push(Happening {
+            at: end,
+            step: k,
+            when: When::End,
+            pre: pe,
+            add: ae,
+            del: de,
+        });
+        spans.push((s.start_ms, end, po));
+    }
+    // Timed initial literals are happenings too (no conditions), subject to the same separation.
+    for (at, g, add) in &tils {
+        happenings.push(Happening {
+            at: *at,
+            step: usize::MAX,
+            when: When::Start,
+            pre: Vec::new(),
+            add: if *add { vec![g.clone()] } else { Vec::new() },
+            del: if *add { Vec::new() } else { vec![g.clone()] },
+        });
+    }
+    for i in 0..happenings.len() {
+        for j in i + 1..happenings.len() {
+            let (x, y) = (&happenings[i], &happenings[j]);
+            if x.step == y.step || (x.at - y.at).abs() >= CHECK_EPSILON_MS {
+                continue;
+            }
+            if interfere(x, y) || interfere(y, x) {
+                let name = |h: &Happening| match h.step {
+                    usize::MAX => "a timed initial literal".to_string(),
+                    k => format!("step {}", k + 1),
+                };
+                return Err(SimulateError::Interfere {
+                    first: name(x),
+                    second: name(y),
+                    at_ms: x.at.min(y.at),
+                });
+            }
+        }
+    }
+    happenings.sort_by_key(|h| (h.at, h.when == When::Start));
+    let mut times: Vec<Time> = happenings
+        .iter()
+        .map(|h| h.at)
+        .chain(tils.iter().map(|t| t.0))
+        .collect();
+    times.sort_unstable();
+    times.dedup();
+    for t in times {
+        for (at, g, add) in &tils {
+            if *at == t {
+                if *add {
+                    state.insert(g.clone());
+                } else {
+                    state.remove(g);
+                }
+            }
+        }
+        let now: Vec<&Happening> = happenings
+            .iter()
+            .filter(|h| h.at == t && h.step != usize::MAX)
+            .collect();
+        for h in &now {
+            for (g, v) in &h.pre {
+                if state.contains(g) != *v {
+                    return Err(SimulateError::Condition {
+                        step: h.step + 1,
+                        end: if h.when == When::Start {
+                            "start"
+                        } else {
+                            "end"
+                        },
+                        atom: show(g),
+                        value: *v,
+                        at_ms: t,
+                    });
+                }
+            }
+        }
+        for h in &now {
+            for g in &h.del {
+                state.remove(g);
+            }
+        }
+        for h in &now {
+            for g in &h.add {
+                state.insert(g.clone());
+            }
+        }
+        for (k, (s, e, inv)) in spans.iter().enumerate() {
+            if *s <= t && t < *e {
+                for (g, v) in inv {
+                    if state.contains(g) != *v {
+                        return Err(SimulateError::OverAll {
+                            step: k + 1,
+                            atom: show(g),
+                            value: *v,
+                            at_ms: t,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    for l in &p.goal {
+        let (a, positive) = match l {
+            Lit::Pos(a) => (a, true),
+            Lit::Neg(a) => (a, false),
+            _ => return Err(SimulateError::GoalNotLiteral),
+        };
+        let g = ground(a, &HashMap::new());
+        if state.contains(&g) != positive {
+            return Err(SimulateError::GoalNotReached {
+                atom: show(&g),
+                positive,
+            });
+        }
+    }
+    Ok(plan
+        .iter()
+        .map(|s| s.start_ms + s.duration_ms)
+        .max()
+        .unwrap_or(0))
+}
+
+/// Whether `x`'s effects touch `y`'s conditions or effects (deleting what it adds, or changing what it reads).
+fn interfere(x: &Happening, y: &Happening) -> bool {
+    let touched = |g: &Ground| y.pre.iter().any(|(p, _)| p == g);
+    x.del.iter().any(|g| touched(g) || y.add.contains(g))
+        || x.add.iter().any(|g| touched(g) || y.del.contains(g))
+}
+
+fn ms(s: f64) -> Time {
+    (s * 1000.0).round() as Time
+}
+
+fn name(a: &Arg, env: &HashMap<String, String>) -> String {
+    match a {
+        Arg::Var(n) => env.get(&n.name).cloned().unwrap_or_else(|| n.name.clone()),
+        Arg::Const(n) => n.name.clone(),
+    }
+}
+
+fn ground(a: &Atom, env: &HashMap<String, String>) -> Ground {
+    (
+        a.pred.name.clone(),
+        a.args.iter().map(|x| name(x, env)).collect(),
+    )
+}
+
+fn show(g: &Ground) -> String {
+    format!("({} {})", g.0, g.1.join(" "))
+}
+
+fn eval(
+    e: &NExpr,
+    env: &HashMap<String, String>,
+    values: &HashMap<Ground, f64>,
+) -> Result<f64, SimulateError> {
+    Ok(match e {
+        NExpr::Num(v, _) => *v,
+        NExpr::Duration(_) => return Err(SimulateError::DurationInExpression),
+        NExpr::Neg(a, _) => -eval(a, env, values)?,
+        NExpr::Bin(op, a, b, _) => {
+            let (x, y) = (eval(a, env, values)?, eval(b, env, values)?);
+            match op {
+                '+' => x + y,
+                '-' => x - y,
+                '*' => x * y,
+                _ => x / y,
+            }
+        }
+        NExpr::Fluent(f) => {
+            let g = ground(f, env);
+            *values
+                .get(&g)
+                .ok_or_else(|| SimulateError::NoValue(show(&g)))?
+        }
+    })
+}

@@ -1,0 +1,52 @@
+//! The Vehicle trait: the executive's only view of a vehicle.
+
+use std::time::Duration;
+
+use super::goals::GoalBatch;
+use super::types::{
+    ActionId, ActionReport, ActionStart, CapacityChange, LinkStatus, ResourceLevel,
+};
+
+/// Why a command to the vehicle could not even be issued (its outcome comes later, as a report).
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum VehicleError {
+    #[error("no binding for task `{0}` in the vehicle configuration")]
+    UnknownTask(String),
+    #[error("action {0} is already running")]
+    AlreadyRunning(ActionId),
+    #[error("action {0} is not running")]
+    NotRunning(ActionId),
+    #[error("task `{task}`: {reason}")]
+    BadArguments { task: String, reason: String },
+    #[error("vehicle link closed")]
+    Closed,
+}
+
+/// Seed 1 §2.1: `START a p_a i_a`, `END i_a`, and the messages coming back.
+pub trait Vehicle {
+    /// `START a p_a i_a`.
+    fn start(&mut self, action: ActionStart) -> Result<(), VehicleError>;
+    /// `END i_a`: stop a preemptive action; an `Interrupted` report follows.
+    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError>;
+    /// The next pending event, without waiting.
+    fn try_event(&mut self) -> Option<VehicleEvent>;
+    /// The next event, waiting at most `timeout` (a mock never waits: it has a manual clock).
+    fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent>;
+    /// The vehicle's clock in ms (SYSTEM_TIME / time_boot_ms on a live link): the executive's time.
+    fn now_ms(&self) -> u64;
+    /// Where the vehicle is, metres east and north of home, if it knows (the report's track).
+    fn position(&self) -> Option<(f64, f64)> {
+        None
+    }
+}
+
+/// Everything a vehicle tells the executive.
+#[derive(Debug)]
+pub enum VehicleEvent {
+    Report(ActionReport),
+    Resource(ResourceLevel),
+    Capacity(CapacityChange),
+    /// A goal list from a ground station, waiting for the executive's verdicts.
+    Goals(GoalBatch),
+    Link(LinkStatus),
+}

@@ -1,0 +1,457 @@
+//! The companion's protocol core, free of I/O: fed with the autopilot's messages and the passage of time, it
+//! runs the action bindings, the command and mission clients, telemetry and link supervision, and yields
+//! messages to send and events for the executive. The socket layer ([`super::link`]) and tests drive it alike.
+
+use std::collections::BTreeMap;
+
+use mavlink::dialects::ardupilotmega::{
+    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+};
+use mavlink::MavHeader;
+
+use super::actions::{Ctx, End, Run};
+use super::api::VehicleError;
+use super::api::VehicleEvent;
+use super::commands::{Command, CommandClient, CommandOutcome, Token};
+use super::config::VehicleConfig;
+use super::mission_client::MissionClient;
+use super::readiness::{Readiness, ReadyAction, Seen};
+use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome};
+use super::telemetry::Telemetry;
+use super::types::{ActionId, ActionReport, ActionStart, LinkStatus};
+
+/// The context of an action run: borrows the driver's parts beside `runs` (a macro, as a method would
+/// borrow all of `self`).
+macro_rules! ctx {
+    ($d:ident, $now:expr) => {
+        Ctx {
+            now: $now,
+            vnow: $d.tel.time_boot_ms.unwrap_or($now),
+            cfg: &$d.cfg,
+            tel: &$d.tel,
+            cmds: &mut $d.cmds,
+            mission: &mut $d.mission,
+            out: &mut $d.out,
+            target: $d.target.unwrap_or(($d.system_id, 1)),
+        }
+    };
+}
+
+/// `MAV_COMP_ID_ONBOARD_COMPUTER`.
+pub const COMPANION_COMPONENT: u8 = 191;
+
+/// The owner of the safe stop's mode command (action ids are small; `u64::MAX` is "nobody").
+const SAFE_STOP_TOKEN: Token = u64::MAX - 1;
+/// The owner of the readiness wait's ARM commands.
+const READY_TOKEN: Token = u64::MAX - 2;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Link {
+    Waiting,
+    Up,
+    Lost,
+}
+
+pub struct Driver {
+    cfg: VehicleConfig,
+    /// Our system id: the autopilot's once its heartbeat is seen.
+    pub system_id: u8,
+    target: Option<(u8, u8)>,
+    tel: Telemetry,
+    cmds: CommandClient,
+    mission: MissionClient,
+    runs: BTreeMap<ActionId, Run>,
+    out: Vec<MavMessage>,
+    events: Vec<VehicleEvent>,
+    link: Link,
+    last_heartbeat_rx: u64,
+    last_heartbeat_tx: Option<u64>,
+    safe_stop: Option<SafeStop>,
+    readiness: Option<Readiness>,
+}
+
+/// The HEARTBEAT of the companion.
+pub fn companion_heartbeat() -> MavMessage {
+    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode: 0,
+        mavtype: MavType::MAV_TYPE_ONBOARD_CONTROLLER,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+        base_mode: MavModeFlag::empty(),
+        system_status: MavState::MAV_STATE_ACTIVE,
+        mavlink_version: 3,
+    })
+}
+
+impl Driver {
+    pub fn new(cfg: VehicleConfig) -> Self {
+        let cmds = CommandClient::new(cfg.link.command_ack_timeout_ms, cfg.link.command_retries);
+        let mission = MissionClient::new(
+            (1, 1),
+            cfg.link.mission_timeout_ms,
+            cfg.link.mission_retries,
+        );
+        Self {
+            cfg,
+            system_id: 1,
+            target: None,
+            tel: Telemetry::default(),
+            cmds,
+            mission,
+            runs: BTreeMap::new(),
+            out: Vec::new(),
+            events: Vec::new(),
+            link: Link::Waiting,
+            last_heartbeat_rx: 0,
+            last_heartbeat_tx: None,
+            safe_stop: None,
+            readiness: None,
+        }
+    }
+
+    pub fn config(&self) -> &VehicleConfig {
+        &self.cfg
+    }
+
+    pub fn telemetry(&self) -> &Telemetry {
+        &self.tel
+    }
+
+    pub fn target(&self) -> Option<(u8, u8)> {
+        self.target
+    }
+
+    pub fn running(&self) -> impl Iterator<Item = &ActionId> {
+        self.runs.keys()
+    }
+
+    /// Messages produced and not yet taken by the link.
+    pub fn outgoing_len(&self) -> usize {
+        self.out.len()
+    }
+
+    pub fn take_outgoing(&mut self) -> Vec<MavMessage> {
+        std::mem::take(&mut self.out)
+    }
+
+    pub fn take_events(&mut self) -> Vec<VehicleEvent> {
+        std::mem::take(&mut self.events)
+    }
+
+    fn report(&mut self, id: ActionId, end: End) {
+        self.cmds.cancel(id);
+        let run = self.runs.remove(&id);
+        tracing::info!(id, task = run.as_ref().map(|r| r.task.as_str()), status = %end.status, reason = ?end.reason, "action report");
+        self.events.push(VehicleEvent::Report(ActionReport {
+            id,
+            status: end.status,
+            time_ms: self.tel.time_boot_ms.unwrap_or(0),
+            resources: self.tel.levels(&self.cfg.resources),
+            state: end.state,
+            reason: end.reason,
+        }));
+    }
+
+    /// Runs `f` on one run with a context; a returned end becomes its report.
+    fn with_run(
+        &mut self,
+        id: ActionId,
+        now: u64,
+        f: impl FnOnce(&mut Run, &mut Ctx) -> Option<End>,
+    ) {
+        let Some(run) = self.runs.get_mut(&id) else {
+            return;
+        };
+        let mut ctx = ctx!(self, now);
+        let end = f(run, &mut ctx).and_then(|end| run.settle(&mut ctx, end));
+        if let Some(end) = end {
+            self.report(id, end);
+        }
+    }
+
+    /// `START a p_a i_a`.
+    pub fn start(&mut self, action: ActionStart, now: u64) -> Result<(), VehicleError> {
+        if self.runs.contains_key(&action.id) {
+            return Err(VehicleError::AlreadyRunning(action.id));
+        }
+        let binding = self
+            .cfg
+            .actions
+            .get(&action.task)
+            .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?
+            .clone();
+        let mut ctx = ctx!(self, now);
+        let run = Run::begin(&action, &binding, &mut ctx).map_err(|reason| {
+            VehicleError::BadArguments {
+                task: action.task.clone(),
+                reason: reason.to_string(),
+            }
+        })?;
+        tracing::info!(id = action.id, task = %action.task, "action started");
+        self.runs.insert(action.id, run);
+        Ok(())
+    }
+
+    /// `END i_a`.
+    pub fn stop(&mut self, id: ActionId, now: u64) -> Result<(), VehicleError> {
+        if !self.runs.contains_key(&id) {
+            return Err(VehicleError::NotRunning(id));
+        }
+        self.with_run(id, now, |run, ctx| Some(run.stop(ctx)));
+        Ok(())
+    }
+
+    /// The companion is stopping: unless `modes.on_shutdown` is `none`, every running action is ended as
+    /// `END` ends it and the configured mode (HOLD or RTL) is commanded; [`Driver::safe_stop`] follows it.
+    pub fn begin_safe_stop(&mut self, now: u64) {
+        let action = self.cfg.modes.on_shutdown;
+        let mode = match action {
+            OnShutdown::None => {
+                self.safe_stop = Some(SafeStop::settled(action, SafeStopOutcome::LeftAsIs));
+                return;
+            }
+            OnShutdown::Hold => self.cfg.modes.hold,
+            OnShutdown::Rtl => self.cfg.modes.rtl,
+        };
+        let Some(target) = self.target else {
+            self.safe_stop = Some(SafeStop::settled(action, SafeStopOutcome::NoVehicle));
+            return;
+        };
+        let mut stopped = Vec::new();
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            if let Some(run) = self.runs.get(&id) {
+                stopped.push(run.task.clone());
+            }
+            self.with_run(id, now, |run, ctx| Some(run.stop(ctx)));
+        }
+        tracing::warn!(?action, ?stopped, "shutdown: vehicle to its safe mode");
+        let (p2, p3) = mode.set_mode_params();
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            target,
+            [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.cmds.send(SAFE_STOP_TOKEN, cmd, now, &mut self.out);
+        self.safe_stop = Some(SafeStop::commanding(action, mode, stopped));
+    }
+
+    /// The safe stop, once begun.
+    pub fn safe_stop(&self) -> Option<&SafeStop> {
+        self.safe_stop.as_ref()
+    }
+
+    /// How long a safe stop may wait for its confirmation: the command's retries, then two seconds for a
+    /// HEARTBEAT in the mode.
+    pub fn safe_stop_bound_ms(&self) -> u64 {
+        let link = &self.cfg.link;
+        link.command_ack_timeout_ms
+            .saturating_mul(u64::from(link.command_retries) + 1)
+            .saturating_add(2_000)
+    }
+
+    /// Starts waiting for the autopilot to be ready (a position fix, then arming accepted, ARM retried with
+    /// a backoff); [`Driver::readiness`] tells how it goes.
+    pub fn begin_ready(&mut self, now: u64) {
+        let vnow = self.tel.time_boot_ms.unwrap_or(now);
+        self.readiness = Some(Readiness::new(vnow));
+        self.drive_readiness(now);
+    }
+
+    pub fn readiness(&self) -> Option<&Readiness> {
+        self.readiness.as_ref()
+    }
+
+    fn drive_readiness(&mut self, now: u64) {
+        let Some(r) = &mut self.readiness else {
+            return;
+        };
+        let vnow = self.tel.time_boot_ms.unwrap_or(now);
+        let seen = Seen {
+            position: self.tel.position.is_some(),
+            home: self.tel.home_known,
+            armed: self.tel.armed,
+            navigation: self.tel.navigation_ok,
+        };
+        let target = self.target.unwrap_or((self.system_id, 1));
+        match r.tick(vnow, seen) {
+            ReadyAction::Arm => {
+                let cmd = Command::long(
+                    MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+                    target,
+                    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                );
+                self.cmds.send(READY_TOKEN, cmd, now, &mut self.out);
+            }
+            ReadyAction::RequestStatus => {
+                // Fire and forget: HOME_POSITION (242) comes once home is set (before, ArduPilot sends
+                // nothing); EKF_STATUS_REPORT (193) only from autopilots that have one.
+                for id in [242.0, 193.0] {
+                    let cmd = Command::long(
+                        MavCmd::MAV_CMD_REQUEST_MESSAGE,
+                        target,
+                        [id, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    );
+                    self.cmds.send(u64::MAX, cmd, now, &mut self.out);
+                }
+            }
+            ReadyAction::Nothing => {}
+        }
+    }
+
+    fn command_outcome(&mut self, token: Token, cmd: MavCmd, outcome: CommandOutcome, now: u64) {
+        if token == READY_TOKEN {
+            let vnow = self.tel.time_boot_ms.unwrap_or(now);
+            if let Some(r) = &mut self.readiness {
+                r.on_arm(vnow, outcome, self.tel.armed);
+            }
+            return;
+        }
+        if token == SAFE_STOP_TOKEN {
+            if let Some(s) = &mut self.safe_stop {
+                s.on_ack(outcome);
+            }
+            return;
+        }
+        self.with_run(token, now, |run, ctx| run.on_command(ctx, cmd, outcome));
+    }
+
+    /// A message received from the link.
+    pub fn handle(&mut self, header: MavHeader, msg: &MavMessage, now: u64) {
+        let (sys, comp) = (header.system_id as u8, header.component_id);
+        if let MavMessage::HEARTBEAT(h) = msg {
+            let is_autopilot = h.autopilot != MavAutopilot::MAV_AUTOPILOT_INVALID
+                && !matches!(
+                    h.mavtype,
+                    MavType::MAV_TYPE_GCS | MavType::MAV_TYPE_ONBOARD_CONTROLLER
+                );
+            if is_autopilot && self.target.is_none() {
+                // Adopt the system id of the first autopilot seen.
+                self.target = Some((sys, comp));
+                self.system_id = sys;
+                self.mission.target = (sys, comp);
+                tracing::info!(system_id = sys, component = comp, "autopilot found");
+            }
+            if self.target == Some((sys, comp)) {
+                self.last_heartbeat_rx = now;
+                match self.link {
+                    Link::Waiting => self
+                        .events
+                        .push(VehicleEvent::Link(LinkStatus::Up { system_id: sys })),
+                    Link::Lost => self.events.push(VehicleEvent::Link(LinkStatus::Recovered)),
+                    Link::Up => {}
+                }
+                self.link = Link::Up;
+            }
+        }
+        if self.target != Some((sys, comp)) {
+            return;
+        }
+        let cfg = &self.cfg;
+        self.tel
+            .update(msg, &cfg.home, &cfg.resources, &mut self.events);
+        if let Some(t) = self.tel.time_boot_ms {
+            self.cmds.set_vehicle_time(t);
+            self.mission.set_vehicle_time(t);
+        }
+        if self.tel.take_restart() {
+            self.resume_after_restart(now);
+        }
+        if matches!(
+            msg,
+            MavMessage::SYSTEM_TIME(_) | MavMessage::GLOBAL_POSITION_INT(_)
+        ) {
+            // The vehicle's clock moved: ACKs and mission answers overdue in its time are re-sent now, not
+            // at the next wall tick (a simulator may run minutes between two).
+            self.expire_commands(now);
+            self.expire_mission(now);
+        }
+        if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
+            s.on_heartbeat(h.custom_mode);
+        }
+        if let (Some(r), MavMessage::STATUSTEXT(t)) = (&mut self.readiness, msg) {
+            // WARNING or worse: ArduPilot's "PreArm: ..." and "Arm: ..." reasons are CRITICAL.
+            if (t.severity as u8) <= 4 {
+                r.on_text(t.text.to_str().unwrap_or("").trim_end_matches('\0'));
+            }
+        }
+        if let MavMessage::COMMAND_ACK(ack) = msg {
+            if let Some((token, cmd, outcome)) = self.cmds.on_ack(ack, now) {
+                self.command_outcome(token, cmd, outcome, now);
+            }
+        }
+        if let Some((token, outcome)) = self.mission.handle(msg, now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+        }
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
+            self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+        self.drive_readiness(now);
+    }
+
+    /// The autopilot restarted: it forgot what it was doing (disarmed, in its boot mode). Each running action
+    /// is commanded again from where the vehicle is — armed, put back in its mode, its move, capture or
+    /// downlink re-sent — as many times as `restart_resumes` allows, then it fails with the restart as reason.
+    fn resume_after_restart(&mut self, now: u64) {
+        tracing::warn!(
+            running = self.runs.len(),
+            "autopilot restarted: resuming the running actions"
+        );
+        self.events.push(VehicleEvent::Link(LinkStatus::Restarted));
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.resume(ctx));
+        }
+    }
+
+    /// Re-sends the mission message whose answer is overdue; a transfer given up on ends its run.
+    fn expire_mission(&mut self, now: u64) {
+        if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
+            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+        }
+    }
+
+    /// Re-sends the commands whose ACK is overdue; those given up on end their runs.
+    fn expire_commands(&mut self, now: u64) {
+        for (token, cmd, outcome) in self.cmds.tick(now, &mut self.out) {
+            self.command_outcome(token, cmd, outcome, now);
+        }
+    }
+
+    /// The transport closed (TCP reset, serial unplugged).
+    pub fn transport_lost(&mut self) {
+        if self.link == Link::Up {
+            self.link = Link::Lost;
+            self.events.push(VehicleEvent::Link(LinkStatus::Lost));
+        }
+    }
+
+    /// Time passed: heartbeats out, link supervision, timeouts, state-based ends.
+    pub fn tick(&mut self, now: u64) {
+        if self
+            .last_heartbeat_tx
+            .is_none_or(|t| now.saturating_sub(t) >= 1000)
+        {
+            self.last_heartbeat_tx = Some(now);
+            self.out.push(companion_heartbeat());
+        }
+        if self.link == Link::Up
+            && now.saturating_sub(self.last_heartbeat_rx) > self.cfg.link.heartbeat_timeout_ms
+        {
+            tracing::warn!(
+                "no autopilot heartbeat for {} ms: link lost",
+                self.cfg.link.heartbeat_timeout_ms
+            );
+            self.link = Link::Lost;
+            self.events.push(VehicleEvent::Link(LinkStatus::Lost));
+        }
+        self.expire_commands(now);
+        self.expire_mission(now);
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| run.on_tick(ctx));
+        }
+        self.drive_readiness(now);
+    }
+}

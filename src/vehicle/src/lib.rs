@@ -1,0 +1,51 @@
+//! The vehicle side: the executive's view of a vehicle ([`Vehicle`]), its in-memory [`MockVehicle`], and the
+//! MAVLink implementation ([`MavlinkVehicle`]): action bindings from config, telemetry → state, goal intake
+//! from a ground station, `.tlog` recording. Layers, bottom up:
+//! - `frame`, `tlog`: bytes ↔ frames, signing, recording;
+//! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
+//! - `intake`, `goals`, `goal_files`, `goal_answers`: goal lists from a ground station or a file, and the
+//!   executive's answers;
+//! - `config`, `config_check`, `mapping`: a configuration, checked against its domain, and the domain's names
+//!   the executive gives a vehicle meaning to, resolved;
+//! - `readiness`: the autopilot ready (a fix, arming accepted) before the mission's first start;
+//! - `safe_stop`: the vehicle left safe when the companion is stopped by a signal;
+//! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
+//!   that pump bytes through the core.
+
+// The temporal core, named at the root so that `crate::model::…` reads as the layer it is.
+use mavtempo_temporal::model;
+
+pub mod actions;
+pub mod api;
+pub mod binding_table;
+pub mod capture_evidence;
+pub mod commands;
+pub mod config;
+pub mod config_check;
+pub mod driver;
+pub mod endpoint;
+pub mod frame;
+pub mod geo;
+pub mod goal_answers;
+pub mod goal_client;
+pub mod goal_files;
+pub mod goals;
+pub mod intake;
+pub mod items;
+pub mod link;
+pub mod mapping;
+pub mod mission_client;
+pub mod mock;
+pub mod observed;
+pub mod peers;
+pub mod readiness;
+pub mod safe_stop;
+pub mod telemetry;
+pub mod tlog;
+pub mod types;
+pub mod wire_float;
+
+pub use api::{Vehicle, VehicleError, VehicleEvent};
+pub use link::MavlinkVehicle;
+pub use mock::MockVehicle;
+pub use types::*;

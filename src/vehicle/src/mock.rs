@@ -1,0 +1,266 @@
+//! MockVehicle: an in-memory, scripted, deterministic vehicle with a manual clock, for executive tests without
+//! hardware or sockets. Each task name has a scripted outcome; exogenous events (resource levels, capacity
+//! alterations, goal requests, link status) are scheduled at times. Events come out in (time, order) order.
+
+use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::time::Duration;
+
+use super::api::{Vehicle, VehicleError, VehicleEvent};
+use super::goals::GoalBatch;
+use super::types::{
+    ActionId, ActionReport, ActionStart, CapacityChange, GoalRequest, LinkStatus, ReportStatus,
+    ResourceLevel, StateValue,
+};
+
+/// How a started action of a task ends.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// Duration from start to the report, ms.
+    pub after_ms: u64,
+    pub status: ReportStatus,
+    /// Levels the resources reach at the end (also applied to the mock's state).
+    pub resources: Vec<ResourceLevel>,
+    /// State values reported when not nominal.
+    pub state: Vec<(String, StateValue)>,
+    pub reason: Option<String>,
+}
+
+impl Outcome {
+    pub fn nominal(after_ms: u64) -> Self {
+        Self {
+            after_ms,
+            status: ReportStatus::Nominal,
+            resources: Vec::new(),
+            state: Vec::new(),
+            reason: None,
+        }
+    }
+
+    pub fn failed(after_ms: u64, reason: &str) -> Self {
+        Self {
+            status: ReportStatus::Failed,
+            reason: Some(reason.into()),
+            ..Self::nominal(after_ms)
+        }
+    }
+
+    pub fn with_level(mut self, resource: &str, level: f64) -> Self {
+        self.resources.push(ResourceLevel {
+            resource: resource.into(),
+            level,
+        });
+        self
+    }
+
+    pub fn with_state(mut self, variable: &str, value: StateValue) -> Self {
+        self.state.push((variable.into(), value));
+        self
+    }
+}
+
+/// Something the script makes happen at a time.
+#[derive(Debug, Clone)]
+pub enum Scripted {
+    Resource(ResourceLevel),
+    Capacity(CapacityChange),
+    Goals(Vec<GoalRequest>),
+    Link(LinkStatus),
+}
+
+#[derive(Debug)]
+enum Due {
+    Report(ActionId),
+    Event(Scripted),
+}
+
+#[derive(Debug, Default)]
+pub struct MockVehicle {
+    now_ms: u64,
+    order: u64,
+    /// Per task: outcomes used in turn; the last one repeats.
+    outcomes: HashMap<String, VecDeque<Outcome>>,
+    /// State values reported when an action of the task is stopped (e.g. the reached position).
+    on_stop: HashMap<String, Vec<(String, StateValue)>>,
+    running: BTreeMap<ActionId, (String, Outcome)>,
+    due: BTreeMap<(u64, u64), Due>,
+    ready: VecDeque<VehicleEvent>,
+    levels: BTreeMap<String, f64>,
+    /// Every START and END received, for assertions.
+    pub log: Vec<String>,
+}
+
+impl MockVehicle {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Scripts the next outcome of `task` (outcomes queue up; the last one repeats).
+    pub fn script(&mut self, task: &str, outcome: Outcome) -> &mut Self {
+        self.outcomes
+            .entry(task.into())
+            .or_default()
+            .push_back(outcome);
+        self
+    }
+
+    pub fn on_stop(&mut self, task: &str, state: Vec<(String, StateValue)>) -> &mut Self {
+        self.on_stop.insert(task.into(), state);
+        self
+    }
+
+    pub fn set_level(&mut self, resource: &str, level: f64) -> &mut Self {
+        self.levels.insert(resource.into(), level);
+        self
+    }
+
+    /// Schedules an exogenous event at vehicle time `at_ms`.
+    pub fn at(&mut self, at_ms: u64, what: Scripted) -> &mut Self {
+        self.order += 1;
+        self.due.insert((at_ms, self.order), Due::Event(what));
+        self
+    }
+
+    /// Advances the manual clock; what falls due becomes available to `try_event`.
+    pub fn advance_to(&mut self, t_ms: u64) {
+        self.now_ms = self.now_ms.max(t_ms);
+        while let Some(entry) = self.due.first_entry() {
+            if entry.key().0 > self.now_ms {
+                break;
+            }
+            let ((t, _), due) = entry.remove_entry();
+            match due {
+                Due::Report(id) => {
+                    if let Some((_, outcome)) = self.running.remove(&id) {
+                        let report = self.make_report(
+                            id,
+                            t,
+                            outcome.status,
+                            outcome.state,
+                            outcome.reason,
+                            &outcome.resources,
+                        );
+                        self.ready.push_back(VehicleEvent::Report(report));
+                    }
+                }
+                Due::Event(Scripted::Resource(r)) => {
+                    self.levels.insert(r.resource.clone(), r.level);
+                    self.ready.push_back(VehicleEvent::Resource(r));
+                }
+                Due::Event(Scripted::Capacity(c)) => {
+                    self.ready.push_back(VehicleEvent::Capacity(c))
+                }
+                Due::Event(Scripted::Goals(g)) => self
+                    .ready
+                    .push_back(VehicleEvent::Goals(GoalBatch::detached(g))),
+                Due::Event(Scripted::Link(l)) => self.ready.push_back(VehicleEvent::Link(l)),
+            }
+        }
+    }
+
+    /// The vehicle time of the next scripted event or report, if any (a pacer jumps to it).
+    pub fn next_due_ms(&self) -> Option<u64> {
+        self.due.keys().next().map(|k| k.0)
+    }
+
+    pub fn advance(&mut self, ms: u64) {
+        self.advance_to(self.now_ms + ms);
+    }
+
+    pub fn is_running(&self, id: ActionId) -> bool {
+        self.running.contains_key(&id)
+    }
+
+    fn make_report(
+        &mut self,
+        id: ActionId,
+        t: u64,
+        status: ReportStatus,
+        state: Vec<(String, StateValue)>,
+        reason: Option<String>,
+        resources: &[ResourceLevel],
+    ) -> ActionReport {
+        for r in resources {
+            self.levels.insert(r.resource.clone(), r.level);
+        }
+        ActionReport {
+            id,
+            status,
+            time_ms: t,
+            resources: self
+                .levels
+                .iter()
+                .map(|(k, v)| ResourceLevel {
+                    resource: k.clone(),
+                    level: *v,
+                })
+                .collect(),
+            state: if status == ReportStatus::Nominal {
+                Vec::new()
+            } else {
+                state
+            },
+            reason,
+        }
+    }
+}
+
+impl Vehicle for MockVehicle {
+    fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        if self.running.contains_key(&action.id) {
+            return Err(VehicleError::AlreadyRunning(action.id));
+        }
+        let queue = self
+            .outcomes
+            .get_mut(&action.task)
+            .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?;
+        let outcome = if queue.len() > 1 {
+            queue.pop_front()
+        } else {
+            queue.front().cloned()
+        }
+        .ok_or_else(|| VehicleError::UnknownTask(action.task.clone()))?;
+        self.log.push(format!(
+            "{} START {} {}",
+            self.now_ms, action.task, action.id
+        ));
+        self.order += 1;
+        self.due.insert(
+            (self.now_ms + outcome.after_ms, self.order),
+            Due::Report(action.id),
+        );
+        self.running.insert(action.id, (action.task, outcome));
+        Ok(())
+    }
+
+    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
+        let (task, _) = self
+            .running
+            .remove(&id)
+            .ok_or(VehicleError::NotRunning(id))?;
+        self.log.push(format!("{} END {id}", self.now_ms));
+        let state = self.on_stop.get(&task).cloned().unwrap_or_default();
+        let report = self.make_report(
+            id,
+            self.now_ms,
+            ReportStatus::Interrupted,
+            state,
+            Some("stopped (END)".into()),
+            &[],
+        );
+        self.ready.push_back(VehicleEvent::Report(report));
+        Ok(())
+    }
+
+    fn try_event(&mut self) -> Option<VehicleEvent> {
+        self.ready.pop_front()
+    }
+
+    fn wait_event(&mut self, _timeout: Duration) -> Option<VehicleEvent> {
+        // A manual clock: waiting would never make time pass.
+        self.ready.pop_front()
+    }
+
+    fn now_ms(&self) -> u64 {
+        self.now_ms
+    }
+}
