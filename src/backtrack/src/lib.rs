@@ -29,3 +29,22 @@ pub trait Backtrack {
     /// `level` itself stays valid (it can be restored again after more changes).
     fn restore(&mut self, level: Self::Level);
 }
+
+/// Implements [`Backtrack`] for a store by its inherent `save` and `restore` (which its callers use
+/// without importing the trait): `backtrack::impl_backtrack!(Stn, Level);`.
+#[macro_export]
+macro_rules! impl_backtrack {
+    ($store:ty, $level:ty) => {
+        impl $crate::Backtrack for $store {
+            type Level = $level;
+
+            fn save(&mut self) -> $level {
+                <$store>::save(self)
+            }
+
+            fn restore(&mut self, level: $level) {
+                <$store>::restore(self, level)
+            }
+        }
+    };
+}

@@ -36,12 +36,8 @@ impl Store {
             *x = v;
         }
     }
-}
 
-impl Backtrack for Store {
-    type Level = Level;
-
-    fn save(&mut self) -> Level {
+    fn save(&self) -> Level {
         self.trail.level()
     }
 
@@ -56,6 +52,8 @@ impl Backtrack for Store {
         });
     }
 }
+
+backtrack::impl_backtrack!(Store, Level);
 
 #[derive(Clone, Debug)]
 enum Op {
@@ -92,7 +90,7 @@ proptest! {
                 Op::Pop => store.pop(),
                 Op::Set(i, v) => store.set(i, v),
                 Op::Save => {
-                    let level = store.save();
+                    let level = Backtrack::save(&mut store);
                     saved.push((level, store.values.clone()));
                 }
                 Op::Restore(k) => {
@@ -100,7 +98,7 @@ proptest! {
                         continue;
                     }
                     let k = k % saved.len();
-                    store.restore(saved[k].0);
+                    Backtrack::restore(&mut store, saved[k].0);
                     prop_assert_eq!(&store.values, &saved[k].1);
                     prop_assert_eq!(store.save(), saved[k].0);
                     // The levels saved after the one restored are invalid now; it stays valid.

@@ -27,7 +27,7 @@
 
 use std::collections::HashSet;
 
-use backtrack::{Backtrack, Level, Trail};
+use backtrack::{Level, Trail};
 
 use super::graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, Node,
@@ -278,17 +278,7 @@ impl Marking {
     }
 }
 
-impl Backtrack for Marking {
-    type Level = Level;
-
-    fn save(&mut self) -> Level {
-        Marking::save(self)
-    }
-
-    fn restore(&mut self, level: Level) {
-        Marking::restore(self, level)
-    }
-}
+backtrack::impl_backtrack!(Marking, Level);
 
 #[cfg(test)]
 mod tests {

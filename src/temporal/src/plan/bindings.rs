@@ -10,7 +10,7 @@
 //! requires it. Forward checking is not complete for ≠ (a pigeonhole of ≠ may pass); the checker instantiates
 //! the final plan and would catch it.
 
-use backtrack::{Backtrack, Level, Trail};
+use backtrack::{Level, Trail};
 use serde::Serialize;
 
 use crate::model::{ObjectId, Value};
@@ -328,17 +328,7 @@ impl Bindings {
     }
 }
 
-impl Backtrack for Bindings {
-    type Level = Level;
-
-    fn save(&mut self) -> Level {
-        Bindings::save(self)
-    }
-
-    fn restore(&mut self, level: Level) {
-        Bindings::restore(self, level)
-    }
-}
+backtrack::impl_backtrack!(Bindings, Level);
 
 fn intersects(a: &[ObjectId], b: &[ObjectId]) -> bool {
     let (mut i, mut j) = (0, 0);

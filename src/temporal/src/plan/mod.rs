@@ -36,7 +36,7 @@ pub mod validate;
 
 use std::sync::Arc;
 
-use backtrack::{Backtrack, Level, Trail};
+use backtrack::{Level, Trail};
 use serde::Serialize;
 
 pub use bindings::{BindingConflict, Bindings, STerm, VarId};
@@ -592,14 +592,4 @@ impl PartialPlan {
     }
 }
 
-impl Backtrack for PartialPlan {
-    type Level = PlanLevel;
-
-    fn save(&mut self) -> PlanLevel {
-        PartialPlan::save(self)
-    }
-
-    fn restore(&mut self, level: PlanLevel) {
-        PartialPlan::restore(self, level)
-    }
-}
+backtrack::impl_backtrack!(PartialPlan, PlanLevel);

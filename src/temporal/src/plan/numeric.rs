@@ -3,7 +3,7 @@
 //! interval propagation (bounds consistency) to a fixed point; the mixed constraint `?d = et − st` is the
 //! supervisor's bridge: it reads the STN constraint's interval and tightens it back. Trailed like the rest.
 
-use backtrack::{Backtrack, Level, Trail};
+use backtrack::{Level, Trail};
 use serde::Serialize;
 
 use super::bindings::{Bindings, STerm};
@@ -248,17 +248,7 @@ impl Numeric {
     }
 }
 
-impl Backtrack for Numeric {
-    type Level = Level;
-
-    fn save(&mut self) -> Level {
-        Numeric::save(self)
-    }
-
-    fn restore(&mut self, level: Level) {
-        Numeric::restore(self, level)
-    }
-}
+backtrack::impl_backtrack!(Numeric, Level);
 
 /// Range of `distance(a, b)` over the current domains (`None` if unknowable or too many pairs to scan).
 fn distance_range(

@@ -1,8 +1,6 @@
 //! The STN's undo entries: every change is recorded on the network's [`Trail`](backtrack::Trail) so that
 //! `restore(level)` can undo everything after `level`.
 
-use backtrack::Backtrack;
-
 use super::network::Stn;
 use super::{ConstraintId, Level, Time};
 
@@ -89,14 +87,4 @@ impl Stn {
     }
 }
 
-impl Backtrack for Stn {
-    type Level = Level;
-
-    fn save(&mut self) -> Level {
-        Stn::save(self)
-    }
-
-    fn restore(&mut self, level: Level) {
-        Stn::restore(self, level)
-    }
-}
+backtrack::impl_backtrack!(Stn, Level);
