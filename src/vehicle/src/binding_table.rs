@@ -19,29 +19,50 @@ pub enum BindingKind {
     Timed,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BindingTable {
-    kind: Option<BindingKind>,
-    to: Option<String>,
-    area: Option<String>,
-    acceptance_radius_m: Option<f64>,
-    speed_m_s: Option<f64>,
-    position_variable: Option<String>,
-    vertical_acceptance_m: Option<f64>,
-    width_m: Option<f64>,
-    height_m: Option<f64>,
-    spacing_m: Option<f64>,
-    camera_id: Option<u8>,
-    timeout_ms: Option<u64>,
-    steps: Option<Vec<ServoStep>>,
-    until_percent: Option<f64>,
-    level_arg: Option<String>,
-    command: Option<u16>,
-    until_used: Option<f64>,
-    max_ms: Option<u64>,
-    poll_ms: Option<u64>,
-    duration_ms: Option<u64>,
+/// Declares the table's keys once: the struct and the list of the keys written come from the same list, so a
+/// new key cannot be forgotten in the check of the keys a kind allows.
+macro_rules! binding_table {
+    ($($key:ident: $ty:ty,)*) => {
+        #[derive(Debug, Clone, Default, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct BindingTable {
+            kind: Option<BindingKind>,
+            $($key: Option<$ty>,)*
+        }
+
+        impl BindingTable {
+            /// The keys written in the table, `kind` aside.
+            fn written(&self) -> Vec<&'static str> {
+                let mut keys = Vec::new();
+                $(if self.$key.is_some() {
+                    keys.push(stringify!($key));
+                })*
+                keys
+            }
+        }
+    };
+}
+
+binding_table! {
+    to: String,
+    area: String,
+    acceptance_radius_m: f64,
+    speed_m_s: f64,
+    position_variable: String,
+    vertical_acceptance_m: f64,
+    width_m: f64,
+    height_m: f64,
+    spacing_m: f64,
+    camera_id: u8,
+    timeout_ms: u64,
+    steps: Vec<ServoStep>,
+    until_percent: f64,
+    level_arg: String,
+    command: u16,
+    until_used: f64,
+    max_ms: u64,
+    poll_ms: u64,
+    duration_ms: u64,
 }
 
 /// What is wrong with a table: the key it is about (relative to the table, empty for the table itself).
@@ -136,38 +157,4 @@ impl BindingTable {
 /// A required key's value, or the error of its absence.
 fn need<T>(v: Option<T>, key: &'static str, kind: BindingKind) -> Result<T, TableError> {
     v.ok_or(("", format!("missing key `{key}` (kind {kind:?})")))
-}
-
-impl BindingTable {
-    /// The keys written in the table, `kind` aside.
-    fn written(&self) -> Vec<&'static str> {
-        let set = [
-            ("to", self.to.is_some()),
-            ("area", self.area.is_some()),
-            ("acceptance_radius_m", self.acceptance_radius_m.is_some()),
-            ("speed_m_s", self.speed_m_s.is_some()),
-            ("position_variable", self.position_variable.is_some()),
-            (
-                "vertical_acceptance_m",
-                self.vertical_acceptance_m.is_some(),
-            ),
-            ("width_m", self.width_m.is_some()),
-            ("height_m", self.height_m.is_some()),
-            ("spacing_m", self.spacing_m.is_some()),
-            ("camera_id", self.camera_id.is_some()),
-            ("timeout_ms", self.timeout_ms.is_some()),
-            ("steps", self.steps.is_some()),
-            ("until_percent", self.until_percent.is_some()),
-            ("level_arg", self.level_arg.is_some()),
-            ("command", self.command.is_some()),
-            ("until_used", self.until_used.is_some()),
-            ("max_ms", self.max_ms.is_some()),
-            ("poll_ms", self.poll_ms.is_some()),
-            ("duration_ms", self.duration_ms.is_some()),
-        ];
-        set.into_iter()
-            .filter(|(_, w)| *w)
-            .map(|(k, _)| k)
-            .collect()
-    }
 }

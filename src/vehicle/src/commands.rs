@@ -243,6 +243,12 @@ mod tests {
         }
     }
 
+    /// Sends `MAV_CMD_USER_1` (param1..7 = `param`) as request `id` at time 0.
+    fn send_user_1(c: &mut CommandClient, id: Token, param: f32, out: &mut Vec<MavMessage>) {
+        let command = Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [param; 7]);
+        c.send(id, command, 0, out);
+    }
+
     #[test]
     fn retries_with_confirmation_incremented_then_gives_up() {
         let mut c = CommandClient::new(100, 2);
@@ -320,12 +326,7 @@ mod tests {
     fn temporarily_rejected_is_tried_again_while_tries_are_left() {
         let mut c = CommandClient::new(100, 1);
         let mut out = Vec::new();
-        c.send(
-            2,
-            Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [1.0; 7]),
-            0,
-            &mut out,
-        );
+        send_user_1(&mut c, 2, 1.0, &mut out);
         let busy = ack(
             MavCmd::MAV_CMD_USER_1,
             MavResult::MAV_RESULT_TEMPORARILY_REJECTED,
@@ -349,12 +350,7 @@ mod tests {
     fn in_progress_extends_and_result_is_delivered() {
         let mut c = CommandClient::new(100, 0);
         let mut out = Vec::new();
-        c.send(
-            1,
-            Command::long(MavCmd::MAV_CMD_USER_1, (1, 1), [0.0; 7]),
-            0,
-            &mut out,
-        );
+        send_user_1(&mut c, 1, 0.0, &mut out);
         assert_eq!(
             c.on_ack(
                 &ack(MavCmd::MAV_CMD_USER_1, MavResult::MAV_RESULT_IN_PROGRESS),

@@ -50,7 +50,6 @@ pub struct VehicleConfig {
     tables: BTreeMap<String, BindingTable>,
     /// The executive's `[exec]` table, as written: the executive reads it from [`Self::source`] (for its
     /// lines in errors), this layer only knows the key is not unknown.
-    #[serde(default)]
     pub exec: Option<toml::Table>,
     /// Where the configuration was read from (not a key of the file): for `file:line` in messages.
     #[serde(skip)]
@@ -98,18 +97,15 @@ pub struct LinkConfig {
     #[serde(default = "d_retries")]
     pub mission_retries: u32,
     /// 64 hex digits; when set, outgoing frames are signed and unsigned incoming frames rejected.
-    #[serde(default)]
     pub signing_key: Option<String>,
     #[serde(default)]
     pub signing_link_id: u8,
     /// Record every frame in and out to this `.tlog`.
-    #[serde(default)]
     pub tlog: Option<String>,
     #[serde(default = "d_reconnect")]
     pub reconnect_ms: u64,
     /// The system ids of the ground stations goals are taken from (e.g. `[255]`); others are answered
     /// MISSION_ACK DENIED with the reason. Unset: any system.
-    #[serde(default)]
     pub goal_sysids: Option<Vec<u8>>,
 }
 
@@ -166,7 +162,6 @@ pub struct Modes {
     pub auto: Mode,
     pub guided: Mode,
     pub rtl: Mode,
-    #[serde(default)]
     pub manual: Option<Mode>,
     /// What a SIGINT / SIGTERM leaves the vehicle in: `hold` (default), `rtl` or `none` (as it is).
     #[serde(default)]
@@ -215,9 +210,7 @@ impl Modes {
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ResourceNames {
-    #[serde(default)]
     pub battery: Option<String>,
-    #[serde(default)]
     pub storage: Option<String>,
 }
 
@@ -226,13 +219,10 @@ pub struct ResourceNames {
 #[serde(deny_unknown_fields)]
 pub struct Mapping {
     /// The attribute a reported position sets: no parameters, valued in `location_type`.
-    #[serde(default)]
     pub position: Option<String>,
     /// The type of located objects: a position that names no known object becomes a new object of it.
-    #[serde(default)]
     pub location_type: Option<String>,
     /// The problem's object a return-home item means.
-    #[serde(default)]
     pub home_object: Option<String>,
     /// Uploaded item kind (`waypoint`, `picture`, `sample`, `survey`, `return_home`) → its goal.
     #[serde(default)]

@@ -14,7 +14,7 @@ use super::config::{Binding, ConfigSource, GoalMapping, Mapping, VehicleConfig};
 use super::geo::Home;
 use super::types::GoalKind;
 use crate::mapping::{DomainMapping, GoalShape, GoalTarget};
-use mavtempo_temporal::model::{Domain, Problem, ResourceKind, TypeId, TypeKind};
+use mavtempo_temporal::model::{AttrId, Domain, Problem, ResourceKind, TypeId, TypeKind};
 
 /// Homes further apart than this (horizontally) are reported: one of them is probably wrong.
 pub const HOME_TOLERANCE_M: f64 = 5.0;
@@ -170,6 +170,38 @@ impl Issues<'_> {
     fn error(&mut self, key: String, domain_line: Option<usize>, kind: IssueKind) {
         self.push(Severity::Error, key, domain_line, kind);
     }
+
+    /// `found` when the domain declares the name; else the `unknown` error at `key` (its line is the config's:
+    /// the name is not in the domain).
+    fn declared<I>(
+        &mut self,
+        key: &str,
+        found: Option<I>,
+        unknown: impl FnOnce(&Domain) -> IssueKind,
+    ) -> Option<I> {
+        if found.is_none() {
+            self.error(key.into(), None, unknown(self.domain));
+        }
+        found
+    }
+
+    /// The domain's attribute `name`, reported at `key` when it has none.
+    fn attribute(&mut self, key: &str, name: &str) -> Option<AttrId> {
+        let found = self.domain.attr_id(name);
+        self.declared(key, found, |d| IssueKind::UnknownAttribute {
+            name: name.into(),
+            known: names(d.attrs.iter().map(|a| a.name.as_str())),
+        })
+    }
+}
+
+/// The names of the `items` that `keep` accepts, for a message's "(its …: a, b)".
+fn names_where<'a, T>(
+    items: &'a [T],
+    keep: impl Fn(&T) -> bool,
+    name: impl Fn(&'a T) -> &'a String,
+) -> String {
+    names(items.iter().filter(|i| keep(i)).map(|i| name(i).as_str()))
 }
 
 fn names<'a>(it: impl Iterator<Item = &'a str>) -> String {
@@ -247,22 +279,11 @@ pub fn resolve_mapping(
 fn location_type(issues: &mut Issues, m: &Mapping) -> Option<TypeId> {
     let name = m.location_type.as_deref()?;
     let d = issues.domain;
-    let Some(t) = d.type_id(name) else {
-        issues.error(
-            "mapping.location_type".into(),
-            None,
-            IssueKind::UnknownType {
-                name: name.into(),
-                known: names(
-                    d.types
-                        .iter()
-                        .filter(|t| t.kind == TypeKind::Object)
-                        .map(|t| t.name.as_str()),
-                ),
-            },
-        );
-        return None;
-    };
+    let found = d.type_id(name);
+    let t = issues.declared("mapping.location_type", found, |d| IssueKind::UnknownType {
+        name: name.into(),
+        known: names_where(&d.types, |t| t.kind == TypeKind::Object, |t| &t.name),
+    })?;
     if d.ty(t).kind != TypeKind::Object {
         issues.error(
             "mapping.location_type".into(),
@@ -289,15 +310,12 @@ fn bindings(issues: &mut Issues, cfg: &VehicleConfig, location_type: Option<Type
         }
     }
     for (name, b) in &cfg.actions {
-        let Some(tid) = d.task_id(name) else {
-            issues.error(
-                format!("actions.{name}"),
-                None,
-                IssueKind::UnknownTask {
-                    task: name.clone(),
-                    known: names(d.tasks.iter().map(|t| t.name.as_str())),
-                },
-            );
+        let found = d.task_id(name);
+        let unknown = |d: &Domain| IssueKind::UnknownTask {
+            task: name.clone(),
+            known: names(d.tasks.iter().map(|t| t.name.as_str())),
+        };
+        let Some(tid) = issues.declared(&format!("actions.{name}"), found, unknown) else {
             continue;
         };
         let task = d.task(tid);
@@ -325,40 +343,33 @@ fn bindings(issues: &mut Issues, cfg: &VehicleConfig, location_type: Option<Type
                 );
                 continue;
             };
-            let found = d.ty(p.ty).name.clone();
-            if !location {
-                // Task parameters are symbolic: none carries a number in this language.
+            // Task parameters are symbolic: none carries a number in this language.
+            let expected = match location_type {
+                _ if !location => Some("a number".to_string()),
+                Some(lt) if lt == p.ty => None,
+                Some(lt) => Some(format!("a {} (mapping.location_type)", d.ty(lt).name)),
+                // An unknown location type is reported once, at mapping.location_type.
+                None if cfg.mapping.location_type.is_some() => None,
+                None => {
+                    issues.error(
+                        "mapping.location_type".into(),
+                        None,
+                        IssueKind::MissingKey { needed_by: key },
+                    );
+                    continue;
+                }
+            };
+            if let Some(expected) = expected {
                 issues.error(
                     key,
                     task.line,
                     IssueKind::WrongParameterType {
                         task: name.clone(),
                         param: param.into(),
-                        found,
-                        expected: "a number".into(),
+                        found: d.ty(p.ty).name.clone(),
+                        expected,
                     },
                 );
-                continue;
-            }
-            match location_type {
-                Some(lt) if lt == p.ty => {}
-                Some(lt) => issues.error(
-                    key,
-                    task.line,
-                    IssueKind::WrongParameterType {
-                        task: name.clone(),
-                        param: param.into(),
-                        found,
-                        expected: format!("a {} (mapping.location_type)", d.ty(lt).name),
-                    },
-                ),
-                // An unknown location type is reported once, at mapping.location_type.
-                None if cfg.mapping.location_type.is_some() => {}
-                None => issues.error(
-                    "mapping.location_type".into(),
-                    None,
-                    IssueKind::MissingKey { needed_by: key },
-                ),
             }
         }
     }
@@ -373,26 +384,24 @@ fn resources(issues: &mut Issues, cfg: &VehicleConfig) {
     ];
     for (key, name) in named {
         let Some(name) = name else { continue };
-        match d.resource_id(name) {
-            None => issues.error(
-                key.into(),
-                None,
-                IssueKind::UnknownResource {
-                    name: name.clone(),
-                    known: names(
-                        d.resources
-                            .iter()
-                            .filter(|r| r.kind == ResourceKind::Reservoir)
-                            .map(|r| r.name.as_str()),
-                    ),
-                },
+        let found = d.resource_id(name);
+        let reservoirs = |d: &Domain| IssueKind::UnknownResource {
+            name: name.clone(),
+            known: names_where(
+                &d.resources,
+                |r| r.kind == ResourceKind::Reservoir,
+                |r| &r.name,
             ),
-            Some(r) if d.resource(r).kind != ResourceKind::Reservoir => issues.error(
+        };
+        let Some(r) = issues.declared(key, found, reservoirs) else {
+            continue;
+        };
+        if d.resource(r).kind != ResourceKind::Reservoir {
+            issues.error(
                 key.into(),
                 d.resource(r).line,
                 IssueKind::NotReservoir { name: name.clone() },
-            ),
-            Some(_) => {}
+            );
         }
     }
 }
@@ -401,15 +410,7 @@ fn resources(issues: &mut Issues, cfg: &VehicleConfig) {
 fn observed_state(issues: &mut Issues, cfg: &VehicleConfig) {
     let d = issues.domain;
     for (key, attribute, values) in cfg.state.named() {
-        let Some(attr) = d.attr_id(attribute) else {
-            issues.error(
-                format!("{key}.attribute"),
-                None,
-                IssueKind::UnknownAttribute {
-                    name: attribute.into(),
-                    known: names(d.attrs.iter().map(|a| a.name.as_str())),
-                },
-            );
+        let Some(attr) = issues.attribute(&format!("{key}.attribute"), attribute) else {
             continue;
         };
         let a = d.attr(attr);
@@ -538,19 +539,9 @@ fn goal_shape(
     name: &str,
     location_type: Option<TypeId>,
     type_declared: bool,
-) -> Option<(mavtempo_temporal::model::AttrId, GoalShape)> {
+) -> Option<(AttrId, GoalShape)> {
     let d = issues.domain;
-    let Some(attr) = d.attr_id(name) else {
-        issues.error(
-            key.into(),
-            None,
-            IssueKind::UnknownAttribute {
-                name: name.into(),
-                known: names(d.attrs.iter().map(|a| a.name.as_str())),
-            },
-        );
-        return None;
-    };
+    let attr = issues.attribute(key, name)?;
     let Some(lt) = location_type else {
         // Without a location type the shape cannot be told; an unknown one is reported where it is named.
         if !type_declared {

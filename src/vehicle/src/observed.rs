@@ -23,13 +23,10 @@ pub struct ObservedState {
     #[serde(default = "d_settle_ms")]
     pub settle_ms: u64,
     /// Moving or still (VFR_HUD ground speed, else GLOBAL_POSITION_INT's velocity).
-    #[serde(default)]
     pub moving: Option<Flag>,
     /// Armed or not (HEARTBEAT base_mode).
-    #[serde(default)]
     pub armed: Option<Flag>,
     /// The flight mode (HEARTBEAT custom_mode, named as in `[modes]`).
-    #[serde(default)]
     pub mode: Option<ModeValues>,
 }
 
