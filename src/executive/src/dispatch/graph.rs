@@ -277,6 +277,21 @@ impl CausalView for CausalGraph {
     }
 }
 
+/// The changes that build a test plan: actions `0..actions`, goal `i` of kind `goals[i]`, then link `k`
+/// from action `links[k].0` to `links[k].1`.
+#[cfg(test)]
+pub(crate) fn test_plan(actions: u32, goals: &[GoalKind], links: &[(u32, Node)]) -> Vec<Change> {
+    let actions = (0..actions).map(|a| Change::ActionAdded(ActionKey(a)));
+    let goals = (0..)
+        .zip(goals)
+        .map(|(g, &kind)| Change::GoalAdded(GoalKey(g), kind));
+    let links = (0..).zip(links).map(|(k, &(from, to))| {
+        let from = Establisher::Action(ActionKey(from));
+        Change::LinkAdded(LinkKey(k), Link { from, to })
+    });
+    actions.chain(goals).chain(links).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -283,31 +283,19 @@ backtrack::impl_backtrack!(Marking, Level);
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dispatch::graph::LinkKey;
+    use crate::dispatch::graph::{test_plan, LinkKey};
 
     fn chain() -> Marking {
         // a0 → a1 → a2 → g0 (external), a1 → g1 (external)
         let mut m = Marking::new();
-        for a in 0..3 {
-            m.apply(&Change::ActionAdded(ActionKey(a))).unwrap();
-        }
-        m.apply(&Change::GoalAdded(GoalKey(0), GoalKind::External))
-            .unwrap();
-        m.apply(&Change::GoalAdded(GoalKey(1), GoalKind::External))
-            .unwrap();
         let links = [
             (0, Node::Action(ActionKey(1))),
             (1, Node::Action(ActionKey(2))),
             (2, Node::Goal(GoalKey(0))),
             (1, Node::Goal(GoalKey(1))),
         ];
-        for (k, (from, to)) in links.into_iter().enumerate() {
-            let link = Link {
-                from: Establisher::Action(ActionKey(from)),
-                to,
-            };
-            m.apply(&Change::LinkAdded(LinkKey(k as u32), link))
-                .unwrap();
+        for c in test_plan(3, &[GoalKind::External, GoalKind::External], &links) {
+            m.apply(&c).unwrap();
         }
         m
     }

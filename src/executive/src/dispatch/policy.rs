@@ -260,93 +260,70 @@ mod tests {
         StartWindow { lb, ub }
     }
 
+    fn dispatch(at: Time) -> Decision {
+        Decision::Dispatch { at }
+    }
+
+    fn defer(t_exec: Option<Time>) -> Decision {
+        Decision::Defer { t_exec }
+    }
+
+    /// Each case: the start's window, the tick, whether it supports an external goal, the decision expected.
+    fn check(p: &dyn DispatchPolicy, cases: &[(StartWindow, Tick, bool, Decision)]) {
+        for &(window, tick, supports, expected) in cases {
+            assert_eq!(
+                p.decide(window, tick, supports),
+                expected,
+                "{p:?}: window {window:?}, {tick:?}, supports an external goal: {supports}"
+            );
+        }
+    }
+
     #[test]
     fn earliest_starts_at_lb() {
-        let p = Earliest;
         let tick = Tick::new(10_000, TS);
-        assert_eq!(
-            p.decide(w(5_000, 60_000), tick, false),
-            Decision::Dispatch { at: 10_000 }
-        );
-        assert_eq!(
-            p.decide(w(10_500, INF), tick, false),
-            Decision::Dispatch { at: 10_500 }
-        );
-        assert_eq!(
-            p.decide(w(11_001, INF), tick, true),
-            Decision::Defer {
-                t_exec: Some(11_001)
-            }
+        check(
+            &Earliest,
+            &[
+                (w(5_000, 60_000), tick, false, dispatch(10_000)),
+                (w(10_500, INF), tick, false, dispatch(10_500)),
+                (w(11_001, INF), tick, true, defer(Some(11_001))),
+            ],
         );
     }
 
     #[test]
     fn latest_waits_for_ub_minus_ts_and_never_starts_an_unbounded_window() {
-        let p = Latest;
-        assert_eq!(
-            p.decide(w(0, 60_000), Tick::new(57_999, TS), true),
-            Decision::Defer {
-                t_exec: Some(59_000)
-            }
-        );
-        assert_eq!(
-            p.decide(w(0, 60_000), Tick::new(58_500, TS), false),
-            Decision::Dispatch { at: 59_000 }
-        );
-        // A window narrower than ts starts at lb.
-        assert_eq!(
-            p.decide(w(59_500, 60_000), Tick::new(59_000, TS), false),
-            Decision::Dispatch { at: 59_500 }
-        );
-        assert_eq!(
-            p.decide(w(0, INF), Tick::new(1 << 40, TS), false),
-            Decision::Defer { t_exec: None }
+        let at = |now| Tick::new(now, TS);
+        check(
+            &Latest,
+            &[
+                (w(0, 60_000), at(57_999), true, defer(Some(59_000))),
+                (w(0, 60_000), at(58_500), false, dispatch(59_000)),
+                // A window narrower than ts starts at lb.
+                (w(59_500, 60_000), at(59_000), false, dispatch(59_500)),
+                (w(0, INF), at(1 << 40), false, defer(None)),
+            ],
         );
     }
 
     #[test]
     fn goal_driven_is_proactive_only_for_external_goal_support() {
-        let p = GoalDriven;
         let tick = Tick::new(10_000, TS);
-        assert_eq!(
-            p.decide(w(0, 60_000), tick, true),
-            Decision::Dispatch { at: 10_000 }
-        );
-        assert_eq!(
-            p.decide(w(0, 60_000), tick, false),
-            Decision::Defer {
-                t_exec: Some(59_000)
-            }
-        );
-        // Alg. 1's second branch: start ub within the current tick → dispatched in this tick.
-        assert_eq!(
-            p.decide(w(0, 10_800), tick, false),
-            Decision::Dispatch { at: 10_000 }
-        );
-        assert_eq!(
-            p.decide(w(0, 11_000), tick, false),
-            Decision::Dispatch { at: 10_000 }
-        );
-        assert_eq!(
-            p.decide(w(0, 11_001), tick, false),
-            Decision::Defer {
-                t_exec: Some(10_001)
-            }
-        );
-        assert_eq!(
-            p.decide(w(0, INF), Tick::new(1 << 40, TS), false),
-            Decision::Defer { t_exec: None }
-        );
-        // Proactive, but not before its window opens.
-        assert_eq!(
-            p.decide(w(20_000, 60_000), tick, true),
-            Decision::Defer {
-                t_exec: Some(20_000)
-            }
-        );
-        assert_eq!(
-            p.decide(w(10_500, 60_000), tick, true),
-            Decision::Dispatch { at: 10_500 }
+        check(
+            &GoalDriven,
+            &[
+                (w(0, 60_000), tick, true, dispatch(10_000)),
+                (w(0, 60_000), tick, false, defer(Some(59_000))),
+                // Alg. 1's second branch: start ub within the current tick → dispatched in this tick.
+                (w(0, 10_800), tick, false, dispatch(10_000)),
+                (w(0, 11_000), tick, false, dispatch(10_000)),
+                (w(0, 11_001), tick, false, defer(Some(10_001))),
+                (w(0, INF), Tick::new(1 << 40, TS), false, defer(None)),
+                // Proactive, but not before its window opens.
+                (w(20_000, 60_000), tick, true, defer(Some(20_000))),
+                (w(10_500, 60_000), tick, true, dispatch(10_500)),
+            ],
         );
     }
 

@@ -59,31 +59,30 @@ pub fn search_for_goal(view: &dyn CausalView, a: ActionKey) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dispatch::graph::{CausalGraph, Change, Establisher, GoalKey, Link, LinkKey};
+    use crate::dispatch::graph::{test_plan, CausalGraph, GoalKey};
+    use mavtempo_temporal::model::GoalKind;
 
-    fn link(g: &mut CausalGraph, k: u32, from: u32, to: Node) {
-        let l = Link {
-            from: Establisher::Action(ActionKey(from)),
-            to,
-        };
-        g.apply(&Change::LinkAdded(LinkKey(k), l)).unwrap();
+    fn graph(actions: u32, goals: &[GoalKind], links: &[(u32, Node)]) -> CausalGraph {
+        let mut g = CausalGraph::new();
+        for c in test_plan(actions, goals, links) {
+            g.apply(&c).unwrap();
+        }
+        g
     }
 
     /// The case the paper's early `return` gets wrong: the first consumer leads to an internal goal only.
     #[test]
     fn every_effect_is_followed_not_only_the_first() {
-        let mut g = CausalGraph::new();
-        for a in 0..3 {
-            g.apply(&Change::ActionAdded(ActionKey(a))).unwrap();
-        }
-        g.apply(&Change::GoalAdded(GoalKey(0), GoalKind::Internal))
-            .unwrap();
-        g.apply(&Change::GoalAdded(GoalKey(1), GoalKind::External))
-            .unwrap();
-        link(&mut g, 0, 0, Node::Action(ActionKey(1)));
-        link(&mut g, 1, 1, Node::Goal(GoalKey(0)));
-        link(&mut g, 2, 0, Node::Action(ActionKey(2)));
-        link(&mut g, 3, 2, Node::Goal(GoalKey(1)));
+        let g = graph(
+            3,
+            &[GoalKind::Internal, GoalKind::External],
+            &[
+                (0, Node::Action(ActionKey(1))),
+                (1, Node::Goal(GoalKey(0))),
+                (0, Node::Action(ActionKey(2))),
+                (2, Node::Goal(GoalKey(1))),
+            ],
+        );
         assert!(search_for_goal(&g, ActionKey(0)));
         assert!(!search_for_goal(&g, ActionKey(1)));
         assert!(search_for_goal(&g, ActionKey(2)));
@@ -91,12 +90,11 @@ mod tests {
 
     #[test]
     fn cycles_terminate() {
-        let mut g = CausalGraph::new();
-        for a in 0..2 {
-            g.apply(&Change::ActionAdded(ActionKey(a))).unwrap();
-        }
-        link(&mut g, 0, 0, Node::Action(ActionKey(1)));
-        link(&mut g, 1, 1, Node::Action(ActionKey(0)));
+        let links = [
+            (0, Node::Action(ActionKey(1))),
+            (1, Node::Action(ActionKey(0))),
+        ];
+        let g = graph(2, &[], &links);
         assert!(!search_for_goal(&g, ActionKey(0)));
     }
 }

@@ -9,98 +9,60 @@ use crate::dispatch::PolicyKind;
 use mavtempo_temporal::model::Time;
 use mavtempo_vehicle::config::{ConfigError as VehicleConfigError, VehicleConfig};
 
+/// A key left out takes its value from [`ExecConfig::default`], the one place the defaults are written.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ExecConfig {
     /// ts: the maximum duration of a cycle, ms (seed 1 §4: 1.3 s; §5: 2 s).
-    #[serde(default = "default_ts")]
     pub timestep_ms: Time,
     /// μ: the share of ts allotted to plan repair (seed 1: 0.6).
-    #[serde(default = "default_mu")]
     pub repair_share: f64,
     /// d: slack saved at the end of complete replanning for the cycle's initialisation, ms.
-    #[serde(default = "default_slack")]
     pub replan_slack_ms: Time,
     /// Deterministic runs (tests, demo): plan repair and replanning budgets in planning steps instead of
     /// mission time (μ·n steps per cycle; a replanning attempt at most 40·n steps).
-    #[serde(default)]
     pub repair_max_steps: Option<u64>,
     /// Hard cap on the plan repair steps of one cycle, whatever the clock does: the μ·ts deadline is in
     /// mission time, which does not move while a stepped simulator or a manual clock waits for the cycle.
-    #[serde(default = "default_repair_cycle_steps")]
     pub repair_cycle_max_steps: u64,
     /// Planning steps one plan repair may take over all its cycles (its tree restarted or not) before it
     /// is given up: execution is aborted and a complete replanning follows. A repair that never converges
     /// would otherwise go on for the rest of the mission.
-    #[serde(default = "default_repair_episode_steps")]
     pub repair_episode_max_steps: u64,
     /// Hard cap on the planning steps of the first complete replanning attempt (§3.6), for the same reason:
     /// past it the attempt ends as if the time limit l were reached. Each further attempt (one goal fewer)
     /// gets half the steps of the one before, down to a sixteenth: a whole replanning stays within about
     /// twice this (plus a sixteenth per further goal dropped), and so does its memory.
-    #[serde(default = "default_replan_steps")]
     pub replan_max_steps: u64,
     /// Cycles of plan repair (μ·ts, or μ·n steps, each) a new goal's insertion into the plan may take; past
     /// them the goal is rejected and the plan stays as it was (src/executive/src/exec/goal_insertion.rs).
-    #[serde(default = "default_insertion_cycles")]
     pub goal_insertion_cycles: u32,
     /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
-    #[serde(default)]
     pub dispatch: PolicyKind,
     /// k: an action instance failing the same way this many times in a row is banned and the goals that
     /// depend on it are rejected (src/executive/src/exec/failures.rs).
-    #[serde(default = "default_same_failures")]
     pub same_failure_limit: u32,
     /// Plan repairs plus complete replannings allowed within any minute of mission time; past it a goal is
     /// rejected with the count as the reason.
-    #[serde(default = "default_changes_per_min")]
     pub max_plan_changes_per_min: u32,
-}
-
-fn default_ts() -> Time {
-    2_000
-}
-fn default_mu() -> f64 {
-    0.6
-}
-fn default_slack() -> Time {
-    2_000
-}
-fn default_insertion_cycles() -> u32 {
-    3
-}
-fn default_same_failures() -> u32 {
-    3
-}
-fn default_changes_per_min() -> u32 {
-    12
-}
-fn default_repair_episode_steps() -> u64 {
-    20_000
-}
-/// A planning step costs tens of µs on a rover plan: 20,000 steps are about μ·ts at the default ts.
-fn default_repair_cycle_steps() -> u64 {
-    20_000
-}
-/// An attempt's steps: generous for missions of a few dozen goals, bounded for a stepped simulator.
-fn default_replan_steps() -> u64 {
-    100_000
 }
 
 impl Default for ExecConfig {
     fn default() -> Self {
         ExecConfig {
-            timestep_ms: default_ts(),
-            repair_share: default_mu(),
-            replan_slack_ms: default_slack(),
+            timestep_ms: 2_000,
+            repair_share: 0.6,
+            replan_slack_ms: 2_000,
             repair_max_steps: None,
-            repair_cycle_max_steps: default_repair_cycle_steps(),
-            repair_episode_max_steps: default_repair_episode_steps(),
-            replan_max_steps: default_replan_steps(),
-            goal_insertion_cycles: default_insertion_cycles(),
+            // A planning step costs tens of µs on a rover plan: 20,000 steps are about μ·ts at the default ts.
+            repair_cycle_max_steps: 20_000,
+            repair_episode_max_steps: 20_000,
+            // An attempt's steps: generous for missions of a few dozen goals, bounded for a stepped simulator.
+            replan_max_steps: 100_000,
+            goal_insertion_cycles: 3,
             dispatch: PolicyKind::default(),
-            same_failure_limit: default_same_failures(),
-            max_plan_changes_per_min: default_changes_per_min(),
+            same_failure_limit: 3,
+            max_plan_changes_per_min: 12,
         }
     }
 }
@@ -183,7 +145,6 @@ pub struct MissionConfig {
 /// The keys of a configuration file the executive reads; the vehicle layer reads (and checks) the rest.
 #[derive(Deserialize)]
 struct ExecSection {
-    #[serde(default)]
     exec: Option<ExecConfig>,
 }
 
