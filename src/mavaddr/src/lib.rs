@@ -101,26 +101,26 @@ mod tests {
 
     #[test]
     fn each_refusal_says_why() {
-        assert!(matches!(
-            Address::parse("localhost"),
-            Err(AddressError::NoKind { .. })
-        ));
-        assert!(matches!(
-            Address::parse("udpin:localhost"),
-            Err(AddressError::NoPort { .. })
-        ));
-        assert!(matches!(
-            Address::parse("tcpout:host:99999"),
-            Err(AddressError::BadPort { .. })
-        ));
-        assert!(matches!(
-            Address::parse("serial:/dev/ttyS0"),
-            Err(AddressError::NoBaud { .. })
-        ));
-        assert!(matches!(
-            Address::parse("serial:/dev/ttyS0:fast"),
-            Err(AddressError::BadBaud { .. })
-        ));
+        let refusals: [(&str, fn(&AddressError) -> bool); 5] = [
+            ("localhost", |e| matches!(e, AddressError::NoKind { .. })),
+            ("udpin:localhost", |e| {
+                matches!(e, AddressError::NoPort { .. })
+            }),
+            ("tcpout:host:99999", |e| {
+                matches!(e, AddressError::BadPort { .. })
+            }),
+            ("serial:/dev/ttyS0", |e| {
+                matches!(e, AddressError::NoBaud { .. })
+            }),
+            ("serial:/dev/ttyS0:fast", |e| {
+                matches!(e, AddressError::BadBaud { .. })
+            }),
+        ];
+        for (addr, why) in refusals {
+            let e = Address::parse(addr).unwrap_err();
+            assert!(why(&e), "`{addr}` refused for the wrong reason: {e}");
+            assert!(e.to_string().contains(addr), "{e} names `{addr}`");
+        }
         let e = Address::parse("ws:host:1").unwrap_err();
         assert_eq!(
             e.to_string(),
