@@ -3,6 +3,9 @@
 //! written with the end `interrupted`, the `.tlog` ends on a frame boundary, the exit code is 128 + the
 //! signal's number; a second signal exits at once.
 
+#[path = "common/child.rs"]
+mod child;
+
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
@@ -13,19 +16,11 @@ use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage};
 use mavtempo::vehicle::frame::FrameDecoder;
 use mavtempo::vehicle::tlog::read_tlog;
 
+use child::{spawn_piped, Reap};
+
 /// ArduPilot Rover's custom modes (config/sitl-rover.toml).
 const HOLD: u32 = 4;
 const GUIDED: u32 = 15;
-
-/// Kills the child process even when an assertion fails.
-struct Reap(Child);
-
-impl Drop for Reap {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 fn send_signal(child: &Child, signal: i32) {
     let pid = libc::pid_t::try_from(child.id()).expect("pid fits");
@@ -107,15 +102,11 @@ fn past_8_kib(path: &Path) -> bool {
 
 /// `mavtempo sim` paced at `speedup` on a free port: the process and its port.
 fn sim(speedup: &str) -> (Reap, u16) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", speedup])
-        .args(["--scenario", "sitl/scenarios/fig2.toml"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("spawn mavtempo sim");
-    let stdout = child.stdout.take().expect("stdout");
-    let reap = Reap(child);
+    let (reap, stdout) = spawn_piped(
+        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+            .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", speedup])
+            .args(["--scenario", "sitl/scenarios/fig2.toml"]),
+    );
     let mut first = Vec::new();
     let rx = lines(stdout);
     wait_line(
@@ -325,18 +316,15 @@ fn a_second_signal_exits_at_once_with_whole_frames_in_the_tlog() {
 fn sigint_during_demo_holds_the_rover_and_writes_the_report() {
     let dir = tempfile::TempDir::new().expect("temp dir");
     let report_path = dir.path().join("demo.json");
-    let child = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["demo", "--no-upload", "--speedup", "10"])
-        .args(["--problem", "tests/fixtures/exec/rover_two.ixt"])
-        .args(["--scenario", "sitl/scenarios/fig2.toml"])
-        .arg("--report")
-        .arg(&report_path)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("spawn mavtempo demo");
-    let mut demo = Reap(child);
-    let out = lines(demo.0.stdout.take().expect("stdout"));
+    let (mut demo, stdout) = spawn_piped(
+        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+            .args(["demo", "--no-upload", "--speedup", "10"])
+            .args(["--problem", "tests/fixtures/exec/rover_two.ixt"])
+            .args(["--scenario", "sitl/scenarios/fig2.toml"])
+            .arg("--report")
+            .arg(&report_path),
+    );
+    let out = lines(stdout);
     let mut seen = Vec::new();
     wait_line(&out, "START move(", Duration::from_secs(120), &mut seen);
     send_signal(&demo.0, libc::SIGINT);

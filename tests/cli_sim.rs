@@ -1,8 +1,11 @@
 //! `mavtempo sim` as a process: bad arguments give clear errors; a good start prints its address
 //! and serves MAVLink there.
 
+#[path = "common/child.rs"]
+mod child;
+
 use std::io::{BufRead, BufReader, Read};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 fn mavtempo() -> Command {
@@ -31,26 +34,15 @@ fn bad_arguments_are_refused_with_their_reason() {
     }
 }
 
-/// Kills the child process even when an assertion fails.
-struct Reap(std::process::Child);
-
-impl Drop for Reap {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 #[test]
 fn sim_prints_its_port_and_sends_heartbeats() {
-    let mut child = mavtempo()
-        .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", "20"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("spawn mavtempo sim");
-    let stdout = child.stdout.take().expect("stdout");
-    let _reap = Reap(child);
+    let (_reap, stdout) = child::spawn_piped(mavtempo().args([
+        "sim",
+        "--listen",
+        "tcpin:127.0.0.1:0",
+        "--speedup",
+        "20",
+    ]));
     let mut line = String::new();
     BufReader::new(stdout)
         .read_line(&mut line)

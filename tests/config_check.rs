@@ -101,11 +101,39 @@ fn issues(edits: &[(&str, &str)]) -> (String, Vec<ConfigIssue>) {
     (text, found)
 }
 
+/// The issues of config/demo-rover.toml edited by `edits` (each `from` replaced by `to`), checked against
+/// the rover domain, which it must not match.
+fn rover_issues(edits: &[(&str, &str)]) -> (String, Vec<ConfigIssue>) {
+    let mut text = std::fs::read_to_string(root().join("config/demo-rover.toml")).expect("config");
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from:?} not in the config");
+        text = text.replace(from, to);
+    }
+    let cfg = VehicleConfig::parse(&text, "rover.toml").expect("parses");
+    let rover = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
+    let found = check(&cfg, &rover, None).expect_err("mismatch");
+    (text, found)
+}
+
 fn find<'a>(found: &'a [ConfigIssue], key: &str) -> &'a ConfigIssue {
     found
         .iter()
         .find(|i| i.key == key)
         .unwrap_or_else(|| panic!("no issue at {key}: {found:?}"))
+}
+
+/// The issue at `key`: of `kind`, on the config line that holds `at`.
+fn issue_at<'a>(
+    found: &'a [ConfigIssue],
+    text: &str,
+    key: &str,
+    kind: IssueKind,
+    at: &str,
+) -> &'a ConfigIssue {
+    let issue = find(found, key);
+    assert_eq!(issue.kind, kind, "{key}");
+    assert_eq!(issue.line, Some(line(text, at)), "{key}");
+    issue
 }
 
 #[test]
@@ -184,36 +212,34 @@ fn a_defaulted_argument_is_reported_at_its_table() {
 
 #[test]
 fn arguments_of_the_wrong_type_are_reported() {
-    let rover = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
-    let text = std::fs::read_to_string(root().join("config/demo-rover.toml")).expect("config");
     // move_ptu(?from, ?to: ptu_position) bound as a move; recharge_battery() given a level argument.
-    let text = text
-        .replace(
+    let (text, found) = rover_issues(&[
+        (
             "[actions.move_ptu]\nkind = \"timed\"\nduration_ms = 3000",
             "[actions.move_ptu]\nkind = \"move\"",
-        )
-        .replace(
+        ),
+        (
             "until_percent = 100.0",
             "until_percent = 100.0\nlevel_arg = \"level\"",
-        )
-        .replace(
+        ),
+        (
             "[actions.take_picture]\nkind = \"take_picture\"",
             "[actions.take_picture]\nkind = \"recharge\"\nuntil_percent = 50.0\nlevel_arg = \"l\"",
-        )
-        .replace("timeout_ms = 30000\n", "");
-    let cfg = VehicleConfig::parse(&text, "rover.toml").expect("parses");
-    let found = check(&cfg, &rover, None).expect_err("mismatch");
-    let ptu = find(&found, "actions.move_ptu.to");
-    assert_eq!(
-        ptu.kind,
+        ),
+        ("timeout_ms = 30000\n", ""),
+    ]);
+    let ptu = issue_at(
+        &found,
+        &text,
+        "actions.move_ptu.to",
         IssueKind::WrongParameterType {
             task: "move_ptu".into(),
             param: "to".into(),
             found: "ptu_position".into(),
             expected: "a location (mapping.location_type)".into(),
-        }
+        },
+        "[actions.move_ptu]",
     );
-    assert_eq!(ptu.line, Some(line(&text, "[actions.move_ptu]")));
     let domain_text = std::fs::read_to_string("domains/rover/rover.ixt").expect("rover domain");
     let at = format!(
         "domains/rover/rover.ixt:{}",
@@ -229,50 +255,50 @@ fn arguments_of_the_wrong_type_are_reported() {
     );
     assert_eq!(level.domain_at.as_deref(), Some(at.as_str()));
     // Task parameters are symbolic: none can give a level.
-    let l = find(&found, "actions.take_picture.level_arg");
-    assert_eq!(
-        l.kind,
+    issue_at(
+        &found,
+        &text,
+        "actions.take_picture.level_arg",
         IssueKind::WrongParameterType {
             task: "take_picture".into(),
             param: "l".into(),
             found: "location".into(),
             expected: "a number".into(),
-        }
+        },
+        "level_arg = \"l\"",
     );
-    assert_eq!(l.line, Some(line(&text, "level_arg = \"l\"")));
     assert_eq!(found.len(), 3, "{found:#?}");
 }
 
 #[test]
 fn resources_must_be_reservoirs_of_the_domain() {
-    let rover = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
-    let text = std::fs::read_to_string(root().join("config/demo-rover.toml"))
-        .expect("config")
-        .replace("battery = \"BATTERY\"", "battery = \"CAMERA\"")
-        .replace("storage = \"STORAGE\"", "storage = \"DISK\"");
-    let cfg = VehicleConfig::parse(&text, "rover.toml").expect("parses");
-    let found = check(&cfg, &rover, None).expect_err("mismatch");
-    let battery = find(&found, "resources.battery");
-    assert_eq!(
-        battery.kind,
+    let (text, found) = rover_issues(&[
+        ("battery = \"BATTERY\"", "battery = \"CAMERA\""),
+        ("storage = \"STORAGE\"", "storage = \"DISK\""),
+    ]);
+    let battery = issue_at(
+        &found,
+        &text,
+        "resources.battery",
         IssueKind::NotReservoir {
-            name: "CAMERA".into()
-        }
+            name: "CAMERA".into(),
+        },
+        "battery = \"CAMERA\"",
     );
-    assert_eq!(battery.line, Some(line(&text, "battery = \"CAMERA\"")));
     assert_eq!(
         battery.domain_at.as_deref(),
         Some("domains/rover/rover.ixt:23")
     );
-    let storage = find(&found, "resources.storage");
-    assert_eq!(
-        storage.kind,
+    issue_at(
+        &found,
+        &text,
+        "resources.storage",
         IssueKind::UnknownResource {
             name: "DISK".into(),
-            known: "STORAGE, BATTERY".into()
-        }
+            known: "STORAGE, BATTERY".into(),
+        },
+        "storage = \"DISK\"",
     );
-    assert_eq!(storage.line, Some(line(&text, "storage = \"DISK\"")));
 }
 
 #[test]
@@ -288,14 +314,15 @@ fn mapping_names_are_checked_against_the_domain_and_problem() {
     let pos = find(&found, "mapping.position");
     assert!(matches!(&pos.kind, IssueKind::UnknownAttribute { name, .. } if name == "AT_ROBOT"));
     assert_eq!(pos.line, Some(line(&text, "position = \"AT_ROBOT\"")));
-    let home = find(&found, "mapping.home_object");
-    assert_eq!(
-        home.kind,
+    issue_at(
+        &found,
+        &text,
+        "mapping.home_object",
         IssueKind::UnknownObject {
-            name: "base".into()
-        }
+            name: "base".into(),
+        },
+        "home_object = \"base\"",
     );
-    assert_eq!(home.line, Some(line(&text, "home_object = \"base\"")));
     // The key inside an inline table has its own line too.
     let sample = find(&found, "mapping.goals.sample.attribute");
     assert!(matches!(&sample.kind, IssueKind::WrongAttribute { name, .. } if name == "CONNECTED"));

@@ -229,52 +229,68 @@ fn fate<'a>(run: &'a Run, goal: &str) -> &'a GoalFate {
         .unwrap_or_else(|| panic!("no goal {goal}: {:?}", run.fates))
 }
 
+/// Each goal-driven policy against `earliest` on `problem`: `proactive` (what serves the operator's goal) is
+/// launched once under `earliest` and at the same time under each goal-driven policy, which achieves
+/// `goals`; `check(kind, run, left, left_early)` then compares the first launch starting with `leave` after
+/// `proactive` under that policy (`left`) and under `earliest` (`left_early`).
+fn goal_driven_against_earliest(
+    problem: &str,
+    script: &[(&str, Time)],
+    proactive: &str,
+    goals: &[&str],
+    leave: &str,
+    mut check: impl FnMut(PolicyKind, &Run, (Time, String), &(Time, String)),
+) {
+    let plan = planned(problem);
+    let earliest = run(plan.clone(), PolicyKind::Earliest, script, &mut |_, _| {});
+    let at = earliest.launched(proactive);
+    assert_eq!(at.len(), 1, "{:?}", earliest.launches);
+    let left_early = earliest
+        .first_launch_after(at[0], leave)
+        .unwrap_or_else(|| panic!("earliest: no {leave} after {proactive}"));
+    for kind in GOAL_DRIVEN {
+        let r = run(plan.clone(), kind, script, &mut |_, _| {});
+        assert_eq!(r.launched(proactive), at, "{kind}: proactive");
+        for goal in goals {
+            assert_eq!(fate(&r, goal).fate, Fate::Achieved, "{kind}: {goal}");
+        }
+        let left = r
+            .first_launch_after(at[0], leave)
+            .unwrap_or_else(|| panic!("{kind}: no {leave} after {proactive}"));
+        check(kind, &r, left, &left_early);
+    }
+}
+
 /// Figs 3–4: the apple is bought as early as under `earliest`; the agent then stays at the grocery longer
 /// than under `earliest`; the last walk home starts in the tick of its latest start; home at 20:00.
 #[test]
 fn shopping_goal_driven_buys_the_apple_at_once_then_waits() {
-    let plan = planned("domains/shopping/problems/day.ixt");
-    let earliest = run(
-        plan.clone(),
-        PolicyKind::Earliest,
+    goal_driven_against_earliest(
+        "domains/shopping/problems/day.ixt",
         &shopping_script(),
-        &mut |_, _| {},
+        "buy(apple, grocery)",
+        &["have_apple", "at_home"],
+        "go(grocery,",
+        |kind, r, left, left_early| {
+            assert_eq!(r.achieved.get("at_home"), Some(&hm(20, 0)), "{kind}");
+            assert!(
+                left.0 > left_early.0,
+                "{kind}: stays at the grocery ({left:?} vs {left_early:?} under earliest)"
+            );
+            // Go(*, home) that brings it home: within one tick of its latest start (home by 20:00 with walks
+            // of 15–20 min, so its latest start is 19:45 at most).
+            let (last_home, _) = r
+                .launches
+                .iter()
+                .rev()
+                .find(|(_, a)| a.ends_with(", home)"))
+                .expect("walks home");
+            assert!(
+                *last_home >= hm(19, 45) - 20 * MIN - TS,
+                "{kind}: at {last_home}"
+            );
+        },
     );
-    let apple = earliest.launched("buy(apple, grocery)");
-    assert_eq!(apple.len(), 1, "{:?}", earliest.launches);
-    let left_early = earliest
-        .first_launch_after(apple[0], "go(grocery,")
-        .expect("earliest leaves the grocery");
-    for kind in GOAL_DRIVEN {
-        let r = run(plan.clone(), kind, &shopping_script(), &mut |_, _| {});
-        assert_eq!(
-            r.launched("buy(apple, grocery)"),
-            apple,
-            "{kind}: proactive"
-        );
-        assert_eq!(fate(&r, "have_apple").fate, Fate::Achieved, "{kind}");
-        assert_eq!(fate(&r, "at_home").fate, Fate::Achieved, "{kind}");
-        assert_eq!(r.achieved.get("at_home"), Some(&hm(20, 0)), "{kind}");
-        let left = r
-            .first_launch_after(apple[0], "go(grocery,")
-            .expect("leaves the grocery at some point");
-        assert!(
-            left.0 > left_early.0,
-            "{kind}: stays at the grocery ({left:?} vs {left_early:?} under earliest)"
-        );
-        // Go(*, home) that brings it home: within one tick of its latest start (home by 20:00 with walks of
-        // 15–20 min, so its latest start is 19:45 at most).
-        let (last_home, _) = r
-            .launches
-            .iter()
-            .rev()
-            .find(|(_, a)| a.ends_with(", home)"))
-            .expect("walks home");
-        assert!(
-            *last_home >= hm(19, 45) - 20 * MIN - TS,
-            "{kind}: at {last_home}"
-        );
-    }
 }
 
 /// Fig. 5: at 09:00, while the agent waits at the grocery, a shirt is requested (external, sold at the
@@ -341,35 +357,23 @@ fn vents_script() -> Vec<(&'static str, Time)> {
 /// tick of its latest start, where `earliest` surfaces at once.
 #[test]
 fn vents_goal_driven_samples_at_once_and_defers_the_return() {
-    let plan = planned("domains/auv/problems/vents.ixt");
-    let earliest = run(
-        plan.clone(),
-        PolicyKind::Earliest,
+    goal_driven_against_earliest(
+        "domains/auv/problems/vents.ixt",
         &vents_script(),
-        &mut |_, _| {},
+        "sample(vent2)",
+        &["sample_vent2", "at_surface"],
+        "go(vent",
+        |kind, _, up, up_early| {
+            assert!(
+                up_early.0 < hm(9, 0),
+                "earliest heads back at once: {up_early:?}"
+            );
+            assert!(
+                up.0 >= hm(19, 0),
+                "{kind}: deferred ({up:?} vs {up_early:?})"
+            );
+        },
     );
-    let sample = earliest.launched("sample(vent2)");
-    assert_eq!(sample.len(), 1, "{:?}", earliest.launches);
-    let up_early = earliest
-        .first_launch_after(sample[0], "go(vent")
-        .expect("earliest heads back");
-    for kind in GOAL_DRIVEN {
-        let r = run(plan.clone(), kind, &vents_script(), &mut |_, _| {});
-        assert_eq!(r.launched("sample(vent2)"), sample, "{kind}: proactive");
-        assert_eq!(fate(&r, "sample_vent2").fate, Fate::Achieved, "{kind}");
-        assert_eq!(fate(&r, "at_surface").fate, Fate::Achieved, "{kind}");
-        let up = r
-            .first_launch_after(sample[0], "go(vent")
-            .expect("heads back at some point");
-        assert!(
-            up_early.0 < hm(9, 0),
-            "earliest heads back at once: {up_early:?}"
-        );
-        assert!(
-            up.0 >= hm(19, 0),
-            "{kind}: deferred ({up:?} vs {up_early:?})"
-        );
-    }
 }
 
 /// `latest` defers even the operator's goal: the apple is bought later than under `earliest`.

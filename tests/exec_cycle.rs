@@ -3,6 +3,8 @@
 
 #[path = "common/mapping.rs"]
 mod mapping;
+#[path = "common/stops.rs"]
+mod stops;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -19,7 +21,7 @@ use mavtempo::lang::load_problem_and_domain;
 use mavtempo::model::{Goal, GoalKind, Time, TimeInterval, Value};
 use mavtempo::plan::{ActionId, PartialPlan, STerm};
 use mavtempo::vehicle::mock::{Outcome, Scripted};
-use mavtempo::vehicle::{CapacityChange, Enu, MockVehicle, StateValue};
+use mavtempo::vehicle::{CapacityChange, Enu, MockVehicle};
 
 /// fig2's world without its goals, and one goal: a picture of `loc`.
 fn world(goal_loc: &str) -> PartialPlan {
@@ -115,6 +117,15 @@ fn picture_plan() -> PartialPlan {
     plan
 }
 
+/// The executive over `picture_plan` and a vehicle whose PTU move takes 3 s and whose picture does `picture`.
+fn picture_run(picture: Outcome) -> (Executive, MockVehicle) {
+    let ex = executive(picture_plan());
+    let mut v = MockVehicle::new();
+    v.script("move_ptu", Outcome::nominal(3_000));
+    v.script("take_picture", picture);
+    (ex, v)
+}
+
 fn cfg() -> ExecConfig {
     ExecConfig {
         timestep_ms: 1_000,
@@ -154,13 +165,7 @@ fn launch_time(ex: &Executive, prefix: &str) -> Option<Time> {
 
 #[test]
 fn nominal_run_launches_in_order_and_achieves_the_goal() {
-    let mut ex = executive(picture_plan());
-    let mut v = MockVehicle::new();
-    v.script("move_ptu", Outcome::nominal(3_000));
-    v.script(
-        "take_picture",
-        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
-    );
+    let (mut ex, mut v) = picture_run(Outcome::nominal(8_000).with_level("STORAGE", 2.1));
     let (out, _) = run(&mut ex, &mut v, 60_000);
     assert_eq!(out, CycleOutcome::Finished);
     // Start timepoints at their lb: move_ptu's is 1 ms (after the initial state), so the first cycle after it.
@@ -179,14 +184,8 @@ fn nominal_run_launches_in_order_and_achieves_the_goal() {
 
 #[test]
 fn report_too_early_creates_a_new_end_and_the_goal_is_still_achieved() {
-    let mut ex = executive(picture_plan());
-    let mut v = MockVehicle::new();
-    v.script("move_ptu", Outcome::nominal(3_000));
     // take_picture lasts at least 5 s; the report comes after 2 s.
-    v.script(
-        "take_picture",
-        Outcome::nominal(2_000).with_level("STORAGE", 2.1),
-    );
+    let (mut ex, mut v) = picture_run(Outcome::nominal(2_000).with_level("STORAGE", 2.1));
     let (out, _) = run(&mut ex, &mut v, 60_000);
     assert_eq!(out, CycleOutcome::Finished);
     let start = launch_time(&ex, "take_picture").expect("launched");
@@ -203,10 +202,7 @@ fn report_too_early_creates_a_new_end_and_the_goal_is_still_achieved() {
 
 #[test]
 fn missing_report_of_a_non_preemptive_action_times_out() {
-    let mut ex = executive(picture_plan());
-    let mut v = MockVehicle::new();
-    v.script("move_ptu", Outcome::nominal(3_000));
-    v.script("take_picture", Outcome::nominal(60_000));
+    let (mut ex, mut v) = picture_run(Outcome::nominal(60_000));
     let (out, t) = run(&mut ex, &mut v, 60_000);
     match out {
         CycleOutcome::Aborted(reason) => {
@@ -221,14 +217,8 @@ fn missing_report_of_a_non_preemptive_action_times_out() {
 
 #[test]
 fn over_consumption_reported_is_integrated_and_repair_requested() {
-    let mut ex = executive(picture_plan());
-    let mut v = MockVehicle::new();
-    v.script("move_ptu", Outcome::nominal(3_000));
     // The picture used 1.5 slots: below RscL_lb = 2.
-    v.script(
-        "take_picture",
-        Outcome::nominal(8_000).with_level("STORAGE", 1.5),
-    );
+    let (mut ex, mut v) = picture_run(Outcome::nominal(8_000).with_level("STORAGE", 1.5));
     let (out, _) = run(&mut ex, &mut v, 60_000);
     assert_eq!(out, CycleOutcome::Finished);
     assert!(events(&ex).iter().any(|(_, e)| matches!(
@@ -253,13 +243,7 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
     let mut v = MockVehicle::new();
     // Far slower than the model (obstacles): the move would last 100 s.
     v.script("move", Outcome::nominal(100_000));
-    v.on_stop(
-        "move",
-        vec![(
-            "position".into(),
-            StateValue::Position(Enu::new(5.0, 2.0, 0.0)),
-        )],
-    );
+    stops::move_stops_at(&mut v, Enu::new(5.0, 2.0, 0.0));
     let (_, _) = run(&mut ex, &mut v, 40_000);
     // et_ub = start + √116 m / 0.3 m/s ≈ start + 35.9 s; t_exec = et_ub − ts.
     let start = launch_time(&ex, "move").expect("launched");
@@ -286,13 +270,7 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
 
 #[test]
 fn goal_requests_accepted_and_rejected_through_the_vehicle() {
-    let mut ex = executive(picture_plan());
-    let mut v = MockVehicle::new();
-    v.script("move_ptu", Outcome::nominal(3_000));
-    v.script(
-        "take_picture",
-        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
-    );
+    let (mut ex, mut v) = picture_run(Outcome::nominal(8_000).with_level("STORAGE", 2.1));
     let req = |name: &str, window: (f64, f64)| mavtempo::vehicle::GoalRequest {
         name: name.into(),
         kind: mavtempo::vehicle::GoalKind::PictureOf,
@@ -337,10 +315,7 @@ fn goal_requests_accepted_and_rejected_through_the_vehicle() {
 
 #[test]
 fn capacity_drop_during_a_running_picture_aborts() {
-    let mut ex = executive(picture_plan());
-    let mut v = MockVehicle::new();
-    v.script("move_ptu", Outcome::nominal(3_000));
-    v.script("take_picture", Outcome::nominal(8_000));
+    let (mut ex, mut v) = picture_run(Outcome::nominal(8_000));
     v.at(
         4_000,
         Scripted::Capacity(CapacityChange {

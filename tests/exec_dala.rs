@@ -10,14 +10,17 @@
 
 #[path = "common/mapping.rs"]
 mod mapping;
+#[path = "common/mission.rs"]
+mod mission;
+#[path = "common/stops.rs"]
+mod stops;
 
 use std::path::Path;
 use std::sync::Arc;
 
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
-use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
-use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::mission::{MissionEnd, MissionReport};
 use mavtempo::exec::report_timing::Timing;
 use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
@@ -27,7 +30,7 @@ use mavtempo::plan::PartialPlan;
 use mavtempo::planner::{Budget, Search, StepOutcome};
 use mavtempo::vehicle::mock::Outcome;
 use mavtempo::vehicle::ReportStatus;
-use mavtempo::vehicle::{Enu, MockVehicle, StateValue};
+use mavtempo::vehicle::{Enu, MockVehicle};
 
 const TS: Time = 2_000;
 /// W1 as dala.ixt predicts it: from 150 s to 330 s.
@@ -78,11 +81,7 @@ fn dala(first_picture: Outcome, moves: &[u64]) -> MockVehicle {
 
 fn run(v: &mut MockVehicle) -> MissionReport {
     let mut ex = executive();
-    let opts = MissionOptions {
-        time_limit_ms: 30 * 60_000,
-        ..MissionOptions::default()
-    };
-    run_mission(&mut ex, v, &mut MockPacer::default(), &opts, &mut |_, _| {})
+    mission::run_mock(&mut ex, v, 30 * 60_000)
 }
 
 /// Every trace event with its cycle's index and time.
@@ -108,6 +107,14 @@ fn launches(r: &MissionReport) -> Vec<(u64, Time, String)> {
         .collect()
 }
 
+/// The first launch of `action` among `launches`.
+fn first_launch<'a>(launches: &'a [(u64, Time, String)], action: &str) -> &'a (u64, Time, String) {
+    launches
+        .iter()
+        .find(|(_, _, a)| a == action)
+        .unwrap_or_else(|| panic!("{action} is launched: {launches:?}"))
+}
+
 fn all_achieved(r: &MissionReport) {
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
     assert_eq!(r.goals.len(), 7);
@@ -124,21 +131,11 @@ fn slow_move_is_stopped_before_w1_and_the_rover_moves_on_after_repair() {
         Outcome::nominal(8_000).with_level("STORAGE", 2.1),
         &[600_000, 9_200, 11_300, 21_000, 23_200],
     );
-    v.on_stop(
-        "move",
-        vec![(
-            "position".into(),
-            StateValue::Position(Enu::new(5.0, 1.0, 0.0)),
-        )],
-    );
+    stops::move_stops_at(&mut v, Enu::new(5.0, 1.0, 0.0));
     let r = run(&mut v);
     let ev = events(&r);
     let l = launches(&r);
-    let (_, started, _) = l
-        .iter()
-        .find(|(_, _, a)| a == "move(l0, l1)")
-        .cloned()
-        .expect("the first move is launched");
+    let started = first_launch(&l, "move(l0, l1)").1;
     // Late-preemptive: END at ub − ts, ub being the slowest 9 m (0.3 m/s: 30 s) — before W1, no timeout.
     let (stop_cycle, stopped) = ev
         .iter()
@@ -180,10 +177,7 @@ fn slow_move_is_stopped_before_w1_and_the_rover_moves_on_after_repair() {
     assert!(new_move.starts_with("move(L") && new_move.ends_with(", l1)"));
     assert!(*move_cycle > stop_cycle && *move_cycle <= repaired + 1);
     // The communication still happens in W1.
-    let comm = l
-        .iter()
-        .find(|(_, _, a)| a == "communicate(W1)")
-        .expect("communicate(W1) launched");
+    let comm = first_launch(&l, "communicate(W1)");
     assert!(comm.1 >= W1.0 && comm.1 + 40_000 <= W1.1, "{comm:?}");
     all_achieved(&r);
 }
@@ -199,11 +193,7 @@ fn early_picture_end_gets_a_new_end_timepoint_and_the_ptu_move_starts_at_once() 
     let r = run(&mut v);
     let ev = events(&r);
     let l = launches(&r);
-    let (_, shot, _) = l
-        .iter()
-        .find(|(_, _, a)| a == "take_picture(l0)")
-        .cloned()
-        .expect("the first picture is launched");
+    let shot = first_launch(&l, "take_picture(l0)").1;
     let (report_cycle, reported) = ev
         .iter()
         .find_map(|(i, t, e)| match e {

@@ -71,6 +71,13 @@ fn upload(ex: &mut Executive, goals: Vec<GoalRequest>) -> Vec<GoalVerdict> {
     rx.try_recv().expect("answered")
 }
 
+/// Uploads the one goal `goal`; its verdict.
+fn upload_one(ex: &mut Executive, goal: GoalRequest) -> GoalVerdict {
+    let mut verdicts = upload(ex, vec![goal]);
+    assert_eq!(verdicts.len(), 1, "{verdicts:?}");
+    verdicts.remove(0)
+}
+
 /// The last goal of the plan's problem as `ATTR(args) = value` text.
 fn last_goal(ex: &Executive) -> String {
     goal_text(ex, ex.plan().problem.goals.last().expect("a goal"))
@@ -116,11 +123,13 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
     let vent1 = Enu::new(1_000.0, 0.0, -1_500.0);
     let spot = Enu::new(600.0, 200.0, -1_500.0);
-    let verdicts = upload(
-        &mut ex,
-        vec![request("g3", GoalKind::SampleAt, "vent1", false, vent1)],
+    assert_eq!(
+        upload_one(
+            &mut ex,
+            request("g3", GoalKind::SampleAt, "vent1", false, vent1),
+        ),
+        GoalVerdict::Accepted
     );
-    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
     assert_eq!(last_goal(&ex), "SAMPLED(vent1) = true");
     // A place no object is at becomes a new location object, named after the goal.
     let g4 = request("g4", GoalKind::SurveyOf, "g4_loc", true, spot);
@@ -137,15 +146,9 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     let o = ex.plan().problem.object_id("g4_loc").expect("new object");
     let location = ex.plan().domain.type_id("location");
     assert_eq!(ex.plan().problem.object(o).map(|o| o.ty), location);
-    upload(
+    upload_one(
         &mut ex,
-        vec![request(
-            "g5",
-            GoalKind::ReturnHome,
-            "",
-            false,
-            Enu::default(),
-        )],
+        request("g5", GoalKind::ReturnHome, "", false, Enu::default()),
     );
     assert_eq!(last_goal(&ex), "AUV_AT() = surface");
     // The AUV's position attribute is AUV_AT: a stopped `go` sets it to a new place there.
@@ -196,34 +199,28 @@ fn the_rover_goes_through_the_same_code() {
     let plan = solved("domains/rover/problems/fig2.ixt");
     let mapping = shipped_mapping("config/demo-rover.toml", &plan);
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
-    let verdicts = upload(
-        &mut ex,
-        vec![request(
-            "g6",
-            GoalKind::PictureOf,
-            "g6_loc",
-            true,
-            Enu::new(30.0, -8.0, 0.0),
-        )],
+    assert_eq!(
+        upload_one(
+            &mut ex,
+            request(
+                "g6",
+                GoalKind::PictureOf,
+                "g6_loc",
+                true,
+                Enu::new(30.0, -8.0, 0.0),
+            ),
+        ),
+        GoalVerdict::Accepted
     );
-    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
     assert_eq!(last_goal(&ex), "PICTURE(g6_loc) = true");
     // demo-rover.toml has no sample goals (the rover domain has no such attribute).
-    let verdicts = upload(
+    let verdict = upload_one(
         &mut ex,
-        vec![request(
-            "g7",
-            GoalKind::SampleAt,
-            "base",
-            false,
-            Enu::default(),
-        )],
+        request("g7", GoalKind::SampleAt, "base", false, Enu::default()),
     );
     assert_eq!(
-        verdicts,
-        vec![GoalVerdict::Rejected(
-            "no goal mapping for sample items in the config".into()
-        )]
+        verdict,
+        GoalVerdict::Rejected("no goal mapping for sample items in the config".into())
     );
 }
 
@@ -241,17 +238,13 @@ fn shopping_goals_follow_an_inline_mapping() {
     let mapping = resolve_mapping(&m, &plan.domain, Some(&plan.problem), None).expect("resolves");
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
     // The places have no coordinates: a place the intake named is taken by its name.
-    let verdicts = upload(
-        &mut ex,
-        vec![request(
-            "g3",
-            GoalKind::BeAt,
-            "grocery",
-            false,
-            Enu::default(),
-        )],
+    assert_eq!(
+        upload_one(
+            &mut ex,
+            request("g3", GoalKind::BeAt, "grocery", false, Enu::default()),
+        ),
+        GoalVerdict::Accepted
     );
-    assert_eq!(verdicts, vec![GoalVerdict::Accepted]);
     assert_eq!(last_goal(&ex), "AT() = grocery");
 }
 
@@ -300,18 +293,18 @@ fn a_new_place_without_a_location_type_is_a_rejection_not_object_zero() {
     mapping.location_type = None;
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
     let objects = ex.plan().problem.objects.len();
-    let verdicts = upload(
+    let verdict = upload_one(
         &mut ex,
-        vec![request(
+        request(
             "g3",
             GoalKind::SampleAt,
             "g3_loc",
             true,
             Enu::new(5.0, 5.0, 0.0),
-        )],
+        ),
     );
-    match &verdicts[..] {
-        [GoalVerdict::Rejected(r)] => assert!(r.contains("no location type"), "{r}"),
+    match verdict {
+        GoalVerdict::Rejected(r) => assert!(r.contains("no location type"), "{r}"),
         other => panic!("{other:?}"),
     }
     assert_eq!(ex.plan().problem.objects.len(), objects);

@@ -1,6 +1,8 @@
 //! `run_mission` against MockVehicle on its manual clock: the planner's shopping-day plan run to the end,
 //! the report's goals, plan changes, resource samples and cycle times.
 
+#[path = "common/mission.rs"]
+mod mission;
 #[path = "common/shopping.rs"]
 mod shopping;
 
@@ -54,17 +56,7 @@ fn shopping_day_runs_to_the_end_and_reports() {
 fn time_limit_leaves_goals_pending_with_a_reason() {
     let mut ex = shopping_executive();
     let mut v = shopping::day_vehicle();
-    let opts = MissionOptions {
-        time_limit_ms: 10 * 60_000,
-        ..MissionOptions::default()
-    };
-    let report = run_mission(
-        &mut ex,
-        &mut v,
-        &mut MockPacer::default(),
-        &opts,
-        &mut |_, _| {},
-    );
+    let report = mission::run_mock(&mut ex, &mut v, 10 * 60_000);
     assert_eq!(report.end, MissionEnd::TimeLimit);
     assert!(report
         .goals

@@ -2,6 +2,8 @@
 //! task the vehicle refuses, is settled — its goals rejected with the true reason — instead of being
 //! repaired or replanned for ever.
 
+#[path = "common/mission.rs"]
+mod mission;
 #[path = "common/shopping.rs"]
 mod shopping;
 
@@ -9,9 +11,8 @@ use std::collections::BTreeMap;
 
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
-use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
+use mavtempo::exec::mission::{MissionEnd, MissionReport};
 use mavtempo::exec::outcome::{AbortReason, FateReason};
-use mavtempo::exec::pacer::MockPacer;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::mock::Outcome;
 use mavtempo::vehicle::MockVehicle;
@@ -24,11 +25,7 @@ fn shopping(k: u32) -> Executive {
 }
 
 fn run(ex: &mut Executive, v: &mut MockVehicle) -> MissionReport {
-    let opts = MissionOptions {
-        time_limit_ms: 13 * 3_600_000,
-        ..MissionOptions::default()
-    };
-    run_mission(ex, v, &mut MockPacer::default(), &opts, &mut |_, _| {})
+    mission::run_mock(ex, v, 13 * 3_600_000)
 }
 
 fn launches(r: &MissionReport) -> BTreeMap<String, usize> {

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::Executive;
-use mavtempo::exec::replan::{extract, goal_to_reject};
+use mavtempo::exec::replan::{extract, goal_to_reject, Extracted};
 use mavtempo::lang::{load_problem_and_domain, parse_domain, parse_problem};
 use mavtempo::model::{GoalId, Value};
 use mavtempo::plan::PartialPlan;
@@ -209,18 +209,25 @@ fn jumps_to(t: Time) -> impl Fn() -> Time {
     }
 }
 
+/// P_ti of `alternatives(fast_s)` with its replanning slack, and the depth-first search that took step 1
+/// (inserting `slow`) from it, with l after that step.
+fn after_step_1(fast_s: u32) -> (Extracted, Time, Search, Time) {
+    let ex = alternatives(fast_s);
+    let slack = ex.config().replan_slack_ms;
+    let ext = extract(&ex, 0, &[]).expect("P_ti");
+    let mut probe = Search::depth_first(ext.plan.clone());
+    assert_eq!(probe.step(), StepOutcome::Progress);
+    let l1 = limit(&probe, ext.t_end, slack);
+    (ext, slack, probe, l1)
+}
+
 /// §3.6's exception (on plain depth-first search, whose step order the test spells out): past l, a step
 /// that backtracks and raises l is taken and planning goes on. Step 1
 /// inserts `slow` (T_end_ub falls from 300 s to 200 s); the clock then stands exactly at l; step 2 is the
 /// backtrack to `fast`, which raises T_end_ub to 290 s: planning goes on and finds the plan.
 #[test]
 fn a_backtrack_that_raises_l_continues_past_the_limit() {
-    let ex = alternatives(10);
-    let slack = ex.config().replan_slack_ms;
-    let ext = extract(&ex, 0, &[]).expect("P_ti");
-    let mut probe = Search::depth_first(ext.plan.clone());
-    assert_eq!(probe.step(), StepOutcome::Progress);
-    let l1 = limit(&probe, ext.t_end, slack);
+    let (ext, slack, mut probe, l1) = after_step_1(10);
     assert!(probe.next_is_backtrack(), "step 2 should be the backtrack");
     assert_eq!(l1, 200_000 - 1 - slack);
 
@@ -242,12 +249,7 @@ fn a_backtrack_that_raises_l_continues_past_the_limit() {
 /// A backtrack past l that does not raise it (`fast` is as long as `slow`) does not keep planning going.
 #[test]
 fn a_backtrack_that_does_not_raise_l_stops_at_the_limit() {
-    let ex = alternatives(100);
-    let slack = ex.config().replan_slack_ms;
-    let ext = extract(&ex, 0, &[]).expect("P_ti");
-    let mut probe = Search::depth_first(ext.plan.clone());
-    assert_eq!(probe.step(), StepOutcome::Progress);
-    let l1 = limit(&probe, ext.t_end, slack);
+    let (ext, slack, _, l1) = after_step_1(100);
     let mut search = Search::depth_first(ext.plan);
     let end = plan_until_limit(&mut search, ext.t_end, slack, 1_000, &jumps_to(l1));
     assert_eq!(end, AttemptEnd::TimeLimit);

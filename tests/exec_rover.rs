@@ -9,6 +9,8 @@
 mod mapping;
 #[path = "common/rover_mock.rs"]
 mod rover_mock;
+#[path = "common/stops.rs"]
+mod stops;
 
 use mavtempo::exec::executive::Fate;
 use mavtempo::exec::goal_request::Rejection;
@@ -18,9 +20,10 @@ use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::mock::{Outcome, Scripted};
 use mavtempo::vehicle::ReportStatus;
-use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, ResourceLevel, StateValue};
+use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, ResourceLevel};
 use rover_mock::{
-    events, executive, fate, launches, nominal_moves, nominal_rover, pictures, rover, run,
+    assert_both_achieved, events, executive, fate, launches, moving_rover, nominal_rover, pictures,
+    rover, run,
 };
 
 #[test]
@@ -29,10 +32,7 @@ fn nominal_mission_achieves_both_goals_without_repair() {
     let mut v = nominal_rover();
     let r = run(&mut ex, &mut v, |_, _, _| {});
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
-    assert_eq!(
-        (fate(&r, "g1"), fate(&r, "g2")),
-        (Fate::Achieved, Fate::Achieved)
-    );
+    assert_both_achieved(&r);
     assert_eq!(r.counters.replans, 0);
     assert_eq!(launches(&r).len(), 7, "{:?}", launches(&r));
 }
@@ -40,8 +40,7 @@ fn nominal_mission_achieves_both_goals_without_repair() {
 #[test]
 fn e1_failed_picture_is_repaired_with_a_new_picture() {
     let mut ex = executive();
-    let mut v = rover();
-    nominal_moves(&mut v);
+    let mut v = moving_rover();
     v.script("take_picture", Outcome::failed(8_000, "image not captured"));
     v.script(
         "take_picture",
@@ -66,10 +65,7 @@ fn e1_failed_picture_is_repaired_with_a_new_picture() {
         pictures[0], pictures[1],
         "the failed picture is taken again"
     );
-    assert_eq!(
-        (fate(&r, "g1"), fate(&r, "g2")),
-        (Fate::Achieved, Fate::Achieved)
-    );
+    assert_both_achieved(&r);
 }
 
 /// A picture that hangs (seed 1 Fig. 2's e2): its end times out, execution is aborted and the camera is
@@ -79,8 +75,7 @@ fn e1_failed_picture_is_repaired_with_a_new_picture() {
 #[test]
 fn a_hung_picture_cut_off_by_an_abort_is_taken_again() {
     let mut ex = executive();
-    let mut v = rover();
-    nominal_moves(&mut v);
+    let mut v = moving_rover();
     v.script("take_picture", Outcome::nominal(3_600_000));
     v.script(
         "take_picture",
@@ -99,12 +94,7 @@ fn a_hung_picture_cut_off_by_an_abort_is_taken_again() {
     let pictures = pictures(&r);
     assert_eq!(pictures.len(), 3, "{pictures:?}");
     assert_eq!(pictures[0], pictures[1], "the hung picture is taken again");
-    assert_eq!(
-        (fate(&r, "g1"), fate(&r, "g2")),
-        (Fate::Achieved, Fate::Achieved),
-        "{:?}",
-        r.goals
-    );
+    assert_both_achieved(&r);
 }
 
 #[test]
@@ -115,13 +105,7 @@ fn e2_slow_move_is_stopped_and_the_rover_moves_on_from_a_new_location() {
     v.script("move", Outcome::nominal(600_000));
     v.script("move", Outcome::nominal(14_000).with_level("BATTERY", 80.5));
     v.script("move", Outcome::nominal(28_500).with_level("BATTERY", 74.1));
-    v.on_stop(
-        "move",
-        vec![(
-            "position".into(),
-            StateValue::Position(Enu::new(13.0, -3.0, 0.0)),
-        )],
-    );
+    stops::move_stops_at(&mut v, Enu::new(13.0, -3.0, 0.0));
     v.script(
         "take_picture",
         Outcome::nominal(8_000).with_level("STORAGE", 2.1),
@@ -153,17 +137,13 @@ fn e2_slow_move_is_stopped_and_the_rover_moves_on_from_a_new_location() {
         .expect("a move from the new location");
     assert!(from_new.ends_with(&format!(", {target}")), "{from_new}");
     assert_eq!(r.counters.replans, 0);
-    assert_eq!(
-        (fate(&r, "g1"), fate(&r, "g2")),
-        (Fate::Achieved, Fate::Achieved)
-    );
+    assert_both_achieved(&r);
 }
 
 #[test]
 fn e3_e4_new_goals_accepted_and_achieved_or_rejected_by_the_acceptance_test() {
     let mut ex = executive();
-    let mut v = rover();
-    nominal_moves(&mut v);
+    let mut v = moving_rover();
     v.script("move", Outcome::nominal(25_000).with_level("BATTERY", 68.0));
     v.script(
         "take_picture",
@@ -221,10 +201,7 @@ fn e3_e4_new_goals_accepted_and_achieved_or_rejected_by_the_acceptance_test() {
         "{:?}",
         launches(&r)
     );
-    assert_eq!(
-        (fate(&r, "g1"), fate(&r, "g2")),
-        (Fate::Achieved, Fate::Achieved)
-    );
+    assert_both_achieved(&r);
 }
 
 #[test]
@@ -266,8 +243,5 @@ fn e6_battery_drop_while_moving_brings_a_recharge_before_the_next_move() {
         .rposition(|a| a.starts_with("move("))
         .expect("moves");
     assert!(recharge < second_move, "{l:?}");
-    assert_eq!(
-        (fate(&r, "g1"), fate(&r, "g2")),
-        (Fate::Achieved, Fate::Achieved)
-    );
+    assert_both_achieved(&r);
 }

@@ -6,12 +6,14 @@
 //! relay open (20–30 s, non-preemptive), so the relay may open up to 25 s before the picture. Dispatched at
 //! its earliest, the relay would open at 0 s and the drive would have to end by 25 s; the drive takes 60 s.
 
+#[path = "common/mission.rs"]
+mod mission;
+
 use std::sync::Arc;
 
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
-use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions};
-use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::mission::MissionEnd;
 use mavtempo::exec::squeeze::squeezed_running_end;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::{parse_domain, parse_problem};
@@ -122,17 +124,7 @@ fn the_relay_waits_for_the_drive_instead_of_cutting_it_short() {
     v.script("drive", Outcome::nominal(60_000));
     v.script("relay", Outcome::nominal(25_000));
     v.script("snap", Outcome::nominal(5_000));
-    let opts = MissionOptions {
-        time_limit_ms: 600_000,
-        ..MissionOptions::default()
-    };
-    let r = run_mission(
-        &mut ex,
-        &mut v,
-        &mut MockPacer::default(),
-        &opts,
-        &mut |_, _| {},
-    );
+    let r = mission::run_mock(&mut ex, &mut v, 600_000);
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
     assert_eq!(r.goals[0].fate, Fate::Achieved, "{:?}", r.goals);
     let events: Vec<(u64, &TraceEvent)> = r

@@ -453,28 +453,18 @@ fn objects_added_at_run_time_get_wildcard_defaults() {
 #[test]
 fn goal_windows_are_cut_to_the_horizon() {
     let (d, p) = load("rover", "fig2");
-    let g = lang::parse_goal(
-        "<t>",
-        "goal w { hold(PICTURE(p1): true, (st, et)); st in [-5min, 2h]; }",
-        &d,
-        &p,
-    );
-    let g = g.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(
-        (g.start_window.lb, g.start_window.ub),
-        (Bound::Closed(0), Bound::Closed(30 * 60_000))
-    );
-    let g = lang::parse_goal(
-        "<t>",
-        "goal w { hold(PICTURE(p1): true, (st, et)); st in ]1min, 2min[; }",
-        &d,
-        &p,
-    );
-    let g = g.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(
-        (g.start_window.lb, g.start_window.ub),
-        (Bound::Open(60_000), Bound::Open(120_000))
-    );
+    let cases = [
+        (
+            "[-5min, 2h]",
+            (Bound::Closed(0), Bound::Closed(30 * 60_000)),
+        ),
+        ("]1min, 2min[", (Bound::Open(60_000), Bound::Open(120_000))),
+    ];
+    for (window, expected) in cases {
+        let text = format!("goal w {{ hold(PICTURE(p1): true, (st, et)); st in {window}; }}");
+        let g = lang::parse_goal("<t>", &text, &d, &p).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((g.start_window.lb, g.start_window.ub), expected, "{window}");
+    }
 }
 
 /// `saturating produce` marks a production clipped at the capacity (the rover's download sends what is

@@ -46,8 +46,9 @@ fn shopping_day_is_solved_and_checked() {
     solve_and_check("domains/shopping/problems/day.ixt");
 }
 
-/// Counts the plan's actions per task name.
+/// Solves and checks `path` (as [`solve_and_check`]), then counts the plan's actions per task name.
 fn tasks(path: &str) -> HashMap<String, usize> {
+    solve_and_check(path);
     let (d, p) = load_problem_and_domain(Path::new(path)).unwrap_or_else(|e| panic!("{path}: {e}"));
     let (d, p) = (Arc::new(d), Arc::new(p));
     let planned = solve(d.clone(), p, Budget::steps(3_000)).unwrap_or_else(|e| panic!("{e}"));
@@ -61,7 +62,6 @@ fn tasks(path: &str) -> HashMap<String, usize> {
 
 #[test]
 fn rover_fig2_is_solved_and_checked() {
-    solve_and_check("domains/rover/problems/fig2.ixt");
     let n = tasks("domains/rover/problems/fig2.ixt");
     // Five pictures at five places; storage 3 needs a download (seed 1 Fig. 2).
     assert_eq!(n.get("take_picture"), Some(&5), "{n:?}");
@@ -71,7 +71,6 @@ fn rover_fig2_is_solved_and_checked() {
 
 #[test]
 fn rover_dala_is_solved_and_checked() {
-    solve_and_check("domains/rover/problems/dala.ixt");
     let n = tasks("domains/rover/problems/dala.ixt");
     assert_eq!(n.get("take_picture"), Some(&4), "{n:?}");
     assert_eq!(n.get("communicate"), Some(&2), "{n:?}");

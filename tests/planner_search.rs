@@ -71,13 +71,19 @@ fn takes(plan: &PartialPlan) -> Vec<mavtempo::plan::ActionId> {
         .collect()
 }
 
-#[test]
-fn independent_actions_stay_unordered() {
-    let d = domain(false);
+/// The checked plan for two pictures, the camera a unary resource or not, and its two `take` actions.
+fn two_takes(camera_unary: bool) -> (PartialPlan, [mavtempo::plan::ActionId; 2]) {
+    let d = domain(camera_unary);
     let plan = checked(&d, &problem(&d, 2, None));
     let t = takes(&plan);
     assert_eq!(t.len(), 2);
-    let (a, b) = (plan.action(t[0]), plan.action(t[1]));
+    (plan, [t[0], t[1]])
+}
+
+#[test]
+fn independent_actions_stay_unordered() {
+    let (plan, [a, b]) = two_takes(false);
+    let (a, b) = (plan.action(a), plan.action(b));
     // Least commitment: either order (and overlap) remains possible.
     assert!(plan.stn.possibly_before(a.end, b.start));
     assert!(plan.stn.possibly_before(b.end, a.start));
@@ -86,11 +92,8 @@ fn independent_actions_stay_unordered() {
 
 #[test]
 fn unary_resource_conflict_is_solved_by_ordering() {
-    let d = domain(true);
-    let plan = checked(&d, &problem(&d, 2, None));
-    let t = takes(&plan);
-    assert_eq!(t.len(), 2);
-    let (a, b) = (plan.action(t[0]), plan.action(t[1]));
+    let (plan, [a, b]) = two_takes(true);
+    let (a, b) = (plan.action(a), plan.action(b));
     let ordered = |x: &mavtempo::plan::Action, y: &mavtempo::plan::Action| {
         !plan.stn.possibly_before(y.start, x.end)
     };

@@ -172,14 +172,7 @@ fn overlapping_uses_of_a_unary_resource_are_rejected() {
                 hold: 0,
             },
         );
-        let g = b.goal("g1", snap_et);
-        b.link(
-            Establisher::Event {
-                action: snap,
-                event: 0,
-            },
-            Consumer::Goal { goal: g },
-        );
+        b.achieve("g1", snap_et, snap, 0);
         b.finish()
     };
     let v = violations(&d, &p, &with_calibration(false));
@@ -319,14 +312,7 @@ fn rover_g1(ptu_before_picture: bool) -> (Domain, mavtempo::model::Problem, Solu
             event: 0,
         },
     );
-    let g = b.goal("g1", pic_et);
-    b.link(
-        Establisher::Event {
-            action: pic,
-            event: 0,
-        },
-        Consumer::Goal { goal: g },
-    );
+    b.achieve("g1", pic_et, pic, 0);
     let s = b.finish();
     (d, p, s)
 }

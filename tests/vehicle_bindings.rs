@@ -4,6 +4,9 @@
 // ArduPilot asks for items with the legacy MISSION_REQUEST: the scripted autopilot does too.
 #![allow(deprecated)]
 
+#[path = "common/reports.rs"]
+mod reports;
+
 use mavlink::dialects::ardupilotmega::*;
 use mavlink::MavHeader;
 use mavtempo::vehicle::config::VehicleConfig;
@@ -273,6 +276,13 @@ impl Bench {
         self.settle();
     }
 
+    /// The report of action `id`, which must be a failure naming `why`.
+    fn failed(&mut self, id: u64, why: &str) -> mavtempo::vehicle::ActionReport {
+        let r = self.report(id).expect("report");
+        reports::assert_failed(&r, why);
+        r
+    }
+
     fn report(&mut self, id: u64) -> Option<mavtempo::vehicle::ActionReport> {
         let i = self
             .events
@@ -365,13 +375,7 @@ fn move_fails_on_denied_reposition() {
     b.ap.results
         .push((MavCmd::MAV_CMD_DO_REPOSITION, MavResult::MAV_RESULT_DENIED));
     b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
-    let r = b.report(1).expect("report");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason.as_deref().unwrap_or("").contains("DENIED"),
-        "{:?}",
-        r.reason
-    );
+    b.failed(1, "DENIED");
 }
 
 #[test]
@@ -382,16 +386,7 @@ fn move_fails_on_a_foreign_mode_change() {
     assert!(b.report(1).is_none());
     b.ap.mode = 0; // someone switched to MANUAL
     b.feed(b.ap.heartbeat());
-    let r = b.report(1).expect("report");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason
-            .as_deref()
-            .unwrap_or("")
-            .contains("foreign mode change"),
-        "{:?}",
-        r.reason
-    );
+    b.failed(1, "foreign mode change");
 }
 
 #[test]
@@ -406,13 +401,7 @@ fn an_error_statustext_fails_the_running_action() {
         id: 0,
         chunk_seq: 0,
     }));
-    let r = b.report(1).expect("report");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r
-        .reason
-        .as_deref()
-        .unwrap_or("")
-        .contains("no map available"));
+    b.failed(1, "no map available");
 }
 
 #[test]
@@ -432,13 +421,7 @@ fn command_without_ack_is_retried_with_confirmation_then_fails() {
             })
             .collect();
     assert_eq!(confirmations, vec![0, 1, 2, 3]);
-    let r = b.report(1).expect("report");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason.as_deref().unwrap_or("").contains("no COMMAND_ACK"),
-        "{:?}",
-        r.reason
-    );
+    b.failed(1, "no COMMAND_ACK");
 }
 
 #[test]
@@ -499,13 +482,7 @@ fn take_picture_nominal_failed_on_capture_result_and_on_timeout() {
     b.ap.capture = Some(false);
     b.start(5, "take_picture", vec![]);
     b.feed(storage(2.0));
-    let r = b.report(5).expect("report");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r
-        .reason
-        .as_deref()
-        .unwrap_or("")
-        .contains("capture_result 0"));
+    b.failed(5, "capture_result 0");
 
     let mut b = Bench::new();
     b.ap.capture = None;
@@ -513,13 +490,7 @@ fn take_picture_nominal_failed_on_capture_result_and_on_timeout() {
     b.tick(5000);
     assert!(b.report(6).is_none());
     b.tick(5001);
-    let r = b.report(6).expect("report");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason.as_deref().unwrap_or("").contains("within"),
-        "{:?}",
-        r.reason
-    );
+    b.failed(6, "within");
 }
 
 #[test]
@@ -783,12 +754,7 @@ fn a_failed_move_is_reported_once_still_with_the_observed_state() {
     assert!(b.report(1).is_none(), "still moving: the report waits");
     b.feed(moving(&cfg, Enu::new(10.3, 0.0, 0.0), 0.1, 3_000));
     let r = b.report(1).expect("report once still");
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(r
-        .reason
-        .as_deref()
-        .unwrap_or("")
-        .contains("foreign mode change"));
+    reports::assert_failed(&r, "foreign mode change");
     assert!(
         r.state
             .contains(&("STATUS".to_string(), StateValue::Symbol("STILL".into()))),

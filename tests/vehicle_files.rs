@@ -215,46 +215,33 @@ fn shipped_configs_parse_and_px4_modes_follow_px4_numbering() {
 #[test]
 fn malformed_configs_name_the_key() {
     let base = all_bindings();
-    let err = VehicleConfig::parse(
-        &base.replace(
-            "acceptance_radius_m = 3.0\n\n[actions.survey]",
-            "acceptance_radius_m = 3.0\nradius = 2\n\n[actions.survey]",
-        ),
-        "c.toml",
-    )
-    .unwrap_err();
-    assert!(err.to_string().contains("unknown field `radius`"), "{err}");
-    assert!(err.to_string().starts_with("c.toml:34:1: error: "), "{err}");
-    let err = VehicleConfig::parse(
-        &base.replace("kind = \"sample\"", "kind = \"dance\""),
-        "c.toml",
-    )
-    .unwrap_err();
-    assert!(err.to_string().contains("dance"), "{err}");
-    let err = VehicleConfig::parse(
-        &base.replace("spacing_m = 10.0", "spacing_m = 0.0"),
-        "c.toml",
-    )
-    .unwrap_err();
-    let err = err.to_string();
-    assert!(
-        err.starts_with("c.toml:")
-            && err
-                .contains(": error: actions.survey.spacing_m: must be > 0\n    spacing_m = 0.0\n"),
-        "{err}"
+    // The error of the fixture with `from` replaced by `to`.
+    let err = |from: &str, to: &str| {
+        VehicleConfig::parse(&base.replace(from, to), "c.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err(
+        "acceptance_radius_m = 3.0\n\n[actions.survey]",
+        "acceptance_radius_m = 3.0\nradius = 2\n\n[actions.survey]",
     );
-    let err = VehicleConfig::parse(
-        &base.replace("[link]\n", "[link]\nsigning_key = \"abc\"\n"),
-        "c.toml",
-    )
-    .unwrap_err();
+    assert!(e.contains("unknown field `radius`"), "{e}");
+    assert!(e.starts_with("c.toml:34:1: error: "), "{e}");
+    let e = err("kind = \"sample\"", "kind = \"dance\"");
+    assert!(e.contains("dance"), "{e}");
+    let e = err("spacing_m = 10.0", "spacing_m = 0.0");
     assert!(
-        err.to_string()
-            .starts_with("c.toml:7:15: error: link.signing_key: expected 64 hex digits"),
-        "{err}"
+        e.starts_with("c.toml:")
+            && e.contains(": error: actions.survey.spacing_m: must be > 0\n    spacing_m = 0.0\n"),
+        "{e}"
     );
-    let err = VehicleConfig::parse(&base.replace("hold = 4\n", ""), "c.toml").unwrap_err();
-    assert!(err.to_string().contains("missing field `hold`"), "{err}");
+    let e = err("[link]\n", "[link]\nsigning_key = \"abc\"\n");
+    assert!(
+        e.starts_with("c.toml:7:15: error: link.signing_key: expected 64 hex digits"),
+        "{e}"
+    );
+    let e = err("hold = 4\n", "");
+    assert!(e.contains("missing field `hold`"), "{e}");
 }
 
 #[test]

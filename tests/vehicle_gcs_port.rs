@@ -2,6 +2,9 @@
 //! costs only that sender (one frame decoder per UDP peer, replies to the peer they answer), and goals are
 //! taken only from the system ids the configuration allows (`link.goal_sysids`).
 
+#[path = "common/reports.rs"]
+mod reports;
+
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -180,20 +183,7 @@ fn a_station_uploads_while_another_sender_blasts_garbage() {
 fn goals_are_taken_only_from_the_configured_system_ids() {
     let (_v, gcs) = companion("goal_sysids = [255, 250]");
     let (report, took) = upload(42, gcs);
-    assert!(
-        report
-            .failure
-            .as_deref()
-            .is_some_and(|f| f.contains("MAV_MISSION_DENIED")),
-        "{report:?}"
-    );
-    assert!(
-        report
-            .texts
-            .iter()
-            .any(|t| t.contains("system 42") && t.contains("goal_sysids")),
-        "{report:?}"
-    );
+    reports::assert_upload_refused(&report, "MAV_MISSION_DENIED", &["system 42", "goal_sysids"]);
     assert!(took < PROMPT, "refused in {took:?}");
     let (report, took) = upload(250, gcs);
     assert_accepted(&report, took, "from an allowed system");

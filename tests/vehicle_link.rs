@@ -2,6 +2,9 @@
 //! link up / loss / recovery, MAVLink 1 peers, signing accepted and rejected, `.tlog` recording, an action
 //! report over the wire, and goal uploads to component 191 decided locally or by the executive.
 
+#[path = "common/reports.rs"]
+mod reports;
+
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::sync::atomic::Ordering;
@@ -12,7 +15,7 @@ use mavlink::MavlinkVersion;
 use mavtempo::vehicle::config::VehicleConfig;
 use mavtempo::vehicle::frame::{Encoder, FrameDecoder, RawFrame, Signer};
 use mavtempo::vehicle::geo::Home;
-use mavtempo::vehicle::goal_client::send_goals;
+use mavtempo::vehicle::goal_client::{send_goals, GoalSendReport};
 use mavtempo::vehicle::items::MissionItem;
 use mavtempo::vehicle::link::{Decider, GoalServer, LinkOptions, MavlinkVehicle};
 use mavtempo::vehicle::tlog::read_tlog;
@@ -76,6 +79,13 @@ impl Peer {
         }
     }
 
+    /// An unsigned autopilot of `system` connected to `addr` that has sent one heartbeat (MAVLink 1 if `v1`).
+    fn after_heartbeat(addr: std::net::SocketAddr, system: u8, v1: bool) -> Self {
+        let mut p = Self::connect(addr, system, None);
+        p.send(&heartbeat(0), v1);
+        p
+    }
+
     fn send(&mut self, msg: &MavMessage, v1: bool) -> Vec<u8> {
         let bytes = self.enc.encode(msg, v1);
         self.s.write_all(&bytes).expect("write");
@@ -130,8 +140,7 @@ fn link_event(v: &mut MavlinkVehicle) -> LinkStatus {
 #[test]
 fn link_up_loss_on_disconnect_and_heartbeat_timeout_then_recovery() {
     let (mut v, addr) = vehicle(None, SHORT_HEARTBEAT_MS, LinkOptions::default());
-    let mut p = Peer::connect(addr, 7, None);
-    p.send(&heartbeat(0), false);
+    let mut p = Peer::after_heartbeat(addr, 7, false);
     assert_eq!(link_event(&mut v), LinkStatus::Up { system_id: 7 });
     // Our heartbeat: component 191, onboard controller, the adopted system id.
     let (f, _) = p.until(|_, m| matches!(m, MavMessage::HEARTBEAT(h) if h.mavtype == MavType::MAV_TYPE_ONBOARD_CONTROLLER));
@@ -143,16 +152,14 @@ fn link_up_loss_on_disconnect_and_heartbeat_timeout_then_recovery() {
     // Transport closed: lost; a new connection (tcpin keeps listening) recovers.
     drop(p);
     assert_eq!(link_event(&mut v), LinkStatus::Lost);
-    let mut p = Peer::connect(addr, 7, None);
-    p.send(&heartbeat(0), false);
+    let _p = Peer::after_heartbeat(addr, 7, false);
     assert_eq!(link_event(&mut v), LinkStatus::Recovered);
 }
 
 #[test]
 fn mavlink1_peer_is_accepted_and_answered_in_mavlink1() {
     let (mut v, addr) = vehicle(None, HEARTBEAT_MS, LinkOptions::default());
-    let mut p = Peer::connect(addr, 3, None);
-    p.send(&heartbeat(0), true);
+    let mut p = Peer::after_heartbeat(addr, 3, true);
     assert_eq!(link_event(&mut v), LinkStatus::Up { system_id: 3 });
     let (f, _) = p.until(|_, m| matches!(m, MavMessage::HEARTBEAT(_)));
     assert_eq!(f.version, MavlinkVersion::V1);
@@ -262,6 +269,28 @@ fn picture_action_over_the_wire_and_tlog_records_both_directions() {
     );
 }
 
+/// Uploads `items` over `transport` (`udp` or `tcp`) to a syntactic goal server of `home` on port 0.
+fn upload_to_syntactic_server(
+    transport: &str,
+    home: Home,
+    items: Vec<MissionItem>,
+) -> GoalSendReport {
+    let rt = tokio::runtime::Runtime::new().expect("rt");
+    rt.block_on(async {
+        let server = GoalServer::syntactic(&format!("{transport}in:127.0.0.1:0"), home)
+            .await
+            .expect("server");
+        let addr = server.local_addr.expect("bound");
+        send_goals(
+            &format!("{transport}out:{addr}"),
+            items,
+            Duration::from_secs(5),
+        )
+        .await
+        .expect("upload ran")
+    })
+}
+
 fn goal_items() -> Vec<MissionItem> {
     let mut attrs = MissionItem::new(MavCmd::MAV_CMD_USER_2, MavFrame::MAV_FRAME_MISSION);
     attrs.params = [2.0, 0.0, 30.0, 0.0];
@@ -277,25 +306,12 @@ fn goal_items() -> Vec<MissionItem> {
 
 #[test]
 fn goal_upload_to_component_191_gets_ack_and_one_statustext_per_goal() {
-    let rt = tokio::runtime::Runtime::new().expect("rt");
-    let report = rt.block_on(async {
-        let home = Home {
-            lat: 43.5616,
-            lon: 1.4847,
-            alt: 0.0,
-        };
-        let server = GoalServer::syntactic("udpin:127.0.0.1:0", home)
-            .await
-            .expect("server");
-        let addr = server.local_addr.expect("bound");
-        send_goals(
-            &format!("udpout:{addr}"),
-            goal_items(),
-            Duration::from_secs(5),
-        )
-        .await
-        .expect("upload")
-    });
+    let home = Home {
+        lat: 43.5616,
+        lon: 1.4847,
+        alt: 0.0,
+    };
+    let report = upload_to_syntactic_server("udp", home, goal_items());
     assert_eq!(report.failure, None);
     assert_eq!(
         report.texts,
@@ -358,38 +374,19 @@ fn goal_upload_is_decided_by_the_executive_through_the_vehicle() {
 
 #[test]
 fn goal_upload_with_an_item_that_is_no_goal_is_refused_with_the_reason() {
-    let rt = tokio::runtime::Runtime::new().expect("rt");
-    let report = rt.block_on(async {
-        let home = Home {
-            lat: 0.0,
-            lon: 0.0,
-            alt: 0.0,
-        };
-        let server = GoalServer::syntactic("tcpin:127.0.0.1:0", home)
-            .await
-            .expect("server");
-        let addr = server.local_addr.expect("bound");
-        let items = vec![MissionItem::new(
-            MavCmd::MAV_CMD_DO_SET_SERVO,
-            MavFrame::MAV_FRAME_MISSION,
-        )];
-        send_goals(&format!("tcpout:{addr}"), items, Duration::from_secs(5))
-            .await
-            .expect("upload ran")
-    });
-    assert!(
-        report
-            .failure
-            .as_deref()
-            .unwrap_or("")
-            .contains("MAV_MISSION_UNSUPPORTED"),
-        "{report:?}"
-    );
-    assert!(
-        report
-            .texts
-            .iter()
-            .any(|t| t.contains("item 0: command 183 is not a goal")),
-        "{report:?}"
+    let home = Home {
+        lat: 0.0,
+        lon: 0.0,
+        alt: 0.0,
+    };
+    let items = vec![MissionItem::new(
+        MavCmd::MAV_CMD_DO_SET_SERVO,
+        MavFrame::MAV_FRAME_MISSION,
+    )];
+    let report = upload_to_syntactic_server("tcp", home, items);
+    reports::assert_upload_refused(
+        &report,
+        "MAV_MISSION_UNSUPPORTED",
+        &["item 0: command 183 is not a goal"],
     );
 }

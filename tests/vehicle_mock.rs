@@ -1,5 +1,8 @@
 //! MockVehicle: scripted, deterministic, manual clock; every report kind and every event kind.
 
+#[path = "common/stops.rs"]
+mod stops;
+
 use mavtempo::vehicle::mock::{Outcome, Scripted};
 use mavtempo::vehicle::{
     ActionStart, Arg, CapacityChange, Enu, GoalKind, GoalRequest, LinkStatus, MockVehicle,
@@ -48,13 +51,7 @@ fn nominal_report_arrives_at_its_time_with_final_levels() {
 fn stop_gives_an_interrupted_report_with_the_state_and_no_later_report() {
     let mut v = MockVehicle::new();
     v.script("move", Outcome::nominal(5000));
-    v.on_stop(
-        "move",
-        vec![(
-            "position".into(),
-            StateValue::Position(Enu::new(4.0, 0.0, 0.0)),
-        )],
-    );
+    stops::move_stops_at(&mut v, Enu::new(4.0, 0.0, 0.0));
     v.start(start(1, "move")).expect("scripted");
     v.advance(2000);
     v.stop(1).expect("running");

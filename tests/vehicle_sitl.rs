@@ -1,6 +1,9 @@
 //! Each action binding driven over sockets against the built-in SITL (in process, port 0, manual clock):
 //! the right report for each, read against the simulator's ground truth.
 
+#[path = "common/reports.rs"]
+mod reports;
+
 use std::time::{Duration, Instant};
 
 use mavtempo::vehicle::config::VehicleConfig;
@@ -105,6 +108,20 @@ impl Rig {
         }
     }
 
+    /// Starts action `id` and waits (up to `sim_ms`) for its report, which must be nominal.
+    async fn nominal(
+        &mut self,
+        id: u64,
+        task: &str,
+        args: Vec<(&str, Arg)>,
+        sim_ms: u64,
+    ) -> ActionReport {
+        self.start(id, task, args);
+        let r = self.report(id, sim_ms).await;
+        assert_eq!(r.status, ReportStatus::Nominal, "{task}: {r:?}");
+        r
+    }
+
     fn start(&mut self, id: u64, task: &str, args: Vec<(&str, Arg)>) {
         let args = args.into_iter().map(|(n, a)| (n.to_string(), a)).collect();
         self.v
@@ -124,9 +141,7 @@ fn to(east: f64, north: f64) -> Vec<(&'static str, Arg)> {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn move_reaches_its_destination_and_return_home_comes_back() {
     let mut rig = Rig::new(SimConfig::for_tests()).await;
-    rig.start(1, "move", to(30.0, 20.0));
-    let r = rig.report(1, 60_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
+    let r = rig.nominal(1, "move", to(30.0, 20.0), 60_000).await;
     let s = rig.sim.snapshot();
     assert!(
         (s.east_m - 30.0).hypot(s.north_m - 20.0) <= 3.5,
@@ -138,9 +153,7 @@ async fn move_reaches_its_destination_and_return_home_comes_back() {
         r.resources.iter().any(|l| l.resource == "battery"),
         "final battery level reported"
     );
-    rig.start(2, "return_home", vec![]);
-    let r = rig.report(2, 60_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
+    rig.nominal(2, "return_home", vec![], 60_000).await;
     let s = rig.sim.snapshot();
     assert!(
         s.east_m.hypot(s.north_m) <= 3.5,
@@ -193,25 +206,14 @@ async fn move_fails_when_the_reposition_is_denied_and_on_a_navigation_failure() 
         .expect("inject");
     rig.start(1, "move", to(50.0, 0.0));
     let r = rig.report(1, 10_000).await;
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason.as_deref().unwrap_or("").contains("DENIED"),
-        "{r:?}"
-    );
+    reports::assert_failed(&r, "DENIED");
     rig.start(2, "move", to(100.0, 0.0));
     rig.run_for(4_000).await;
     rig.sim
         .inject(Fault::NavFails { duration_s: 0.0 })
         .expect("inject");
     let r = rig.report(2, 5_000).await;
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason
-            .as_deref()
-            .unwrap_or("")
-            .contains("no map available"),
-        "{r:?}"
-    );
+    reports::assert_failed(&r, "no map available");
     assert!(
         matches!(r.state.first(), Some((_, StateValue::Position(_)))),
         "failed move reports its position"
@@ -253,23 +255,14 @@ async fn survey_runs_the_lawnmower_mission_to_its_last_item() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn pictures_succeed_or_fail_and_download_empties_the_storage() {
     let mut rig = Rig::new(SimConfig::for_tests()).await;
-    rig.start(1, "take_picture", vec![]);
-    let r = rig.report(1, 10_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
+    rig.nominal(1, "take_picture", vec![], 10_000).await;
     assert_eq!(rig.sim.snapshot().pictures_ok, 1);
     rig.sim
         .inject(Fault::PictureFails { count: 1 })
         .expect("inject");
     rig.start(2, "take_picture", vec![]);
     let r = rig.report(2, 10_000).await;
-    assert_eq!(r.status, ReportStatus::Failed);
-    assert!(
-        r.reason
-            .as_deref()
-            .unwrap_or("")
-            .contains("capture_result 0"),
-        "{r:?}"
-    );
+    reports::assert_failed(&r, "capture_result 0");
     rig.run_for(1_000).await;
     let used = rig.sim.snapshot().storage_used_mib;
     assert!(used > 0.0, "the first picture is stored");
@@ -278,9 +271,7 @@ async fn pictures_succeed_or_fail_and_download_empties_the_storage() {
         .events
         .iter()
         .any(|e| matches!(e, VehicleEvent::Resource(l) if l.resource == "storage")));
-    rig.start(3, "download", vec![]);
-    let r = rig.report(3, 60_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
+    let r = rig.nominal(3, "download", vec![], 60_000).await;
     assert!(rig.sim.snapshot().storage_used_mib <= 1e-6);
     let storage = r
         .resources
@@ -296,9 +287,7 @@ async fn pictures_succeed_or_fail_and_download_empties_the_storage() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn sample_runs_the_servo_sequence() {
     let mut rig = Rig::new(SimConfig::for_tests()).await;
-    rig.start(1, "sample", vec![]);
-    let r = rig.report(1, 10_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
+    rig.nominal(1, "sample", vec![], 10_000).await;
     let texts = rig.sim.snapshot().statustexts;
     assert!(
         texts.iter().any(|t| t == "Sampler deployed")
@@ -316,9 +305,9 @@ async fn recharge_holds_until_the_battery_is_back() {
     rig.run_for(1_500).await;
     let low = rig.sim.snapshot().battery_pct;
     let target = (low + 2.0).floor();
-    rig.start(1, "recharge", vec![("level", Arg::Number(target))]);
-    let r = rig.report(1, 120_000).await;
-    assert_eq!(r.status, ReportStatus::Nominal, "{r:?}");
+    let r = rig
+        .nominal(1, "recharge", vec![("level", Arg::Number(target))], 120_000)
+        .await;
     let level = r
         .resources
         .iter()

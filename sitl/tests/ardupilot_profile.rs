@@ -30,11 +30,8 @@ async fn step_to(sim: &sitl::SimHandle, t_s: f64) {
 /// An arming attempt: its result and the STATUSTEXTs sent with it.
 async fn try_arm(gcs: &mut Gcs, force: bool) -> (MavResult, Vec<(MavSeverity, String)>) {
     let p2 = if force { 21196.0 } else { 0.0 };
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-            [1.0, p2, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
+    let r = gcs
+        .command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, &[1.0, p2])
         .await;
     (r, Gcs::texts_with_severity(&gcs.sync().await))
 }
@@ -44,12 +41,7 @@ fn critical(text: &str) -> (MavSeverity, String) {
 }
 
 async fn request(gcs: &mut Gcs, id: u32) -> (MavResult, Vec<MavMessage>) {
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_REQUEST_MESSAGE,
-            [id as f32, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
+    let r = gcs.request_message(id).await;
     (r, gcs.sync().await)
 }
 
@@ -65,12 +57,8 @@ fn last_position(msgs: &[MavMessage]) -> GLOBAL_POSITION_INT_DATA {
 }
 
 async fn change_speed(gcs: &mut Gcs, speed_type: f32, speed: f32) -> MavResult {
-    gcs.command_long(
-        MavCmd::MAV_CMD_DO_CHANGE_SPEED,
-        [speed_type, speed, -1.0, 0.0, 0.0, 0.0, 0.0],
-    )
-    .await
-    .0
+    gcs.command(MavCmd::MAV_CMD_DO_CHANGE_SPEED, &[speed_type, speed, -1.0])
+        .await
 }
 
 /// DO_REPOSITION with the change-mode flag to metres north/east of `home`, at `speed` (-1: default).
@@ -310,13 +298,14 @@ async fn without_a_camera_image_start_capture_fails() {
     let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
     assert_eq!(r, MavResult::MAV_RESULT_FAILED);
     // DO_DIGICAM_CONTROL is accepted whatever the camera (AP_Camera::control), and shoots nothing.
-    let (r, _) = gcs
-        .command_long(
+    assert_eq!(
+        gcs.command(
             MavCmd::MAV_CMD_DO_DIGICAM_CONTROL,
-            [0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+            &[0.0, 0.0, 0.0, 0.0, 1.0]
         )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+        .await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     let (r, seen) = request(&mut gcs, 262).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     assert!(!seen
@@ -458,13 +447,11 @@ async fn wp_speed_is_the_default_speed() {
         );
 
         let (sim, mut gcs) = start(scenario).await;
-        upload_ok(
+        start_auto(
             &mut gcs,
             &[waypoint(HOME, 0.0, 0.0), waypoint(HOME, 150.0, 0.0)],
         )
         .await;
-        assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-        assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
         let (top, _) = drive(&sim, 15).await;
         assert!(
             (top - 5.0).abs() < 1e-6,
@@ -476,13 +463,11 @@ async fn wp_speed_is_the_default_speed() {
 #[tokio::test]
 async fn change_speed_in_auto_sets_the_mission_speed() {
     let (sim, mut gcs) = start(ARDUPILOT_READY).await;
-    upload_ok(
+    start_auto(
         &mut gcs,
         &[waypoint(HOME, 0.0, 0.0), waypoint(HOME, 300.0, 0.0)],
     )
     .await;
-    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
     let (top, _) = drive(&sim, 8).await;
     assert!((top - 5.0).abs() < 1e-6, "top speed {top}");
     assert_eq!(
@@ -550,7 +535,7 @@ async fn mission_camera_items_follow_ap_camera() {
         x: shoot,
         ..item(MavCmd::MAV_CMD_DO_DIGICAM_CONTROL, [0.0; 4])
     };
-    upload_ok(
+    start_auto(
         &mut gcs,
         &[
             waypoint(HOME, 0.0, 0.0),
@@ -566,8 +551,6 @@ async fn mission_camera_items_follow_ap_camera() {
         ],
     )
     .await;
-    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
     let s = run_until(&sim, 120, |s| s.mission_complete).await;
     let feedbacks: Vec<u16> = gcs
         .sync()

@@ -20,9 +20,7 @@ async fn a_mission_runs_paced_at_500x() {
         waypoint(HOME, 60.0, 0.0),
         waypoint(HOME, 60.0, 60.0),
     ];
-    upload_ok(&mut gcs, &items).await;
-    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
+    start_auto(&mut gcs, &items).await;
     let s = sim
         .wait_for(Duration::from_secs(30), |s| s.mission_complete)
         .await
@@ -33,12 +31,7 @@ async fn a_mission_runs_paced_at_500x() {
         s.time_ms
     );
     // Telemetry carries the sim clock.
-    let t = gcs
-        .expect("SYSTEM_TIME", |m| match m {
-            MavMessage::SYSTEM_TIME(t) => Some(u64::from(t.time_boot_ms)),
-            _ => None,
-        })
-        .await;
+    let t = u64::from(expect_msg!(gcs, SYSTEM_TIME).await.time_boot_ms);
     assert!(t <= sim.now_ms());
 }
 

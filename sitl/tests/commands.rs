@@ -13,12 +13,7 @@ use support::*;
 async fn heartbeat_identifies_an_ardupilot_rover() {
     let (sim, mut gcs) = start("").await;
     sim.step(Duration::from_secs(1)).await.expect("step");
-    let hb = gcs
-        .expect("HEARTBEAT", |m| match m {
-            MavMessage::HEARTBEAT(h) => Some(h.clone()),
-            _ => None,
-        })
-        .await;
+    let hb = expect_msg!(gcs, HEARTBEAT).await;
     assert_eq!(hb.mavtype, MavType::MAV_TYPE_GROUND_ROVER);
     assert_eq!(hb.autopilot, MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA);
     assert_eq!(hb.custom_mode, 0);
@@ -40,12 +35,7 @@ async fn auv_heartbeat_is_a_submarine_with_ardusub_modes() {
     let sim = sitl::spawn(cfg).await.expect("spawn");
     let mut gcs = Gcs::connect(sim.local_addr()).await;
     assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
-    let hb = gcs
-        .expect("HEARTBEAT", |m| match m {
-            MavMessage::HEARTBEAT(h) => Some(h.clone()),
-            _ => None,
-        })
-        .await;
+    let hb = expect_msg!(gcs, HEARTBEAT).await;
     assert_eq!(hb.mavtype, MavType::MAV_TYPE_SUBMARINE);
     assert_eq!(hb.custom_mode, 4);
     assert_eq!(sim.snapshot().mode, "GUIDED");
@@ -59,18 +49,16 @@ async fn arming_is_refused_when_the_battery_is_low_unless_forced() {
     assert!(texts.iter().any(|m| matches!(m, MavMessage::STATUSTEXT(t)
         if t.text.to_str().unwrap_or("").starts_with("PreArm: Battery"))));
     assert!(!sim.snapshot().armed);
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-            [1.0, 21196.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, &[1.0, 21196.0])
+            .await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     assert!(sim.snapshot().armed);
-    let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, [0.0; 7])
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, &[]).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     assert!(!sim.snapshot().armed);
 }
 
@@ -103,19 +91,19 @@ async fn modes_follow_rover_numbering_and_auto_needs_a_mission() {
 #[tokio::test]
 async fn unknown_commands_are_unsupported() {
     let (_sim, mut gcs) = start("").await;
-    let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_DO_PARACHUTE, [0.0; 7])
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_UNSUPPORTED);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_DO_PARACHUTE, &[]).await,
+        MavResult::MAV_RESULT_UNSUPPORTED
+    );
 }
 
 #[tokio::test]
 async fn reposition_needs_command_int_and_the_mode_bit_outside_guided() {
     let (sim, mut gcs) = start("").await;
-    let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_DO_REPOSITION, [0.0; 7])
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_COMMAND_INT_ONLY);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_DO_REPOSITION, &[]).await,
+        MavResult::MAV_RESULT_COMMAND_INT_ONLY
+    );
     let target = waypoint(HOME, 20.0, 10.0);
     let (r, _) = gcs.reposition(&target, false, 0.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_DENIED);
@@ -160,13 +148,11 @@ async fn set_position_target_is_ignored_outside_guided() {
 #[tokio::test]
 async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
     let (sim, mut gcs) = start("").await;
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-            [33.0, 100_000.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, &[33.0, 100_000.0])
+            .await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     gcs.sync().await;
     sim.step(Duration::from_secs(2)).await.expect("step");
     let seen = gcs.sync().await;
@@ -209,44 +195,22 @@ async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
 #[tokio::test]
 async fn request_message_sends_storage_information_and_time_matches_the_clock() {
     let (sim, mut gcs) = start("[camera]\nstorage_capacity_mib = 9.5\n").await;
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_REQUEST_MESSAGE,
-            [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-    let si = gcs
-        .expect("STORAGE_INFORMATION", |m| match m {
-            MavMessage::STORAGE_INFORMATION(s) => Some(s.clone()),
-            _ => None,
-        })
-        .await;
+    assert_eq!(
+        gcs.request_message(261).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    let si = expect_msg!(gcs, STORAGE_INFORMATION).await;
     assert_eq!(si.total_capacity, 9.5);
     assert_eq!(si.used_capacity, 0.0);
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_REQUEST_MESSAGE,
-            [9999.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_UNSUPPORTED);
+    assert_eq!(
+        gcs.request_message(9999).await,
+        MavResult::MAV_RESULT_UNSUPPORTED
+    );
     sim.step(Duration::from_millis(2500)).await.expect("step");
     let now = sim.now_ms();
     gcs.sync().await; // forget the streamed SYSTEM_TIMEs
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_REQUEST_MESSAGE,
-            [2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-    let st = gcs
-        .expect("SYSTEM_TIME", |m| match m {
-            MavMessage::SYSTEM_TIME(t) => Some(t.clone()),
-            _ => None,
-        })
-        .await;
+    assert_eq!(gcs.request_message(2).await, MavResult::MAV_RESULT_ACCEPTED);
+    let st = expect_msg!(gcs, SYSTEM_TIME).await;
     assert_eq!(u64::from(st.time_boot_ms), now);
     assert_eq!(
         st.time_unix_usec,
@@ -312,14 +276,8 @@ async fn messages_for_other_components_are_not_answered() {
         ..Default::default()
     }))
     .await;
-    gcs.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        param1: 1.0,
-        command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-        target_system: 2,
-        target_component: 1,
-        ..Default::default()
-    }))
-    .await;
+    // Nor is an arm for system 2.
+    gcs.send_arm_to(2).await;
     let seen = gcs.sync().await;
     assert!(!seen.iter().any(|m| matches!(
         m,
@@ -346,12 +304,7 @@ async fn the_auv_dives_to_a_guided_depth() {
     .await;
     gcs.drain();
     sim.step(Duration::from_secs(1)).await.expect("step");
-    let alt = gcs
-        .expect("GLOBAL_POSITION_INT", |m| match m {
-            MavMessage::GLOBAL_POSITION_INT(p) => Some(p.alt),
-            _ => None,
-        })
-        .await;
+    let alt = expect_msg!(gcs, GLOBAL_POSITION_INT).await.alt;
     assert_eq!(alt, -5000);
 }
 
@@ -416,33 +369,22 @@ async fn heartbeat_cannot_be_switched_off() {
     let mut b = Gcs::connect(sim.local_addr()).await;
     b.sysid = 254;
     for interval in [-1.0, 5e6, f32::NAN] {
-        let (r, _) = a
-            .command_long(
-                MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-                [0.0, interval, 0.0, 0.0, 0.0, 0.0, 0.0],
-            )
-            .await;
         assert_eq!(
-            r,
+            a.command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, &[0.0, interval])
+                .await,
             MavResult::MAV_RESULT_DENIED,
             "HEARTBEAT interval {interval}"
         );
     }
-    let (r, _) = a
-        .command_long(
-            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-            [33.0, f32::INFINITY, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_DENIED, "an infinite interval");
-    let (r, _) = a
-        .command_long(
-            MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL,
-            [33.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
     assert_eq!(
-        r,
+        a.command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, &[33.0, f32::INFINITY])
+            .await,
+        MavResult::MAV_RESULT_DENIED,
+        "an infinite interval"
+    );
+    assert_eq!(
+        a.command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, &[33.0, -1.0])
+            .await,
         MavResult::MAV_RESULT_ACCEPTED,
         "GLOBAL_POSITION_INT may stop"
     );

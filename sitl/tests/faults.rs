@@ -10,6 +10,14 @@ use support::*;
 
 const STEP: Duration = Duration::from_millis(100);
 
+/// A sim (as [`start`]) whose scenario has the one fault `fault` (inline-table body), injected `when`.
+async fn start_with_fault(when: &str, fault: &str) -> (sitl::SimHandle, Gcs) {
+    start(&format!(
+        "[[faults]]\nwhen = {{ {when} }}\nfault = {{ {fault} }}\n"
+    ))
+    .await
+}
+
 #[tokio::test]
 async fn command_fails_answers_the_injected_result_then_recovers() {
     let (sim, mut gcs) = start(
@@ -58,11 +66,9 @@ fn captures(msgs: &[MavMessage]) -> Vec<(i32, bool)> {
 
 #[tokio::test]
 async fn picture_fails_on_the_first_picture_only() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { on = "picture_started", value = 0 }
-fault = { kind = "picture_fails" }
-"#,
+    let (sim, mut gcs) = start_with_fault(
+        r#"on = "picture_started", value = 0"#,
+        r#"kind = "picture_fails""#,
     )
     .await;
     capture(&mut gcs).await;
@@ -85,11 +91,9 @@ fault = { kind = "picture_fails" }
 
 #[tokio::test]
 async fn a_slow_zone_appears_and_caps_the_speed() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { at_s = 1.0 }
-fault = { kind = "slow_zone", zone = { center_m = [30.0, 0.0], radius_m = 20.0, speed_factor = 0.2 } }
-"#,
+    let (sim, mut gcs) = start_with_fault(
+        "at_s = 1.0",
+        r#"kind = "slow_zone", zone = { center_m = [30.0, 0.0], radius_m = 20.0, speed_factor = 0.2 }"#,
     )
     .await;
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
@@ -109,11 +113,9 @@ fault = { kind = "slow_zone", zone = { center_m = [30.0, 0.0], radius_m = 20.0, 
 
 #[tokio::test]
 async fn battery_drops_when_the_vehicle_starts_moving() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { on = "moving" }
-fault = { kind = "battery_drop", percent = 40.0 }
-"#,
+    let (sim, mut gcs) = start_with_fault(
+        r#"on = "moving""#,
+        r#"kind = "battery_drop", percent = 40.0"#,
     )
     .await;
     sim.step(Duration::from_secs(2)).await.expect("step");
@@ -131,12 +133,7 @@ fault = { kind = "battery_drop", percent = 40.0 }
     );
     gcs.drain();
     sim.step(Duration::from_secs(1)).await.expect("step");
-    let pct = gcs
-        .expect("BATTERY_STATUS", |m| match m {
-            MavMessage::BATTERY_STATUS(b) => Some(b.battery_remaining),
-            _ => None,
-        })
-        .await;
+    let pct = expect_msg!(gcs, BATTERY_STATUS).await.battery_remaining;
     assert!(pct <= 59, "{pct}");
 }
 
@@ -152,27 +149,16 @@ fault = { kind = "storage_shrink", mib = 5.0 }
     )
     .await;
     sim.step(Duration::from_secs(2)).await.expect("step");
-    gcs.command_long(
-        MavCmd::MAV_CMD_REQUEST_MESSAGE,
-        [261.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    )
-    .await;
-    let total = gcs
-        .expect("STORAGE_INFORMATION", |m| match m {
-            MavMessage::STORAGE_INFORMATION(s) => Some(s.total_capacity),
-            _ => None,
-        })
-        .await;
+    gcs.request_message(261).await;
+    let total = expect_msg!(gcs, STORAGE_INFORMATION).await.total_capacity;
     assert_eq!(total, 7.0);
 }
 
 #[tokio::test]
 async fn navigation_fails_with_no_map_stops_and_refuses_auto_for_a_while() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { on = "waypoint_reached", value = 1 }
-fault = { kind = "nav_fails", duration_s = 5.0 }
-"#,
+    let (sim, mut gcs) = start_with_fault(
+        r#"on = "waypoint_reached", value = 1"#,
+        r#"kind = "nav_fails", duration_s = 5.0"#,
     )
     .await;
     let items = vec![
@@ -200,11 +186,9 @@ fault = { kind = "nav_fails", duration_s = 5.0 }
 
 #[tokio::test]
 async fn a_foreign_mode_change_holds_the_rover_mid_mission() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { on = "moving", delay_s = 3.0 }
-fault = { kind = "mode_change", mode = 4 }
-"#,
+    let (sim, mut gcs) = start_with_fault(
+        r#"on = "moving", delay_s = 3.0"#,
+        r#"kind = "mode_change", mode = 4"#,
     )
     .await;
     let items = vec![waypoint(HOME, 0.0, 0.0), waypoint(HOME, 40.0, 0.0)];
@@ -233,24 +217,12 @@ fn boot_times(msgs: &[MavMessage]) -> Vec<u32> {
 
 #[tokio::test]
 async fn link_blackout_silences_both_directions_for_its_duration() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { at_s = 2.0 }
-fault = { kind = "link_blackout", duration_s = 3.0 }
-"#,
-    )
-    .await;
+    let (sim, mut gcs) =
+        start_with_fault("at_s = 2.0", r#"kind = "link_blackout", duration_s = 3.0"#).await;
     sim.step(Duration::from_millis(2500)).await.expect("step");
     assert!(sim.snapshot().link_blackout);
     // Sent in the blackout: lost.
-    gcs.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-        param1: 1.0,
-        command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    }))
-    .await;
+    gcs.send_arm_to(1).await;
     for _ in 0..45 {
         sim.step(STEP).await.expect("step");
     }
@@ -272,11 +244,9 @@ fault = { kind = "link_blackout", duration_s = 3.0 }
 
 #[tokio::test]
 async fn link_loss_drops_frames_for_its_duration() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { at_s = 1.0 }
-fault = { kind = "link_quality", loss = 1.0, duration_s = 2.0 }
-"#,
+    let (sim, mut gcs) = start_with_fault(
+        "at_s = 1.0",
+        r#"kind = "link_quality", loss = 1.0, duration_s = 2.0"#,
     )
     .await;
     for _ in 0..40 {
@@ -292,13 +262,8 @@ fault = { kind = "link_quality", loss = 1.0, duration_s = 2.0 }
 
 #[tokio::test]
 async fn link_duplication_sends_every_frame_twice() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { at_s = 0.0 }
-fault = { kind = "link_quality", duplicate = 1.0 }
-"#,
-    )
-    .await;
+    let (sim, mut gcs) =
+        start_with_fault("at_s = 0.0", r#"kind = "link_quality", duplicate = 1.0"#).await;
     sim.step(Duration::from_secs(3)).await.expect("step");
     let times = boot_times(&gcs.sync().await);
     assert!(
@@ -312,13 +277,8 @@ fault = { kind = "link_quality", duplicate = 1.0 }
 
 #[tokio::test]
 async fn link_reordering_swaps_frames() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { at_s = 0.0 }
-fault = { kind = "link_quality", reorder = 1.0 }
-"#,
-    )
-    .await;
+    let (sim, mut gcs) =
+        start_with_fault("at_s = 0.0", r#"kind = "link_quality", reorder = 1.0"#).await;
     sim.step(Duration::from_secs(5)).await.expect("step");
     // Inbound frames are reordered too: this one is held back, and overtaken by the sync's command.
     gcs.send(MavMessage::HEARTBEAT(HEARTBEAT_DATA::default()))
@@ -361,10 +321,11 @@ fault = { kind = "downlink_rate", mib_per_s = 0.1 }
     sim.step(Duration::from_secs(2)).await.expect("step");
     let stored = sim.snapshot().storage_used_mib;
     assert!(stored >= 2.0);
-    let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_USER_1, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_DENIED, "no visibility before 5 s");
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_USER_1, &[1.0]).await,
+        MavResult::MAV_RESULT_DENIED,
+        "no visibility before 5 s"
+    );
     sim.step(Duration::from_secs(4)).await.expect("step");
     let (r, p) = gcs
         .command_long(MavCmd::MAV_CMD_USER_1, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
@@ -421,13 +382,7 @@ async fn injected_faults_apply_at_once() {
 
 #[tokio::test]
 async fn reboot_goes_silent_then_boots_disarmed_in_manual_where_it_stood() {
-    let (sim, mut gcs) = start(
-        r#"[[faults]]
-when = { at_s = 5.0 }
-fault = { kind = "reboot", silent_s = 3.0 }
-"#,
-    )
-    .await;
+    let (sim, mut gcs) = start_with_fault("at_s = 5.0", r#"kind = "reboot", silent_s = 3.0"#).await;
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let (r, _) = gcs.reposition(&waypoint(HOME, 30.0, 0.0), true, 0.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);

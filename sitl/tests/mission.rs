@@ -31,13 +31,7 @@ async fn three_waypoint_mission_runs_in_auto() {
     );
     let mut reached = Vec::new();
     while reached.last() != Some(&3) {
-        reached.push(
-            gcs.expect("MISSION_ITEM_REACHED", |m| match m {
-                MavMessage::MISSION_ITEM_REACHED(r) => Some(r.seq),
-                _ => None,
-            })
-            .await,
-        );
+        reached.push(expect_msg!(gcs, MISSION_ITEM_REACHED).await.seq);
     }
     assert_eq!(reached, vec![1, 2, 3]);
     assert!(s.statustexts.iter().any(|t| t == "Mission Complete"));

@@ -27,19 +27,22 @@ fn count(n: u16) -> MavMessage {
 }
 
 async fn next_request(gcs: &mut Gcs) -> u16 {
-    gcs.expect("MISSION_REQUEST_INT", |m| match m {
-        MavMessage::MISSION_REQUEST_INT(r) => Some(r.seq),
-        _ => None,
-    })
-    .await
+    expect_msg!(gcs, MISSION_REQUEST_INT).await.seq
 }
 
 async fn mission_ack(gcs: &mut Gcs) -> MavMissionResult {
-    gcs.expect("MISSION_ACK", |m| match m {
-        MavMessage::MISSION_ACK(a) => Some(a.mavtype),
-        _ => None,
-    })
-    .await
+    expect_msg!(gcs, MISSION_ACK).await.mavtype
+}
+
+/// MISSION_CLEAR_ALL; the MISSION_ACK's result.
+async fn clear_all(gcs: &mut Gcs) -> MavMissionResult {
+    gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
+        target_system: 1,
+        target_component: 1,
+        ..Default::default()
+    }))
+    .await;
+    mission_ack(gcs).await
 }
 
 #[tokio::test]
@@ -131,12 +134,7 @@ async fn legacy_items_and_requests_round_trip_with_home_as_item_zero() {
         },
     ))
     .await;
-    let n = gcs
-        .expect("MISSION_COUNT", |m| match m {
-            MavMessage::MISSION_COUNT(c) => Some(c.count),
-            _ => None,
-        })
-        .await;
+    let n = expect_msg!(gcs, MISSION_COUNT).await.count;
     assert_eq!(n, 4);
     // Modern request -> MISSION_ITEM_INT; legacy request -> MISSION_ITEM.
     gcs.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
@@ -203,48 +201,33 @@ async fn clear_is_refused_in_auto_and_mission_current_reports_state() {
     let (_, total, st, _) = gcs.expect("MISSION_CURRENT", state).await;
     assert_eq!((total, st), (3, MissionState::MISSION_STATE_NOT_STARTED));
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    let (r, _) = gcs
-        .command_long(MavCmd::MAV_CMD_MISSION_START, [0.0; 7])
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_MISSION_START, &[]).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     assert_eq!(sim.snapshot().mode, "AUTO");
     gcs.drain();
     sim.step(Duration::from_secs(1)).await.expect("step");
     let (seq, _, st, mode) = gcs.expect("MISSION_CURRENT", state).await;
     assert_eq!((seq, st, mode), (1, MissionState::MISSION_STATE_ACTIVE, 1));
-    gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    }))
-    .await;
     assert_eq!(
-        mission_ack(&mut gcs).await,
+        clear_all(&mut gcs).await,
         MavMissionResult::MAV_MISSION_ERROR
     );
     assert_eq!(sim.snapshot().mission_total, 3);
     // Jump to item 3, then finish.
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
-            [3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-    let (r, _) = gcs
-        .command_long(
-            MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT,
-            [9.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await;
-    assert_eq!(r, MavResult::MAV_RESULT_DENIED);
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT, &[3.0])
+            .await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
+    assert_eq!(
+        gcs.command(MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT, &[9.0])
+            .await,
+        MavResult::MAV_RESULT_DENIED
+    );
     run_until(&sim, 60, |s| s.mission_complete).await;
-    let reached = gcs
-        .expect("MISSION_ITEM_REACHED", |m| match m {
-            MavMessage::MISSION_ITEM_REACHED(r) => Some(r.seq),
-            _ => None,
-        })
-        .await;
+    let reached = expect_msg!(gcs, MISSION_ITEM_REACHED).await.seq;
     assert_eq!(reached, 3, "items 1 and 2 were skipped");
     gcs.drain();
     sim.step(Duration::from_secs(1)).await.expect("step");
@@ -252,14 +235,8 @@ async fn clear_is_refused_in_auto_and_mission_current_reports_state() {
     assert_eq!(st, MissionState::MISSION_STATE_COMPLETE);
     // Out of AUTO the mission can be cleared.
     assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
-    gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    }))
-    .await;
     assert_eq!(
-        mission_ack(&mut gcs).await,
+        clear_all(&mut gcs).await,
         MavMissionResult::MAV_MISSION_ACCEPTED
     );
     assert_eq!(sim.snapshot().mission_total, 0);
@@ -280,9 +257,7 @@ async fn auto_runs_loiter_speed_camera_servo_and_rtl_items() {
         waypoint(HOME, 20.0, 20.0),
         item(MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH, [0.0; 4]),
     ];
-    upload_ok(&mut gcs, &items).await;
-    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
+    start_auto(&mut gcs, &items).await;
     // DO_CHANGE_SPEED: 2 m/s on the first leg.
     let s = run_until(&sim, 30, |s| s.north_m > 8.0).await;
     assert!(s.speed_mps <= 2.0 + 1e-6, "{}", s.speed_mps);

@@ -131,6 +131,16 @@ pub fn pictures(r: &MissionReport) -> Vec<String> {
         .collect()
 }
 
+/// Both goals of rover_two.ixt, g1 and g2, are achieved.
+pub fn assert_both_achieved(r: &MissionReport) {
+    assert_eq!(
+        (fate(r, "g1"), fate(r, "g2")),
+        (Fate::Achieved, Fate::Achieved),
+        "{:?}",
+        r.goals
+    );
+}
+
 pub fn fate(r: &MissionReport, name: &str) -> Fate {
     r.goals
         .iter()
@@ -139,10 +149,9 @@ pub fn fate(r: &MissionReport, name: &str) -> Fate {
         .unwrap_or(Fate::Pending)
 }
 
-/// The rover of the nominal mission: [`nominal_moves`] and pictures of 0.9 slot (storage 2.1 after each).
+/// The rover of the nominal mission: [`moving_rover`] and pictures of 0.9 slot (storage 2.1 after each).
 pub fn nominal_rover() -> MockVehicle {
-    let mut v = rover();
-    nominal_moves(&mut v);
+    let mut v = moving_rover();
     v.script(
         "take_picture",
         Outcome::nominal(8_000).with_level("STORAGE", 2.1),
@@ -150,8 +159,10 @@ pub fn nominal_rover() -> MockVehicle {
     v
 }
 
-/// base → p2 (19 m) then p2 → p1 (12.8 m) at 0.45 m/s.
-pub fn nominal_moves(v: &mut MockVehicle) {
+/// The rover with its nominal moves scripted: base → p2 (19 m) then p2 → p1 (12.8 m) at 0.45 m/s.
+pub fn moving_rover() -> MockVehicle {
+    let mut v = rover();
     v.script("move", Outcome::nominal(42_000).with_level("BATTERY", 80.5));
     v.script("move", Outcome::nominal(28_500).with_level("BATTERY", 74.1));
+    v
 }

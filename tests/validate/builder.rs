@@ -195,6 +195,16 @@ impl<'a> Builder<'a> {
         gid
     }
 
+    /// Places goal `name` after `after` (as [`Builder::goal`]), supported by event `event` of `action`.
+    pub fn achieve(&mut self, name: &str, after: PlanTp, action: ActionId, event: usize) -> GoalId {
+        let goal = self.goal(name, after);
+        self.link(
+            Establisher::Event { action, event },
+            Consumer::Goal { goal },
+        );
+        goal
+    }
+
     /// Every timepoint within the horizon, then the windows by Floyd-Warshall.
     pub fn finish(mut self) -> Solution {
         for i in 1..self.s.timepoints.len() {

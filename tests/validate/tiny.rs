@@ -332,14 +332,7 @@ pub fn sequential(d: &Domain, p: &Problem, steps: &[Step], max_snaps: usize) -> 
                 seen[cur] = true;
                 snaps += 1;
                 if PLACES[cur] == "b" {
-                    let g = b.goal("g1", prev);
-                    b.link(
-                        Establisher::Event {
-                            action: id,
-                            event: 0,
-                        },
-                        Consumer::Goal { goal: g },
-                    );
+                    b.achieve("g1", prev, id, 0);
                 }
             }
             _ => {}

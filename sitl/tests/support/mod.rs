@@ -14,6 +14,19 @@ use tokio::sync::mpsc;
 
 pub const WAIT: Duration = Duration::from_secs(5);
 
+/// `$gcs.expect` of the next `$variant` message (bounded wait, as [`Gcs::expect`]): a future of its data.
+#[allow(unused_macros)]
+macro_rules! expect_msg {
+    ($gcs:expr, $variant:ident) => {
+        $gcs.expect(stringify!($variant), |m| match m {
+            MavMessage::$variant(d) => Some(d.clone()),
+            _ => None,
+        })
+    };
+}
+#[allow(unused_imports)]
+pub(crate) use expect_msg;
+
 pub struct Gcs {
     wr: OwnedWriteHalf,
     rx: mpsc::UnboundedReceiver<(MavlinkVersion, MavHeader, MavMessage)>,
@@ -90,6 +103,18 @@ impl Gcs {
             target_component: 1,
             req_stream_id: MavDataStream::MAV_DATA_STREAM_ALL,
             start_stop: 0,
+        }))
+        .await;
+    }
+
+    /// COMMAND_LONG arm addressed to `target_system`, sent without waiting for any answer.
+    pub async fn send_arm_to(&mut self, target_system: u8) {
+        self.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1: 1.0,
+            command: MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
+            target_system,
+            target_component: 1,
+            ..Default::default()
         }))
         .await;
     }
@@ -219,6 +244,19 @@ impl Gcs {
         self.ack_of(command).await
     }
 
+    /// COMMAND_LONG `command` with its first params `p` (the others 0); the ACK's result.
+    pub async fn command(&mut self, command: MavCmd, p: &[f32]) -> MavResult {
+        let mut params = [0.0; 7];
+        params[..p.len()].copy_from_slice(p);
+        self.command_long(command, params).await.0
+    }
+
+    /// REQUEST_MESSAGE for message `id`; the ACK's result.
+    pub async fn request_message(&mut self, id: u32) -> MavResult {
+        self.command(MavCmd::MAV_CMD_REQUEST_MESSAGE, &[id as f32])
+            .await
+    }
+
     pub async fn command_int(
         &mut self,
         command: MavCmd,
@@ -275,30 +313,17 @@ impl Gcs {
 
     /// IMAGE_START_CAPTURE with p1 camera id, p2 interval, p3 count; the result.
     pub async fn image_start_capture(&mut self, p: [f32; 3]) -> MavResult {
-        self.command_long(
-            MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
-            [p[0], p[1], p[2], 0.0, 0.0, 0.0, 0.0],
-        )
-        .await
-        .0
+        self.command(MavCmd::MAV_CMD_IMAGE_START_CAPTURE, &p).await
     }
 
     pub async fn set_mode(&mut self, mode: u32) -> MavResult {
-        self.command_long(
-            MavCmd::MAV_CMD_DO_SET_MODE,
-            [1.0, mode as f32, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await
-        .0
+        self.command(MavCmd::MAV_CMD_DO_SET_MODE, &[1.0, mode as f32])
+            .await
     }
 
     pub async fn arm(&mut self) -> MavResult {
-        self.command_long(
-            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .await
-        .0
+        self.command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, &[1.0])
+            .await
     }
 
     /// Uploads `items` (seq 0 is a placeholder for home) with MISSION_ITEM_INT; returns the ACK.
@@ -410,4 +435,11 @@ pub async fn upload_ok(gcs: &mut Gcs, items: &[MISSION_ITEM_INT_DATA]) {
         gcs.upload(items).await,
         MavMissionResult::MAV_MISSION_ACCEPTED
     );
+}
+
+/// Uploads `items` through `gcs`, arms and switches to AUTO (mode 10), each step accepted.
+pub async fn start_auto(gcs: &mut Gcs, items: &[MISSION_ITEM_INT_DATA]) {
+    upload_ok(gcs, items).await;
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
 }

@@ -11,11 +11,17 @@ fn action(stn: &mut Stn, prev: Timepoint, dmin: Time, dmax: Time) -> (Timepoint,
     (st, et)
 }
 
-#[test]
-fn bounds_follow_a_chain_and_a_deadline() {
+/// A new STN with its origin and a first action `[st, et]` after it.
+fn with_action(dmin: Time, dmax: Time) -> (Stn, Timepoint, Timepoint, Timepoint) {
     let mut stn = Stn::new();
     let o = stn.origin();
-    let (st1, et1) = action(&mut stn, o, 10, 20);
+    let (st, et) = action(&mut stn, o, dmin, dmax);
+    (stn, o, st, et)
+}
+
+#[test]
+fn bounds_follow_a_chain_and_a_deadline() {
+    let (mut stn, o, st1, et1) = with_action(10, 20);
     let (st2, et2) = action(&mut stn, et1, 5, 5);
     assert_eq!((stn.lb(st1), stn.ub(st1)), (1, INF));
     assert_eq!((stn.lb(et2), stn.ub(et2)), (1 + 10 + 1 + 5, INF));
@@ -31,9 +37,7 @@ fn bounds_follow_a_chain_and_a_deadline() {
 
 #[test]
 fn negative_cycle_is_reported_with_its_constraints_and_nothing_changes() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (st1, et1) = action(&mut stn, o, 10, 20);
+    let (mut stn, o, st1, et1) = with_action(10, 20);
     let deadline = stn.add_constraint(o, et1, 0, 15).unwrap();
     let before: Vec<_> = stn.timepoints().map(|t| (stn.lb(t), stn.ub(t))).collect();
     // st1 no earlier than 10 contradicts duration ≥ 10 and deadline 15.
@@ -53,9 +57,7 @@ fn negative_cycle_is_reported_with_its_constraints_and_nothing_changes() {
 
 #[test]
 fn save_and_restore_undo_everything_after_the_level() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (_, et1) = action(&mut stn, o, 10, 20);
+    let (mut stn, o, _, et1) = with_action(10, 20);
     let level = stn.save();
     let bounds = (stn.lb(et1), stn.ub(et1));
     let (st2, _) = action(&mut stn, et1, 3, 4);
@@ -71,9 +73,7 @@ fn save_and_restore_undo_everything_after_the_level() {
 
 #[test]
 fn executing_fixes_the_timepoint_and_due_lists_the_others() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (st1, et1) = action(&mut stn, o, 10, 20);
+    let (mut stn, o, st1, et1) = with_action(10, 20);
     let (st2, et2) = action(&mut stn, o, 5, 5);
     assert_eq!(stn.due(0).count(), 0);
     assert_eq!(stn.due(1).collect::<Vec<_>>(), vec![st1, st2]);
@@ -93,9 +93,7 @@ fn executing_fixes_the_timepoint_and_due_lists_the_others() {
 /// is relaxed (its constraints removed); the network is recomputed and stays consistent.
 #[test]
 fn early_report_relaxes_the_failed_end_timepoint() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (st1, et1) = action(&mut stn, o, 50, 60);
+    let (mut stn, o, st1, et1) = with_action(50, 60);
     let (st2, et2) = action(&mut stn, et1, 10, 10);
     stn.add_constraint(o, et2, 0, 200).unwrap();
     stn.execute(st1, 1).unwrap();
@@ -117,9 +115,7 @@ fn early_report_relaxes_the_failed_end_timepoint() {
 
 #[test]
 fn removing_an_execution_unexecutes() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (st1, et1) = action(&mut stn, o, 10, 20);
+    let (mut stn, _, st1, et1) = with_action(10, 20);
     let c = stn.execute(st1, 5).unwrap();
     stn.remove_constraint(c);
     assert!(!stn.is_executed(st1));
@@ -140,9 +136,7 @@ fn open_bounds_are_one_unit_inside() {
 
 #[test]
 fn tighten_narrows_and_is_undone_by_restore() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (st1, et1) = action(&mut stn, o, 10, 20);
+    let (mut stn, _, st1, et1) = with_action(10, 20);
     let c = stn
         .constraints_of(et1)
         .find(|(_, k)| k.from == st1)
@@ -161,9 +155,7 @@ fn tighten_narrows_and_is_undone_by_restore() {
 
 #[test]
 fn distance_between_unrelated_branches_goes_through_the_origin() {
-    let mut stn = Stn::new();
-    let o = stn.origin();
-    let (a, _) = action(&mut stn, o, 1, 2);
+    let (mut stn, o, a, _) = with_action(1, 2);
     let (b, _) = action(&mut stn, o, 1, 2);
     stn.add_constraint(o, b, 0, 40).unwrap();
     assert_eq!(stn.distance(a, b), 40 - 1);

@@ -1,0 +1,25 @@
+//! Child processes of the CLI tests: killed even when an assertion fails.
+#![allow(dead_code)]
+
+use std::process::{Child, ChildStdout, Command, Stdio};
+
+/// Kills the child process even when an assertion fails.
+pub struct Reap(pub Child);
+
+impl Drop for Reap {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Spawns `cmd` with its stdout piped and its stderr dropped: the child, reaped on drop, and its stdout.
+pub fn spawn_piped(cmd: &mut Command) -> (Reap, ChildStdout) {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| panic!("spawn {cmd:?}: {e}"));
+    let stdout = child.stdout.take().expect("stdout");
+    (Reap(child), stdout)
+}
