@@ -66,24 +66,7 @@ impl Stn {
                 sc.heap.push(Reverse((best - self.lb[x as usize], x)));
             }
         }
-        while let Some(Reverse((key, x))) = sc.heap.pop() {
-            let ub_x = self.ub[x as usize];
-            if key != ub_x - self.lb[x as usize] {
-                continue;
-            }
-            for i in 0..self.out[x as usize].len() {
-                let h = self.out[x as usize][i];
-                let (_, y, w) = self.half_edge(h);
-                if w >= INF || !sc.touched(y) {
-                    continue;
-                }
-                let cand = sat_add(ub_x, w);
-                if cand < self.ub[y as usize] {
-                    self.set_ub(y, cand);
-                    sc.heap.push(Reverse((cand - self.lb[y as usize], y)));
-                }
-            }
-        }
+        self.settle_upper_bounds(&mut sc, |sc, y| sc.touched(y));
         self.scratch = sc;
     }
 
@@ -130,24 +113,8 @@ impl Stn {
             self.set_lb(x, best);
             sc.heap.push(Reverse((sc.old[x as usize] - best, x)));
         }
-        while let Some(Reverse((key, x))) = sc.heap.pop() {
-            let lb_x = self.lb[x as usize];
-            if key != sc.old[x as usize] - lb_x {
-                continue;
-            }
-            for i in 0..self.inc[x as usize].len() {
-                let h = self.inc[x as usize][i];
-                let (a, _, w) = self.half_edge(h);
-                if w >= INF || !sc.touched(a) {
-                    continue;
-                }
-                let cand = sat_add(lb_x, -w);
-                if cand > self.lb[a as usize] {
-                    self.set_lb(a, cand);
-                    sc.heap.push(Reverse((sc.old[a as usize] - cand, a)));
-                }
-            }
-        }
+        // Only the affected set is recomputed; no cycle can appear by removing edges.
+        let _ = self.settle_lower_bounds(&mut sc, |sc, _, a, _| Some(sc.touched(a)));
         self.scratch = sc;
     }
 }
