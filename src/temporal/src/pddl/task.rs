@@ -12,6 +12,7 @@
 //! deletion of an atom the action does not require gets a fresh `from` variable (any prior value).
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
+use super::invariants;
 use super::translate::{Cx, PredRep};
 use super::PddlError;
 use crate::model::{
@@ -274,11 +275,7 @@ fn task(
                         None => static_holds.push((attr, args, positive, *w)),
                     },
                     PredRep::Bool { attr, fluent: true } => {
-                        let v = Term::Obj(if positive {
-                            Domain::TRUE
-                        } else {
-                            Domain::FALSE
-                        });
+                        let v = Term::Obj(Domain::truth(positive));
                         instance(&mut insts, attr, args, true).conds.push((*w, v));
                     }
                     PredRep::Group {
@@ -312,7 +309,7 @@ fn task(
         let args = terms(cx, atom)?;
         match rep {
             PredRep::Bool { attr, .. } => {
-                let v = Term::Obj(if add { Domain::TRUE } else { Domain::FALSE });
+                let v = Term::Obj(Domain::truth(add));
                 instance(&mut insts, attr, args, true)
                     .effects
                     .push((*w, v, None, add));
@@ -348,11 +345,7 @@ fn task(
         t.holds.push(Hold {
             attr,
             args,
-            value: Term::Obj(if positive {
-                Domain::TRUE
-            } else {
-                Domain::FALSE
-            }),
+            value: Term::Obj(Domain::truth(positive)),
             from: at,
             to: at,
         });
@@ -370,17 +363,9 @@ fn split(
     value_pos: Option<usize>,
     member: Option<crate::model::ObjectId>,
 ) -> (Vec<Term>, Term) {
-    match value_pos {
-        Some(v) => (
-            args.iter()
-                .enumerate()
-                .filter(|(i, _)| *i != v)
-                .map(|(_, x)| *x)
-                .collect(),
-            args.get(v).copied().unwrap_or(Term::Unknown),
-        ),
-        None => (args.to_vec(), member.map_or(Term::Unknown, Term::Obj)),
-    }
+    let (key, value) =
+        invariants::split_member(args.iter().copied(), value_pos, member.map(Term::Obj));
+    (key, value.unwrap_or(Term::Unknown))
 }
 
 fn instance(

@@ -727,24 +727,11 @@ fn combinations(choices: &[Vec<ObjectId>], limit: usize) -> Option<Vec<Vec<Objec
     if n > limit {
         return None;
     }
-    let mut out: Vec<Vec<ObjectId>> = vec![Vec::new()];
-    for c in choices {
-        out = out
-            .into_iter()
-            .flat_map(|prefix| {
-                c.iter().map(move |o| {
-                    let mut v = prefix.clone();
-                    v.push(*o);
-                    v
-                })
-            })
-            .collect();
-    }
-    Some(out)
+    Some(crate::model::combinations(choices))
 }
 
 fn value_of(b: bool) -> Value {
-    Value::Obj(if b { Domain::TRUE } else { Domain::FALSE })
+    Value::Obj(Domain::truth(b))
 }
 
 fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Problem, PddlError> {
@@ -916,15 +903,6 @@ pub(super) fn split_ground(
     value_pos: Option<usize>,
     member: Option<ObjectId>,
 ) -> (Vec<ObjectId>, Value) {
-    match value_pos {
-        Some(v) => (
-            args.iter()
-                .enumerate()
-                .filter(|(i, _)| *i != v)
-                .map(|(_, o)| *o)
-                .collect(),
-            args.get(v).map_or(Value::Unknown, |o| Value::Obj(*o)),
-        ),
-        None => (args.to_vec(), member.map_or(Value::Unknown, Value::Obj)),
-    }
+    let (key, value) = invariants::split_member(args.iter().copied(), value_pos, member);
+    (key, value.map_or(Value::Unknown, Value::Obj))
 }
