@@ -115,22 +115,27 @@ impl<'a> Parser<'a> {
     }
 
     fn ident(&mut self, what: &str) -> PResult<Ident> {
-        match self.peek().clone() {
-            Tok::Ident(name) => {
-                let span = self.bump().span;
-                Ok(Ident { name, span })
-            }
-            _ => self.err(what),
-        }
+        self.named(what, |t| match t {
+            Tok::Ident(name) => Some(name),
+            _ => None,
+        })
     }
 
     fn var(&mut self, what: &str) -> PResult<Ident> {
-        match self.peek().clone() {
-            Tok::Var(name) => {
+        self.named(what, |t| match t {
+            Tok::Var(name) => Some(name),
+            _ => None,
+        })
+    }
+
+    /// The name `name_of` finds in the next token (a name or a `?variable`), with its span.
+    fn named(&mut self, what: &str, name_of: impl Fn(&Tok) -> Option<&String>) -> PResult<Ident> {
+        match name_of(self.peek()).cloned() {
+            Some(name) => {
                 let span = self.bump().span;
                 Ok(Ident { name, span })
             }
-            _ => self.err(what),
+            None => self.err(what),
         }
     }
 

@@ -188,12 +188,7 @@ impl P<'_> {
                 match inner.head() {
                     Some("=") if is_symbolic_eq(inner) => {
                         let il = self.list(inner, "(= a b)")?;
-                        out.push(Lit::Equal(
-                            self.arg(&il[1])?,
-                            self.arg(&il[2])?,
-                            false,
-                            sx.span,
-                        ));
+                        out.push(self.equal(il, false, sx.span)?);
                         Ok(())
                     }
                     Some("<" | "<=" | "=" | ">=" | ">") => self.err(
@@ -207,12 +202,7 @@ impl P<'_> {
                 }
             }
             "=" if is_symbolic_eq(sx) => {
-                out.push(Lit::Equal(
-                    self.arg(&l[1])?,
-                    self.arg(&l[2])?,
-                    true,
-                    sx.span,
-                ));
+                out.push(self.equal(l, true, sx.span)?);
                 Ok(())
             }
             "<" | "<=" | "=" | ">=" | ">" => {
@@ -236,6 +226,16 @@ impl P<'_> {
                 Ok(())
             }
         }
+    }
+
+    /// `(= a b)` (checked by `is_symbolic_eq`), or its negation.
+    fn equal(&self, l: &[Sx], positive: bool, span: Span) -> R<Lit> {
+        Ok(Lit::Equal(
+            self.arg(&l[1])?,
+            self.arg(&l[2])?,
+            positive,
+            span,
+        ))
     }
 
     /// A durative action's condition: a conjunction of `(at start|at end|over all GD)`.

@@ -12,7 +12,6 @@
 //! deletion of an atom the action does not require gets a fresh `from` variable (any prior value).
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
-use super::invariants;
 use super::translate::{Cx, PredRep};
 use super::PddlError;
 use crate::model::{
@@ -278,13 +277,9 @@ fn task(
                         let v = Term::Obj(Domain::truth(positive));
                         instance(&mut insts, attr, args, true).conds.push((*w, v));
                     }
-                    PredRep::Group {
-                        attr,
-                        value_pos,
-                        member,
-                    } => {
-                        let (key, value) = split(&args, value_pos, member);
-                        instance(&mut insts, attr, key, false)
+                    PredRep::Group(g) => {
+                        let (key, value) = g.split_terms(&args);
+                        instance(&mut insts, g.attr, key, false)
                             .conds
                             .push((*w, value));
                     }
@@ -314,18 +309,14 @@ fn task(
                     .effects
                     .push((*w, v, None, add));
             }
-            PredRep::Group {
-                attr,
-                value_pos,
-                member,
-            } => {
-                let (key, value) = split(&args, value_pos, member);
+            PredRep::Group(g) => {
+                let (key, value) = g.split_terms(&args);
                 let eff = if add {
                     (*w, value, None, true)
                 } else {
                     (*w, Term::Unknown, Some(value), false)
                 };
-                instance(&mut insts, attr, key, false).effects.push(eff);
+                instance(&mut insts, g.attr, key, false).effects.push(eff);
             }
             // The lock's use covers its deletion at `st` and its return at `et`.
             PredRep::Lock { .. } => {}
@@ -356,16 +347,6 @@ fn task(
         }
     }
     Ok(Ok(t))
-}
-
-fn split(
-    args: &[Term],
-    value_pos: Option<usize>,
-    member: Option<crate::model::ObjectId>,
-) -> (Vec<Term>, Term) {
-    let (key, value) =
-        invariants::split_member(args.iter().copied(), value_pos, member.map(Term::Obj));
-    (key, value.unwrap_or(Term::Unknown))
 }
 
 fn instance(
