@@ -77,40 +77,45 @@ impl<E> Trail<E> {
 mod tests {
     use super::*;
 
+    /// A trail holding `entries`, oldest first.
+    fn trail_of<T>(entries: impl IntoIterator<Item = T>) -> Trail<T> {
+        let mut t = Trail::new();
+        entries.into_iter().for_each(|e| t.push(e));
+        t
+    }
+
+    /// Restores `l`, returning the entries undone in the order they were handed back.
+    fn undo<T>(t: &mut Trail<T>, l: Level) -> Vec<T> {
+        let mut undone = Vec::new();
+        t.restore(l, |e| undone.push(e));
+        undone
+    }
+
     #[test]
     fn restore_undoes_newest_first_down_to_the_level() {
-        let mut t = Trail::new();
-        t.push(1);
+        let mut t = trail_of([1]);
         let l = t.level();
         t.push(2);
         t.push(3);
-        let mut undone = Vec::new();
-        t.restore(l, |e| undone.push(e));
-        assert_eq!(undone, [3, 2]);
+        assert_eq!(undo(&mut t, l), [3, 2]);
         assert_eq!(t.level(), l);
         assert_eq!(t.len(), 1);
     }
 
     #[test]
     fn restoring_a_level_above_the_current_one_does_nothing() {
-        let mut t = Trail::new();
-        t.push('a');
-        t.push('b');
+        let mut t = trail_of(['a', 'b']);
         let high = t.level();
         t.restore(Level::ROOT, |_| {});
         assert!(t.is_empty());
         t.push('c');
-        let mut undone = Vec::new();
-        t.restore(high, |e| undone.push(e));
-        assert!(undone.is_empty());
+        assert!(undo(&mut t, high).is_empty());
         assert_eq!(t.len(), 1);
     }
 
     #[test]
     fn pop_after_stops_at_the_level() {
-        let mut t = Trail::new();
-        t.push(10);
-        t.push(20);
+        let mut t = trail_of([10, 20]);
         let l = t.level();
         t.push(30);
         assert_eq!(t.pop_after(l), Some(30));
@@ -120,16 +125,13 @@ mod tests {
 
     #[test]
     fn clear_makes_earlier_levels_restore_nothing() {
-        let mut t = Trail::new();
-        t.push(1);
+        let mut t = trail_of([1]);
         let l = t.level();
         t.push(2);
         t.clear();
         t.push(3);
-        let mut undone = Vec::new();
-        t.restore(l, |e| undone.push(e));
+        let undone = undo(&mut t, l);
         assert!(undone.is_empty(), "{undone:?}");
-        t.restore(Level::ROOT, |e| undone.push(e));
-        assert_eq!(undone, [3]);
+        assert_eq!(undo(&mut t, Level::ROOT), [3]);
     }
 }

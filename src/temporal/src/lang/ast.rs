@@ -1,6 +1,7 @@
 //! Syntax trees of domain and problem files, with spans (semantic checks happen in `resolve`).
 
 use super::diag::Span;
+pub use super::lexer::RelOp;
 use super::lexer::Unit;
 
 /// A name with where it was written.
@@ -69,20 +70,24 @@ pub enum InSet {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RelOp {
-    Eq,
-    Ne,
-    Le,
-    Ge,
-    Lt,
-    Gt,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum UsageAst {
     Use,
     Consume,
     Produce,
+}
+
+/// `use(r: q, (from, to));`, `consume(r: q, t);`, `[secondary] [saturating] produce(r: q, t);`
+#[derive(Debug, Clone, PartialEq)]
+pub struct UsageStmt {
+    pub kind: UsageAst,
+    pub secondary: bool,
+    /// `saturating produce(…)`: the level rises by the quantity but never above the capacity.
+    pub saturating: bool,
+    pub resource: Ident,
+    pub quantity: Expr,
+    pub from: Ident,
+    pub to: Option<Ident>,
+    pub span: Span,
 }
 
 /// A statement of a task or goal body.
@@ -104,17 +109,7 @@ pub enum Stmt {
         to: Option<Ident>,
         span: Span,
     },
-    Usage {
-        kind: UsageAst,
-        secondary: bool,
-        /// `saturating produce(…)`: the level rises by the quantity but never above the capacity.
-        saturating: bool,
-        resource: Ident,
-        quantity: Expr,
-        from: Ident,
-        to: Option<Ident>,
-        span: Span,
-    },
+    Usage(UsageStmt),
     /// `variable ?a, ?b: location;` (untyped = numeric)
     Variables(Vec<(Ident, Option<Ident>)>),
     /// `?a, ?b in ]-oo, +oo[;`, `?w in {W1, W2};`, `(et - st) in [2, 60];`

@@ -23,6 +23,30 @@ impl Unit {
     }
 }
 
+/// A comparison: a token of its own, and the operator of a relation statement (`?d <= 30`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RelOp {
+    Eq,
+    Ne,
+    Le,
+    Ge,
+    Lt,
+    Gt,
+}
+
+impl RelOp {
+    fn symbol(self) -> &'static str {
+        match self {
+            RelOp::Eq => "=",
+            RelOp::Ne => "!=",
+            RelOp::Le => "<=",
+            RelOp::Ge => ">=",
+            RelOp::Lt => "<",
+            RelOp::Gt => ">",
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub enum Tok {
     Ident(String),
@@ -47,12 +71,7 @@ pub enum Tok {
     Comma,
     Semi,
     Colon,
-    Eq,
-    Ne,
-    Le,
-    Ge,
-    Lt,
-    Gt,
+    Rel(RelOp),
     Plus,
     Minus,
     Star,
@@ -86,12 +105,7 @@ impl Tok {
             Tok::Comma => ",",
             Tok::Semi => ";",
             Tok::Colon => ":",
-            Tok::Eq => "=",
-            Tok::Ne => "!=",
-            Tok::Le => "<=",
-            Tok::Ge => ">=",
-            Tok::Lt => "<",
-            Tok::Gt => ">",
+            Tok::Rel(op) => op.symbol(),
             Tok::Plus => "+",
             Tok::Minus => "-",
             Tok::Star => "*",
@@ -172,9 +186,9 @@ pub fn lex(src: &Source<'_>) -> Result<Vec<Token>, Diagnostic> {
         } else {
             let two = b.get(i + 1).copied();
             let (tok, len) = match (c, two) {
-                (b'!', Some(b'=')) => (Tok::Ne, 2),
-                (b'<', Some(b'=')) => (Tok::Le, 2),
-                (b'>', Some(b'=')) => (Tok::Ge, 2),
+                (b'!', Some(b'=')) => (Tok::Rel(RelOp::Ne), 2),
+                (b'<', Some(b'=')) => (Tok::Rel(RelOp::Le), 2),
+                (b'>', Some(b'=')) => (Tok::Rel(RelOp::Ge), 2),
                 (b'(', _) => (Tok::LParen, 1),
                 (b')', _) => (Tok::RParen, 1),
                 (b'{', _) => (Tok::LBrace, 1),
@@ -184,9 +198,9 @@ pub fn lex(src: &Source<'_>) -> Result<Vec<Token>, Diagnostic> {
                 (b',', _) => (Tok::Comma, 1),
                 (b';', _) => (Tok::Semi, 1),
                 (b':', _) => (Tok::Colon, 1),
-                (b'=', _) => (Tok::Eq, 1),
-                (b'<', _) => (Tok::Lt, 1),
-                (b'>', _) => (Tok::Gt, 1),
+                (b'=', _) => (Tok::Rel(RelOp::Eq), 1),
+                (b'<', _) => (Tok::Rel(RelOp::Lt), 1),
+                (b'>', _) => (Tok::Rel(RelOp::Gt), 1),
                 (b'+', _) => (Tok::Plus, 1),
                 (b'-', _) => (Tok::Minus, 1),
                 (b'*', _) => (Tok::Star, 1),

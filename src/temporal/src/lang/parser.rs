@@ -115,22 +115,27 @@ impl<'a> Parser<'a> {
     }
 
     fn ident(&mut self, what: &str) -> PResult<Ident> {
-        match self.peek().clone() {
-            Tok::Ident(name) => {
-                let span = self.bump().span;
-                Ok(Ident { name, span })
-            }
-            _ => self.err(what),
-        }
+        self.named(what, |t| match t {
+            Tok::Ident(name) => Some(name),
+            _ => None,
+        })
     }
 
     fn var(&mut self, what: &str) -> PResult<Ident> {
-        match self.peek().clone() {
-            Tok::Var(name) => {
+        self.named(what, |t| match t {
+            Tok::Var(name) => Some(name),
+            _ => None,
+        })
+    }
+
+    /// The name `name_of` finds in the next token (a name or a `?variable`), with its span.
+    fn named(&mut self, what: &str, name_of: impl Fn(&Tok) -> Option<&String>) -> PResult<Ident> {
+        match name_of(self.peek()).cloned() {
+            Some(name) => {
                 let span = self.bump().span;
                 Ok(Ident { name, span })
             }
-            _ => self.err(what),
+            None => self.err(what),
         }
     }
 
@@ -168,7 +173,7 @@ impl<'a> Parser<'a> {
         match kw.as_str() {
             "type" => {
                 let name = self.ident("a type name")?;
-                let members = if self.eat(&Tok::Eq) {
+                let members = if self.eat(&Tok::Rel(RelOp::Eq)) {
                     self.expect(Tok::LBrace, "`{` and the enumeration's values")?;
                     let m = self.ident_list("an enumeration value")?;
                     self.expect(Tok::RBrace, "`,` or `}`")?;
@@ -369,12 +374,7 @@ impl<'a> Parser<'a> {
                 self.bump();
                 self.expect(Tok::LParen, "`(`")?;
                 let attr = self.attr_ref()?;
-                self.expect(Tok::Colon, "`:` and a value")?;
-                let value = self.expr()?;
-                self.expect(Tok::Comma, "`,` and `(from, to)`")?;
-                let (from, to) = self.tp_pair()?;
-                self.expect(Tok::RParen, "`)`")?;
-                self.semi()?;
+                let (value, (from, to)) = self.value_and_timepoints("a value", "`(from, to)`")?;
                 Ok(Stmt::Hold {
                     attr,
                     value,
@@ -395,13 +395,9 @@ impl<'a> Parser<'a> {
                 if self.eat(&Tok::LParen) {
                     self.expect(Tok::RParen, "`)`: resources take no parameters")?;
                 }
-                self.expect(Tok::Colon, "`:` and a quantity")?;
-                let quantity = self.expr()?;
-                self.expect(Tok::Comma, "`,` and a timepoint")?;
-                let (from, to) = self.tp_pair()?;
-                self.expect(Tok::RParen, "`)`")?;
-                self.semi()?;
-                Ok(Stmt::Usage {
+                let (quantity, (from, to)) =
+                    self.value_and_timepoints("a quantity", "a timepoint")?;
+                Ok(Stmt::Usage(UsageStmt {
                     kind,
                     secondary,
                     saturating,
@@ -410,7 +406,7 @@ impl<'a> Parser<'a> {
                     from,
                     to,
                     span: start.to(self.prev_span()),
-                })
+                }))
             }
             "variable" => {
                 self.bump();
@@ -441,6 +437,26 @@ impl<'a> Parser<'a> {
     }
 
     /// `(t1, t2)` or `t`.
+    /// `: VALUE, TIMEPOINTS);`, the end of a hold and of a resource usage (`what` and `when` name the two
+    /// parts in messages).
+    fn value_and_timepoints(
+        &mut self,
+        what: &str,
+        when: &str,
+    ) -> PResult<(Expr, (Ident, Option<Ident>))> {
+        if !self.eat(&Tok::Colon) {
+            return self.err(&format!("`:` and {what}"));
+        }
+        let value = self.expr()?;
+        if !self.eat(&Tok::Comma) {
+            return self.err(&format!("`,` and {when}"));
+        }
+        let tps = self.tp_pair()?;
+        self.expect(Tok::RParen, "`)`")?;
+        self.semi()?;
+        Ok((value, tps))
+    }
+
     fn tp_pair(&mut self) -> PResult<(Ident, Option<Ident>)> {
         if self.eat(&Tok::LParen) {
             let a = self.ident("a timepoint name")?;
@@ -479,12 +495,7 @@ impl<'a> Parser<'a> {
             return self.err("`in` after a list of variables");
         }
         let op = match self.peek() {
-            Tok::Eq => RelOp::Eq,
-            Tok::Ne => RelOp::Ne,
-            Tok::Le => RelOp::Le,
-            Tok::Ge => RelOp::Ge,
-            Tok::Lt => RelOp::Lt,
-            Tok::Gt => RelOp::Gt,
+            Tok::Rel(op) => *op,
             _ => return self.err("a statement (event, hold, use, consume, produce, variable), `in`, `=`, `!=`, `<=` or `>=`"),
         };
         self.bump();
@@ -806,7 +817,7 @@ impl<'a> Parser<'a> {
             return self.err("an initial value `attr(args) = value;` or `}`");
         }
         let attr = self.attr_ref()?;
-        self.expect(Tok::Eq, "`=` and the value")?;
+        self.expect(Tok::Rel(RelOp::Eq), "`=` and the value")?;
         let value = self.expr()?;
         let at = self.opt_kw_expr("at")?;
         self.semi()?;

@@ -43,6 +43,28 @@ pub fn type_ref(ctx: &mut Ctx<'_>, domain: &Domain, id: &Ident) -> Option<TypeId
     t
 }
 
+/// The type of declared objects (domain constants, problem objects): a known type, not an enumeration
+/// (whose values are `enum_values`).
+pub fn object_type(
+    ctx: &mut Ctx<'_>,
+    domain: &Domain,
+    ty: &Ident,
+    enum_values: &str,
+) -> Option<TypeId> {
+    let t = type_ref(ctx, domain, ty)?;
+    if domain.ty(t).kind == TypeKind::Enum {
+        ctx.err(
+            ty.span,
+            format!(
+                "`{}` is an enumeration: its values are {enum_values}",
+                ty.name
+            ),
+        );
+        return None;
+    }
+    Some(t)
+}
+
 /// The logical attribute `a` names, with the right number of arguments; `resource_hint` says what to
 /// write instead when `a` names a resource.
 pub fn logical_attr(
@@ -169,19 +191,9 @@ pub fn resolve(ctx: &mut Ctx<'_>, ast: &DomainAst) -> Domain {
             position: pos,
         } = item
         {
-            let Some(t) = type_ref(ctx, &d, ty) else {
+            let Some(t) = object_type(ctx, &d, ty, "listed in its `type` declaration") else {
                 continue;
             };
-            if d.ty(t).kind == TypeKind::Enum {
-                ctx.err(
-                    ty.span,
-                    format!(
-                        "`{}` is an enumeration: its values are listed in its `type` declaration",
-                        ty.name
-                    ),
-                );
-                continue;
-            }
             let p = pos.as_ref().and_then(|p| position(ctx, p));
             for n in names {
                 if objects.declare(ctx, n, "object") {

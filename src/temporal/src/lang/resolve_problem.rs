@@ -3,16 +3,16 @@
 use std::collections::HashMap;
 
 use crate::model::{
-    AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalKind, NumConstraint, Object, ObjectId,
-    Problem, ResourceKind, Term, Time, TimeInterval, TypeId, TypeKind, Value,
+    combinations, AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalKind, NumConstraint, Object,
+    ObjectId, Problem, ResourceKind, Term, Time, TimeInterval, TypeId, Value,
 };
 
 use super::ast::{
-    AttrRef, Expr, ExprKind, GoalAst, Ident, InSet, ProblemAst, ProblemItem, RelOp, Stmt,
+    AttrRef, Expr, ExprKind, GoalAst, Ident, InSet, ProblemAst, ProblemItem, RelOp, Stmt, UsageStmt,
 };
 use super::diag::Span;
 use super::eval::{self, Clock, Ctx, TimeVal};
-use super::resolve_domain::{geo, logical_attr, position, type_ref, Names};
+use super::resolve_domain::{geo, logical_attr, object_type, position, Names};
 
 /// A finite, non-negative time, or a reported error.
 fn date(ctx: &mut Ctx<'_>, e: &Expr, clock: Clock) -> Option<Time> {
@@ -128,19 +128,9 @@ fn objects(
         else {
             continue;
         };
-        let Some(t) = type_ref(ctx, domain, ty) else {
+        let Some(t) = object_type(ctx, domain, ty, "fixed by the domain") else {
             continue;
         };
-        if domain.ty(t).kind == TypeKind::Enum {
-            ctx.err(
-                ty.span,
-                format!(
-                    "`{}` is an enumeration: its values are fixed by the domain",
-                    ty.name
-                ),
-            );
-            continue;
-        }
         let position = pos.as_ref().and_then(|x| position(ctx, x));
         for n in ns {
             if domain.object_id(&n.name).is_some() {
@@ -298,28 +288,18 @@ fn ground_instances(
 ) -> Option<(AttrId, Vec<Vec<ObjectId>>, bool)> {
     let id = logical_attr(ctx, domain, a, "give its level in a `resource` line")?;
     let attr = domain.attr(id);
-    let mut combos: Vec<Vec<ObjectId>> = vec![Vec::new()];
+    let mut choices = Vec::new();
     let mut wild = false;
     for (e, (_, t)) in a.args.iter().zip(&attr.params) {
-        let choices = match &e.kind {
+        choices.push(match &e.kind {
             ExprKind::Wildcard if wildcard_ok => {
                 wild = true;
                 p.objects_of(*t)
             }
             _ => vec![object(ctx, domain, p, e, *t)?],
-        };
-        combos = combos
-            .into_iter()
-            .flat_map(|c| {
-                choices.iter().map(move |o| {
-                    let mut c = c.clone();
-                    c.push(*o);
-                    c
-                })
-            })
-            .collect();
+        });
     }
-    Some((id, combos, wild))
+    Some((id, combinations(&choices), wild))
 }
 
 /// An object of type `ty` named by `e`.
@@ -528,7 +508,7 @@ pub fn goal(ctx: &mut Ctx<'_>, domain: &Domain, p: &Problem, g: &GoalAst) -> Opt
             Stmt::In { span, .. }
             | Stmt::Rel { span, .. }
             | Stmt::Event { span, .. }
-            | Stmt::Usage { span, .. } => {
+            | Stmt::Usage(UsageStmt { span, .. }) => {
                 let hint = match st {
                     Stmt::Rel { op: RelOp::Eq, .. } => {
                         " (write `hold(attr(args): value, (st, et));`)"

@@ -9,7 +9,9 @@ use crate::model::{
     Term, Time, TimeInterval, TpId, TypeId, UsageKind,
 };
 
-use super::ast::{AttrRef, BinOp, Expr, ExprKind, Ident, InSet, RelOp, Stmt, TaskAst, UsageAst};
+use super::ast::{
+    AttrRef, BinOp, Expr, ExprKind, Ident, InSet, RelOp, Stmt, TaskAst, UsageAst, UsageStmt,
+};
 use super::diag::Span;
 use super::eval::{self, Clock, Ctx};
 use super::resolve_domain::{logical_attr, type_ref, Names};
@@ -173,6 +175,21 @@ impl Scope<'_> {
         Some((id, args?))
     }
 
+    /// `attr(args)` ([`Self::attr_ref`]) and the values written for it (of its value type) in an event or
+    /// a hold; each value is checked even when the attribute is wrong.
+    fn attr_values<const N: usize>(
+        &self,
+        ctx: &mut Ctx<'_>,
+        a: &AttrRef,
+        values: [&Expr; N],
+    ) -> (Option<(AttrId, Vec<Term>)>, [Option<Term>; N]) {
+        let attr = self.attr_ref(ctx, a);
+        let vt = attr
+            .as_ref()
+            .map(|(id, _)| self.domain.attr(*id).value_type);
+        (attr, values.map(|e| self.sym_term(ctx, e, vt, true)))
+    }
+
     /// `(a - b)` with two timepoints: `Some((b, a))` (from, to).
     fn tp_diff(&self, e: &Expr) -> Option<(TpId, TpId)> {
         if let ExprKind::Bin(BinOp::Sub, a, b) = &e.kind {
@@ -311,10 +328,7 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
             at,
             ..
         } => {
-            let a = s.attr_ref(ctx, attr);
-            let vt = a.as_ref().map(|(id, _)| s.domain.attr(*id).value_type);
-            let f = s.sym_term(ctx, from, vt, true);
-            let t = s.sym_term(ctx, to, vt, true);
+            let (a, [f, t]) = s.attr_values(ctx, attr, [from, to]);
             let at = s.tp_ref(ctx, at);
             if let (Some((attr_id, args)), Some(from), Some(to), Some(at)) = (a, f, t, at) {
                 if from == to && !matches!(from, Term::Var(_)) {
@@ -340,9 +354,7 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
             to,
             ..
         } => {
-            let a = s.attr_ref(ctx, attr);
-            let vt = a.as_ref().map(|(id, _)| s.domain.attr(*id).value_type);
-            let v = s.sym_term(ctx, value, vt, true);
+            let (a, [v]) = s.attr_values(ctx, attr, [value]);
             let f = s.tp_ref(ctx, from);
             let t = match to {
                 Some(to) => s.tp_ref(ctx, to),
@@ -358,26 +370,7 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
                 });
             }
         }
-        Stmt::Usage {
-            kind,
-            secondary,
-            saturating,
-            resource,
-            quantity,
-            from,
-            to,
-            span,
-        } => usage(
-            ctx,
-            s,
-            task,
-            (*kind, *secondary, *saturating),
-            resource,
-            quantity,
-            from,
-            to.as_ref(),
-            *span,
-        ),
+        Stmt::Usage(u) => usage(ctx, s, task, u),
         Stmt::In { lhs, set, span } => {
             for e in lhs {
                 constrain_in(ctx, s, task, stn, e, set, *span);
@@ -388,18 +381,8 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn usage(
-    ctx: &mut Ctx<'_>,
-    s: &Scope<'_>,
-    task: &mut Task,
-    (kind, secondary, saturating): (UsageAst, bool, bool),
-    resource: &Ident,
-    quantity: &Expr,
-    from: &Ident,
-    to: Option<&Ident>,
-    span: Span,
-) {
+fn usage(ctx: &mut Ctx<'_>, s: &Scope<'_>, task: &mut Task, u: &UsageStmt) {
+    let (resource, quantity) = (&u.resource, &u.quantity);
     let Some(r) = s.domain.resource_id(&resource.name) else {
         let msg = if s.domain.attr_id(&resource.name).is_some() {
             format!(
@@ -424,20 +407,20 @@ fn usage(
             return;
         }
     }
-    let f = s.tp_ref(ctx, from);
-    let t = to.and_then(|t| s.tp_ref(ctx, t));
-    let uk = match (kind, to.is_some()) {
+    let f = s.tp_ref(ctx, &u.from);
+    let t = u.to.as_ref().and_then(|t| s.tp_ref(ctx, t));
+    let uk = match (u.kind, u.to.is_some()) {
         (UsageAst::Use, true) => t.and_then(|t| f.map(|f| UsageKind::Use { from: f, to: t })),
         (UsageAst::Use, false) => {
             ctx.err(
-                span,
+                u.span,
                 "`use` borrows over an interval: `use(r: q, (from, to))`",
             );
             None
         }
         (_, true) => {
             ctx.err(
-                span,
+                u.span,
                 "`consume` / `produce` happen at one timepoint: `consume(r: q, t)`",
             );
             None
@@ -445,9 +428,9 @@ fn usage(
         (UsageAst::Consume, false) => f.map(|at| UsageKind::Consume { at }),
         (UsageAst::Produce, false) => f.map(|at| UsageKind::Produce { at }),
     };
-    if rk == ResourceKind::Unary && kind != UsageAst::Use {
+    if rk == ResourceKind::Unary && u.kind != UsageAst::Use {
         ctx.err(
-            span,
+            u.span,
             format!(
                 "`{}` is a unary resource: it can only be borrowed with `use`",
                 resource.name
@@ -460,8 +443,8 @@ fn usage(
             resource: r,
             kind,
             quantity,
-            primary: matches!(kind, UsageKind::Produce { .. }) && !secondary,
-            saturating,
+            primary: matches!(kind, UsageKind::Produce { .. }) && !u.secondary,
+            saturating: u.saturating,
         });
     }
 }

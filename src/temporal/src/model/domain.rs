@@ -4,6 +4,7 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
+use super::ids::append_named;
 use super::{
     AttrId, LogicalAttr, Object, ObjectId, ResourceAttr, ResourceId, Task, TaskId, Type, TypeId,
     TypeKind,
@@ -44,6 +45,15 @@ impl Domain {
     /// The builtin constant `true`.
     pub const TRUE: ObjectId = ObjectId(1);
 
+    /// The builtin constant `true` or `false`.
+    pub fn truth(b: bool) -> ObjectId {
+        if b {
+            Self::TRUE
+        } else {
+            Self::FALSE
+        }
+    }
+
     /// An empty domain holding only `bool`, `false` and `true`.
     pub fn new(name: impl Into<String>) -> Self {
         let mut d = Domain {
@@ -68,15 +78,13 @@ impl Domain {
 
     /// Adds a type and returns its id (the caller checks the name is fresh).
     pub fn add_type(&mut self, name: &str, kind: TypeKind) -> TypeId {
-        let id = TypeId::from_index(self.types.len());
-        self.types.push(Type {
+        let ty = Type {
             name: name.to_string(),
             kind,
             members: Vec::new(),
             line: None,
-        });
-        self.type_index.insert(name.to_string(), id);
-        id
+        };
+        append_named(&mut self.types, &mut self.type_index, name.to_string(), ty)
     }
 
     /// Adds a constant of enumeration `ty` (also usable for domain-level constants of object types).
@@ -94,34 +102,42 @@ impl Domain {
 
     /// Adds a domain-level object and returns its id.
     pub fn add_object(&mut self, object: Object) -> ObjectId {
-        let id = ObjectId::from_index(self.objects.len());
-        self.object_index.insert(object.name.clone(), id);
-        self.objects.push(object);
-        id
+        append_named(
+            &mut self.objects,
+            &mut self.object_index,
+            object.name.clone(),
+            object,
+        )
     }
 
     /// Adds a logical attribute.
     pub fn add_attr(&mut self, attr: LogicalAttr) -> AttrId {
-        let id = AttrId::from_index(self.attrs.len());
-        self.attr_index.insert(attr.name.clone(), id);
-        self.attrs.push(attr);
-        id
+        append_named(
+            &mut self.attrs,
+            &mut self.attr_index,
+            attr.name.clone(),
+            attr,
+        )
     }
 
     /// Adds a resource attribute.
     pub fn add_resource(&mut self, res: ResourceAttr) -> ResourceId {
-        let id = ResourceId::from_index(self.resources.len());
-        self.resource_index.insert(res.name.clone(), id);
-        self.resources.push(res);
-        id
+        append_named(
+            &mut self.resources,
+            &mut self.resource_index,
+            res.name.clone(),
+            res,
+        )
     }
 
     /// Adds a task.
     pub fn add_task(&mut self, task: Task) -> TaskId {
-        let id = TaskId::from_index(self.tasks.len());
-        self.task_index.insert(task.name.clone(), id);
-        self.tasks.push(task);
-        id
+        append_named(
+            &mut self.tasks,
+            &mut self.task_index,
+            task.name.clone(),
+            task,
+        )
     }
 
     /// The type named `name`.

@@ -1,6 +1,27 @@
 //! Index newtypes: every cross-reference in the model is one of these (cheap, `Copy`, ordered).
 
+use std::collections::HashMap;
+
 use serde::{Deserialize, Serialize};
+
+/// What every index newtype is: a position in its owning vector (for the tables generic over their id).
+pub trait IndexId: Copy {
+    /// The id of the element at position `i` of the owning vector.
+    fn from_index(i: usize) -> Self;
+}
+
+/// Appends `item`, known as `name`, to a model table and to its name → id map; returns its id.
+pub(crate) fn append_named<I: IndexId, T>(
+    table: &mut Vec<T>,
+    names: &mut HashMap<String, I>,
+    name: String,
+    item: T,
+) -> I {
+    let id = I::from_index(table.len());
+    names.insert(name, id);
+    table.push(item);
+    id
+}
 
 macro_rules! index_type {
     ($(#[$doc:meta])* $name:ident) => {
@@ -18,6 +39,12 @@ macro_rules! index_type {
             pub fn from_index(i: usize) -> Self {
                 // Model tables are built from source files: far below u32::MAX entries.
                 Self(u32::try_from(i).unwrap_or(u32::MAX))
+            }
+        }
+
+        impl IndexId for $name {
+            fn from_index(i: usize) -> Self {
+                $name::from_index(i)
             }
         }
     };

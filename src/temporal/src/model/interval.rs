@@ -15,28 +15,37 @@ pub enum Bound<T> {
     Inf,
 }
 
-/// A set of durations or dates in milliseconds, `lb .. ub` with each bound open, closed or infinite.
+/// A set `lb .. ub` with each bound open, closed or infinite: of durations or dates in milliseconds
+/// ([`TimeInterval`]) or of reals ([`NumInterval`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct TimeInterval {
-    pub lb: Bound<Time>,
-    pub ub: Bound<Time>,
+pub struct Interval<T> {
+    pub lb: Bound<T>,
+    pub ub: Bound<T>,
 }
 
-impl TimeInterval {
-    /// `]-oo, +oo[`: no constraint.
-    pub const ANY: TimeInterval = TimeInterval {
+/// Durations or dates in milliseconds.
+pub type TimeInterval = Interval<Time>;
+
+/// Reals (numeric variable domains, resource quantities).
+pub type NumInterval = Interval<f64>;
+
+impl<T> Interval<T> {
+    /// `]-oo, +oo[`: no constraint (the domain of a numeric variable declared without one).
+    pub const ANY: Self = Interval {
         lb: Bound::Inf,
         ub: Bound::Inf,
     };
 
     /// `[lb, ub]`.
-    pub fn closed(lb: Time, ub: Time) -> Self {
-        TimeInterval {
+    pub fn closed(lb: T, ub: T) -> Self {
+        Interval {
             lb: Bound::Closed(lb),
             ub: Bound::Closed(ub),
         }
     }
+}
 
+impl TimeInterval {
     /// `[v, v]`.
     pub fn exactly(v: Time) -> Self {
         Self::closed(v, v)
@@ -80,28 +89,7 @@ impl TimeInterval {
     }
 }
 
-/// A set of reals `lb .. ub` (numeric variable domains, resource quantities).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct NumInterval {
-    pub lb: Bound<f64>,
-    pub ub: Bound<f64>,
-}
-
 impl NumInterval {
-    /// `]-oo, +oo[`, the domain of a numeric variable declared without one.
-    pub const ANY: NumInterval = NumInterval {
-        lb: Bound::Inf,
-        ub: Bound::Inf,
-    };
-
-    /// `[lb, ub]`.
-    pub fn closed(lb: f64, ub: f64) -> Self {
-        NumInterval {
-            lb: Bound::Closed(lb),
-            ub: Bound::Closed(ub),
-        }
-    }
-
     /// The lower end as a number (−∞ when unbounded), ignoring openness.
     pub fn lo(&self) -> f64 {
         match self.lb {

@@ -29,8 +29,8 @@ pub use domain::Domain;
 pub use geo::{GeoPoint, Position};
 pub use goal::{Goal, GoalKind};
 pub use ids::{AttrId, GoalId, NumVarId, ObjectId, ResourceId, SymVarId, TaskId, TpId, TypeId};
-pub use interval::{show_bounds, Bound, NumInterval, TimeInterval};
-pub use problem::{DefaultFact, Fact, Problem, ResourceSetup, TimedFact};
+pub use interval::{show_bounds, Bound, Interval, NumInterval, TimeInterval};
+pub use problem::{combinations, DefaultFact, Fact, Problem, ResourceSetup, TimedFact};
 pub use task::{
     Binding, Event, Hold, NumConstraint, NumTerm, NumVar, Preemption, ResourceUsage, SymVar, Task,
     TemporalConstraint, Term, UsageKind,

@@ -5,6 +5,7 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
+use super::ids::append_named;
 use super::{
     AttrId, Domain, GeoPoint, Goal, GoalId, Object, ObjectId, ResourceId, Time, TypeId, Value,
 };
@@ -119,10 +120,12 @@ impl Problem {
 
     /// Appends an object (a problem object, or a location discovered at run time) and returns its id.
     pub fn add_object(&mut self, object: Object) -> ObjectId {
-        let id = ObjectId::from_index(self.objects.len());
-        self.object_index.insert(object.name.clone(), id);
-        self.objects.push(object);
-        id
+        append_named(
+            &mut self.objects,
+            &mut self.object_index,
+            object.name.clone(),
+            object,
+        )
     }
 
     /// Appends an object and the facts the problem's wildcard `initial` statements give it (e.g. a new
@@ -265,4 +268,23 @@ impl Problem {
     pub fn resource(&self, r: ResourceId) -> Option<&ResourceSetup> {
         self.resources.get(r.index())
     }
+}
+
+/// Every way to take one object from each of `choices` in turn (the ground instances of an attribute or a
+/// predicate whose arguments may take these objects), in lexicographic order.
+pub fn combinations(choices: &[Vec<ObjectId>]) -> Vec<Vec<ObjectId>> {
+    let mut out: Vec<Vec<ObjectId>> = vec![Vec::new()];
+    for c in choices {
+        out = out
+            .into_iter()
+            .flat_map(|prefix| {
+                c.iter().map(move |o| {
+                    let mut v = prefix.clone();
+                    v.push(*o);
+                    v
+                })
+            })
+            .collect();
+    }
+    out
 }

@@ -25,19 +25,28 @@ pub struct Group {
 impl Group {
     /// The key arguments and the value of an atom of a member (`None` value: the member itself).
     pub fn split<'a>(&self, atom: &'a Atom) -> (Vec<&'a Arg>, Option<&'a Arg>) {
-        match self.value_pos {
-            Some(v) => (
-                atom.args
-                    .iter()
-                    .enumerate()
-                    .filter(|(i, _)| *i != v)
-                    .map(|(_, a)| a)
-                    .collect(),
-                atom.args.get(v),
-            ),
-            None => (atom.args.iter().collect(), None),
+        split_member(&atom.args, self.value_pos, None)
+    }
+}
+
+/// The key arguments and the value of an atom of a group member, on any form of the arguments (as
+/// written, as terms of a task, ground): with a `value_pos` its argument there, else `member` (the value
+/// the member predicate stands for).
+pub(super) fn split_member<T: Copy>(
+    args: impl IntoIterator<Item = T>,
+    value_pos: Option<usize>,
+    member: Option<T>,
+) -> (Vec<T>, Option<T>) {
+    let mut key = Vec::new();
+    let mut value = None;
+    for (i, a) in args.into_iter().enumerate() {
+        if Some(i) == value_pos {
+            value = Some(a);
+        } else {
+            key.push(a);
         }
     }
+    (key, if value_pos.is_some() { value } else { member })
 }
 
 /// Same variable or same constant (spans aside).

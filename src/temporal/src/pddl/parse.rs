@@ -188,12 +188,7 @@ impl P<'_> {
                 match inner.head() {
                     Some("=") if is_symbolic_eq(inner) => {
                         let il = self.list(inner, "(= a b)")?;
-                        out.push(Lit::Equal(
-                            self.arg(&il[1])?,
-                            self.arg(&il[2])?,
-                            false,
-                            sx.span,
-                        ));
+                        out.push(self.equal(il, false, sx.span)?);
                         Ok(())
                     }
                     Some("<" | "<=" | "=" | ">=" | ">") => self.err(
@@ -207,12 +202,7 @@ impl P<'_> {
                 }
             }
             "=" if is_symbolic_eq(sx) => {
-                out.push(Lit::Equal(
-                    self.arg(&l[1])?,
-                    self.arg(&l[2])?,
-                    true,
-                    sx.span,
-                ));
+                out.push(self.equal(l, true, sx.span)?);
                 Ok(())
             }
             "<" | "<=" | "=" | ">=" | ">" => {
@@ -238,25 +228,43 @@ impl P<'_> {
         }
     }
 
+    /// `(= a b)` (checked by `is_symbolic_eq`), or its negation.
+    fn equal(&self, l: &[Sx], positive: bool, span: Span) -> R<Lit> {
+        Ok(Lit::Equal(
+            self.arg(&l[1])?,
+            self.arg(&l[2])?,
+            positive,
+            span,
+        ))
+    }
+
     /// A durative action's condition: a conjunction of `(at start|at end|over all GD)`.
     fn timed_gd(&self, sx: &Sx, out: &mut Vec<(When, Lit)>) -> R<()> {
-        let l = self.list(sx, "a condition `(...)`")?;
+        self.conjuncts(sx, "a condition `(...)`", &mut |sx| {
+            let Some((when, body)) = self.when(sx)? else {
+                return self.err(sx.span, "a durative action's condition is `(at start ...)`, `(at end ...)` or `(over all ...)`");
+            };
+            let mut lits = Vec::new();
+            self.gd(body, &mut lits)?;
+            out.extend(lits.into_iter().map(|x| (when, x)));
+            Ok(())
+        })
+    }
+
+    /// Hands each conjunct of `sx` to `each`: nested `(and ...)` are flattened, `()` has none; `what` is
+    /// what a conjunct looks like, for messages.
+    fn conjuncts(&self, sx: &Sx, what: &str, each: &mut dyn FnMut(&Sx) -> R<()>) -> R<()> {
+        let l = self.list(sx, what)?;
         if l.is_empty() {
             return Ok(());
         }
         if sx.head() == Some("and") {
             for x in &l[1..] {
-                self.timed_gd(x, out)?;
+                self.conjuncts(x, what, each)?;
             }
             return Ok(());
         }
-        let Some((when, body)) = self.when(sx)? else {
-            return self.err(sx.span, "a durative action's condition is `(at start ...)`, `(at end ...)` or `(over all ...)`");
-        };
-        let mut lits = Vec::new();
-        self.gd(body, &mut lits)?;
-        out.extend(lits.into_iter().map(|x| (when, x)));
-        Ok(())
+        each(sx)
     }
 
     /// `(at start X)`, `(at end X)`, `(over all X)` → the time specifier and `X`.
@@ -323,17 +331,7 @@ impl P<'_> {
     }
 
     fn timed_effect(&self, sx: &Sx, out: &mut Vec<(When, Effect)>) -> R<()> {
-        let l = self.list(sx, "an effect `(...)`")?;
-        if l.is_empty() {
-            return Ok(());
-        }
-        if sx.head() == Some("and") {
-            for x in &l[1..] {
-                self.timed_effect(x, out)?;
-            }
-            return Ok(());
-        }
-        match self.when(sx)? {
+        self.conjuncts(sx, "an effect `(...)`", &mut |sx| match self.when(sx)? {
             Some((When::OverAll, _)) => self.err(
                 sx.span,
                 "continuous effects (`over all` effects with `#t`) are not supported",
@@ -343,7 +341,7 @@ impl P<'_> {
                 sx.span,
                 "a durative action's effect is `(at start ...)` or `(at end ...)`",
             ),
-        }
+        })
     }
 
     fn duration(&self, sx: &Sx, out: &mut Vec<(Cmp, NExpr, Span)>) -> R<()> {

@@ -274,20 +274,12 @@ fn task(
                         None => static_holds.push((attr, args, positive, *w)),
                     },
                     PredRep::Bool { attr, fluent: true } => {
-                        let v = Term::Obj(if positive {
-                            Domain::TRUE
-                        } else {
-                            Domain::FALSE
-                        });
+                        let v = Term::Obj(Domain::truth(positive));
                         instance(&mut insts, attr, args, true).conds.push((*w, v));
                     }
-                    PredRep::Group {
-                        attr,
-                        value_pos,
-                        member,
-                    } => {
-                        let (key, value) = split(&args, value_pos, member);
-                        instance(&mut insts, attr, key, false)
+                    PredRep::Group(g) => {
+                        let (key, value) = g.split_terms(&args);
+                        instance(&mut insts, g.attr, key, false)
                             .conds
                             .push((*w, value));
                     }
@@ -312,23 +304,19 @@ fn task(
         let args = terms(cx, atom)?;
         match rep {
             PredRep::Bool { attr, .. } => {
-                let v = Term::Obj(if add { Domain::TRUE } else { Domain::FALSE });
+                let v = Term::Obj(Domain::truth(add));
                 instance(&mut insts, attr, args, true)
                     .effects
                     .push((*w, v, None, add));
             }
-            PredRep::Group {
-                attr,
-                value_pos,
-                member,
-            } => {
-                let (key, value) = split(&args, value_pos, member);
+            PredRep::Group(g) => {
+                let (key, value) = g.split_terms(&args);
                 let eff = if add {
                     (*w, value, None, true)
                 } else {
                     (*w, Term::Unknown, Some(value), false)
                 };
-                instance(&mut insts, attr, key, false).effects.push(eff);
+                instance(&mut insts, g.attr, key, false).effects.push(eff);
             }
             // The lock's use covers its deletion at `st` and its return at `et`.
             PredRep::Lock { .. } => {}
@@ -348,11 +336,7 @@ fn task(
         t.holds.push(Hold {
             attr,
             args,
-            value: Term::Obj(if positive {
-                Domain::TRUE
-            } else {
-                Domain::FALSE
-            }),
+            value: Term::Obj(Domain::truth(positive)),
             from: at,
             to: at,
         });
@@ -363,24 +347,6 @@ fn task(
         }
     }
     Ok(Ok(t))
-}
-
-fn split(
-    args: &[Term],
-    value_pos: Option<usize>,
-    member: Option<crate::model::ObjectId>,
-) -> (Vec<Term>, Term) {
-    match value_pos {
-        Some(v) => (
-            args.iter()
-                .enumerate()
-                .filter(|(i, _)| *i != v)
-                .map(|(_, x)| *x)
-                .collect(),
-            args.get(v).copied().unwrap_or(Term::Unknown),
-        ),
-        None => (args.to_vec(), member.map_or(Term::Unknown, Term::Obj)),
-    }
 }
 
 fn instance(

@@ -13,7 +13,7 @@ use super::task;
 use super::{PddlError, Src};
 use crate::model::{
     AttrId, Domain, Fact, Goal, GoalKind, LogicalAttr, Object, ObjectId, Problem, ResourceAttr,
-    ResourceId, ResourceKind, Time, TimeInterval, TypeId, TypeKind, Value, MS_PER_S,
+    ResourceId, ResourceKind, Term, Time, TimeInterval, TypeId, TypeKind, Value, MS_PER_S,
 };
 
 /// The horizon given to PDDL problems, which have none: every action ends before it (seconds).
@@ -44,11 +44,36 @@ pub(super) enum PredRep {
     /// lander) — a unary resource each such action borrows over `[st, et]`.
     Lock { resource: ResourceId },
     /// A member of a mutex group: `attr(key) = value` (the value argument, or the member's constant).
-    Group {
-        attr: AttrId,
-        value_pos: Option<usize>,
-        member: Option<ObjectId>,
-    },
+    Group(GroupMember),
+}
+
+/// A predicate of a mutex group, as one value (or one value argument) of the group's attribute.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct GroupMember {
+    pub attr: AttrId,
+    /// The position of the value argument (see [`Group::value_pos`]).
+    pub value_pos: Option<usize>,
+    /// The value the predicate stands for, when it has no value argument.
+    pub member: Option<ObjectId>,
+}
+
+impl GroupMember {
+    /// The key and value of a ground atom of this predicate.
+    pub fn split_ground(&self, args: &[ObjectId]) -> (Vec<ObjectId>, Value) {
+        let (key, value) =
+            invariants::split_member(args.iter().copied(), self.value_pos, self.member);
+        (key, value.map_or(Value::Unknown, Value::Obj))
+    }
+
+    /// The key and value of an atom of this predicate in a task (`+oo` for a missing value).
+    pub fn split_terms(&self, args: &[Term]) -> (Vec<Term>, Term) {
+        let (key, value) = invariants::split_member(
+            args.iter().copied(),
+            self.value_pos,
+            self.member.map(Term::Obj),
+        );
+        (key, value.unwrap_or(Term::Unknown))
+    }
 }
 
 /// What the task translation needs to know about the whole domain and problem.
@@ -568,11 +593,11 @@ fn predicates(
             ));
         }
         let rep = match grouped.get(&name.name) {
-            Some(&(gi, member)) => PredRep::Group {
+            Some(&(gi, member)) => PredRep::Group(GroupMember {
                 attr: group_attrs[gi],
                 value_pos: groups[gi].value_pos,
                 member,
-            },
+            }),
             None if locks.contains(&name.name) => PredRep::Lock {
                 resource: model.add_resource(ResourceAttr {
                     name: name.name.clone(),
@@ -727,24 +752,11 @@ fn combinations(choices: &[Vec<ObjectId>], limit: usize) -> Option<Vec<Vec<Objec
     if n > limit {
         return None;
     }
-    let mut out: Vec<Vec<ObjectId>> = vec![Vec::new()];
-    for c in choices {
-        out = out
-            .into_iter()
-            .flat_map(|prefix| {
-                c.iter().map(move |o| {
-                    let mut v = prefix.clone();
-                    v.push(*o);
-                    v
-                })
-            })
-            .collect();
-    }
-    Some(out)
+    Some(crate::model::combinations(choices))
 }
 
 fn value_of(b: bool) -> Value {
-    Value::Obj(if b { Domain::TRUE } else { Domain::FALSE })
+    Value::Obj(Domain::truth(b))
 }
 
 fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Problem, PddlError> {
@@ -804,17 +816,13 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
                     }
                 }
             }
-            PredRep::Group {
-                attr,
-                value_pos,
-                member,
-            } => {
+            PredRep::Group(g) => {
                 for args in trues.into_iter().flatten() {
-                    let (key, value) = split_ground(args, *value_pos, *member);
+                    let (key, value) = g.split_ground(args);
                     facts.push((
                         0,
                         Fact {
-                            attr: *attr,
+                            attr: g.attr,
                             args: key,
                             value,
                         },
@@ -844,7 +852,7 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
                 args,
                 value: value_of(add),
             },
-            PredRep::Lock { .. } | PredRep::Group { .. } => {
+            PredRep::Lock { .. } | PredRep::Group(_) => {
                 return Err(cx.perr(
                     a.span,
                     "internal: a timed literal on a multi-valued variable",
@@ -882,13 +890,9 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
                 }
                 (*attr, args, value_of(positive))
             }
-            PredRep::Group {
-                attr,
-                value_pos,
-                member,
-            } => {
-                let (key, value) = split_ground(&args, *value_pos, *member);
-                (*attr, key, value)
+            PredRep::Group(g) => {
+                let (key, value) = g.split_ground(&args);
+                (g.attr, key, value)
             }
             PredRep::Lock { .. } => {
                 return Err(cx.perr(a.span, "internal: a goal on a lock"));
@@ -908,23 +912,4 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
         });
     }
     Ok(pr)
-}
-
-/// The key and value of a ground atom of a group member.
-pub(super) fn split_ground(
-    args: &[ObjectId],
-    value_pos: Option<usize>,
-    member: Option<ObjectId>,
-) -> (Vec<ObjectId>, Value) {
-    match value_pos {
-        Some(v) => (
-            args.iter()
-                .enumerate()
-                .filter(|(i, _)| *i != v)
-                .map(|(_, o)| *o)
-                .collect(),
-            args.get(v).map_or(Value::Unknown, |o| Value::Obj(*o)),
-        ),
-        None => (args.to_vec(), member.map_or(Value::Unknown, Value::Obj)),
-    }
 }

@@ -202,12 +202,7 @@ impl Bindings {
             }
             (STerm::Var(v), STerm::Obj(o)) | (STerm::Obj(o), STerm::Var(v)) => {
                 let r = self.root(v.0);
-                let keep: Vec<ObjectId> = self.domain[r as usize]
-                    .iter()
-                    .copied()
-                    .filter(|&x| x != o)
-                    .collect();
-                self.restrict(r, &keep)?;
+                self.exclude(r, o)?;
                 self.propagate()
             }
             _ => {
@@ -248,6 +243,16 @@ impl Bindings {
         Ok(())
     }
 
+    /// Removes `o` from the domain of root `r`.
+    fn exclude(&mut self, r: u32, o: ObjectId) -> Result<(), BindingConflict> {
+        let keep: Vec<ObjectId> = self.domain[r as usize]
+            .iter()
+            .copied()
+            .filter(|&x| x != o)
+            .collect();
+        self.restrict(r, &keep)
+    }
+
     /// Forward checking of the inequalities to a fixed point.
     fn propagate(&mut self) -> Result<(), BindingConflict> {
         loop {
@@ -261,12 +266,7 @@ impl Bindings {
                 for (x, y) in [(ra, rb), (rb, ra)] {
                     if let [o] = self.domain[x as usize][..] {
                         if self.domain[y as usize].binary_search(&o).is_ok() {
-                            let keep: Vec<ObjectId> = self.domain[y as usize]
-                                .iter()
-                                .copied()
-                                .filter(|&z| z != o)
-                                .collect();
-                            self.restrict(y, &keep)?;
+                            self.exclude(y, o)?;
                             progress = true;
                         }
                     }

@@ -28,6 +28,7 @@ mod memo;
 mod network;
 mod propagate;
 mod relax;
+mod settle;
 mod trail;
 
 pub use error::{CycleEdge, EdgeSource, Inconsistent};

@@ -243,27 +243,26 @@ impl Stn {
     /// Timepoints that must strictly precede `t` by a constraint between them (`t − p ≥ 1` stated directly,
     /// not implied through other timepoints). May repeat a timepoint constrained twice.
     pub fn predecessors(&self, t: Timepoint) -> impl Iterator<Item = Timepoint> + '_ {
-        self.constraints_of(t).filter_map(move |(_, k)| {
-            if k.to == t && k.lb > 0 && k.from != t {
-                Some(k.from)
-            } else if k.from == t && k.ub < 0 && k.to != t {
-                Some(k.to)
-            } else {
-                None
-            }
-        })
+        self.strict_neighbours(t, false)
     }
 
     /// Timepoints that must strictly follow `t` by a constraint between them (`s − t ≥ 1` stated directly).
     pub fn successors(&self, t: Timepoint) -> impl Iterator<Item = Timepoint> + '_ {
+        self.strict_neighbours(t, true)
+    }
+
+    /// The other ends of the constraints of `t` that put them strictly after `t` (`after`) or strictly
+    /// before it.
+    fn strict_neighbours(&self, t: Timepoint, after: bool) -> impl Iterator<Item = Timepoint> + '_ {
         self.constraints_of(t).filter_map(move |(_, k)| {
-            if k.from == t && k.lb > 0 && k.to != t {
-                Some(k.to)
-            } else if k.to == t && k.ub < 0 && k.from != t {
-                Some(k.from)
+            // The constraint read from t: `other − t ∈ [lo, hi]`.
+            let (other, lo, hi) = if k.from == t {
+                (k.to, k.lb, k.ub)
             } else {
-                None
-            }
+                (k.from, -k.ub, -k.lb)
+            };
+            let strict = if after { lo > 0 } else { hi < 0 };
+            (other != t && strict).then_some(other)
         })
     }
 

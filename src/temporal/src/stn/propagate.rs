@@ -138,8 +138,7 @@ impl Stn {
         Ok(())
     }
 
-    /// Backward search from u raising lower bounds: `lb[a] ≥ lb[x] − w(a→x)`. Keys are the (negative)
-    /// changes `lb_old − lb_new`, most negative first; monotone because `lb_old` is a feasible potential.
+    /// Backward search from u raising lower bounds ([`Stn::settle_lower_bounds`]).
     fn raise_lower_bounds(
         &mut self,
         new: Half,
@@ -161,39 +160,21 @@ impl Stn {
         sc.parent[u as usize] = new;
         self.set_lb(u, cand);
         sc.heap.push(Reverse((sc.old[u as usize] - cand, u)));
-        let mut result = Ok(());
-        'search: while let Some(Reverse((key, x))) = sc.heap.pop() {
-            if key != sc.old[x as usize] - self.lb[x as usize] {
-                continue; // stale entry
+        // Coming back to v, or reaching the origin, closes a negative cycle through the new edge.
+        let settled = self.settle_lower_bounds(&mut sc, |sc, h, a, lb_a| {
+            if a == v || a == 0 {
+                return None;
             }
-            for i in 0..self.inc[x as usize].len() {
-                let h = self.inc[x as usize][i];
-                let (a, _, wh) = self.half_edge(h);
-                if wh >= INF {
-                    continue;
-                }
-                let cand = sat_add(self.lb[x as usize], -wh);
-                if cand <= self.lb[a as usize] {
-                    continue;
-                }
-                if a == v || a == 0 {
-                    self.scratch = sc;
-                    result = Err(self.report_cycle(level, new, Some((h, x)), v));
-                    sc = std::mem::take(&mut self.scratch);
-                    break 'search;
-                }
-                sc.touch(a, self.lb[a as usize]);
-                sc.parent[a as usize] = h;
-                self.set_lb(a, cand);
-                sc.heap.push(Reverse((sc.old[a as usize] - cand, a)));
-            }
-        }
+            sc.touch(a, lb_a);
+            sc.parent[a as usize] = h;
+            Some(true)
+        });
         self.scratch = sc;
-        result
+        settled.map_err(|closing| self.report_cycle(level, new, Some(closing), v))
     }
 
-    /// Forward search from v lowering upper bounds: `ub[y] ≤ ub[x] + w(x→y)`, keyed by the reduced distance
-    /// `ub − lb` (the new, exact lower bounds are the potential). Only called on a consistent network.
+    /// Forward search from v lowering upper bounds ([`Stn::settle_upper_bounds`]; the new, exact lower
+    /// bounds are the potential). Only called on a consistent network.
     fn lower_upper_bounds(&mut self, u: u32, v: u32, w: Time) {
         let ub_u = self.ub[u as usize];
         if ub_u >= INF || v == 0 {
@@ -207,24 +188,8 @@ impl Stn {
         sc.begin(self.lb.len());
         self.set_ub(v, cand);
         sc.heap.push(Reverse((cand - self.lb[v as usize], v)));
-        while let Some(Reverse((key, x))) = sc.heap.pop() {
-            let ub_x = self.ub[x as usize];
-            if key != ub_x - self.lb[x as usize] {
-                continue;
-            }
-            for i in 0..self.out[x as usize].len() {
-                let h = self.out[x as usize][i];
-                let (_, y, wh) = self.half_edge(h);
-                if wh >= INF || y == 0 {
-                    continue;
-                }
-                let cand = sat_add(ub_x, wh);
-                if cand < self.ub[y as usize] {
-                    self.set_ub(y, cand);
-                    sc.heap.push(Reverse((cand - self.lb[y as usize], y)));
-                }
-            }
-        }
+        // The origin's upper bound is fixed at 0.
+        self.settle_upper_bounds(&mut sc, |_, y| y != 0);
         self.scratch = sc;
     }
 

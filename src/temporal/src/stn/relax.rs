@@ -10,6 +10,7 @@
 use std::cmp::Reverse;
 
 use super::network::Stn;
+use super::propagate::Scratch;
 use super::{sat_add, Time, INF};
 
 impl Stn {
@@ -19,22 +20,42 @@ impl Stn {
         self.relax_lower_bounds(removed);
     }
 
-    fn relax_upper_bounds(&mut self, removed: &[u32]) {
-        let mut sc = std::mem::take(&mut self.scratch);
-        sc.begin(self.lb.len());
-        // Affected set: tight-reachable from the heads of tight removed edges (origin excluded: ub = 0).
+    /// Puts into `sc.queue` (touched, with their old bound) the timepoints whose upper bound (`UPPER`) or
+    /// lower bound may have depended on the removed constraints: for the upper bounds, those reachable
+    /// by tight edges (`ub[y] = ub[x] + w(x→y)`) from the heads of the removed edges that were tight; for
+    /// the lower bounds, backwards likewise from their tails. The origin (`ub = 0`) and the timepoints whose
+    /// lower bound is 0 (held there by `t − origin ≥ 0`) are never affected.
+    fn affected<const UPPER: bool>(&self, sc: &mut Scratch, removed: &[u32]) {
+        // The edge between x and y (x→y for the upper bounds, y→x for the lower ones) of weight w is
+        // tight for y's bound, given x's.
+        let tight = |x: u32, y: u32, w: Time| {
+            if UPPER {
+                let ub_x = self.ub[x as usize];
+                w < INF && ub_x < INF && y != 0 && self.ub[y as usize] == sat_add(ub_x, w)
+            } else {
+                let lb_y = self.lb[y as usize];
+                w < INF && lb_y > 0 && lb_y == sat_add(self.lb[x as usize], -w)
+            }
+        };
+        let mark = |sc: &mut Scratch, y: u32| {
+            if !sc.touched(y) {
+                sc.touch(
+                    y,
+                    if UPPER {
+                        self.ub[y as usize]
+                    } else {
+                        self.lb[y as usize]
+                    },
+                );
+                sc.queue.push(y);
+            }
+        };
         for &c in removed {
             for forward in [true, false] {
                 let (u, v, w) = self.cons[c as usize].edge(forward);
-                let ub_u = self.ub[u as usize];
-                if w < INF
-                    && ub_u < INF
-                    && v != 0
-                    && self.ub[v as usize] == sat_add(ub_u, w)
-                    && !sc.touched(v)
-                {
-                    sc.touch(v, self.ub[v as usize]);
-                    sc.queue.push(v);
+                let (x, y) = if UPPER { (u, v) } else { (v, u) };
+                if tight(x, y, w) {
+                    mark(sc, y);
                 }
             }
         }
@@ -42,15 +63,21 @@ impl Stn {
         while i < sc.queue.len() {
             let x = sc.queue[i];
             i += 1;
-            let ub_x = self.ub[x as usize];
-            for &h in &self.out[x as usize] {
-                let (_, y, w) = self.half_edge(h);
-                if w < INF && y != 0 && !sc.touched(y) && self.ub[y as usize] == sat_add(ub_x, w) {
-                    sc.touch(y, self.ub[y as usize]);
-                    sc.queue.push(y);
+            let edges = if UPPER { &self.out } else { &self.inc };
+            for &h in &edges[x as usize] {
+                let (a, b, w) = self.half_edge(h);
+                let y = if UPPER { b } else { a };
+                if tight(x, y, w) {
+                    mark(sc, y);
                 }
             }
         }
+    }
+
+    fn relax_upper_bounds(&mut self, removed: &[u32]) {
+        let mut sc = std::mem::take(&mut self.scratch);
+        sc.begin(self.lb.len());
+        self.affected::<true>(&mut sc, removed);
         // Restart each affected timepoint from its unaffected predecessors.
         for i in 0..sc.queue.len() {
             let x = sc.queue[i];
@@ -66,57 +93,14 @@ impl Stn {
                 sc.heap.push(Reverse((best - self.lb[x as usize], x)));
             }
         }
-        while let Some(Reverse((key, x))) = sc.heap.pop() {
-            let ub_x = self.ub[x as usize];
-            if key != ub_x - self.lb[x as usize] {
-                continue;
-            }
-            for i in 0..self.out[x as usize].len() {
-                let h = self.out[x as usize][i];
-                let (_, y, w) = self.half_edge(h);
-                if w >= INF || !sc.touched(y) {
-                    continue;
-                }
-                let cand = sat_add(ub_x, w);
-                if cand < self.ub[y as usize] {
-                    self.set_ub(y, cand);
-                    sc.heap.push(Reverse((cand - self.lb[y as usize], y)));
-                }
-            }
-        }
+        self.settle_upper_bounds(&mut sc, |sc, y| sc.touched(y));
         self.scratch = sc;
     }
 
     fn relax_lower_bounds(&mut self, removed: &[u32]) {
         let mut sc = std::mem::take(&mut self.scratch);
         sc.begin(self.lb.len());
-        // Affected set: backwards tight-reachable from the tails of tight removed edges. A timepoint whose
-        // lower bound is 0 is held there by `t − origin ≥ 0` and is never affected.
-        for &c in removed {
-            for forward in [true, false] {
-                let (u, v, w) = self.cons[c as usize].edge(forward);
-                let lb_u = self.lb[u as usize];
-                if w < INF && lb_u > 0 && lb_u == sat_add(self.lb[v as usize], -w) && !sc.touched(u)
-                {
-                    sc.touch(u, lb_u);
-                    sc.queue.push(u);
-                }
-            }
-        }
-        let mut i = 0;
-        while i < sc.queue.len() {
-            let x = sc.queue[i];
-            i += 1;
-            let lb_x = self.lb[x as usize];
-            for &h in &self.inc[x as usize] {
-                let (a, _, w) = self.half_edge(h);
-                let lb_a = self.lb[a as usize];
-                if w < INF && lb_a > 0 && !sc.touched(a) && lb_a == sat_add(lb_x, -w) {
-                    sc.touch(a, lb_a);
-                    sc.queue.push(a);
-                }
-            }
-        }
+        self.affected::<false>(&mut sc, removed);
         // Restart each affected timepoint from its unaffected successors (and the origin).
         for i in 0..sc.queue.len() {
             let x = sc.queue[i];
@@ -130,24 +114,8 @@ impl Stn {
             self.set_lb(x, best);
             sc.heap.push(Reverse((sc.old[x as usize] - best, x)));
         }
-        while let Some(Reverse((key, x))) = sc.heap.pop() {
-            let lb_x = self.lb[x as usize];
-            if key != sc.old[x as usize] - lb_x {
-                continue;
-            }
-            for i in 0..self.inc[x as usize].len() {
-                let h = self.inc[x as usize][i];
-                let (a, _, w) = self.half_edge(h);
-                if w >= INF || !sc.touched(a) {
-                    continue;
-                }
-                let cand = sat_add(lb_x, -w);
-                if cand > self.lb[a as usize] {
-                    self.set_lb(a, cand);
-                    sc.heap.push(Reverse((sc.old[a as usize] - cand, a)));
-                }
-            }
-        }
+        // Only the affected set is recomputed; no cycle can appear by removing edges.
+        let _ = self.settle_lower_bounds(&mut sc, |sc, _, a, _| Some(sc.touched(a)));
         self.scratch = sc;
     }
 }

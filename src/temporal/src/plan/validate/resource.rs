@@ -289,6 +289,14 @@ mod tests {
         out
     }
 
+    /// The time of the only violation in `v` when it is an over-capacity.
+    fn only_over_capacity(v: &[Violation]) -> Option<Time> {
+        match v {
+            [Violation::ResourceOverCapacity { time, .. }] => Some(*time),
+            _ => None,
+        }
+    }
+
     #[test]
     fn reservoir_lower_bound_takes_the_maximum_consumption() {
         let s = setup(3.0, vec![(0, 3.0)]);
@@ -341,13 +349,7 @@ mod tests {
             dl.kind = Kind::Produce(25, false);
         }
         let v = run(&s, &us, false);
-        assert!(
-            matches!(
-                v.as_slice(),
-                [Violation::ResourceOverCapacity { time: 25, .. }]
-            ),
-            "{v:?}"
-        );
+        assert_eq!(only_over_capacity(&v), Some(25), "{v:?}");
     }
 
     #[test]
@@ -362,10 +364,7 @@ mod tests {
         let over = setup(near, vec![(0, 3.0)]);
         assert!(run(&over, &[], false).is_empty());
         let bad = setup(3.001, vec![(0, 3.0)]);
-        assert!(matches!(
-            run(&bad, &[], false).as_slice(),
-            [Violation::ResourceOverCapacity { .. }]
-        ));
+        assert!(only_over_capacity(&run(&bad, &[], false)).is_some());
     }
 
     #[test]
@@ -378,13 +377,7 @@ mod tests {
         );
         let drop = setup(3.0, vec![(0, 3.0), (1_000, 2.0)]);
         let v = run(&drop, &[], false);
-        assert!(
-            matches!(
-                v.as_slice(),
-                [Violation::ResourceOverCapacity { time: 1_000, .. }]
-            ),
-            "{v:?}"
-        );
+        assert_eq!(only_over_capacity(&v), Some(1_000), "{v:?}");
     }
 
     #[test]

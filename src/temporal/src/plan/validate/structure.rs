@@ -74,32 +74,39 @@ pub(super) fn check(d: &Domain, p: &Problem, s: &Solution) -> Vec<Violation> {
                 a.name, a.task.0, task.name, a.task_name
             ));
         }
-        if a.args.len() != task.sym_vars.len() || !a.args.iter().all(term_ok) {
-            bad(format!(
-                "action {}: {} arguments for the {} symbolic variables of {} (or a dangling one)",
-                a.name,
+        // (what the action has, what the task declares, how many of each, none dangling)
+        let arities = [
+            (
+                "arguments",
+                "symbolic variables",
                 a.args.len(),
                 task.sym_vars.len(),
-                task.name
-            ));
-        }
-        if a.timepoints.len() != task.timepoints.len() || !a.timepoints.iter().all(|&t| tp_ok(t)) {
-            bad(format!(
-                "action {}: {} timepoints for the {} of {} (or a dangling one)",
-                a.name,
+                a.args.iter().all(term_ok),
+            ),
+            (
+                "timepoints",
+                "timepoints",
                 a.timepoints.len(),
                 task.timepoints.len(),
-                task.name
-            ));
-        }
-        if a.num_vars.len() != task.num_vars.len() {
-            bad(format!(
-                "action {}: {} numeric variables for the {} of {}",
-                a.name,
+                a.timepoints.iter().all(|&t| tp_ok(t)),
+            ),
+            (
+                "numeric variables",
+                "numeric variables",
                 a.num_vars.len(),
                 task.num_vars.len(),
-                task.name
-            ));
+                true,
+            ),
+        ];
+        for (has, declared, n, m, resolved) in arities {
+            if n != m {
+                bad(format!(
+                    "action {}: {n} {has} for the {m} {declared} of {}",
+                    a.name, task.name
+                ));
+            } else if !resolved {
+                bad(format!("action {}: a dangling one of its {has}", a.name));
+            }
         }
     }
     for (i, l) in s.causal_links.iter().enumerate() {

@@ -4,8 +4,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::model::{AttrId, Time, Value};
-use crate::plan::solution::{CausalLink, Consumer, Establisher, PlanTp};
+use crate::model::{AttrId, Term, Time, Value};
+use crate::plan::solution::{CausalLink, Consumer, Establisher, PlanAction, PlanTp};
 
 use super::violation::Lapse;
 use super::{Ctx, LinkFault, Violation};
@@ -244,6 +244,11 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), LinkFault> {
             Ok(())
         }
     };
+    // `same` for an event or a hold of the action `a`, instantiated.
+    let same_in = |a: &PlanAction, attr: AttrId, terms: &[Term], v: Term, role: &'static str| {
+        let args: Vec<Value> = terms.iter().map(|&t| cx.term(a, t)).collect();
+        same(attr, &args, cx.term(a, v), role)
+    };
     let at = |tp: PlanTp, want: Option<PlanTp>, role: &'static str| match want {
         Some(w) if w == tp => Ok(()),
         _ => Err(LinkFault::NotAtBound {
@@ -271,8 +276,7 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), LinkFault> {
         Establisher::Event { action, event } => {
             let a = cx.s.action(action).ok_or(LinkFault::UnknownEstablisher)?;
             let e = &cx.d.task(a.task).events[event];
-            let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
-            same(e.attr, &ea, cx.term(a, e.to), "establishing event")?;
+            same_in(a, e.attr, &e.args, e.to, "establishing event")?;
             at(l.from, a.tp(e.at), "establishing event")?;
         }
     }
@@ -280,15 +284,13 @@ fn link_matches(cx: &Ctx, l: &CausalLink) -> Result<(), LinkFault> {
         Consumer::Hold { action, hold } => {
             let a = cx.s.action(action).ok_or(LinkFault::UnknownConsumer)?;
             let h = &cx.d.task(a.task).holds[hold];
-            let ha: Vec<Value> = h.args.iter().map(|&t| cx.term(a, t)).collect();
-            same(h.attr, &ha, cx.term(a, h.value), "supported hold")?;
+            same_in(a, h.attr, &h.args, h.value, "supported hold")?;
             supported(cx, l, a, (h.from, h.to), "hold")?;
         }
         Consumer::EventFrom { action, event } => {
             let a = cx.s.action(action).ok_or(LinkFault::UnknownConsumer)?;
             let e = &cx.d.task(a.task).events[event];
-            let ea: Vec<Value> = e.args.iter().map(|&t| cx.term(a, t)).collect();
-            same(e.attr, &ea, cx.term(a, e.from), "supported event")?;
+            same_in(a, e.attr, &e.args, e.from, "supported event")?;
             supported(cx, l, a, (e.at, e.at), "event")?;
         }
         Consumer::Goal { goal } => {
