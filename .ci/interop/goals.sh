@@ -4,34 +4,22 @@
 # the .tlog mavtempo recorded is read back with pymavlink. Runs from the repository root.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. .ci/interop/lib/common.sh
 
 target="${CARGO_TARGET_DIR:-target}"
 venv="${MAVTEMPO_VENV:-$target/interop-venv}"
-if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c 'import pymavlink' 2>/dev/null; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet --upgrade pip
-  "$venv/bin/pip" install --quiet pymavlink
-fi
+ensure_venv "$venv" pymavlink pymavlink
 
 cargo build --quiet --bin mavtempo
-work="$(mktemp -d)"
-server_pid=""
-cleanup() {
-  if [ -n "$server_pid" ]; then kill "$server_pid" 2>/dev/null || true; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
+scratch_dir
 
 # Port 0: the server prints the address it bound.
 "$target/debug/mavtempo" goal serve --listen udpin:127.0.0.1:0 --home 43.5616,1.4847 --tlog "$work/intake.tlog" \
   > "$work/server.out" 2> "$work/server.err" &
-server_pid=$!
-for _ in $(seq 1 100); do
-  grep -q '^listening on ' "$work/server.out" 2>/dev/null && break
-  sleep 0.1
-done
+bg_pid=$!
+wait_for_line "$work/server.out" '^listening on ' "$bg_pid" \
+  || { echo "goal server did not start" >&2; cat "$work/server.err" >&2; exit 1; }
 addr="$(sed -n 's/^listening on //p' "$work/server.out")"
-[ -n "$addr" ] || { echo "goal server did not start" >&2; cat "$work/server.err" >&2; exit 1; }
 
 cat > "$work/upload.py" <<'PY'
 import sys, time
@@ -92,9 +80,9 @@ echo "-- MAVLink 1"
 MAVLINK20= "$venv/bin/python" "$work/upload.py" "$addr"
 
 # Stop the server (it flushes its .tlog) and read the log with pymavlink.
-kill -INT "$server_pid"
-wait "$server_pid" || true
-server_pid=""
+kill -INT "$bg_pid"
+wait "$bg_pid" || true
+bg_pid=""
 cat > "$work/tlog.py" <<'PY'
 import sys, time
 from pymavlink import mavutil

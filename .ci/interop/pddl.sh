@@ -11,17 +11,13 @@
 # PDDL_MIN_VALIDATED=N: at least N SimpleTime instances validated instead of all (a rejected plan still fails).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. .ci/interop/lib/common.sh
 
 target="${CARGO_TARGET_DIR:-target}"
 venv="${PDDL_VENV:-$target/pddl-venv}"
-if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c 'import unified_planning' 2>/dev/null; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet --upgrade pip
-  "$venv/bin/pip" install --quiet unified-planning
-fi
+ensure_venv "$venv" unified_planning unified-planning
 
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+scratch_dir
 plans="${PDDL_PLANS:-}"
 jsonl=()
 if [ -z "$plans" ]; then

@@ -5,14 +5,11 @@
 # Needs python3.11 (or python3) with venv + pip and access to the package registry.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+. .ci/interop/lib/common.sh
 
 target="${CARGO_TARGET_DIR:-$PWD/target}"
 venv="$target/interop-venv"
-py="$(command -v python3.11 || command -v python3)"
-if [ ! -x "$venv/bin/python" ]; then
-  "$py" -m venv "$venv"
-fi
-"$venv/bin/pip" install --quiet --disable-pip-version-check pymavlink mavsdk
+PYTHON="$(command -v python3.11 || command -v python3)" ensure_venv "$venv" "pymavlink, mavsdk" pymavlink mavsdk
 
 cargo build --quiet --bin mavtempo
 bin="$target/debug/mavtempo"
@@ -26,13 +23,10 @@ start_sim() {
   local log="$1"
   "$bin" sim --listen tcpin:127.0.0.1:0 --speedup 20 --seed 1 >"$log" 2>&1 &
   pids+=("$!")
-  for _ in $(seq 1 300); do
-    if grep -q "sitl listening on" "$log"; then
-      sed -n 's/^sitl listening on [0-9.]*:\([0-9]*\) .*/\1/p' "$log" | head -n 1
-      return 0
-    fi
-    sleep 0.1
-  done
+  if wait_for_line "$log" "sitl listening on" "$!"; then
+    sed -n 's/^sitl listening on [0-9.]*:\([0-9]*\) .*/\1/p' "$log" | head -n 1
+    return 0
+  fi
   echo "mavtempo sim did not start:" >&2
   cat "$log" >&2
   return 1

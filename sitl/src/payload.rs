@@ -17,6 +17,14 @@ pub struct Storage {
 }
 
 impl Storage {
+    /// The camera's storage, empty.
+    pub fn empty(camera: &CameraParams) -> Self {
+        Self {
+            capacity_mib: camera.storage_capacity_mib,
+            used_mib: 0.0,
+        }
+    }
+
     pub fn available(&self) -> f64 {
         (self.capacity_mib - self.used_mib).max(0.0)
     }
@@ -234,10 +242,7 @@ mod tests {
     fn picture_sizes_stay_within_bounds_and_fill_storage() {
         let p = CameraParams::default();
         let mut cam = Camera::new(&p, ChaCha8Rng::seed_from_u64(7));
-        let mut st = Storage {
-            capacity_mib: p.storage_capacity_mib,
-            used_mib: 0.0,
-        };
+        let mut st = Storage::empty(&p);
         cam.start(0, 10, 1.0);
         let out = cam.step(100_000, &mut st);
         assert_eq!(out.len(), 10);
@@ -263,10 +268,7 @@ mod tests {
     fn a_hung_capture_stores_nothing_and_answers_nothing() {
         let p = CameraParams::default();
         let mut cam = Camera::new(&p, ChaCha8Rng::seed_from_u64(3));
-        let mut st = Storage {
-            capacity_mib: p.storage_capacity_mib,
-            used_mib: 0.0,
-        };
+        let mut st = Storage::empty(&p);
         cam.hang_next = 1;
         cam.start(0, 2, 1.0);
         let out = cam.step(100_000, &mut st);

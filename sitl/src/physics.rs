@@ -85,16 +85,21 @@ pub fn wrap_pi(a: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// A surface target at [north, east] `pos`, to be reached at 5 m/s.
+    fn target(north: f64, east: f64, stop: bool) -> Target {
+        Target {
+            pos: Vector2::new(north, east),
+            depth: 0.0,
+            speed: 5.0,
+            stop,
+        }
+    }
+
     #[test]
     fn reaches_a_target_and_stops_within_bounds() {
         let p = VehicleParams::default();
         let mut k = Kinematics::default();
-        let t = Target {
-            pos: Vector2::new(0.0, 50.0),
-            depth: 0.0,
-            speed: 5.0,
-            stop: true,
-        };
+        let t = target(0.0, 50.0, true);
         let mut max_speed: f64 = 0.0;
         for _ in 0..(60 * 50) {
             k.step(0.02, Some(&t), &p, 1.0);
@@ -109,12 +114,7 @@ mod tests {
     fn slow_terrain_caps_speed() {
         let p = VehicleParams::default();
         let mut k = Kinematics::default();
-        let t = Target {
-            pos: Vector2::new(1000.0, 0.0),
-            depth: 0.0,
-            speed: 5.0,
-            stop: false,
-        };
+        let t = target(1000.0, 0.0, false);
         for _ in 0..500 {
             k.step(0.02, Some(&t), &p, 0.2);
         }

@@ -4,15 +4,14 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::ardupilotmega::{
-    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, BATTERY_STATUS_DATA,
-    GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, SYSTEM_TIME_DATA, SYS_STATUS_DATA,
+    MavMessage, BATTERY_STATUS_DATA, GLOBAL_POSITION_INT_DATA, SYSTEM_TIME_DATA, SYS_STATUS_DATA,
 };
 use tokio::io::AsyncWriteExt;
 
 use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::driver::COMPANION_COMPONENT;
 use crate::vehicle::endpoint::{Address, Transport};
-use crate::vehicle::frame::{Encoder, FrameDecoder};
+use crate::vehicle::frame::{rover_heartbeat, Encoder, FrameDecoder};
 use crate::vehicle::items::MissionItem;
 use crate::vehicle::link::{GoalServer, LinkOptions, MavlinkVehicle};
 use crate::vehicle::mission_client::{MissionClient, MissionOutcome};
@@ -121,17 +120,7 @@ async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
 
 fn telemetry_stream(n: u64) -> Vec<u8> {
     let mut enc = Encoder::new(1, 1, None);
-    let mut bytes = enc.encode(
-        &MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: 4,
-            mavtype: MavType::MAV_TYPE_GROUND_ROVER,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-            base_mode: MavModeFlag::empty(),
-            system_status: MavState::MAV_STATE_ACTIVE,
-            mavlink_version: 3,
-        }),
-        false,
-    );
+    let mut bytes = enc.encode(&rover_heartbeat(4), false);
     for i in 0..n.saturating_sub(1) {
         let t = i as u32;
         let msg = match i % 4 {

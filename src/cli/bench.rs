@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 
+use super::json_out::print_json_lines;
 use crate::bench::stn as stn_bench;
 
 #[derive(Args, Debug)]
@@ -100,16 +101,7 @@ fn bench_sim(json: bool) -> ExitCode {
                 .map_err(|e| e.to_string())
         });
     match report {
-        Ok(r) if json => match serde_json::to_string(&r) {
-            Ok(line) => {
-                println!("{line}");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("bench sim: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        Ok(r) if json => print_json_lines("bench sim", [&r]),
         Ok(r) => {
             println!(
                 "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
@@ -133,7 +125,7 @@ fn bench_stn(json: bool) -> ExitCode {
         }
     };
     if json {
-        return print_json_lines("stn", &figures);
+        return print_json_lines("bench stn", &figures);
     } else {
         println!(
             "{:>7} {:>8} {:>10} {:>11} {:>13} {:>8} {:>10}",
@@ -170,7 +162,7 @@ fn bench_dispatch(json: bool) -> ExitCode {
         }
     };
     if json {
-        return print_json_lines("dispatch", &figures);
+        return print_json_lines("bench dispatch", &figures);
     }
     let us = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.3}"));
     println!(
@@ -204,32 +196,9 @@ fn bench_dispatch(json: bool) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// One JSON object per line.
-fn print_json_lines<T: serde::Serialize>(what: &str, rows: &[T]) -> ExitCode {
-    for row in rows {
-        match serde_json::to_string(row) {
-            Ok(line) => println!("{line}"),
-            Err(e) => {
-                eprintln!("bench {what}: {e}");
-                return ExitCode::FAILURE;
-            }
-        }
-    }
-    ExitCode::SUCCESS
-}
-
 fn bench_link(json: bool) -> ExitCode {
     match crate::bench::vehicle::run_link_bench(21, 200_000) {
-        Ok(b) if json => match serde_json::to_string(&b) {
-            Ok(line) => {
-                println!("{line}");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("bench link: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        Ok(b) if json => print_json_lines("bench link", [&b]),
         Ok(b) => {
             println!(
                 "upload 100 items (median of {}): {:.2} ms (target <= 100 ms); telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
@@ -252,27 +221,20 @@ fn bench_plan(json: bool) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    if json {
+        return print_json_lines("bench plan", &figures);
+    }
     for f in &figures {
-        if json {
-            match serde_json::to_string(f) {
-                Ok(line) => println!("{line}"),
-                Err(e) => {
-                    eprintln!("bench plan: {e}");
-                    return ExitCode::FAILURE;
-                }
-            }
-        } else {
-            println!(
-                "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
-                f.problem,
-                if f.solved { "solved" } else { "FAILED" },
-                f.ms,
-                f.steps,
-                f.backtracks,
-                f.actions,
-                f.failure.as_deref().unwrap_or("")
-            );
-        }
+        println!(
+            "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
+            f.problem,
+            if f.solved { "solved" } else { "FAILED" },
+            f.ms,
+            f.steps,
+            f.backtracks,
+            f.actions,
+            f.failure.as_deref().unwrap_or("")
+        );
     }
     ExitCode::SUCCESS
 }
@@ -280,13 +242,12 @@ fn bench_plan(json: bool) -> ExitCode {
 fn bench_cycle(json: bool) -> ExitCode {
     for n in [200, 2_000] {
         match crate::bench::exec::run(n, 100) {
-            Ok(f) if json => match serde_json::to_string(&f) {
-                Ok(line) => println!("{line}"),
-                Err(e) => {
-                    eprintln!("bench cycle: {e}");
-                    return ExitCode::FAILURE;
+            Ok(f) if json => {
+                let printed = print_json_lines("bench cycle", [&f]);
+                if printed != ExitCode::SUCCESS {
+                    return printed;
                 }
-            },
+            }
             Ok(f) => println!(
                 "{:>6} actions: {} cycles, p50 {} µs, p99 {} µs, max {} µs",
                 f.actions, f.cycles, f.p50_us, f.p99_us, f.max_us
@@ -308,32 +269,25 @@ fn bench_repair(json: bool) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    if json {
+        return print_json_lines("bench repair", &figures);
+    }
     for f in figures {
-        if json {
-            match serde_json::to_string(&f) {
-                Ok(line) => println!("{line}"),
-                Err(e) => {
-                    eprintln!("bench repair: {e}");
-                    return ExitCode::FAILURE;
-                }
+        let repair = f
+            .repair_ms
+            .map_or("no repair (replanned)".to_string(), |ms| {
+                format!("{ms:.2} ms")
+            });
+        println!(
+            "{:<16} repair {repair}, complete replanning {:.2} ms ({})",
+            f.event,
+            f.replan_ms,
+            if f.replan_found {
+                "plan found"
+            } else {
+                "no plan"
             }
-        } else {
-            let repair = f
-                .repair_ms
-                .map_or("no repair (replanned)".to_string(), |ms| {
-                    format!("{ms:.2} ms")
-                });
-            println!(
-                "{:<16} repair {repair}, complete replanning {:.2} ms ({})",
-                f.event,
-                f.replan_ms,
-                if f.replan_found {
-                    "plan found"
-                } else {
-                    "no plan"
-                }
-            );
-        }
+        );
     }
     ExitCode::SUCCESS
 }

@@ -146,14 +146,7 @@ pub fn run(json: bool) -> ExitCode {
         }
     };
     if json {
-        match serde_json::to_string(&f) {
-            Ok(line) => println!("{line}"),
-            Err(e) => {
-                eprintln!("bench cpu: {e}");
-                return ExitCode::FAILURE;
-            }
-        }
-        return ExitCode::SUCCESS;
+        return super::json_out::print_json_lines("bench cpu", [&f]);
     }
     let s = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3} s"));
     println!(

@@ -19,7 +19,7 @@ use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
 use crate::exec::interrupt::Interrupt;
-use crate::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport};
+use crate::exec::mission::{run_mission, MissionEnd, MissionOptions, MissionReport, Pacer};
 use crate::exec::pacer::{LivePacer, StepGate};
 use crate::exec::trace::{CycleRecord, TraceEvent};
 use crate::lang;
@@ -412,31 +412,22 @@ pub fn run_demo(
         interrupt: setup.interrupt.clone(),
         ..MissionOptions::default()
     };
-    let mut report = match setup.speedup {
+    // Stepped by the executive's clock, or paced at N× wall time.
+    let (mut stepped, mut live_pacer);
+    let pacer: &mut dyn Pacer<_> = match setup.speedup {
         None => {
-            let mut pacer = session.step_pacer(gate.clone());
-            run_mission(
-                &mut ex,
-                &mut session.vehicle,
-                &mut pacer,
-                &opts,
-                &mut on_cycle,
-            )
+            stepped = session.step_pacer(gate.clone());
+            &mut stepped
         }
         Some(speedup) => {
-            let mut pacer = LivePacer {
+            live_pacer = LivePacer {
                 origin_ms: origin,
                 speedup,
             };
-            run_mission(
-                &mut ex,
-                &mut session.vehicle,
-                &mut pacer,
-                &opts,
-                &mut on_cycle,
-            )
+            &mut live_pacer
         }
     };
+    let mut report = run_mission(&mut ex, &mut session.vehicle, pacer, &opts, &mut on_cycle);
     let interrupted = matches!(report.end, MissionEnd::Interrupted(_));
     if interrupted {
         // Stepped, the simulator moves only when stepped: the HOLD shows in its heartbeat after a few steps.

@@ -91,18 +91,9 @@ pub fn run(args: ExperimentArgs) -> ExitCode {
         }
     };
     if a.json {
-        for r in &rows {
-            match serde_json::to_string(r) {
-                Ok(s) => println!("{s}"),
-                Err(e) => {
-                    eprintln!("mavtempo experiment dispatch: {e}");
-                    return ExitCode::FAILURE;
-                }
-            }
-        }
-    } else {
-        print_table(&rows);
+        return super::json_out::print_json_lines("mavtempo experiment dispatch", &rows);
     }
+    print_table(&rows);
     ExitCode::SUCCESS
 }
 

@@ -50,14 +50,10 @@ pub enum GoalCommand {
 }
 
 pub fn run(args: GoalArgs) -> ExitCode {
-    let rt = match tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(1)
-        .enable_all()
-        .build()
-    {
+    let rt = match super::runtime::multi_thread(Some(1), "tokio runtime") {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("error: tokio runtime: {e}");
+            eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };

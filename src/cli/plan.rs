@@ -69,12 +69,9 @@ pub fn run(args: PlanArgs) -> ExitCode {
     let sol = planned.plan.to_solution(&HashMap::new());
     let checked = validate(&domain, &problem, &sol);
     if args.json {
-        match serde_json::to_string_pretty(&sol) {
-            Ok(s) => println!("{s}"),
-            Err(e) => {
-                eprintln!("cannot serialise the plan: {e}");
-                return ExitCode::FAILURE;
-            }
+        let printed = super::json_out::print_json_pretty("cannot serialise the plan", &sol);
+        if printed != ExitCode::SUCCESS {
+            return printed;
         }
     } else if args.dot {
         print!("{}", dot(&sol, &problem));

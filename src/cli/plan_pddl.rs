@@ -42,12 +42,10 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         }
     }
     if args.json {
-        match serde_json::to_string_pretty(&solved.solution) {
-            Ok(s) => println!("{s}"),
-            Err(e) => {
-                eprintln!("cannot serialise the plan: {e}");
-                return ExitCode::FAILURE;
-            }
+        let printed =
+            super::json_out::print_json_pretty("cannot serialise the plan", &solved.solution);
+        if printed != ExitCode::SUCCESS {
+            return printed;
         }
     } else if args.dot {
         print!("{}", super::plan::dot(&solved.solution, &t.problem));

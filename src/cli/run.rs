@@ -271,14 +271,7 @@ fn start_live(
     vehicle: &MavlinkVehicle,
     home: Home,
 ) -> Result<(crate::report::live::LiveServer, tokio::runtime::Runtime), CliError> {
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(1)
-        .enable_all()
-        .build()
-        .map_err(|source| CliError::Setup {
-            what: "live page runtime",
-            source,
-        })?;
+    let rt = super::runtime::multi_thread(Some(1), "live page runtime")?;
     let form = if h.goals {
         let (Some(gcs), Some(addr)) = (&args.gcs, vehicle.gcs_addr()) else {
             return Err(CliError::HttpGoalsWithoutGcs);

@@ -66,13 +66,10 @@ fn configure(args: &SimArgs) -> Result<sitl::SimConfig, sitl::SimError> {
 }
 
 fn serve(config: sitl::SimConfig) -> ExitCode {
-    let rt = match tokio::runtime::Builder::new_multi_thread()
-        .enable_all()
-        .build()
-    {
+    let rt = match super::runtime::multi_thread(None, "cannot start the runtime") {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("mavtempo sim: cannot start the runtime: {e}");
+            eprintln!("mavtempo sim: {e}");
             return ExitCode::FAILURE;
         }
     };

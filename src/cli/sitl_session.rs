@@ -76,14 +76,7 @@ impl SitlSession {
         spec: SessionSpec,
     ) -> Result<SitlSession, CliError> {
         let checked = super::check::checked_config(&spec.config, domain, Some(problem))?;
-        let rt = tokio::runtime::Builder::new_multi_thread()
-            .worker_threads(2)
-            .enable_all()
-            .build()
-            .map_err(|source| CliError::Setup {
-                what: "tokio runtime",
-                source,
-            })?;
+        let rt = super::runtime::multi_thread(Some(2), "tokio runtime")?;
         let home = checked.home;
         let mut cfg = checked.vehicle;
         // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock

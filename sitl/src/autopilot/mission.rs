@@ -179,12 +179,9 @@ impl Autopilot {
             self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
             return;
         }
-        if let Some(u) = &self.upload {
-            if u.from != from {
-                // One uploader at a time.
-                self.mission_ack(from, MavMissionResult::MAV_MISSION_DENIED);
-                return;
-            }
+        // One uploader at a time.
+        if self.refused_for_another_upload(from, MavMissionResult::MAV_MISSION_DENIED) {
+            return;
         }
         if m.count > MAX_ITEMS {
             self.mission_ack(from, MavMissionResult::MAV_MISSION_NO_SPACE);
@@ -334,14 +331,22 @@ impl Autopilot {
             self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
             return;
         }
-        if let Some(u) = &self.upload {
-            if u.from != from {
-                self.mission_ack(from, MavMissionResult::MAV_MISSION_ERROR);
-                return;
-            }
-            self.upload = None;
+        if self.refused_for_another_upload(from, MavMissionResult::MAV_MISSION_ERROR) {
+            return;
         }
+        self.upload = None;
         self.clear_mission(from);
+    }
+
+    /// Answers `from` with `result` when another ground station's upload is under way.
+    fn refused_for_another_upload(&mut self, from: Sender, result: MavMissionResult) -> bool {
+        match &self.upload {
+            Some(u) if u.from != from => {
+                self.mission_ack(from, result);
+                true
+            }
+            _ => false,
+        }
     }
 
     pub(super) fn on_request_list(&mut self, from: Sender, m: &MISSION_REQUEST_LIST_DATA) {

@@ -134,10 +134,7 @@ impl Autopilot {
             mode: Mode::Manual,
             armed: false,
             battery: Battery::new(&s.battery),
-            storage: Storage {
-                capacity_mib: s.camera.storage_capacity_mib,
-                used_mib: 0.0,
-            },
+            storage: Storage::empty(&s.camera),
             camera: Camera::new(&s.camera, camera_rng),
             downlink: None,
             downlink_rate_override: None,

@@ -203,12 +203,9 @@ pub fn run(args: SoakArgs) -> ExitCode {
     }
     sum.wall_s = wall.elapsed().as_secs_f64();
     if args.json {
-        match serde_json::to_string_pretty(&sum) {
-            Ok(j) => println!("{j}"),
-            Err(e) => {
-                eprintln!("mavtempo soak: {e}");
-                return ExitCode::FAILURE;
-            }
+        let printed = super::json_out::print_json_pretty("mavtempo soak", &sum);
+        if printed != ExitCode::SUCCESS {
+            return printed;
         }
     } else {
         print_summary(&sum);

@@ -2,7 +2,9 @@
 //! verification, and encoding of outgoing messages (MAVLink 2, signed when a key is set, or MAVLink 1 for a
 //! MAVLink 1 peer). Raw bytes are kept so the `.tlog` records exactly what crossed the wire.
 
-use mavlink::dialects::ardupilotmega::MavMessage;
+use mavlink::dialects::ardupilotmega::{
+    MavAutopilot, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+};
 use mavlink::{
     MAVLinkV1MessageRaw, MAVLinkV2MessageRaw, MavHeader, MavlinkVersion, Message, SigningConfig,
     SigningData,
@@ -230,22 +232,25 @@ impl Encoder {
     }
 }
 
+/// A disarmed ArduPilot Rover's HEARTBEAT in mode `custom_mode` (4: HOLD): the autopilot's side of a
+/// link, for the decoder's tests and the link bench, which run without an autopilot.
+pub fn rover_heartbeat(custom_mode: u32) -> MavMessage {
+    MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+        custom_mode,
+        mavtype: MavType::MAV_TYPE_GROUND_ROVER,
+        autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+        base_mode: MavModeFlag::empty(),
+        system_status: MavState::MAV_STATE_ACTIVE,
+        mavlink_version: 3,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavlink::dialects::ardupilotmega::{
-        MavAutopilot, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
-    };
 
     fn heartbeat() -> MavMessage {
-        MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: 4,
-            mavtype: MavType::MAV_TYPE_GROUND_ROVER,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
-            base_mode: MavModeFlag::empty(),
-            system_status: MavState::MAV_STATE_ACTIVE,
-            mavlink_version: 3,
-        })
+        rover_heartbeat(4)
     }
 
     #[test]
