@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use mavtempo::lang;
 use mavtempo::model::{
-    Bound, Domain, Goal, GoalKind, NumConstraint, Preemption, Problem, ResourceKind, Task, Term,
-    UsageKind, Value,
+    Bound, Domain, Goal, GoalKind, NumConstraint, Preemption, Problem, ResourceId, ResourceKind,
+    Task, Term, UsageKind, Value,
 };
 
 fn root() -> PathBuf {
@@ -16,6 +16,14 @@ fn root() -> PathBuf {
 fn goal<'a>(p: &'a Problem, name: &str) -> &'a Goal {
     let id = p.goal_id(name).unwrap_or_else(|| panic!("no goal {name}"));
     &p.goals[id.index()]
+}
+
+/// The names of the tasks that produce `resource`.
+fn producers(d: &Domain, resource: ResourceId) -> Vec<&str> {
+    d.tasks_producing(resource)
+        .iter()
+        .map(|t| d.task(*t).name.as_str())
+        .collect()
 }
 
 /// The task `name` of `d`.
@@ -159,21 +167,11 @@ fn rover_resources_and_producers() {
         .unwrap_or_else(|| panic!("no CAMERA"));
     assert_eq!(d.resource(camera).kind, ResourceKind::Unary);
     // Only download_images can refill the storage; only recharge_battery the battery.
-    let producers: Vec<&str> = d
-        .tasks_producing(storage)
-        .iter()
-        .map(|t| d.task(*t).name.as_str())
-        .collect();
-    assert_eq!(producers, vec!["download_images"]);
+    assert_eq!(producers(&d, storage), vec!["download_images"]);
     let battery = d
         .resource_id("BATTERY")
         .unwrap_or_else(|| panic!("no BATTERY"));
-    let producers: Vec<&str> = d
-        .tasks_producing(battery)
-        .iter()
-        .map(|t| d.task(*t).name.as_str())
-        .collect();
-    assert_eq!(producers, vec!["recharge_battery"]);
+    assert_eq!(producers(&d, battery), vec!["recharge_battery"]);
     // take_picture is what establishes PICTURE(?l).
     let pic = d.attr_id("PICTURE").unwrap_or_else(|| panic!("no PICTURE"));
     let est: Vec<&str> = d

@@ -32,8 +32,7 @@ async fn heartbeat_identifies_an_ardupilot_rover() {
 async fn auv_heartbeat_is_a_submarine_with_ardusub_modes() {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.vehicle = sitl::VehicleKind::Auv;
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (sim, mut gcs) = start_with(cfg).await;
     assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
     let hb = expect_msg!(gcs, HEARTBEAT).await;
     assert_eq!(hb.mavtype, MavType::MAV_TYPE_SUBMARINE);
@@ -287,8 +286,7 @@ async fn messages_for_other_components_are_not_answered() {
 async fn the_auv_dives_to_a_guided_depth() {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.vehicle = sitl::VehicleKind::Auv;
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (sim, mut gcs) = start_with(cfg).await;
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let wp = waypoint(HOME, 10.0, 0.0);
     let (r, _) = gcs.reposition(&wp, true, -5.0).await;

@@ -431,6 +431,11 @@ pub async fn sent_over(sim: &sitl::SimHandle, gcs: &mut Gcs, d: Duration) -> Vec
 pub async fn start(scenario: &str) -> (sitl::SimHandle, Gcs) {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.scenario = sitl::Scenario::parse(scenario, "test").expect("scenario");
+    start_with(cfg).await
+}
+
+/// A sim spawned from `cfg`, plus a client connected over TCP.
+pub async fn start_with(cfg: sitl::SimConfig) -> (sitl::SimHandle, Gcs) {
     let sim = sitl::spawn(cfg).await.expect("spawn");
     let gcs = Gcs::connect(sim.local_addr()).await;
     (sim, gcs)
