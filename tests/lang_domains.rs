@@ -4,12 +4,31 @@ use std::path::{Path, PathBuf};
 
 use mavtempo::lang;
 use mavtempo::model::{
-    Bound, Domain, GoalKind, NumConstraint, Preemption, Problem, ResourceKind, Term, UsageKind,
-    Value,
+    Bound, Domain, Goal, GoalKind, NumConstraint, Preemption, Problem, ResourceId, ResourceKind,
+    Task, Term, UsageKind, Value,
 };
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The goal `name` of `p`.
+fn goal<'a>(p: &'a Problem, name: &str) -> &'a Goal {
+    let id = p.goal_id(name).unwrap_or_else(|| panic!("no goal {name}"));
+    &p.goals[id.index()]
+}
+
+/// The names of the tasks that produce `resource`.
+fn producers(d: &Domain, resource: ResourceId) -> Vec<&str> {
+    d.tasks_producing(resource)
+        .iter()
+        .map(|t| d.task(*t).name.as_str())
+        .collect()
+}
+
+/// The task `name` of `d`.
+fn task<'a>(d: &'a Domain, name: &str) -> &'a Task {
+    d.task(d.task_id(name).unwrap_or_else(|| panic!("no task {name}")))
 }
 
 fn load(domain: &str, problem: &str) -> (Domain, Problem) {
@@ -148,21 +167,11 @@ fn rover_resources_and_producers() {
         .unwrap_or_else(|| panic!("no CAMERA"));
     assert_eq!(d.resource(camera).kind, ResourceKind::Unary);
     // Only download_images can refill the storage; only recharge_battery the battery.
-    let producers: Vec<&str> = d
-        .tasks_producing(storage)
-        .iter()
-        .map(|t| d.task(*t).name.as_str())
-        .collect();
-    assert_eq!(producers, vec!["download_images"]);
+    assert_eq!(producers(&d, storage), vec!["download_images"]);
     let battery = d
         .resource_id("BATTERY")
         .unwrap_or_else(|| panic!("no BATTERY"));
-    let producers: Vec<&str> = d
-        .tasks_producing(battery)
-        .iter()
-        .map(|t| d.task(*t).name.as_str())
-        .collect();
-    assert_eq!(producers, vec!["recharge_battery"]);
+    assert_eq!(producers(&d, battery), vec!["recharge_battery"]);
     // take_picture is what establishes PICTURE(?l).
     let pic = d.attr_id("PICTURE").unwrap_or_else(|| panic!("no PICTURE"));
     let est: Vec<&str> = d
@@ -300,18 +309,10 @@ fn auv_vents_travel_times_and_goal_kinds() {
 #[test]
 fn shopping_day_and_a_goal_sent_at_run_time() {
     let (d, p) = load("shopping", "day");
-    let apple = p
-        .goals
-        .iter()
-        .find(|g| g.name == "have_apple")
-        .unwrap_or_else(|| panic!("no apple"));
+    let apple = goal(&p, "have_apple");
     assert_eq!(apple.kind, GoalKind::External);
     assert_eq!(apple.start_window.max_ms(), Some(4 * 3_600_000));
-    let home = p
-        .goals
-        .iter()
-        .find(|g| g.name == "at_home")
-        .unwrap_or_else(|| panic!("no home"));
+    let home = goal(&p, "at_home");
     assert_eq!(home.kind, GoalKind::Internal);
     // The 09:00 shirt request of Fig. 5, as a ground station would send it.
     let text = "goal have_shirt external priority 2 { hold(HAVE(shirt): true, (st, et)); st in [09:00, 20:00]; achieve 25min; }";
@@ -472,22 +473,14 @@ fn goal_windows_are_cut_to_the_horizon() {
 #[test]
 fn saturating_production_is_read_and_refused_elsewhere() {
     let (d, _) = load("rover", "fig2");
-    let download = d
-        .tasks
-        .iter()
-        .find(|t| t.name == "download_images")
-        .expect("download_images");
+    let download = task(&d, "download_images");
     let storage = download
         .usages
         .iter()
         .find(|u| matches!(u.kind, UsageKind::Produce { .. }))
         .expect("a production");
     assert!(storage.saturating);
-    let recharge = d
-        .tasks
-        .iter()
-        .find(|t| t.name == "recharge_battery")
-        .expect("recharge_battery");
+    let recharge = task(&d, "recharge_battery");
     assert!(recharge.usages.iter().all(|u| !u.saturating));
     let bad = "domain d;\nresource R: reservoir capacity 3;\ntask t() (st, et) {\n    saturating consume(R: 1, st);\n}\n";
     let e = lang::parse_domain("bad.ixt", bad).expect_err("refused");

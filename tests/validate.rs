@@ -162,16 +162,7 @@ fn overlapping_uses_of_a_unary_resource_are_rejected() {
         b.before(go_et, snap_st);
         // Unordered with the snap, calibrate starts with it at the earliest schedule.
         b.before(if after_snap { snap_et } else { go_et }, cal_st);
-        b.link(
-            Establisher::Event {
-                action: go,
-                event: 1,
-            },
-            Consumer::Hold {
-                action: snap,
-                hold: 0,
-            },
-        );
+        b.event_to_hold(go, 1, snap, 0);
         b.achieve("g1", snap_et, snap, 0);
         b.finish()
     };
@@ -285,26 +276,8 @@ fn rover_g1(ptu_before_picture: bool) -> (Domain, mavtempo::model::Problem, Solu
     b.before(mv_et, ptu_st);
     b.before(if ptu_before_picture { ptu_et } else { mv_et }, pic_st);
     // take_picture: AT_ROBOT = p1 from move's end event, PTU_POS = DOWN from move_ptu's end event.
-    b.link(
-        Establisher::Event {
-            action: mv,
-            event: 1,
-        },
-        Consumer::Hold {
-            action: pic,
-            hold: 0,
-        },
-    );
-    b.link(
-        Establisher::Event {
-            action: ptu,
-            event: 1,
-        },
-        Consumer::Hold {
-            action: pic,
-            hold: 1,
-        },
-    );
+    b.event_to_hold(mv, 1, pic, 0);
+    b.event_to_hold(ptu, 1, pic, 1);
     b.link(
         Establisher::Initial,
         Consumer::EventFrom {

@@ -85,6 +85,17 @@ async fn drive(sim: &sitl::SimHandle, secs: u64) -> (f64, sitl::Snapshot) {
     (top, sim.snapshot())
 }
 
+/// Drives `secs` of sim time (as [`drive`]) and checks the top speed on the way was `expected`; `what`
+/// names the case in the failure. The last snapshot.
+async fn drive_at(sim: &sitl::SimHandle, secs: u64, expected: f64, what: &str) -> sitl::Snapshot {
+    let (top, s) = drive(sim, secs).await;
+    assert!(
+        (top - expected).abs() < 1e-6,
+        "{what} top speed {top}, not {expected}"
+    );
+    s
+}
+
 #[tokio::test]
 async fn arming_is_refused_until_ready_with_ardupilot_reasons() {
     let (sim, mut gcs) = start(ARDUPILOT).await;
@@ -360,22 +371,19 @@ async fn reposition_with_a_speed_from_guided_stop_fails_and_change_speed_needs_a
         change_speed(&mut gcs, 3.0, 2.0).await,
         MavResult::MAV_RESULT_DENIED
     );
-    let (top, s) = drive(&sim, 20).await;
-    assert!((top - 2.0).abs() < 1e-6, "top speed {top}");
+    let s = drive_at(&sim, 20, 2.0, "").await;
     assert!(s.north_m > 30.0, "{s:?}");
     // Now in WP, a speed in DO_REPOSITION is taken, and it lasts for later destinations.
     assert_eq!(
         reposition(&mut gcs, HOME, 200.0, 3.0).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    let (top, _) = drive(&sim, 10).await;
-    assert!((top - 3.0).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 10, 3.0, "").await;
     assert_eq!(
         reposition(&mut gcs, HOME, 300.0, -1.0).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    let (top, _) = drive(&sim, 10).await;
-    assert!((top - 3.0).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 10, 3.0, "").await;
     // Entering GUIDED again goes back to WP_SPEED.
     assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(gcs.set_mode(15).await, MavResult::MAV_RESULT_ACCEPTED);
@@ -383,8 +391,7 @@ async fn reposition_with_a_speed_from_guided_stop_fails_and_change_speed_needs_a
         reposition(&mut gcs, HOME, 500.0, -1.0).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    let (top, _) = drive(&sim, 15).await;
-    assert!((top - 5.0).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 15, 5.0, "").await;
     // MANUAL has no speed to change.
     assert_eq!(gcs.set_mode(0).await, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(
@@ -409,8 +416,7 @@ async fn reposition_then_change_speed_works_in_every_profile() {
             MavResult::MAV_RESULT_ACCEPTED,
             "{scenario:?}"
         );
-        let (top, s) = drive(&sim, 15).await;
-        assert!((top - 2.5).abs() < 1e-6, "{scenario:?}: top speed {top}");
+        let s = drive_at(&sim, 15, 2.5, &format!("{scenario:?}:")).await;
         assert!(s.north_m > 25.0, "{scenario:?}: {s:?}");
     }
 }
@@ -425,8 +431,7 @@ async fn the_default_profile_takes_a_reposition_speed_from_any_state() {
         reposition(&mut gcs, HOME, 100.0, 2.0).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    let (top, _) = drive(&sim, 10).await;
-    assert!((top - 2.0).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 10, 2.0, "").await;
 }
 
 /// With no speed command the rover drives at WP_SPEED (5 m/s), in GUIDED and in AUTO, whatever
@@ -440,11 +445,7 @@ async fn wp_speed_is_the_default_speed() {
             reposition(&mut gcs, HOME, 150.0, -1.0).await,
             MavResult::MAV_RESULT_ACCEPTED
         );
-        let (top, _) = drive(&sim, 15).await;
-        assert!(
-            (top - 5.0).abs() < 1e-6,
-            "{scenario:?}: GUIDED top speed {top}"
-        );
+        drive_at(&sim, 15, 5.0, &format!("{scenario:?}: GUIDED")).await;
 
         let (sim, mut gcs) = start(scenario).await;
         start_auto(
@@ -452,11 +453,7 @@ async fn wp_speed_is_the_default_speed() {
             &[waypoint(HOME, 0.0, 0.0), waypoint(HOME, 150.0, 0.0)],
         )
         .await;
-        let (top, _) = drive(&sim, 15).await;
-        assert!(
-            (top - 5.0).abs() < 1e-6,
-            "{scenario:?}: AUTO top speed {top}"
-        );
+        drive_at(&sim, 15, 5.0, &format!("{scenario:?}: AUTO")).await;
     }
 }
 
@@ -468,21 +465,18 @@ async fn change_speed_in_auto_sets_the_mission_speed() {
         &[waypoint(HOME, 0.0, 0.0), waypoint(HOME, 300.0, 0.0)],
     )
     .await;
-    let (top, _) = drive(&sim, 8).await;
-    assert!((top - 5.0).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 8, 5.0, "").await;
     assert_eq!(
         change_speed(&mut gcs, 0.0, 1.5).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
     drive(&sim, 3).await;
-    let (top, _) = drive(&sim, 5).await;
-    assert!((top - 1.5).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 5, 1.5, "").await;
     // Entering AUTO again initialises the navigation at WP_SPEED.
     assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(gcs.set_mode(10).await, MavResult::MAV_RESULT_ACCEPTED);
     drive(&sim, 3).await;
-    let (top, _) = drive(&sim, 5).await;
-    assert!((top - 5.0).abs() < 1e-6, "top speed {top}");
+    drive_at(&sim, 5, 5.0, "").await;
 }
 
 #[tokio::test]

@@ -13,8 +13,7 @@ async fn a_mission_runs_paced_at_500x() {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.clock = sitl::ClockMode::Paced;
     cfg.speedup = 500.0;
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (sim, mut gcs) = start_with(cfg).await;
     let items = vec![
         waypoint(HOME, 0.0, 0.0),
         waypoint(HOME, 60.0, 0.0),
@@ -50,8 +49,7 @@ fault = { kind = "battery_drop", percent = 7.5 }
         "det",
     )
     .expect("scenario");
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (sim, mut gcs) = start_with(cfg).await;
     let mut items = vec![waypoint(HOME, 0.0, 0.0)];
     for (n, e) in [(20.0, 0.0), (20.0, 20.0), (0.0, 20.0)] {
         items.push(waypoint(HOME, n, e));

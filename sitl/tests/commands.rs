@@ -32,8 +32,7 @@ async fn heartbeat_identifies_an_ardupilot_rover() {
 async fn auv_heartbeat_is_a_submarine_with_ardusub_modes() {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.vehicle = sitl::VehicleKind::Auv;
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (sim, mut gcs) = start_with(cfg).await;
     assert_eq!(gcs.set_mode(4).await, MavResult::MAV_RESULT_ACCEPTED);
     let hb = expect_msg!(gcs, HEARTBEAT).await;
     assert_eq!(hb.mavtype, MavType::MAV_TYPE_SUBMARINE);
@@ -145,6 +144,13 @@ async fn set_position_target_is_ignored_outside_guided() {
     .await;
 }
 
+/// How many GLOBAL_POSITION_INTs `seen` holds.
+fn positions(seen: &[MavMessage]) -> usize {
+    seen.iter()
+        .filter(|m| matches!(m, MavMessage::GLOBAL_POSITION_INT(_)))
+        .count()
+}
+
 #[tokio::test]
 async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
     let (sim, mut gcs) = start("").await;
@@ -153,22 +159,15 @@ async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
             .await,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    gcs.sync().await;
-    sim.step(Duration::from_secs(2)).await.expect("step");
-    let seen = gcs.sync().await;
-    let gpi = seen
-        .iter()
-        .filter(|m| matches!(m, MavMessage::GLOBAL_POSITION_INT(_)))
-        .count();
+    let seen = sent_over(&sim, &mut gcs, Duration::from_secs(2)).await;
+    let gpi = positions(&seen);
     assert!(
         (19..=21).contains(&gpi),
         "{gpi} GLOBAL_POSITION_INT in 2 s at 10 Hz"
     );
     // Stop everything with REQUEST_DATA_STREAM(ALL, stop).
     gcs.stop_all_streams().await;
-    gcs.sync().await;
-    sim.step(Duration::from_secs(3)).await.expect("step");
-    let seen = gcs.sync().await;
+    let seen = sent_over(&sim, &mut gcs, Duration::from_secs(3)).await;
     assert!(
         !seen.iter().any(|m| matches!(m, MavMessage::SYS_STATUS(_))),
         "SYS_STATUS still streamed"
@@ -182,13 +181,8 @@ async fn message_intervals_and_data_streams_are_honoured_in_sim_time() {
         start_stop: 1,
     }))
     .await;
-    gcs.sync().await;
-    sim.step(Duration::from_secs(3)).await.expect("step");
-    let seen = gcs.sync().await;
-    let gpi = seen
-        .iter()
-        .filter(|m| matches!(m, MavMessage::GLOBAL_POSITION_INT(_)))
-        .count();
+    let seen = sent_over(&sim, &mut gcs, Duration::from_secs(3)).await;
+    let gpi = positions(&seen);
     assert!((5..=7).contains(&gpi), "{gpi}");
 }
 
@@ -292,8 +286,7 @@ async fn messages_for_other_components_are_not_answered() {
 async fn the_auv_dives_to_a_guided_depth() {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.vehicle = sitl::VehicleKind::Auv;
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (sim, mut gcs) = start_with(cfg).await;
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let wp = waypoint(HOME, 10.0, 0.0);
     let (r, _) = gcs.reposition(&wp, true, -5.0).await;
@@ -349,9 +342,7 @@ async fn absurd_targets_are_refused_and_the_vehicle_goes_on() {
         gcs.upload(&items).await,
         MavMissionResult::MAV_MISSION_INVALID_PARAM6_Y
     );
-    gcs.sync().await;
-    sim.step(Duration::from_secs(2)).await.expect("step");
-    let beats = gcs.sync().await;
+    let beats = sent_over(&sim, &mut gcs, Duration::from_secs(2)).await;
     assert!(
         beats.iter().any(|m| matches!(m, MavMessage::HEARTBEAT(_))),
         "no heartbeat after the refusals"

@@ -172,8 +172,7 @@ async fn legacy_items_and_requests_round_trip_with_home_as_item_zero() {
 async fn legacy_request_kind_asks_with_mission_request() {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.mission_request = sitl::MissionRequestKind::Legacy;
-    let sim = sitl::spawn(cfg).await.expect("spawn");
-    let mut gcs = Gcs::connect(sim.local_addr()).await;
+    let (_sim, mut gcs) = start_with(cfg).await;
     gcs.send(count(2)).await;
     let seq = gcs
         .expect("MISSION_REQUEST", |m| match m {

@@ -195,6 +195,17 @@ impl<'a> Builder<'a> {
         gid
     }
 
+    /// A causal link from event `event` of `from` to hold `hold` of `to`.
+    pub fn event_to_hold(&mut self, from: ActionId, event: usize, to: ActionId, hold: usize) {
+        self.link(
+            Establisher::Event {
+                action: from,
+                event,
+            },
+            Consumer::Hold { action: to, hold },
+        );
+    }
+
     /// Places goal `name` after `after` (as [`Builder::goal`]), supported by event `event` of `action`.
     pub fn achieve(&mut self, name: &str, after: PlanTp, action: ActionId, event: usize) -> GoalId {
         let goal = self.goal(name, after);

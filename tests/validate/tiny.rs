@@ -293,16 +293,7 @@ pub fn sequential(d: &Domain, p: &Problem, steps: &[Step], max_snaps: usize) -> 
                         event: 0,
                     },
                 );
-                b.link(
-                    Establisher::Event {
-                        action: id,
-                        event: 0,
-                    },
-                    Consumer::Hold {
-                        action: id,
-                        hold: 0,
-                    },
-                );
+                b.event_to_hold(id, 0, id, 0);
                 at_est = Establisher::Event {
                     action: id,
                     event: 1,

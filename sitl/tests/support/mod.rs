@@ -420,10 +420,22 @@ pub async fn run_until(
     );
 }
 
+/// What the sim sends over the next `d` of sim time (what was in flight before is dropped first).
+pub async fn sent_over(sim: &sitl::SimHandle, gcs: &mut Gcs, d: Duration) -> Vec<MavMessage> {
+    gcs.sync().await;
+    sim.step(d).await.expect("step");
+    gcs.sync().await
+}
+
 /// A sim on port 0 with the manual clock and `scenario` (TOML text), plus a connected client.
 pub async fn start(scenario: &str) -> (sitl::SimHandle, Gcs) {
     let mut cfg = sitl::SimConfig::for_tests();
     cfg.scenario = sitl::Scenario::parse(scenario, "test").expect("scenario");
+    start_with(cfg).await
+}
+
+/// A sim spawned from `cfg`, plus a client connected over TCP.
+pub async fn start_with(cfg: sitl::SimConfig) -> (sitl::SimHandle, Gcs) {
     let sim = sitl::spawn(cfg).await.expect("spawn");
     let gcs = Gcs::connect(sim.local_addr()).await;
     (sim, gcs)
