@@ -623,6 +623,10 @@ impl MavlinkVehicle {
         self.shared.notify.notify_one();
         let deadline = Instant::now() + wall_limit;
         loop {
+            // Time passes before each look, the first included: the autopilot answers what `begin_ready`
+            // sent in no time of its own, and a look while the answers are still in flight would make a
+            // stepped simulator's start depend on the machine's speed.
+            let go_on = pass_time(self);
             let state = self.shared.driver.lock().ok().and_then(|d| {
                 let vnow = d.telemetry().time_boot_ms.unwrap_or(0);
                 d.readiness().map(|r| (r.report().clone(), vnow))
@@ -630,13 +634,11 @@ impl MavlinkVehicle {
             let Some((report, vnow)) = state else {
                 return not_ready();
             };
-            if report.ready
+            if !go_on
+                || report.ready
                 || vnow.saturating_sub(started) >= limit_ms
                 || Instant::now() >= deadline
             {
-                return report;
-            }
-            if !pass_time(self) {
                 return report;
             }
         }
