@@ -108,23 +108,21 @@ impl ExecConfig {
         if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
             return Err(ConfigError::Slack(self.replan_slack_ms));
         }
-        if self.same_failure_limit == 0 {
-            return Err(ConfigError::Positive("same_failure_limit"));
+        let counts = [
+            ("same_failure_limit", self.same_failure_limit),
+            ("goal_insertion_cycles", self.goal_insertion_cycles),
+            ("max_plan_changes_per_min", self.max_plan_changes_per_min),
+        ];
+        if let Some((key, _)) = counts.into_iter().find(|&(_, n)| n == 0) {
+            return Err(ConfigError::Positive(key));
         }
-        if self.goal_insertion_cycles == 0 {
-            return Err(ConfigError::Positive("goal_insertion_cycles"));
-        }
-        if self.max_plan_changes_per_min == 0 {
-            return Err(ConfigError::Positive("max_plan_changes_per_min"));
-        }
-        if self.repair_cycle_max_steps == 0 {
-            return Err(ConfigError::StepCap("repair_cycle_max_steps"));
-        }
-        if self.repair_episode_max_steps == 0 {
-            return Err(ConfigError::StepCap("repair_episode_max_steps"));
-        }
-        if self.replan_max_steps == 0 {
-            return Err(ConfigError::StepCap("replan_max_steps"));
+        let step_caps = [
+            ("repair_cycle_max_steps", self.repair_cycle_max_steps),
+            ("repair_episode_max_steps", self.repair_episode_max_steps),
+            ("replan_max_steps", self.replan_max_steps),
+        ];
+        if let Some((key, _)) = step_caps.into_iter().find(|&(_, n)| n == 0) {
+            return Err(ConfigError::StepCap(key));
         }
         Ok(())
     }
