@@ -210,4 +210,35 @@ mod tests {
             Err(ConfigError::Positive("goal_insertion_cycles"))
         );
     }
+
+    #[test]
+    fn each_count_and_step_cap_at_zero_is_refused_under_its_own_key() {
+        let cases = [
+            (
+                "same_failure_limit",
+                ConfigError::Positive("same_failure_limit"),
+            ),
+            (
+                "goal_insertion_cycles",
+                ConfigError::Positive("goal_insertion_cycles"),
+            ),
+            (
+                "max_plan_changes_per_min",
+                ConfigError::Positive("max_plan_changes_per_min"),
+            ),
+            (
+                "repair_cycle_max_steps",
+                ConfigError::StepCap("repair_cycle_max_steps"),
+            ),
+            (
+                "repair_episode_max_steps",
+                ConfigError::StepCap("repair_episode_max_steps"),
+            ),
+            ("replan_max_steps", ConfigError::StepCap("replan_max_steps")),
+        ];
+        for (key, expected) in cases {
+            let cfg: ExecConfig = toml::from_str(&format!("{key} = 0")).expect("parses");
+            assert_eq!(cfg.validate(), Err(expected), "{key} = 0");
+        }
+    }
 }
