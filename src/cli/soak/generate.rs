@@ -266,23 +266,17 @@ fn rover_faults(
     horizon_s: f64,
     target: (f64, f64),
 ) {
-    if rng.gen_bool(0.3) {
-        let k = rng.gen_range(1..=3);
-        fault(
-            s,
-            &format!("on = \"picture_started\", occurrence = {k}"),
-            "kind = \"picture_fails\"",
-        );
-        faults.push("picture_fails");
-    }
-    if rng.gen_bool(0.2) {
-        let k = rng.gen_range(1..=3);
-        fault(
-            s,
-            &format!("on = \"picture_started\", occurrence = {k}"),
-            "kind = \"picture_hangs\"",
-        );
-        faults.push("picture_hangs");
+    // One of the first three pictures fails, or hangs (in this order of draws: the seeds' missions stay).
+    for (chance, kind) in [(0.3, "picture_fails"), (0.2, "picture_hangs")] {
+        if rng.gen_bool(chance) {
+            let k = rng.gen_range(1..=3);
+            fault(
+                s,
+                &format!("on = \"picture_started\", occurrence = {k}"),
+                &format!("kind = \"{kind}\""),
+            );
+            faults.push(kind);
+        }
     }
     if rng.gen_bool(0.2) {
         fault(
