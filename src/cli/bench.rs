@@ -91,47 +91,52 @@ pub fn run(args: BenchArgs) -> ExitCode {
     }
 }
 
-fn bench_sim(json: bool) -> ExitCode {
-    let report = tokio::runtime::Builder::new_multi_thread()
-        .enable_all()
-        .build()
-        .map_err(|e| e.to_string())
-        .and_then(|rt| {
-            rt.block_on(sitl::bench::measure_speedup(500.0, 10, 100.0))
-                .map_err(|e| e.to_string())
-        });
-    match report {
-        Ok(r) if json => print_json_lines("bench sim", [&r]),
-        Ok(r) => {
-            println!(
-                "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
-                r.speedup_requested, r.speedup_achieved, r.waypoints, r.sim_s, r.wall_s, r.speedup_ceiling
-            );
+/// A bench's figures: one JSON line each with `--json`, else printed by `table`. An error of the bench is
+/// said on stderr as `{what}: {error}` and fails the command.
+pub(super) fn show<T: serde::Serialize, E: std::fmt::Display>(
+    what: &str,
+    json: bool,
+    figures: Result<Vec<T>, E>,
+    table: impl FnOnce(&[T]),
+) -> ExitCode {
+    match figures {
+        Ok(f) if json => print_json_lines(what, &f),
+        Ok(f) => {
+            table(&f);
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("bench sim: {e}");
+            eprintln!("{what}: {e}");
             ExitCode::FAILURE
         }
     }
 }
 
-fn bench_stn(json: bool) -> ExitCode {
-    let figures = match stn_bench::run(&[100, 1_000, 10_000], 1_000) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("bench stn: {e}");
-            return ExitCode::FAILURE;
+fn bench_sim(json: bool) -> ExitCode {
+    let report = super::runtime::multi_thread(None, "tokio runtime")
+        .map_err(|e| e.to_string())
+        .and_then(|rt| {
+            rt.block_on(sitl::bench::measure_speedup(500.0, 10, 100.0))
+                .map_err(|e| e.to_string())
+        });
+    show("bench sim", json, report.map(|r| vec![r]), |reports| {
+        for r in reports {
+            println!(
+                "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
+                r.speedup_requested, r.speedup_achieved, r.waypoints, r.sim_s, r.wall_s, r.speedup_ceiling
+            );
         }
-    };
-    if json {
-        return print_json_lines("bench stn", &figures);
-    } else {
+    })
+}
+
+fn bench_stn(json: bool) -> ExitCode {
+    let figures = stn_bench::run(&[100, 1_000, 10_000], 1_000);
+    show("bench stn", json, figures, |figures| {
         println!(
             "{:>7} {:>8} {:>10} {:>11} {:>13} {:>8} {:>10}",
             "n", "constr", "insert µs", "execute µs", "exec med µs", "FW ms", "speed-up"
         );
-        for f in &figures {
+        for f in figures {
             let fw = f
                 .floyd_warshall_ms
                 .map_or("-".into(), |v| format!("{v:.1}"));
@@ -149,145 +154,116 @@ fn bench_stn(json: bool) -> ExitCode {
                 sp
             );
         }
-    }
-    ExitCode::SUCCESS
+    })
 }
 
 fn bench_dispatch(json: bool) -> ExitCode {
-    let figures = match crate::bench::dispatch::run(&[200, 2_000], 20_000, 2026) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("bench dispatch: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    if json {
-        return print_json_lines("bench dispatch", &figures);
-    }
-    let us = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.3}"));
-    println!(
-        "{:>7} {:>7} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>10} {:>8}",
-        "actions",
-        "form",
-        "mean µs",
-        "p50 µs",
-        "p99 µs",
-        "dispatched",
-        "upd mean µs",
-        "upd p50 µs",
-        "upd p99 µs",
-        "build ms"
-    );
-    for f in &figures {
+    let figures = crate::bench::dispatch::run(&[200, 2_000], 20_000, 2026);
+    show("bench dispatch", json, figures, |figures| {
+        let us = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.3}"));
         println!(
-            "{:>7} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11} {:>10} {:>10} {:>8}",
-            f.actions,
-            f.form,
-            f.mean_us,
-            f.p50_us,
-            f.p99_us,
-            f.dispatched_share,
-            us(f.update_mean_us),
-            us(f.update_p50_us),
-            us(f.update_p99_us),
-            us(f.build_ms)
+            "{:>7} {:>7} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>10} {:>8}",
+            "actions",
+            "form",
+            "mean µs",
+            "p50 µs",
+            "p99 µs",
+            "dispatched",
+            "upd mean µs",
+            "upd p50 µs",
+            "upd p99 µs",
+            "build ms"
         );
-    }
-    ExitCode::SUCCESS
+        for f in figures {
+            println!(
+                "{:>7} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11} {:>10} {:>10} {:>8}",
+                f.actions,
+                f.form,
+                f.mean_us,
+                f.p50_us,
+                f.p99_us,
+                f.dispatched_share,
+                us(f.update_mean_us),
+                us(f.update_p50_us),
+                us(f.update_p99_us),
+                us(f.build_ms)
+            );
+        }
+    })
 }
 
 fn bench_link(json: bool) -> ExitCode {
-    match crate::bench::vehicle::run_link_bench(21, 200_000) {
-        Ok(b) if json => print_json_lines("bench link", [&b]),
-        Ok(b) => {
+    let bench = crate::bench::vehicle::run_link_bench(21, 200_000);
+    show("bench link", json, bench.map(|b| vec![b]), |benches| {
+        for b in benches {
             println!(
                 "upload 100 items (median of {}): {:.2} ms (target <= 100 ms); telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
                 b.upload_runs, b.upload_100_items_ms, b.telemetry_msgs_per_s, b.telemetry_msgs
             );
-            ExitCode::SUCCESS
         }
-        Err(e) => {
-            eprintln!("bench link: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    })
 }
 
 fn bench_plan(json: bool) -> ExitCode {
-    let figures = match crate::bench::plan::run(std::path::Path::new("domains"), 20_000) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("bench plan: {e}");
-            return ExitCode::FAILURE;
+    let figures = crate::bench::plan::run(std::path::Path::new("domains"), 20_000);
+    show("bench plan", json, figures, |figures| {
+        for f in figures {
+            println!(
+                "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
+                f.problem,
+                if f.solved { "solved" } else { "FAILED" },
+                f.ms,
+                f.steps,
+                f.backtracks,
+                f.actions,
+                f.failure.as_deref().unwrap_or("")
+            );
         }
-    };
-    if json {
-        return print_json_lines("bench plan", &figures);
-    }
-    for f in &figures {
-        println!(
-            "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
-            f.problem,
-            if f.solved { "solved" } else { "FAILED" },
-            f.ms,
-            f.steps,
-            f.backtracks,
-            f.actions,
-            f.failure.as_deref().unwrap_or("")
-        );
-    }
-    ExitCode::SUCCESS
+    })
 }
 
 fn bench_cycle(json: bool) -> ExitCode {
+    // Each size is printed as soon as it is measured.
     for n in [200, 2_000] {
-        match crate::bench::exec::run(n, 100) {
-            Ok(f) if json => {
-                let printed = print_json_lines("bench cycle", [&f]);
-                if printed != ExitCode::SUCCESS {
-                    return printed;
-                }
+        let figures = crate::bench::exec::run(n, 100).map(|f| vec![f]);
+        let shown = show("bench cycle", json, figures, |figures| {
+            for f in figures {
+                println!(
+                    "{:>6} actions: {} cycles, p50 {} µs, p99 {} µs, max {} µs",
+                    f.actions, f.cycles, f.p50_us, f.p99_us, f.max_us
+                );
             }
-            Ok(f) => println!(
-                "{:>6} actions: {} cycles, p50 {} µs, p99 {} µs, max {} µs",
-                f.actions, f.cycles, f.p50_us, f.p99_us, f.max_us
-            ),
-            Err(e) => {
-                eprintln!("bench cycle: {e}");
-                return ExitCode::FAILURE;
-            }
+        });
+        if shown != ExitCode::SUCCESS {
+            return shown;
         }
     }
     ExitCode::SUCCESS
 }
 
 fn bench_repair(json: bool) -> ExitCode {
-    let figures = match crate::bench::repair::run() {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("bench repair: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    if json {
-        return print_json_lines("bench repair", &figures);
-    }
-    for f in figures {
-        let repair = f
-            .repair_ms
-            .map_or("no repair (replanned)".to_string(), |ms| {
-                format!("{ms:.2} ms")
-            });
-        println!(
-            "{:<16} repair {repair}, complete replanning {:.2} ms ({})",
-            f.event,
-            f.replan_ms,
-            if f.replan_found {
-                "plan found"
-            } else {
-                "no plan"
+    show(
+        "bench repair",
+        json,
+        crate::bench::repair::run(),
+        |figures| {
+            for f in figures {
+                let repair = f
+                    .repair_ms
+                    .map_or("no repair (replanned)".to_string(), |ms| {
+                        format!("{ms:.2} ms")
+                    });
+                println!(
+                    "{:<16} repair {repair}, complete replanning {:.2} ms ({})",
+                    f.event,
+                    f.replan_ms,
+                    if f.replan_found {
+                        "plan found"
+                    } else {
+                        "no plan"
+                    }
+                );
             }
-        );
-    }
-    ExitCode::SUCCESS
+        },
+    )
 }

@@ -138,16 +138,15 @@ fn schedstat_ns(path: impl AsRef<std::path::Path>) -> Option<u64> {
 }
 
 pub fn run(json: bool) -> ExitCode {
-    let f = match measure(None) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("bench cpu: {e}");
-            return ExitCode::FAILURE;
+    let figures = measure(None).map(|f| vec![f]);
+    super::bench::show("bench cpu", json, figures, |figures| {
+        for f in figures {
+            print_figures(f);
         }
-    };
-    if json {
-        return super::json_out::print_json_lines("bench cpu", [&f]);
-    }
+    })
+}
+
+fn print_figures(f: &CpuFigures) {
     let s = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3} s"));
     println!(
         "{}: {:.1} s of mission ({}), {} cycles at ts {} ms, μ {}: executive {:.3} s = {:.3} % of a core \
@@ -173,7 +172,6 @@ pub fn run(json: bool) -> ExitCode {
         "most launches of one action: {}",
         f.max_launches_of_one_action
     );
-    ExitCode::SUCCESS
 }
 
 #[cfg(test)]

@@ -79,20 +79,8 @@ fn specs() -> Vec<Spec> {
             // late-preemptive stop at ub − ts.
             times: vec![
                 ("go", TaskTime::Travel { lo: 1.3, hi: 1.45 }),
-                (
-                    "survey",
-                    TaskTime::Fixed {
-                        lo: 10 * MIN,
-                        hi: 10 * MIN,
-                    },
-                ),
-                (
-                    "sample",
-                    TaskTime::Fixed {
-                        lo: 10 * MIN,
-                        hi: 10 * MIN,
-                    },
-                ),
+                ("survey", TaskTime::exactly(10 * MIN)),
+                ("sample", TaskTime::exactly(10 * MIN)),
             ],
             targets: vec![
                 (GoalKind::SampleAt, "vent1"),
@@ -129,13 +117,7 @@ fn specs() -> Vec<Spec> {
             ],
             times: vec![
                 ("go", TaskTime::Travel { lo: 1.1, hi: 1.3 }),
-                (
-                    "buy",
-                    TaskTime::Fixed {
-                        lo: 5 * MIN,
-                        hi: 5 * MIN,
-                    },
-                ),
+                ("buy", TaskTime::exactly(5 * MIN)),
             ],
             targets: vec![
                 (GoalKind::BeAt, "home"),

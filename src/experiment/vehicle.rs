@@ -28,6 +28,13 @@ pub enum TaskTime {
     Fixed { lo: Time, hi: Time },
 }
 
+impl TaskTime {
+    /// Always `ms`.
+    pub fn exactly(ms: Time) -> Self {
+        TaskTime::Fixed { lo: ms, hi: ms }
+    }
+}
+
 /// One action the vehicle ran.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Done {

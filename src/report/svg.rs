@@ -170,11 +170,7 @@ fn legend(root: &Area, height: u32) -> Result<(), Box<dyn std::error::Error>> {
             [(x, y - 5), (x + 16, y + 5)],
             color.filled(),
         ))?;
-        root.draw(&Text::new(
-            label,
-            (x + 20, y),
-            font(11).pos(Pos::new(HPos::Left, VPos::Center)),
-        ))?;
+        legend_label(root, label, (x + 20, y), font(11))?;
         x += 30 + 7 * label.len() as i32;
     }
     let grey = RGBColor(120, 120, 120);
@@ -183,11 +179,7 @@ fn legend(root: &Area, height: u32) -> Result<(), Box<dyn std::error::Error>> {
         grey.stroke_width(1),
     ))?;
     let text = "planned window of the end";
-    root.draw(&Text::new(
-        text,
-        (x + 20, y),
-        font(11).pos(Pos::new(HPos::Left, VPos::Center)),
-    ))?;
+    legend_label(root, text, (x + 20, y), font(11))?;
     x += 40 + 6 * text.len() as i32;
     let marks = [
         ("repair", MarkKind::Repair),
@@ -203,15 +195,24 @@ fn legend(root: &Area, height: u32) -> Result<(), Box<dyn std::error::Error>> {
             vec![(x + 6, y - 7), (x + 6, y + 7)],
             color.stroke_width(2),
         ))?;
-        root.draw(&Text::new(
-            label,
-            (x + 12, y),
-            font(11)
-                .color(&color)
-                .pos(Pos::new(HPos::Left, VPos::Center)),
-        ))?;
+        legend_label(root, label, (x + 12, y), font(11).color(&color))?;
         x += 22 + 7 * label.len() as i32;
     }
+    Ok(())
+}
+
+/// A key's label in `style`, starting at `at` and centred on its line.
+fn legend_label(
+    root: &Area,
+    label: &str,
+    at: (i32, i32),
+    style: TextStyle<'_>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    root.draw(&Text::new(
+        label,
+        at,
+        style.pos(Pos::new(HPos::Left, VPos::Center)),
+    ))?;
     Ok(())
 }
 

@@ -166,8 +166,13 @@ pub fn draw(domain: SuiteDomain, n: usize, seed: u64) -> Mission {
 
 /// A point at `r·[0.2, 1)` from the origin, in whole metres.
 fn point(rng: &mut ChaCha8Rng, r: f64) -> (f64, f64) {
+    point_within(rng, 0.2, r)
+}
+
+/// A point at `r·[near, 1)` from the origin, in whole metres.
+pub fn point_within(rng: &mut ChaCha8Rng, near: f64, r: f64) -> (f64, f64) {
     let a = rng.gen_range(0.0..std::f64::consts::TAU);
-    let d = rng.gen_range(r * 0.2..r);
+    let d = rng.gen_range(r * near..r);
     ((a.cos() * d).round(), (a.sin() * d).round())
 }
 
@@ -237,9 +242,29 @@ fn rover(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> RoverMission {
 }
 
 fn auv(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> AuvMission {
+    let how = AuvDraw {
+        radius_m: 500.0,
+        near: 0.2,
+        slack: 1.5,
+    };
+    draw_auv(n, seed, rng, &how)
+}
+
+/// How an AUV mission's vents and horizon are drawn.
+pub struct AuvDraw {
+    /// Vents at `radius_m·[near, 1)` from the surface point (and 50 to 300 m deep).
+    pub radius_m: f64,
+    pub near: f64,
+    /// The horizon over the mission's least duration: legs out and back at 1 m/s, 1,500 s at each vent
+    /// for its survey and sample.
+    pub slack: f64,
+}
+
+/// `n` vents with a sampling goal each (priority 1 to 3), drawn as `how` says.
+pub fn draw_auv(n: usize, seed: u64, rng: &mut ChaCha8Rng, how: &AuvDraw) -> AuvMission {
     let vents: Vec<(f64, f64, f64)> = (0..n)
         .map(|_| {
-            let (e, nn) = point(rng, 500.0);
+            let (e, nn) = point_within(rng, how.near, how.radius_m);
             (e, nn, -(rng.gen_range(50..=300) as f64))
         })
         .collect();
@@ -247,7 +272,7 @@ fn auv(n: usize, seed: u64, rng: &mut ChaCha8Rng) -> AuvMission {
         .iter()
         .map(|v| v.0.hypot(v.1).hypot(v.2) * 2.0)
         .sum::<f64>();
-    let horizon_s = ((legs + 1500.0 * n as f64) * 1.5 / 60.0).ceil() * 60.0;
+    let horizon_s = ((legs + 1500.0 * n as f64) * how.slack / 60.0).ceil() * 60.0;
     let priorities: Vec<u32> = (0..n).map(|_| rng.gen_range(1..=3)).collect();
     AuvMission {
         size: n,

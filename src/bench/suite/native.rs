@@ -31,24 +31,31 @@ fn rover(m: &RoverMission) -> String {
     let _ = writeln!(p, "resource STORAGE: level 3, capacity 3;");
     let _ = writeln!(p, "resource BATTERY: level {}, capacity 100;\n", m.battery);
     for (i, g) in m.pictures.iter().enumerate() {
-        let _ = write!(
-            p,
-            "goal picture_t{i} priority {} {{ hold(PICTURE(t{i}): true, (st, et));",
-            g.priority
-        );
-        if let Some(deadline) = g.deadline_s {
-            let _ = write!(p, " st in [0, {deadline}s];");
-        }
-        let _ = writeln!(p, " }}");
+        let head = format!("picture_t{i} priority {}", g.priority);
+        let start_in = g.deadline_s.map(|deadline| format!("0, {deadline}s"));
+        write_goal(&mut p, &head, &format!("PICTURE(t{i})"), "true", start_in);
     }
     for c in &m.comms {
-        let _ = writeln!(
-            p,
-            "goal comm_w{0} priority 2 {{ hold(COMMUNICATED(W{0}): true, (st, et)); st in [0, {1}s]; }}",
-            c.station, c.deadline_s
+        let head = format!("comm_w{} priority 2", c.station);
+        let fluent = format!("COMMUNICATED(W{})", c.station);
+        write_goal(
+            &mut p,
+            &head,
+            &fluent,
+            "true",
+            Some(format!("0, {}s", c.deadline_s)),
         );
     }
     p
+}
+
+/// One goal: `fluent` holds `value` over (st, et), with its start st in `[start_in]` when given.
+fn write_goal(p: &mut String, head: &str, fluent: &str, value: &str, start_in: Option<String>) {
+    let _ = write!(p, "goal {head} {{ hold({fluent}: {value}, (st, et));");
+    if let Some(window) = start_in {
+        let _ = write!(p, " st in [{window}];");
+    }
+    let _ = writeln!(p, " }}");
 }
 
 /// The opening of a rover problem on domains/rover/rover.ixt: header, horizon, the base and the targets
@@ -127,14 +134,16 @@ pub fn auv_problem(
     }
     let _ = writeln!(p, "    SURVEYED(*) = false;\n    SAMPLED(*) = false;\n}}\n");
     for (i, prio) in priorities.iter().enumerate() {
-        let _ = writeln!(
-            p,
-            "goal sample_vent{i} external priority {prio} {{ hold(SAMPLED(vent{i}): true, (st, et)); }}"
-        );
+        let head = format!("sample_vent{i} external priority {prio}");
+        write_goal(&mut p, &head, &format!("SAMPLED(vent{i})"), "true", None);
     }
-    let _ = writeln!(
-        p,
-        "goal at_surface internal priority 1 {{ hold(AUV_AT(): surface, (st, et)); st in [{horizon_s}s, {horizon_s}s]; }}"
+    let end = format!("{horizon_s}s, {horizon_s}s");
+    write_goal(
+        &mut p,
+        "at_surface internal priority 1",
+        "AUV_AT()",
+        "surface",
+        Some(end),
     );
     p
 }
@@ -165,19 +174,11 @@ fn shopping(m: &ShoppingMission) -> String {
     }
     let _ = writeln!(p, "}}\n");
     for (it, g) in items.iter().zip(&m.wants) {
-        let _ = write!(
-            p,
-            "goal have_{it} external priority {} {{ hold(HAVE({it}): true, (st, et));",
-            g.priority
-        );
-        if let Some(h) = g.by_hour {
-            let _ = write!(p, " st in [08:00, {h}:00];");
-        }
-        let _ = writeln!(p, " }}");
+        let head = format!("have_{it} external priority {}", g.priority);
+        let start_in = g.by_hour.map(|h| format!("08:00, {h}:00"));
+        write_goal(&mut p, &head, &format!("HAVE({it})"), "true", start_in);
     }
-    let _ = writeln!(
-        p,
-        "goal at_home internal priority 1 {{ hold(AT(): home, (st, et)); st in [20:00, 20:00]; }}"
-    );
+    let end = Some("20:00, 20:00".to_string());
+    write_goal(&mut p, "at_home internal priority 1", "AT()", "home", end);
     p
 }

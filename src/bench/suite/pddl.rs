@@ -63,15 +63,20 @@ fn up3(x: f64) -> f64 {
     (x * 1000.0).ceil() / 1000.0
 }
 
-fn rover(p: &mut String, m: &RoverMission) {
-    let locs: Vec<(String, (f64, f64))> = std::iter::once(("base".to_string(), (0.0, 0.0)))
+/// The locations with their positions: `start` at `origin`, then `{prefix}0`, `{prefix}1`, … at `points`.
+fn locations<P: Copy>(start: &str, origin: P, prefix: &str, points: &[P]) -> Vec<(String, P)> {
+    std::iter::once((start.to_string(), origin))
         .chain(
-            m.targets
+            points
                 .iter()
                 .enumerate()
-                .map(|(i, &t)| (format!("t{i}"), t)),
+                .map(|(i, &at)| (format!("{prefix}{i}"), at)),
         )
-        .collect();
+        .collect()
+}
+
+fn rover(p: &mut String, m: &RoverMission) {
+    let locs = locations("base", (0.0, 0.0), "t", &m.targets);
     let names: Vec<&str> = locs.iter().map(|(n, _)| n.as_str()).collect();
     let _ = writeln!(
         p,
@@ -143,15 +148,7 @@ fn rover(p: &mut String, m: &RoverMission) {
 }
 
 fn auv(p: &mut String, m: &AuvMission) {
-    let locs: Vec<(String, (f64, f64, f64))> =
-        std::iter::once(("surface".to_string(), (0.0, 0.0, 0.0)))
-            .chain(
-                m.vents
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &v)| (format!("vent{i}"), v)),
-            )
-            .collect();
+    let locs = locations("surface", (0.0, 0.0, 0.0), "vent", &m.vents);
     let names: Vec<&str> = locs.iter().map(|(n, _)| n.as_str()).collect();
     let _ = writeln!(p, "  (:objects {} - location)", names.join(" "));
     let _ = writeln!(p, "  (:init\n    (auv-at surface)\n    (before-horizon)");

@@ -8,6 +8,8 @@ use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::bench::suite::generate::{draw_auv, point_within, AuvDraw, AuvMission};
+
 /// Which shipped domain a mission is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
@@ -108,10 +110,9 @@ fn shipped(seed: u64, rng: &mut ChaCha8Rng) -> Mission {
     }
 }
 
+/// A point at `r·[0.25, 1)` from the origin, in whole metres.
 fn point(rng: &mut ChaCha8Rng, r: f64) -> (f64, f64) {
-    let a = rng.gen_range(0.0..std::f64::consts::TAU);
-    let d = rng.gen_range(r * 0.25..r);
-    ((a.cos() * d).round(), (a.sin() * d).round())
+    point_within(rng, 0.25, r)
 }
 
 /// A rover mission on domains/rover/rover.ixt: 2 to 4 picture targets within 35 m, one or two visibility
@@ -266,23 +267,17 @@ fn rover_faults(
     horizon_s: f64,
     target: (f64, f64),
 ) {
-    if rng.gen_bool(0.3) {
-        let k = rng.gen_range(1..=3);
-        fault(
-            s,
-            &format!("on = \"picture_started\", occurrence = {k}"),
-            "kind = \"picture_fails\"",
-        );
-        faults.push("picture_fails");
-    }
-    if rng.gen_bool(0.2) {
-        let k = rng.gen_range(1..=3);
-        fault(
-            s,
-            &format!("on = \"picture_started\", occurrence = {k}"),
-            "kind = \"picture_hangs\"",
-        );
-        faults.push("picture_hangs");
+    // One of the first three pictures fails, or hangs (in this order of draws: the seeds' missions stay).
+    for (chance, kind) in [(0.3, "picture_fails"), (0.2, "picture_hangs")] {
+        if rng.gen_bool(chance) {
+            let k = rng.gen_range(1..=3);
+            fault(
+                s,
+                &format!("on = \"picture_started\", occurrence = {k}"),
+                &format!("kind = \"{kind}\""),
+            );
+            faults.push(kind);
+        }
     }
     if rng.gen_bool(0.2) {
         fault(
@@ -326,19 +321,18 @@ fn rover_faults(
 /// sampled, all connected to the surface and to each other; back at the surface at the horizon.
 fn auv(seed: u64, rng: &mut ChaCha8Rng) -> Mission {
     let n = rng.gen_range(1..=3);
-    let vents: Vec<(f64, f64, f64)> = (0..n)
-        .map(|_| {
-            let (e, nn) = point(rng, 400.0);
-            (e, nn, -(rng.gen_range(50..=300) as f64))
-        })
-        .collect();
-    // Each vent: a survey and a sample (20 min), legs at ≥ 1 m/s; generous slack.
-    let legs: f64 = vents
-        .iter()
-        .map(|v| (v.0.hypot(v.1)).hypot(v.2) * 2.0)
-        .sum::<f64>();
-    let horizon_s = ((legs + 1500.0 * n as f64) * 1.6 / 60.0).ceil() * 60.0;
-    let priorities: Vec<u32> = (0..n).map(|_| rng.gen_range(1..=3)).collect();
+    // Generous slack.
+    let how = AuvDraw {
+        radius_m: 400.0,
+        near: 0.25,
+        slack: 1.6,
+    };
+    let AuvMission {
+        vents,
+        horizon_s,
+        priorities,
+        ..
+    } = draw_auv(n, seed, rng, &how);
     let p = crate::bench::suite::native::auv_problem(
         &format!("`mavtempo soak` (seed {seed})"),
         &format!("soak{seed}"),
