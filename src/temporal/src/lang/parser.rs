@@ -427,9 +427,7 @@ impl<'a> Parser<'a> {
                 Ok(Stmt::Variables(vars))
             }
             "achieve" => {
-                self.bump();
-                let e = self.expr()?;
-                self.semi()?;
+                let e = self.keyword_expr()?;
                 Ok(Stmt::Achieve(e, start.to(self.prev_span())))
             }
             _ => self.constraint(),
@@ -437,6 +435,14 @@ impl<'a> Parser<'a> {
     }
 
     /// `(t1, t2)` or `t`.
+    /// `KEYWORD expr;` (`achieve 30s;`, `horizon 20:00;`), the keyword being the next token.
+    fn keyword_expr(&mut self) -> PResult<Expr> {
+        self.bump();
+        let e = self.expr()?;
+        self.semi()?;
+        Ok(e)
+    }
+
     /// `: VALUE, TIMEPOINTS);`, the end of a hold and of a resource usage (`what` and `when` name the two
     /// parts in messages).
     fn value_and_timepoints(
@@ -740,18 +746,8 @@ impl<'a> Parser<'a> {
             _ => String::new(),
         };
         match kw.as_str() {
-            "start" => {
-                self.bump();
-                let e = self.expr()?;
-                self.semi()?;
-                Ok(ProblemItem::Start(e))
-            }
-            "horizon" => {
-                self.bump();
-                let e = self.expr()?;
-                self.semi()?;
-                Ok(ProblemItem::Horizon(e))
-            }
+            "start" => Ok(ProblemItem::Start(self.keyword_expr()?)),
+            "horizon" => Ok(ProblemItem::Horizon(self.keyword_expr()?)),
             "home" => {
                 self.bump();
                 self.expect_kw("lat")?;
