@@ -154,14 +154,26 @@ impl<'a> Parser<'a> {
 
     /// `domain NAME; item*`
     pub fn domain_file(&mut self) -> PResult<DomainAst> {
-        self.expect_kw("domain")?;
-        let name = self.ident("the domain's name")?;
+        let name = self.header("domain", "the domain's name")?;
+        let items = self.items_to_eof(Self::domain_item)?;
+        Ok(DomainAst { name, items })
+    }
+
+    /// `KEYWORD NAME;`, a header line of a file.
+    fn header(&mut self, kw: &str, what: &str) -> PResult<Ident> {
+        self.expect_kw(kw)?;
+        let name = self.ident(what)?;
         self.semi()?;
+        Ok(name)
+    }
+
+    /// `item*` up to the end of the file.
+    fn items_to_eof<T>(&mut self, item: fn(&mut Self) -> PResult<T>) -> PResult<Vec<T>> {
         let mut items = Vec::new();
         while self.peek() != &Tok::Eof {
-            items.push(self.domain_item()?);
+            items.push(item(self)?);
         }
-        Ok(DomainAst { name, items })
+        Ok(items)
     }
 
     fn domain_item(&mut self) -> PResult<DomainItem> {
@@ -722,16 +734,9 @@ impl<'a> Parser<'a> {
 
     /// `problem NAME; domain NAME; item*`
     pub fn problem_file(&mut self) -> PResult<ProblemAst> {
-        self.expect_kw("problem")?;
-        let name = self.ident("the problem's name")?;
-        self.semi()?;
-        self.expect_kw("domain")?;
-        let domain = self.ident("the domain's name")?;
-        self.semi()?;
-        let mut items = Vec::new();
-        while self.peek() != &Tok::Eof {
-            items.push(self.problem_item()?);
-        }
+        let name = self.header("problem", "the problem's name")?;
+        let domain = self.header("domain", "the domain's name")?;
+        let items = self.items_to_eof(Self::problem_item)?;
         Ok(ProblemAst {
             name,
             domain,
