@@ -154,14 +154,26 @@ impl<'a> Parser<'a> {
 
     /// `domain NAME; item*`
     pub fn domain_file(&mut self) -> PResult<DomainAst> {
-        self.expect_kw("domain")?;
-        let name = self.ident("the domain's name")?;
+        let name = self.header("domain", "the domain's name")?;
+        let items = self.items_to_eof(Self::domain_item)?;
+        Ok(DomainAst { name, items })
+    }
+
+    /// `KEYWORD NAME;`, a header line of a file.
+    fn header(&mut self, kw: &str, what: &str) -> PResult<Ident> {
+        self.expect_kw(kw)?;
+        let name = self.ident(what)?;
         self.semi()?;
+        Ok(name)
+    }
+
+    /// `item*` up to the end of the file.
+    fn items_to_eof<T>(&mut self, item: fn(&mut Self) -> PResult<T>) -> PResult<Vec<T>> {
         let mut items = Vec::new();
         while self.peek() != &Tok::Eof {
-            items.push(self.domain_item()?);
+            items.push(item(self)?);
         }
-        Ok(DomainAst { name, items })
+        Ok(items)
     }
 
     fn domain_item(&mut self) -> PResult<DomainItem> {
@@ -427,9 +439,7 @@ impl<'a> Parser<'a> {
                 Ok(Stmt::Variables(vars))
             }
             "achieve" => {
-                self.bump();
-                let e = self.expr()?;
-                self.semi()?;
+                let e = self.keyword_expr()?;
                 Ok(Stmt::Achieve(e, start.to(self.prev_span())))
             }
             _ => self.constraint(),
@@ -437,6 +447,14 @@ impl<'a> Parser<'a> {
     }
 
     /// `(t1, t2)` or `t`.
+    /// `KEYWORD expr;` (`achieve 30s;`, `horizon 20:00;`), the keyword being the next token.
+    fn keyword_expr(&mut self) -> PResult<Expr> {
+        self.bump();
+        let e = self.expr()?;
+        self.semi()?;
+        Ok(e)
+    }
+
     /// `: VALUE, TIMEPOINTS);`, the end of a hold and of a resource usage (`what` and `when` name the two
     /// parts in messages).
     fn value_and_timepoints(
@@ -716,16 +734,9 @@ impl<'a> Parser<'a> {
 
     /// `problem NAME; domain NAME; item*`
     pub fn problem_file(&mut self) -> PResult<ProblemAst> {
-        self.expect_kw("problem")?;
-        let name = self.ident("the problem's name")?;
-        self.semi()?;
-        self.expect_kw("domain")?;
-        let domain = self.ident("the domain's name")?;
-        self.semi()?;
-        let mut items = Vec::new();
-        while self.peek() != &Tok::Eof {
-            items.push(self.problem_item()?);
-        }
+        let name = self.header("problem", "the problem's name")?;
+        let domain = self.header("domain", "the domain's name")?;
+        let items = self.items_to_eof(Self::problem_item)?;
         Ok(ProblemAst {
             name,
             domain,
@@ -740,18 +751,8 @@ impl<'a> Parser<'a> {
             _ => String::new(),
         };
         match kw.as_str() {
-            "start" => {
-                self.bump();
-                let e = self.expr()?;
-                self.semi()?;
-                Ok(ProblemItem::Start(e))
-            }
-            "horizon" => {
-                self.bump();
-                let e = self.expr()?;
-                self.semi()?;
-                Ok(ProblemItem::Horizon(e))
-            }
+            "start" => Ok(ProblemItem::Start(self.keyword_expr()?)),
+            "horizon" => Ok(ProblemItem::Horizon(self.keyword_expr()?)),
             "home" => {
                 self.bump();
                 self.expect_kw("lat")?;

@@ -29,6 +29,9 @@ struct Scope<'d> {
     tps: Vec<String>,
 }
 
+/// `attr(args)`: a logical attribute and its arguments.
+type AttrInstance = (AttrId, Vec<Term>);
+
 impl Scope<'_> {
     fn tp(&self, name: &str) -> Option<TpId> {
         self.tps
@@ -164,7 +167,7 @@ impl Scope<'_> {
     }
 
     /// `attr(args)` on a logical attribute: lookup, arity and argument types.
-    fn attr_ref(&self, ctx: &mut Ctx<'_>, a: &AttrRef) -> Option<(AttrId, Vec<Term>)> {
+    fn attr_ref(&self, ctx: &mut Ctx<'_>, a: &AttrRef) -> Option<AttrInstance> {
         let id = logical_attr(ctx, self.domain, a, "use `use`, `consume` or `produce`")?;
         let attr = self.domain.attr(id);
         let mut args = Vec::new();
@@ -182,7 +185,7 @@ impl Scope<'_> {
         ctx: &mut Ctx<'_>,
         a: &AttrRef,
         values: [&Expr; N],
-    ) -> (Option<(AttrId, Vec<Term>)>, [Option<Term>; N]) {
+    ) -> (Option<AttrInstance>, [Option<Term>; N]) {
         let attr = self.attr_ref(ctx, a);
         let vt = attr
             .as_ref()
