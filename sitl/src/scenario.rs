@@ -6,32 +6,24 @@ use srctext::toml_file::KeyError;
 
 use crate::error::SimError;
 
+/// Every table may be left out: it then takes its default.
 #[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Scenario {
     /// Where the vehicle boots; replaces [`crate::SimConfig::home`] (`mavtempo sim --home` replaces it).
     pub home: Option<HomeParams>,
-    #[serde(default)]
     pub vehicle: VehicleParams,
-    #[serde(default)]
     pub battery: BatteryParams,
-    #[serde(default)]
     pub camera: CameraParams,
-    #[serde(default)]
     pub sampler: SamplerParams,
     /// How closely the autopilot follows ArduPilot where the simple model differs (`[autopilot]`).
-    #[serde(default)]
     pub autopilot: AutopilotParams,
     /// Terrain zones that slow the vehicle (obstacles, rough ground).
-    #[serde(default)]
     pub slow_zones: Vec<Zone>,
     /// Zones where a still vehicle recharges. Empty: a 50 m zone around home.
-    #[serde(default)]
     pub sunlit_zones: Vec<Zone>,
     /// When the downlink can run. Empty: always, at `camera.downlink_mib_per_s`.
-    #[serde(default)]
     pub visibility_windows: Vec<VisibilityWindow>,
-    #[serde(default)]
     pub faults: Vec<FaultSpec>,
 }
 

@@ -26,15 +26,17 @@ pub struct Domain {
     pub resources: Vec<ResourceAttr>,
     pub tasks: Vec<Task>,
     #[serde(skip)]
-    type_index: HashMap<String, TypeId>,
-    #[serde(skip)]
-    object_index: HashMap<String, ObjectId>,
-    #[serde(skip)]
-    attr_index: HashMap<String, AttrId>,
-    #[serde(skip)]
-    resource_index: HashMap<String, ResourceId>,
-    #[serde(skip)]
-    task_index: HashMap<String, TaskId>,
+    names: Names,
+}
+
+/// Name → id of each of the domain's tables, filled as the tables are.
+#[derive(Debug, Clone, Default, PartialEq)]
+struct Names {
+    types: HashMap<String, TypeId>,
+    objects: HashMap<String, ObjectId>,
+    attrs: HashMap<String, AttrId>,
+    resources: HashMap<String, ResourceId>,
+    tasks: HashMap<String, TaskId>,
 }
 
 impl Domain {
@@ -64,11 +66,7 @@ impl Domain {
             attrs: Vec::new(),
             resources: Vec::new(),
             tasks: Vec::new(),
-            type_index: HashMap::new(),
-            object_index: HashMap::new(),
-            attr_index: HashMap::new(),
-            resource_index: HashMap::new(),
-            task_index: HashMap::new(),
+            names: Names::default(),
         };
         let b = d.add_type("bool", TypeKind::Enum);
         d.add_enum_member(b, "false");
@@ -84,7 +82,7 @@ impl Domain {
             members: Vec::new(),
             line: None,
         };
-        append_named(&mut self.types, &mut self.type_index, name.to_string(), ty)
+        append_named(&mut self.types, &mut self.names.types, name.to_string(), ty)
     }
 
     /// Adds a constant of enumeration `ty` (also usable for domain-level constants of object types).
@@ -104,7 +102,7 @@ impl Domain {
     pub fn add_object(&mut self, object: Object) -> ObjectId {
         append_named(
             &mut self.objects,
-            &mut self.object_index,
+            &mut self.names.objects,
             object.name.clone(),
             object,
         )
@@ -114,7 +112,7 @@ impl Domain {
     pub fn add_attr(&mut self, attr: LogicalAttr) -> AttrId {
         append_named(
             &mut self.attrs,
-            &mut self.attr_index,
+            &mut self.names.attrs,
             attr.name.clone(),
             attr,
         )
@@ -124,7 +122,7 @@ impl Domain {
     pub fn add_resource(&mut self, res: ResourceAttr) -> ResourceId {
         append_named(
             &mut self.resources,
-            &mut self.resource_index,
+            &mut self.names.resources,
             res.name.clone(),
             res,
         )
@@ -134,7 +132,7 @@ impl Domain {
     pub fn add_task(&mut self, task: Task) -> TaskId {
         append_named(
             &mut self.tasks,
-            &mut self.task_index,
+            &mut self.names.tasks,
             task.name.clone(),
             task,
         )
@@ -142,27 +140,27 @@ impl Domain {
 
     /// The type named `name`.
     pub fn type_id(&self, name: &str) -> Option<TypeId> {
-        self.type_index.get(name).copied()
+        self.names.types.get(name).copied()
     }
 
     /// The domain-level constant named `name` (enumeration members, `true`, `false`).
     pub fn object_id(&self, name: &str) -> Option<ObjectId> {
-        self.object_index.get(name).copied()
+        self.names.objects.get(name).copied()
     }
 
     /// The logical attribute named `name`.
     pub fn attr_id(&self, name: &str) -> Option<AttrId> {
-        self.attr_index.get(name).copied()
+        self.names.attrs.get(name).copied()
     }
 
     /// The resource named `name`.
     pub fn resource_id(&self, name: &str) -> Option<ResourceId> {
-        self.resource_index.get(name).copied()
+        self.names.resources.get(name).copied()
     }
 
     /// The task named `name`.
     pub fn task_id(&self, name: &str) -> Option<TaskId> {
-        self.task_index.get(name).copied()
+        self.names.tasks.get(name).copied()
     }
 
     /// The type `id`. Panics on an id from another domain (ids are only made by this domain).
