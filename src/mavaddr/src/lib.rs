@@ -99,9 +99,12 @@ mod tests {
         );
     }
 
+    /// Whether an error is the refusal expected.
+    type Reason = fn(&AddressError) -> bool;
+
     #[test]
     fn each_refusal_says_why() {
-        let refusals: [(&str, fn(&AddressError) -> bool); 5] = [
+        let refusals: [(&str, Reason); 5] = [
             ("localhost", |e| matches!(e, AddressError::NoKind { .. })),
             ("udpin:localhost", |e| {
                 matches!(e, AddressError::NoPort { .. })
