@@ -3,6 +3,8 @@
 //! `file:line:col: error: message` with the offending line and a caret under the column.
 
 mod located;
+mod span;
 pub mod toml_file;
 
 pub use located::{decode, locate, read, Located, ReadError};
+pub use span::Span;

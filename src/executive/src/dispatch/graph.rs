@@ -168,34 +168,31 @@ impl CausalGraph {
                 }
                 self.actions.insert(a, Adjacent::default());
             }
-            Change::ActionRemoved(a) => {
-                if !self.actions.contains_key(&a) {
-                    return Err(GraphError::UnknownAction(a));
-                }
-                for l in self.links_of(Node::Action(a)) {
-                    self.remove_link(l)?;
-                }
-                self.actions.remove(&a);
-            }
+            Change::ActionRemoved(a) => self.remove_node(Node::Action(a))?,
             Change::GoalAdded(g, kind) => {
                 if self.goals.contains_key(&g) {
                     return Err(GraphError::DuplicateGoal(g));
                 }
                 self.goals.insert(g, (kind, Adjacent::default()));
             }
-            Change::GoalRemoved(g) => {
-                if !self.goals.contains_key(&g) {
-                    return Err(GraphError::UnknownGoal(g));
-                }
-                for l in self.links_of(Node::Goal(g)) {
-                    self.remove_link(l)?;
-                }
-                self.goals.remove(&g);
-            }
+            Change::GoalRemoved(g) => self.remove_node(Node::Goal(g))?,
             Change::LinkAdded(l, link) => self.add_link(l, link)?,
             Change::LinkRemoved(l) => {
                 self.remove_link(l)?;
             }
+        }
+        Ok(())
+    }
+
+    /// Removes an action or a goal, its links first; an unknown node is refused before anything changes.
+    fn remove_node(&mut self, n: Node) -> Result<(), GraphError> {
+        self.adjacent_mut(n)?;
+        for l in self.links_of(n) {
+            self.remove_link(l)?;
+        }
+        match n {
+            Node::Action(a) => drop(self.actions.remove(&a)),
+            Node::Goal(g) => drop(self.goals.remove(&g)),
         }
         Ok(())
     }

@@ -2,37 +2,10 @@
 
 use std::fmt;
 
-/// A byte range in one source text.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Span {
-    pub start: usize,
-    pub end: usize,
-}
+pub use srctext::Span;
 
-impl Span {
-    pub fn new(start: usize, end: usize) -> Self {
-        Span { start, end }
-    }
-
-    /// The smallest span covering both.
-    pub fn to(self, other: Span) -> Span {
-        Span::new(self.start.min(other.start), self.end.max(other.end))
-    }
-}
-
-/// One error located in a file.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Diagnostic {
-    /// The file name as given (or `<string>` for in-memory sources).
-    pub file: String,
-    /// 1-based line.
-    pub line: usize,
-    /// 1-based column, in characters.
-    pub col: usize,
-    pub message: String,
-    /// The offending line, control characters replaced so it prints safely.
-    pub source_line: String,
-}
+/// One error located in a file: `file:line:col: error: message`, the line and a caret.
+pub use srctext::Located as Diagnostic;
 
 /// One or more diagnostics (what every loader returns on failure).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -68,36 +41,10 @@ impl Diagnostics {
     }
 }
 
-impl From<srctext::Located> for Diagnostic {
-    fn from(e: srctext::Located) -> Self {
-        Diagnostic {
-            file: e.file,
-            line: e.line,
-            col: e.col,
-            message: e.message,
-            source_line: e.source_line,
-        }
-    }
-}
-
-/// `file:line:col: error: message`, the line and a caret, as every located error ([`srctext::Located`]).
-impl fmt::Display for Diagnostic {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let located = srctext::Located {
-            file: self.file.clone(),
-            line: self.line,
-            col: self.col,
-            message: self.message.clone(),
-            source_line: self.source_line.clone(),
-        };
-        writeln!(f, "{located}")
-    }
-}
-
 impl fmt::Display for Diagnostics {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for d in &self.0 {
-            write!(f, "{d}")?;
+            writeln!(f, "{d}")?;
         }
         Ok(())
     }
@@ -129,7 +76,7 @@ impl<'a> Source<'a> {
 
     /// A diagnostic at byte offset `pos` (clamped to the text and to a char boundary).
     pub fn error_at(&self, pos: usize, message: impl Into<String>) -> Diagnostic {
-        srctext::locate(self.file, self.text, pos, message).into()
+        srctext::locate(self.file, self.text, pos, message)
     }
 
     /// A diagnostic at the start of `span`.
@@ -140,7 +87,7 @@ impl<'a> Source<'a> {
 
 /// Turns raw bytes into text, or a diagnostic at the first invalid UTF-8 byte (see [`srctext::decode`]).
 pub fn decode<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, Diagnostics> {
-    srctext::decode(file, bytes).map_err(|e| Diagnostics(vec![e.into()]))
+    srctext::decode(file, bytes).map_err(|e| Diagnostics(vec![e]))
 }
 
 #[cfg(test)]
@@ -152,7 +99,8 @@ mod tests {
         let src = Source::new("a.ixt", "domain x;\n  type = 3;\n");
         let d = src.error_at(17, "expected a name");
         assert_eq!((d.line, d.col), (2, 8));
-        let text = d.to_string();
+        // Each diagnostic of a list ends its caret line.
+        let text = Diagnostics(vec![d]).to_string();
         assert!(text.starts_with("a.ixt:2:8: error: expected a name\n"));
         assert!(text.contains("      type = 3;\n           ^\n"), "{text}");
     }

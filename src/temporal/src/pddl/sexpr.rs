@@ -3,12 +3,7 @@
 
 use super::{PddlError, Src};
 
-/// A byte range of the source text.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Span {
-    pub start: usize,
-    pub end: usize,
-}
+pub use srctext::Span;
 
 /// An atom (a name, a `?variable`, a number, `:keyword`) or a parenthesised list.
 #[derive(Debug, Clone, PartialEq)]
