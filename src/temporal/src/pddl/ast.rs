@@ -4,7 +4,7 @@
 use super::sexpr::Span;
 
 /// A name and where it is written.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Name {
     pub name: String,
     pub span: Span,
@@ -153,8 +153,8 @@ pub struct Action {
     pub span: Span,
 }
 
-/// A domain file.
-#[derive(Debug, Clone, PartialEq)]
+/// A domain file (empty by default: the reader fills it section by section).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Domain {
     pub name: Name,
     pub requirements: Vec<Name>,
@@ -185,8 +185,8 @@ pub struct Metric {
     pub span: Span,
 }
 
-/// A problem file.
-#[derive(Debug, Clone, PartialEq)]
+/// A problem file (empty by default: the reader fills it section by section).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Problem {
     pub name: Name,
     pub domain: Name,

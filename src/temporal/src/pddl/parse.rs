@@ -471,12 +471,7 @@ pub fn domain(src: &Src) -> R<Domain> {
     let (name, sections) = p.define(&top, "domain")?;
     let mut d = Domain {
         name,
-        requirements: Vec::new(),
-        types: Vec::new(),
-        constants: Vec::new(),
-        predicates: Vec::new(),
-        functions: Vec::new(),
-        actions: Vec::new(),
+        ..Domain::default()
     };
     for s in sections {
         let l = p.list(s, "a section `(:keyword ...)`")?;
@@ -550,14 +545,7 @@ pub fn problem(src: &Src) -> R<Problem> {
     let (name, sections) = p.define(&top, "problem")?;
     let mut pr = Problem {
         name,
-        domain: Name {
-            name: String::new(),
-            span: Span::default(),
-        },
-        objects: Vec::new(),
-        init: Vec::new(),
-        goal: Vec::new(),
-        metric: None,
+        ..Problem::default()
     };
     let mut has_domain = false;
     for s in sections {
