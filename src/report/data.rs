@@ -281,28 +281,21 @@ pub fn end_text(end: &serde_json::Value) -> String {
     }
 }
 
-/// The trace line of an event the page lists (the others stay in the JSON).
+/// The trace line of an event the page lists (the others stay in the JSON): the executive's own wording.
 fn event_line(e: &TraceEvent) -> Option<String> {
-    Some(match e {
-        TraceEvent::Launch { action, .. } => format!("START {action}"),
-        TraceEvent::Report {
-            action,
-            status,
-            reason,
-            ..
-        } => match reason {
-            Some(why) => format!("report {action}: {status}: {why}"),
-            None => format!("report {action}: {status}"),
-        },
-        TraceEvent::GoalReceived { goal } => format!("goal {goal} received"),
-        TraceEvent::GoalAccepted { goal } => format!("goal {goal} accepted"),
-        TraceEvent::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
-        TraceEvent::GoalAchieved { goal } => format!("goal {goal} achieved"),
-        TraceEvent::RepairDone { .. } => "plan repaired".into(),
-        TraceEvent::Abort { reason } => format!("execution aborted: {reason}"),
-        TraceEvent::ReplanDone { .. } => "complete replanning done".into(),
-        _ => return None,
-    })
+    matches!(
+        e,
+        TraceEvent::Launch { .. }
+            | TraceEvent::Report { .. }
+            | TraceEvent::GoalReceived { .. }
+            | TraceEvent::GoalAccepted { .. }
+            | TraceEvent::GoalRejected { .. }
+            | TraceEvent::GoalAchieved { .. }
+            | TraceEvent::RepairDone { .. }
+            | TraceEvent::Abort { .. }
+            | TraceEvent::ReplanDone { .. }
+    )
+    .then(|| e.line())
 }
 
 #[cfg(test)]
