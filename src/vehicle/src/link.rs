@@ -584,6 +584,9 @@ impl MavlinkVehicle {
         self.shared.notify.notify_one();
         let deadline = Instant::now() + bound;
         loop {
+            // Time passes before each look, as in `wait_ready`: the stop's answers take no time of the
+            // autopilot's own, and a look racing them would make a stepped run's report depend on the machine.
+            pass_time(self);
             let state = self
                 .shared
                 .driver
@@ -596,7 +599,6 @@ impl MavlinkVehicle {
             if state.outcome().is_some() || Instant::now() >= deadline {
                 return state.report();
             }
-            pass_time(self);
         }
     }
 
