@@ -172,32 +172,51 @@ pub enum CameraBackend {
     None,
 }
 
-/// `[autopilot]`: a profile, and keys that override what it sets.
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields, default)]
-pub struct AutopilotParams {
-    pub profile: Profile,
-    /// Arming is refused (FAILED + "Arm: ..." texts) for this long after each boot.
-    pub ready_after_s: Option<f64>,
-    /// GLOBAL_POSITION_INT / GPS_RAW_INT read lat = lon = 0 for this long after each boot.
-    pub gps_fix_after_s: Option<f64>,
-    pub camera: Option<CameraBackend>,
-    /// GUIDED starts in its Stop submode; speeds follow ArduPilot's submode rules (see the README).
-    pub guided_submodes: Option<bool>,
-    /// STORAGE_INFORMATION is answered (ArduPilot itself has none: REQUEST_MESSAGE(261) is FAILED).
-    pub storage_information: Option<bool>,
+/// Declares the `[autopilot]` keys once: the table as written (each key optional, absent: the profile's
+/// value), the behaviour it comes to (each key resolved), and the resolution key by key; so a new key
+/// cannot be declared in one and forgotten in the other.
+macro_rules! autopilot_keys {
+    ($($(#[$doc:meta])* $key:ident: $ty:ty,)*) => {
+        /// `[autopilot]`: a profile, and keys that override what it sets.
+        #[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+        #[serde(deny_unknown_fields, default)]
+        pub struct AutopilotParams {
+            pub profile: Profile,
+            $($(#[$doc])* pub $key: Option<$ty>,)*
+        }
+
+        /// The behaviours an [`AutopilotParams`] comes to: its profile's, overridden key by key.
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct Behaviour {
+            /// The profile the keys started from (it also sets the wording of arming refusals).
+            pub profile: Profile,
+            $($(#[$doc])* pub $key: $ty,)*
+        }
+
+        impl AutopilotParams {
+            /// Its profile's behaviour, with each key written taking the place of the profile's value.
+            pub fn behaviour(&self) -> Behaviour {
+                let p = self.profile.behaviour();
+                Behaviour {
+                    profile: self.profile,
+                    $($key: self.$key.unwrap_or(p.$key),)*
+                }
+            }
+        }
+    };
 }
 
-/// The behaviours an [`AutopilotParams`] comes to: its profile's, overridden key by key.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Behaviour {
-    /// The profile the keys started from (it also sets the wording of arming refusals).
-    pub profile: Profile,
-    pub ready_after_s: f64,
-    pub gps_fix_after_s: f64,
-    pub camera: CameraBackend,
-    pub guided_submodes: bool,
-    pub storage_information: bool,
+autopilot_keys! {
+    /// Arming is refused (FAILED + "Arm: ..." texts) for this long after each boot.
+    ready_after_s: f64,
+    /// GLOBAL_POSITION_INT / GPS_RAW_INT read lat = lon = 0 for this long after each boot.
+    gps_fix_after_s: f64,
+    /// Which camera the autopilot drives.
+    camera: CameraBackend,
+    /// GUIDED starts in its Stop submode; speeds follow ArduPilot's submode rules (see the README).
+    guided_submodes: bool,
+    /// STORAGE_INFORMATION is answered (ArduPilot itself has none: REQUEST_MESSAGE(261) is FAILED).
+    storage_information: bool,
 }
 
 impl Profile {
@@ -231,18 +250,6 @@ impl AutopilotParams {
         Self {
             profile,
             ..Self::default()
-        }
-    }
-
-    pub fn behaviour(&self) -> Behaviour {
-        let p = self.profile.behaviour();
-        Behaviour {
-            profile: self.profile,
-            ready_after_s: self.ready_after_s.unwrap_or(p.ready_after_s),
-            gps_fix_after_s: self.gps_fix_after_s.unwrap_or(p.gps_fix_after_s),
-            camera: self.camera.unwrap_or(p.camera),
-            guided_submodes: self.guided_submodes.unwrap_or(p.guided_submodes),
-            storage_information: self.storage_information.unwrap_or(p.storage_information),
         }
     }
 }

@@ -61,6 +61,12 @@ async fn change_speed(gcs: &mut Gcs, speed_type: f32, speed: f32) -> MavResult {
         .await
 }
 
+/// DO_CHANGE_SPEED of `speed_type` to 2 m/s, answered `expected`.
+async fn change_speed_is(gcs: &mut Gcs, speed_type: f32, expected: MavResult) {
+    let r = change_speed(gcs, speed_type, 2.0).await;
+    assert_eq!(r, expected, "speed type {speed_type}");
+}
+
 /// DO_REPOSITION with the change-mode flag to metres north/east of `home`, at `speed` (-1: default).
 async fn reposition(gcs: &mut Gcs, home: (f64, f64), north: f64, speed: f32) -> MavResult {
     let wp = waypoint(home, north, 0.0);
@@ -73,6 +79,17 @@ async fn reposition(gcs: &mut Gcs, home: (f64, f64), north: f64, speed: f32) -> 
     )
     .await
     .0
+}
+
+/// A sim in `scenario`, armed and sent `north` metres north of home at `speed` (-1: default) by an
+/// accepted DO_REPOSITION (GUIDED).
+async fn guided_north(scenario: &str, north: f64, speed: f32) -> (sitl::SimHandle, Gcs) {
+    let (sim, mut gcs) = start(scenario).await;
+    let armed = gcs.arm().await;
+    assert_eq!(armed, MavResult::MAV_RESULT_ACCEPTED, "{scenario:?}");
+    let r = reposition(&mut gcs, HOME, north, speed).await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED, "{scenario:?}");
+    (sim, gcs)
 }
 
 /// Steps `secs` in 100 ms slices; the highest ground speed seen and the last snapshot.
@@ -217,10 +234,7 @@ async fn the_ardupilot_camera_sends_camera_feedback_and_no_image_captured() {
     .await;
     step_to(&sim, 11.0).await;
     gcs.sync().await;
-    let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-    sim.step(Duration::from_secs(2)).await.expect("step");
-    let seen = gcs.sync().await;
+    let seen = shoot(&sim, &mut gcs, Duration::from_secs(2)).await;
     assert!(
         !seen
             .iter()
@@ -251,10 +265,7 @@ async fn the_ardupilot_camera_sends_camera_feedback_and_no_image_captured() {
     // A failed picture: no feedback at all (AP_Camera hears only its feedback pin).
     sim.inject(sitl::Fault::PictureFails { count: 1 })
         .expect("inject");
-    let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-    sim.step(Duration::from_secs(2)).await.expect("step");
-    let seen = gcs.sync().await;
+    let seen = shoot(&sim, &mut gcs, Duration::from_secs(2)).await;
     assert!(!seen.iter().any(|m| matches!(
         m,
         MavMessage::CAMERA_FEEDBACK(_) | MavMessage::CAMERA_IMAGE_CAPTURED(_)
@@ -293,10 +304,7 @@ async fn a_hung_picture_sends_no_feedback_either() {
     let (sim, mut gcs) = start(ARDUPILOT_READY).await;
     sim.inject(sitl::Fault::PictureHangs { count: 1 })
         .expect("inject");
-    let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-    sim.step(Duration::from_secs(3)).await.expect("step");
-    let seen = gcs.sync().await;
+    let seen = shoot(&sim, &mut gcs, Duration::from_secs(3)).await;
     assert!(!seen
         .iter()
         .any(|m| matches!(m, MavMessage::CAMERA_FEEDBACK(_))));
@@ -350,27 +358,15 @@ async fn reposition_with_a_speed_from_guided_stop_fails_and_change_speed_needs_a
     let (_, s) = drive(&sim, 3).await;
     assert!(s.distance_m < 0.01, "moved without a destination: {s:?}");
     // In Stop there is no speed to change; climb and descent speeds are never for a rover.
-    assert_eq!(
-        change_speed(&mut gcs, 1.0, 2.0).await,
-        MavResult::MAV_RESULT_FAILED
-    );
-    assert_eq!(
-        change_speed(&mut gcs, 2.0, 2.0).await,
-        MavResult::MAV_RESULT_DENIED
-    );
+    change_speed_is(&mut gcs, 1.0, MavResult::MAV_RESULT_FAILED).await;
+    change_speed_is(&mut gcs, 2.0, MavResult::MAV_RESULT_DENIED).await;
     // A destination at the default speed, then the speed: the WP submode takes it.
     assert_eq!(
         reposition(&mut gcs, HOME, 100.0, -1.0).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
-    assert_eq!(
-        change_speed(&mut gcs, 1.0, 2.0).await,
-        MavResult::MAV_RESULT_ACCEPTED
-    );
-    assert_eq!(
-        change_speed(&mut gcs, 3.0, 2.0).await,
-        MavResult::MAV_RESULT_DENIED
-    );
+    change_speed_is(&mut gcs, 1.0, MavResult::MAV_RESULT_ACCEPTED).await;
+    change_speed_is(&mut gcs, 3.0, MavResult::MAV_RESULT_DENIED).await;
     let s = drive_at(&sim, 20, 2.0, "").await;
     assert!(s.north_m > 30.0, "{s:?}");
     // Now in WP, a speed in DO_REPOSITION is taken, and it lasts for later destinations.
@@ -394,23 +390,14 @@ async fn reposition_with_a_speed_from_guided_stop_fails_and_change_speed_needs_a
     drive_at(&sim, 15, 5.0, "").await;
     // MANUAL has no speed to change.
     assert_eq!(gcs.set_mode(0).await, MavResult::MAV_RESULT_ACCEPTED);
-    assert_eq!(
-        change_speed(&mut gcs, 1.0, 2.0).await,
-        MavResult::MAV_RESULT_FAILED
-    );
+    change_speed_is(&mut gcs, 1.0, MavResult::MAV_RESULT_FAILED).await;
 }
 
 /// The sequence the companion moves to: DO_REPOSITION with p1 = -1, then DO_CHANGE_SPEED.
 #[tokio::test]
 async fn reposition_then_change_speed_works_in_every_profile() {
     for scenario in ["", ARDUPILOT_READY] {
-        let (sim, mut gcs) = start(scenario).await;
-        assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-        assert_eq!(
-            reposition(&mut gcs, HOME, 100.0, -1.0).await,
-            MavResult::MAV_RESULT_ACCEPTED,
-            "{scenario:?}"
-        );
+        let (sim, mut gcs) = guided_north(scenario, 100.0, -1.0).await;
         assert_eq!(
             change_speed(&mut gcs, 1.0, 2.5).await,
             MavResult::MAV_RESULT_ACCEPTED,
@@ -425,12 +412,7 @@ async fn reposition_then_change_speed_works_in_every_profile() {
 /// from MANUAL): accepted, and the target goes at that speed.
 #[tokio::test]
 async fn the_default_profile_takes_a_reposition_speed_from_any_state() {
-    let (sim, mut gcs) = start("").await;
-    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-    assert_eq!(
-        reposition(&mut gcs, HOME, 100.0, 2.0).await,
-        MavResult::MAV_RESULT_ACCEPTED
-    );
+    let (sim, _gcs) = guided_north("", 100.0, 2.0).await;
     drive_at(&sim, 10, 2.0, "").await;
 }
 
@@ -439,12 +421,7 @@ async fn the_default_profile_takes_a_reposition_speed_from_any_state() {
 #[tokio::test]
 async fn wp_speed_is_the_default_speed() {
     for scenario in ["", ARDUPILOT_READY] {
-        let (sim, mut gcs) = start(scenario).await;
-        assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
-        assert_eq!(
-            reposition(&mut gcs, HOME, 150.0, -1.0).await,
-            MavResult::MAV_RESULT_ACCEPTED
-        );
+        let (sim, _gcs) = guided_north(scenario, 150.0, -1.0).await;
         drive_at(&sim, 15, 5.0, &format!("{scenario:?}: GUIDED")).await;
 
         let (sim, mut gcs) = start(scenario).await;

@@ -48,11 +48,6 @@ fault = { kind = "command_fails", command = 192, result = "denied", count = 2 }
     assert!(sim.snapshot().armed);
 }
 
-async fn capture(gcs: &mut Gcs) {
-    let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
-    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
-}
-
 fn captures(msgs: &[MavMessage]) -> Vec<(i32, bool)> {
     msgs.iter()
         .filter_map(|m| match m {
@@ -423,47 +418,40 @@ async fn reboot_goes_silent_then_boots_disarmed_in_manual_where_it_stood() {
     run_until(&sim, 120, |s| s.north_m > 29.0).await;
 }
 
+/// IMAGE_START_CAPTURE of one picture with `confirmation` (0: a new request, 1: a re-send); it must be
+/// accepted.
+async fn send_capture(gcs: &mut Gcs, confirmation: u8) {
+    gcs.send(MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1: 1.0,
+        param3: 1.0,
+        command: MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
+        target_system: 1,
+        target_component: 1,
+        confirmation,
+        ..Default::default()
+    }))
+    .await;
+    assert_eq!(
+        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
+        MavResult::MAV_RESULT_ACCEPTED,
+        "confirmation {confirmation}"
+    );
+}
+
 #[tokio::test]
 async fn a_resent_capture_is_answered_again_not_taken_twice() {
     let (sim, mut gcs) = start("").await;
-    let capture = |confirmation| {
-        MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-            param1: 1.0,
-            param3: 1.0,
-            command: MavCmd::MAV_CMD_IMAGE_START_CAPTURE,
-            target_system: 1,
-            target_component: 1,
-            confirmation,
-            ..Default::default()
-        })
-    };
-    gcs.send(capture(0)).await;
-    assert_eq!(
-        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
-        MavResult::MAV_RESULT_ACCEPTED
-    );
+    send_capture(&mut gcs, 0).await;
     // Its ACK was lost, say: the companion sends it again with confirmation 1.
-    gcs.send(capture(1)).await;
-    assert_eq!(
-        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
-        MavResult::MAV_RESULT_ACCEPTED
-    );
+    send_capture(&mut gcs, 1).await;
     let s = run_until(&sim, 30, |s| s.pictures_ok + s.pictures_failed > 0).await;
     run_until(&sim, 30, |x| x.time_ms >= s.time_ms + 15_000).await;
     assert_eq!(sim.snapshot().pictures_ok, 1, "one picture, not two");
     // A new request (confirmation 0) is a new picture.
-    gcs.send(capture(0)).await;
-    assert_eq!(
-        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
-        MavResult::MAV_RESULT_ACCEPTED
-    );
+    send_capture(&mut gcs, 0).await;
     let s = run_until(&sim, 30, |s| s.pictures_ok == 2).await;
     // Long after, the same request re-sent (its first copy lost on the way) is a new picture too.
     run_until(&sim, 30, |x| x.time_ms >= s.time_ms + 20_000).await;
-    gcs.send(capture(1)).await;
-    assert_eq!(
-        gcs.ack_of(MavCmd::MAV_CMD_IMAGE_START_CAPTURE).await.0,
-        MavResult::MAV_RESULT_ACCEPTED
-    );
+    send_capture(&mut gcs, 1).await;
     run_until(&sim, 30, |s| s.pictures_ok == 3).await;
 }

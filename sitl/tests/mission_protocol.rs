@@ -45,6 +45,33 @@ async fn clear_all(gcs: &mut Gcs) -> MavMissionResult {
     mission_ack(gcs).await
 }
 
+/// Asks for stored item `seq` with MISSION_REQUEST_INT (`legacy`: MISSION_REQUEST); the item that answers,
+/// MISSION_ITEM_INT or MISSION_ITEM.
+async fn request_item(gcs: &mut Gcs, seq: u16, legacy: bool) -> MavMessage {
+    let request = if legacy {
+        MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
+            seq,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        })
+    } else {
+        MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+            seq,
+            target_system: 1,
+            target_component: 1,
+            ..Default::default()
+        })
+    };
+    gcs.send(request).await;
+    gcs.expect("the requested mission item", |m| match m {
+        MavMessage::MISSION_ITEM_INT(i) if i.seq == seq => Some(m.clone()),
+        MavMessage::MISSION_ITEM(i) if i.seq == seq => Some(m.clone()),
+        _ => None,
+    })
+    .await
+}
+
 #[tokio::test]
 async fn a_silent_uploader_is_re_requested_then_cancelled() {
     let (sim, mut gcs) = start("").await;
@@ -137,33 +164,13 @@ async fn legacy_items_and_requests_round_trip_with_home_as_item_zero() {
     let n = expect_msg!(gcs, MISSION_COUNT).await.count;
     assert_eq!(n, 4);
     // Modern request -> MISSION_ITEM_INT; legacy request -> MISSION_ITEM.
-    gcs.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
-        seq: 0,
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    }))
-    .await;
-    let home = gcs
-        .expect("MISSION_ITEM_INT 0", |m| match m {
-            MavMessage::MISSION_ITEM_INT(i) if i.seq == 0 => Some(i.clone()),
-            _ => None,
-        })
-        .await;
+    let MavMessage::MISSION_ITEM_INT(home) = request_item(&mut gcs, 0, false).await else {
+        panic!("MISSION_REQUEST_INT not answered with MISSION_ITEM_INT");
+    };
     assert_eq!((home.x, home.y, home.z), (435_615_000, 14_778_000, 0.0));
-    gcs.send(MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
-        seq: 2,
-        target_system: 1,
-        target_component: 1,
-        ..Default::default()
-    }))
-    .await;
-    let it = gcs
-        .expect("MISSION_ITEM 2", |m| match m {
-            MavMessage::MISSION_ITEM(i) if i.seq == 2 => Some(i.clone()),
-            _ => None,
-        })
-        .await;
+    let MavMessage::MISSION_ITEM(it) = request_item(&mut gcs, 2, true).await else {
+        panic!("MISSION_REQUEST not answered with MISSION_ITEM");
+    };
     assert!((f64::from(it.x) - f64::from(items[2].x) * 1e-7).abs() < 1e-5);
     assert!((f64::from(it.y) - f64::from(items[2].y) * 1e-7).abs() < 1e-5);
 }

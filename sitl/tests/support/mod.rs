@@ -441,6 +441,20 @@ pub async fn start_with(cfg: sitl::SimConfig) -> (sitl::SimHandle, Gcs) {
     (sim, gcs)
 }
 
+/// IMAGE_START_CAPTURE of one picture with the default camera; it must be accepted.
+pub async fn capture(gcs: &mut Gcs) {
+    let r = gcs.image_start_capture([0.0, 0.0, 1.0]).await;
+    assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
+}
+
+/// One picture (as [`capture`]), then what the sim sends until `d` of sim time later (the capture's ACK
+/// aside).
+pub async fn shoot(sim: &sitl::SimHandle, gcs: &mut Gcs, d: Duration) -> Vec<MavMessage> {
+    capture(gcs).await;
+    sim.step(d).await.expect("step");
+    gcs.sync().await
+}
+
 /// Uploads a mission through `gcs` and checks it is accepted.
 pub async fn upload_ok(gcs: &mut Gcs, items: &[MISSION_ITEM_INT_DATA]) {
     assert_eq!(
