@@ -135,7 +135,12 @@ fn run(
         ub_before = classify(ex.plan(), t)
             .future
             .iter()
-            .map(|&a| (a, ex.plan().stn.ub(ex.plan().action(a).start)))
+            .map(|&a| {
+                (
+                    a,
+                    ex.plan().temporal_network().ub(ex.plan().action(a).start),
+                )
+            })
             .collect();
         let (next, repairing) = match outcome {
             CycleOutcome::Continue { next, repairing } => (next, repairing),
@@ -173,10 +178,15 @@ fn check_algorithm_1(
     let future = classify(ex.plan(), now).future;
     for a in future {
         let st = ex.plan().action(a).start;
-        if ex.plan().stn.is_executed(st) || !action_executable(ex.plan(), a, now, &flawed) {
+        if ex.plan().temporal_network().is_executed(st)
+            || !action_executable(ex.plan(), a, now, &flawed)
+        {
             continue;
         }
-        let (lb, ub) = (ex.plan().stn.lb(st), ex.plan().stn.ub(st));
+        let (lb, ub) = (
+            ex.plan().temporal_network().lb(st),
+            ex.plan().temporal_network().ub(st),
+        );
         let supports = search_for_goal(&PlanView(ex.plan()), ActionKey(a.0));
         assert!(
             !due(kind, supports, lb, ub, now),
@@ -196,13 +206,16 @@ fn check_algorithm_1(
             .live_actions()
             .chain(
                 ex.plan()
-                    .actions
+                    .actions()
                     .iter()
                     .enumerate()
                     .map(|(i, _)| ActionId(i as u32)),
             )
             .find(|&a| {
-                ex.plan().stn.executed_at(ex.plan().action(a).start) == Some(now)
+                ex.plan()
+                    .temporal_network()
+                    .executed_at(ex.plan().action(a).start)
+                    == Some(now)
                     && &ex.action_text(a) == action
             })
         else {
@@ -304,8 +317,8 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
             if t < hm(9, 0) || ex.fates().values().any(|f| f.name == "have_shirt") {
                 return;
             }
-            let p = ex.plan().problem.clone();
-            let d = ex.plan().domain.clone();
+            let p = ex.plan().problem().clone();
+            let d = ex.plan().domain().clone();
             let shirt = Goal {
                 name: "have_shirt".into(),
                 kind: GoalKind::External,

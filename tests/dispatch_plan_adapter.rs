@@ -82,7 +82,7 @@ fn marking_follows_the_executives_edits_clones_and_replacements() {
     }
     // The executive breaks the links into a goal (a contradicted state value).
     let goal_links: Vec<_> = plan
-        .goals
+        .goals()
         .iter()
         .filter_map(|g| plan.cond(g.cond).link)
         .collect();

@@ -19,7 +19,7 @@ use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::model::{Goal, GoalKind, Time, TimeInterval, Value};
-use mavtempo::plan::{ActionId, PartialPlan, STerm};
+use mavtempo::plan::{ActionId, PartialPlan};
 use mavtempo::vehicle::mock::{Outcome, Scripted};
 use mavtempo::vehicle::{CapacityChange, Enu, MockVehicle};
 
@@ -46,18 +46,16 @@ fn executive(plan: PartialPlan) -> Executive {
 }
 
 fn insert(plan: &mut PartialPlan, task: &str, args: &[&str]) -> ActionId {
-    let t = plan.domain.task_id(task).expect("task");
+    let t = plan.domain().task_id(task).expect("task");
     let a = plan.insert_action(t).expect("insert");
     for (i, name) in args.iter().enumerate() {
         let v = plan.action(a).vars[i];
         let o = plan
-            .problem
+            .problem()
             .object_id(name)
-            .or_else(|| plan.domain.object_id(name))
+            .or_else(|| plan.domain().object_id(name))
             .expect("object");
-        plan.bindings
-            .unify(STerm::Var(v), STerm::Obj(o))
-            .expect("bind");
+        plan.bind_var(v, o).expect("bind");
     }
     plan.repropagate_action(a).expect("numeric");
     a
@@ -86,14 +84,9 @@ fn support_all(plan: &mut PartialPlan) {
         let est = plan.event(plan.link(l).event).at;
         let to = plan.cond(plan.link(l).cond).to;
         let lvl = plan.save();
-        if plan
-            .stn
-            .add_constraint(at, est, 1, mavtempo::stn::INF)
-            .is_err()
-        {
+        if plan.constrain(at, est, 1, mavtempo::stn::INF).is_err() {
             plan.restore(lvl);
-            plan.stn
-                .add_constraint(to, at, 1, mavtempo::stn::INF)
+            plan.constrain(to, at, 1, mavtempo::stn::INF)
                 .expect("threat resolvable");
         }
     }
@@ -110,8 +103,7 @@ fn picture_plan() -> PartialPlan {
     let mut plan = world("base");
     let m = insert(&mut plan, "move_ptu", &["FORWARD", "DOWN"]);
     let p = insert(&mut plan, "take_picture", &["base"]);
-    plan.stn
-        .add_precedence(plan.action(m).end, plan.action(p).start)
+    plan.order(plan.action(m).end, plan.action(p).start)
         .expect("order");
     support_all(&mut plan);
     plan
@@ -261,11 +253,11 @@ fn late_preemptive_move_is_stopped_at_ub_minus_ts() {
         "stopped at {stop}, ub {ub}"
     );
     // The reported position is no known location: a new location object, the robot's position in S_t.
-    let at = ex.plan().domain.attr_id("AT_ROBOT").unwrap();
+    let at = ex.plan().domain().attr_id("AT_ROBOT").unwrap();
     let Some(Value::Obj(o)) = ex.state().get(&(at, vec![])) else {
         panic!("no position in S_t");
     };
-    assert!(ex.plan().problem.object_name(o).starts_with('L'));
+    assert!(ex.plan().problem().object_name(o).starts_with('L'));
 }
 
 #[test]

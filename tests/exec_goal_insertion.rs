@@ -61,8 +61,8 @@ fn plan_text(ex: &Executive) -> (Vec<String>, usize, usize) {
         .collect();
     (
         actions,
-        ex.plan().goals.len(),
-        ex.plan().problem.goals.len(),
+        ex.plan().goals().len(),
+        ex.plan().problem().goals.len(),
     )
 }
 

@@ -33,7 +33,7 @@ fn solved(problem: &str) -> PartialPlan {
 /// The mapping of a shipped configuration, checked against the plan's domain and problem.
 fn shipped_mapping(config: &str, plan: &PartialPlan) -> DomainMapping {
     let cfg = VehicleConfig::load(Path::new(config)).unwrap_or_else(|e| panic!("{e}"));
-    match check(&cfg, &plan.domain, Some(&plan.problem)) {
+    match check(&cfg, plan.domain(), Some(plan.problem())) {
         Ok(c) => c.mapping,
         Err(issues) => panic!("{issues:?}"),
     }
@@ -80,12 +80,12 @@ fn upload_one(ex: &mut Executive, goal: GoalRequest) -> GoalVerdict {
 
 /// The last goal of the plan's problem as `ATTR(args) = value` text.
 fn last_goal(ex: &Executive) -> String {
-    goal_text(ex, ex.plan().problem.goals.last().expect("a goal"))
+    goal_text(ex, ex.plan().problem().goals.last().expect("a goal"))
 }
 
 /// A goal as `ATTR(args) = value` text.
 fn goal_text(ex: &Executive, g: &mavtempo::model::Goal) -> String {
-    let p = &ex.plan().problem;
+    let p = &ex.plan().problem();
     let args: Vec<&str> = g.args.iter().map(|&o| p.object_name(o)).collect();
     let value = match g.value {
         Value::Obj(o) => p.object_name(o).to_string(),
@@ -93,7 +93,7 @@ fn goal_text(ex: &Executive, g: &mavtempo::model::Goal) -> String {
     };
     format!(
         "{}({}) = {value}",
-        ex.plan().domain.attr(g.attr).name,
+        ex.plan().domain().attr(g.attr).name,
         args.join(", ")
     )
 }
@@ -103,7 +103,7 @@ fn failed_at(ex: &mut Executive, task: &str, at: Enu) {
     let a = ex
         .plan()
         .live_actions()
-        .find(|&a| ex.plan().domain.task(ex.plan().action(a).task).name == task)
+        .find(|&a| ex.plan().domain().task(ex.plan().action(a).task).name == task)
         .expect("the plan has the task");
     let report = ActionReport {
         id: 1,
@@ -137,42 +137,42 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     assert_eq!(goal_text(&ex, &mapped), "SURVEYED(g4_loc) = true");
     // No route leads to the new place (CONNECTED is static): its insertion fails and it is rejected
     // with the planner's reason, the plan kept as it was.
-    let goals_before = ex.plan().problem.goals.len();
+    let goals_before = ex.plan().problem().goals.len();
     match upload(&mut ex, vec![g4]).as_slice() {
         [GoalVerdict::Rejected(r)] => assert!(r.contains("plan repair found no plan"), "{r}"),
         other => panic!("{other:?}"),
     }
-    assert_eq!(ex.plan().problem.goals.len(), goals_before);
-    let o = ex.plan().problem.object_id("g4_loc").expect("new object");
-    let location = ex.plan().domain.type_id("location");
-    assert_eq!(ex.plan().problem.object(o).map(|o| o.ty), location);
+    assert_eq!(ex.plan().problem().goals.len(), goals_before);
+    let o = ex.plan().problem().object_id("g4_loc").expect("new object");
+    let location = ex.plan().domain().type_id("location");
+    assert_eq!(ex.plan().problem().object(o).map(|o| o.ty), location);
     upload_one(
         &mut ex,
         request("g5", GoalKind::ReturnHome, "", false, Enu::default()),
     );
     assert_eq!(last_goal(&ex), "AUV_AT() = surface");
     // The AUV's position attribute is AUV_AT: a stopped `go` sets it to a new place there.
-    let before = ex.plan().problem.objects.len();
+    let before = ex.plan().problem().objects.len();
     let go_from = {
         let a = ex
             .plan()
             .live_actions()
-            .find(|&a| ex.plan().domain.task(ex.plan().action(a).task).name == "go")
+            .find(|&a| ex.plan().domain().task(ex.plan().action(a).task).name == "go")
             .expect("a go");
         ex.plan().term_name(STerm::Var(ex.plan().action(a).vars[0]))
     };
     let stop = Enu::new(300.0, 0.0, -450.0);
     failed_at(&mut ex, "go", stop);
-    assert_eq!(ex.plan().problem.objects.len(), before + 1);
-    let last = ex.plan().problem.objects.last().expect("object");
+    assert_eq!(ex.plan().problem().objects.len(), before + 1);
+    let last = ex.plan().problem().objects.last().expect("object");
     assert_eq!(Some(last.ty), location);
     assert_eq!(last.local(None).map(|(e, n, _)| (e, n)), Some((300.0, 0.0)));
     // Met on the way from where the `go` started, the new place keeps that place's routes (CONNECTED is
     // static): the AUV can go on from there wherever it could from the start, and nowhere else.
-    let p = &ex.plan().problem;
+    let p = &ex.plan().problem();
     let new = p.object_id(&last.name).expect("named");
     let from = p.object_id(&go_from).expect("from");
-    let connected = ex.plan().domain.attr_id("CONNECTED").expect("CONNECTED");
+    let connected = ex.plan().domain().attr_id("CONNECTED").expect("CONNECTED");
     let route = |a: ObjectId, b: ObjectId| {
         p.initial
             .iter()
@@ -235,7 +235,8 @@ fn shopping_goals_follow_an_inline_mapping() {
         "#,
     )
     .expect("mapping parses");
-    let mapping = resolve_mapping(&m, &plan.domain, Some(&plan.problem), None).expect("resolves");
+    let mapping =
+        resolve_mapping(&m, plan.domain(), Some(plan.problem()), None).expect("resolves");
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
     // The places have no coordinates: a place the intake named is taken by its name.
     assert_eq!(
@@ -252,7 +253,7 @@ fn shopping_goals_follow_an_inline_mapping() {
 fn without_a_mapping_positions_are_ignored_and_goals_rejected() {
     let plan = solved("domains/auv/problems/vents.ixt");
     let mut ex = Executive::new(plan, ExecConfig::default());
-    let goals_before = ex.plan().problem.goals.len();
+    let goals_before = ex.plan().problem().goals.len();
     let verdicts = upload(
         &mut ex,
         vec![
@@ -273,12 +274,12 @@ fn without_a_mapping_positions_are_ignored_and_goals_rejected() {
             GoalVerdict::Rejected("no goal mapping for return_home items in the config".into()),
         ]
     );
-    assert_eq!(ex.plan().problem.goals.len(), goals_before);
-    let objects = ex.plan().problem.objects.len();
+    assert_eq!(ex.plan().problem().goals.len(), goals_before);
+    let objects = ex.plan().problem().objects.len();
     // The same report that makes a place with the mapping (auv_goals_and_positions_...) makes none here.
     failed_at(&mut ex, "go", Enu::new(300.0, 0.0, -450.0));
     assert_eq!(
-        ex.plan().problem.objects.len(),
+        ex.plan().problem().objects.len(),
         objects,
         "no place was made"
     );
@@ -287,12 +288,12 @@ fn without_a_mapping_positions_are_ignored_and_goals_rejected() {
 #[test]
 fn a_new_place_without_a_location_type_is_a_rejection_not_object_zero() {
     let plan = solved("domains/auv/problems/vents.ixt");
-    let d: &Domain = &plan.domain;
+    let d: &Domain = plan.domain();
     let mut mapping = shipped_mapping("config/sitl-auv.toml", &plan);
     assert!(d.type_id("location").is_some());
     mapping.location_type = None;
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
-    let objects = ex.plan().problem.objects.len();
+    let objects = ex.plan().problem().objects.len();
     let verdict = upload_one(
         &mut ex,
         request(
@@ -307,10 +308,10 @@ fn a_new_place_without_a_location_type_is_a_rejection_not_object_zero() {
         GoalVerdict::Rejected(r) => assert!(r.contains("no location type"), "{r}"),
         other => panic!("{other:?}"),
     }
-    assert_eq!(ex.plan().problem.objects.len(), objects);
+    assert_eq!(ex.plan().problem().objects.len(), objects);
     assert!(ex
         .plan()
-        .problem
+        .problem()
         .goals
         .iter()
         .all(|g| g.args.iter().all(|o| o.index() != 0)));

@@ -236,10 +236,10 @@ fn a_replanning_out_of_steps_keeps_the_best_goal_planned_alone() {
         panic!("expected a plan, got {result:?}");
     };
     let active: Vec<String> = plan
-        .goals
+        .goals()
         .iter()
         .filter(|g| g.active)
-        .map(|g| plan.problem.goals[g.goal.index()].name.clone())
+        .map(|g| plan.problem().goals[g.goal.index()].name.clone())
         .collect();
     assert_eq!(active, ["g3"]);
     let rec = ex.replannings().last().expect("record");
@@ -280,7 +280,7 @@ fn a_failed_move_leaves_the_rover_still() {
     let a = ex
         .plan()
         .live_actions()
-        .find(|&a| ex.plan().domain.task(ex.plan().action(a).task).name == "move")
+        .find(|&a| ex.plan().domain().task(ex.plan().action(a).task).name == "move")
         .expect("a move");
     let report = mavtempo::vehicle::ActionReport {
         id: 1,
@@ -296,10 +296,10 @@ fn a_failed_move_leaves_the_rover_still() {
     mavtempo::exec::state_update::integrate_state(&mut ex, a, &report, 5_000);
     let status = ex
         .plan()
-        .domain
+        .domain()
         .attr_id("ROBOT_STATUS")
         .expect("ROBOT_STATUS");
-    let still = ex.plan().problem.object_id("STILL").expect("STILL");
+    let still = ex.plan().problem().object_id("STILL").expect("STILL");
     assert_eq!(
         ex.state().get(&(status, Vec::new())),
         Some(mavtempo::model::Value::Obj(still))

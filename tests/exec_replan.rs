@@ -30,7 +30,7 @@ fn rejection_order_lowest_priority_then_least_flexibility() {
     // d_achiev 55 s), then, with the same 30 min window, g5 (d_achiev 80 s), g4 (65 s), g1 (25 s).
     let mut order = Vec::new();
     while let Some(g) = goal_to_reject(&plan) {
-        order.push(plan.problem.goals[g.index()].name.clone());
+        order.push(plan.problem().goals[g.index()].name.clone());
         plan.remove_goal(g);
     }
     assert_eq!(order, ["g2", "g5", "g4", "g1", "g3"]);
@@ -39,8 +39,8 @@ fn rejection_order_lowest_priority_then_least_flexibility() {
 #[test]
 fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
     let mut ex = fig2();
-    let at = ex.plan().domain.attr_id("AT_ROBOT").unwrap();
-    let p1 = ex.plan().problem.object_id("p1").unwrap();
+    let at = ex.plan().domain().attr_id("AT_ROBOT").unwrap();
+    let p1 = ex.plan().problem().object_id("p1").unwrap();
     let now = 9 * 60_000;
     ex.set_state_value((at, vec![]), now - 1_000, Value::Obj(p1));
     let storage = ex.resource("STORAGE").unwrap();
@@ -51,38 +51,44 @@ fn p_ti_keeps_the_state_drops_incoherent_goals_and_puts_goals_after_t_end() {
     // S_ti = S_ts: the robot is at p1, the storage level its pessimistic bound.
     let init = ext
         .plan
-        .problem
+        .problem()
         .initial
         .iter()
         .find(|f| f.attr == at)
         .expect("AT_ROBOT in the initial state");
     assert_eq!(init.value, Value::Obj(p1));
-    assert!((ext.plan.problem.resources[storage.index()].level - 1.2).abs() < 1e-9);
+    assert!((ext.plan.problem().resources[storage.index()].level - 1.2).abs() < 1e-9);
     // g2 (st ≤ 4 min) and g3 (st ≤ 8 min) are no longer coherent with 9 min; g1 is done; g4, g5 remain.
     assert_eq!(ext.incoherent, vec![GoalId(1), GoalId(2)]);
     let active: Vec<u32> = ext
         .plan
-        .goals
+        .goals()
         .iter()
         .filter(|g| g.active)
         .map(|g| g.goal.0)
         .collect();
     assert_eq!(active, vec![3, 4]);
     // T_end after now; each goal after T_end; new timepoints after T_end.
-    assert!(ext.plan.stn.lb(ext.t_end) >= now);
-    for g in ext.plan.goals.iter().filter(|g| g.active) {
-        assert!(ext.plan.stn.necessarily_before(ext.t_end, g.st));
+    assert!(ext.plan.temporal_network().lb(ext.t_end) >= now);
+    for g in ext.plan.goals().iter().filter(|g| g.active) {
+        assert!(ext
+            .plan
+            .temporal_network()
+            .necessarily_before(ext.t_end, g.st));
     }
     let mut plan = ext.plan;
     let tp = plan.new_timepoint().unwrap();
-    assert!(plan.stn.necessarily_before(ext.t_end, tp));
+    assert!(plan.temporal_network().necessarily_before(ext.t_end, tp));
     // Inserting actions lowers T_end's upper bound ("planning to plan").
-    let before = plan.stn.ub(ext.t_end);
-    let g4 = plan.goals.iter().find(|g| g.active).expect("g4 active").st;
-    plan.stn
-        .add_constraint(tp, g4, 600_000, mavtempo::stn::INF)
-        .unwrap();
-    assert!(plan.stn.ub(ext.t_end) < before);
+    let before = plan.temporal_network().ub(ext.t_end);
+    let g4 = plan
+        .goals()
+        .iter()
+        .find(|g| g.active)
+        .expect("g4 active")
+        .st;
+    plan.constrain(tp, g4, 600_000, mavtempo::stn::INF).unwrap();
+    assert!(plan.temporal_network().ub(ext.t_end) < before);
 }
 
 use std::cell::Cell;
@@ -93,7 +99,7 @@ use mavtempo::planner::{Search, StepOutcome};
 
 /// The limit l = T_end_ub − d of a search.
 fn limit(s: &Search, t_end: mavtempo::stn::Timepoint, slack: Time) -> Time {
-    s.plan().stn.ub(t_end) - slack
+    s.plan().temporal_network().ub(t_end) - slack
 }
 
 /// A clock that moves 10 s of mission time each time it is read: planning takes mission time, and T_end
@@ -103,7 +109,7 @@ fn the_time_limit_stops_a_replanning() {
     let ex = fig2();
     let slack = ex.config().replan_slack_ms;
     let ext = extract(&ex, 0, &[]).expect("P_ti");
-    let l0 = ext.plan.stn.ub(ext.t_end) - slack;
+    let l0 = ext.plan.temporal_network().ub(ext.t_end) - slack;
     assert!(l0 > 0 && l0 < 4 * 60_000, "l0 = {l0}");
     let t = Cell::new(0);
     let clock = || {
@@ -300,7 +306,7 @@ fn equal_goals_the_newest_is_abandoned_first() {
     let ex = fig2();
     let mut plan = ex.plan().clone();
     // g4 and g5 differ only by d_achiev; make g5 like g4: then the newer, g5, goes first.
-    let mut p = (*plan.problem).clone();
+    let mut p = (**plan.problem()).clone();
     p.goals[4].achieve = p.goals[3].achieve;
     plan.set_problem(Arc::new(p));
     plan.remove_goal(GoalId::from_index(1));

@@ -15,7 +15,7 @@ use mavtempo::exec::report_timing::{integrate, timing, Timing};
 use mavtempo::exec::resource_bounds::{fold_removed, level_bounds, LevelCase};
 use mavtempo::exec::resource_report::{integrate_level, LevelVerdict, EPS};
 use mavtempo::lang::load_problem_and_domain;
-use mavtempo::model::{Goal, GoalId, GoalKind, ResourceKind, TimeInterval, Value};
+use mavtempo::model::{Goal, GoalId, GoalKind, ObjectId, ResourceKind, TimeInterval, Value};
 use mavtempo::plan::{ActionId, EventId, PartialPlan, STerm};
 
 fn fig2() -> PartialPlan {
@@ -24,34 +24,34 @@ fn fig2() -> PartialPlan {
     PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan")
 }
 
-fn obj(plan: &PartialPlan, name: &str) -> STerm {
-    STerm::Obj(plan.problem.object_id(name).expect("object"))
+fn obj(plan: &PartialPlan, name: &str) -> ObjectId {
+    plan.problem().object_id(name).expect("object")
 }
 
 /// take_picture(?l = loc).
 fn picture(plan: &mut PartialPlan, loc: &str) -> ActionId {
-    let task = plan.domain.task_id("take_picture").expect("task");
+    let task = plan.domain().task_id("take_picture").expect("task");
     let a = plan.insert_action(task).expect("insert");
     let v = plan.action(a).vars[0];
     let o = obj(plan, loc);
-    plan.bindings.unify(STerm::Var(v), o).expect("bind");
+    plan.bind_var(v, o).expect("bind");
     a
 }
 
 /// move(?from, ?to).
 fn go(plan: &mut PartialPlan, from: &str, to: &str) -> ActionId {
-    let task = plan.domain.task_id("move").expect("task");
+    let task = plan.domain().task_id("move").expect("task");
     let a = plan.insert_action(task).expect("insert");
     let (v0, v1) = (plan.action(a).vars[0], plan.action(a).vars[1]);
     let (f, t) = (obj(plan, from), obj(plan, to));
-    plan.bindings.unify(STerm::Var(v0), f).expect("bind");
-    plan.bindings.unify(STerm::Var(v1), t).expect("bind");
+    plan.bind_var(v0, f).expect("bind");
+    plan.bind_var(v1, t).expect("bind");
     plan.repropagate_action(a).expect("numeric");
     a
 }
 
 fn event_on(plan: &PartialPlan, a: ActionId, attr: &str) -> EventId {
-    let attr = plan.domain.attr_id(attr).expect("attr");
+    let attr = plan.domain().attr_id(attr).expect("attr");
     *plan
         .action(a)
         .events
@@ -61,7 +61,7 @@ fn event_on(plan: &PartialPlan, a: ActionId, attr: &str) -> EventId {
 }
 
 fn storage(plan: &PartialPlan) -> mavtempo::model::ResourceId {
-    plan.domain.resource_id("STORAGE").expect("STORAGE")
+    plan.domain().resource_id("STORAGE").expect("STORAGE")
 }
 
 #[test]
@@ -69,22 +69,21 @@ fn definition_1_running_future_past_and_the_state_of_past_effects() {
     let mut plan = fig2();
     let m = go(&mut plan, "base", "p1");
     let p = picture(&mut plan, "p1");
-    plan.stn
-        .add_precedence(plan.action(m).end, plan.action(p).start)
+    plan.order(plan.action(m).end, plan.action(p).start)
         .unwrap();
     assert_eq!(classify(&plan, 0).future, vec![m, p]);
-    plan.stn.execute(plan.action(m).start, 0).unwrap();
+    plan.execute_at(plan.action(m).start, 0).unwrap();
     let pt = classify(&plan, 1_000);
     assert_eq!((pt.running.clone(), pt.future.clone()), (vec![m], vec![p]));
-    plan.stn.execute(plan.action(m).end, 30_000).unwrap();
+    plan.execute_at(plan.action(m).end, 30_000).unwrap();
     assert_eq!(remove_past(&mut plan, 31_000), vec![m]);
     assert!(plan.action(m).removed);
     assert_eq!(classify(&plan, 31_000).future, vec![p]);
     // Its effect AT_ROBOT = p1 stays in S_t.
     let mut s = State::default();
     s.refresh(&plan, 31_000);
-    let at = plan.domain.attr_id("AT_ROBOT").unwrap();
-    let p1 = plan.problem.object_id("p1").unwrap();
+    let at = plan.domain().attr_id("AT_ROBOT").unwrap();
+    let p1 = plan.problem().object_id("p1").unwrap();
     assert_eq!(s.get(&(at, vec![])), Some(Value::Obj(p1)));
     // G_t: all five goals still to achieve.
     assert_eq!(goals(&plan, 31_000).len(), 5);
@@ -98,7 +97,7 @@ fn eq_1_and_2_resource_bounds_in_both_cases() {
     let past = (3.0, 3.0);
     let b = level_bounds(&plan, r, 0, &[], past);
     assert_eq!((b.case, b.lb, b.ub), (LevelCase::Exact, 3.0, 3.0));
-    plan.stn.execute(plan.action(p).start, 1_000).unwrap();
+    plan.execute_at(plan.action(p).start, 1_000).unwrap();
     let running = classify(&plan, 2_000).running;
     assert_eq!(running, vec![p]);
     // Case (2): the running picture may have consumed up to q_max = 1 slot so far.
@@ -109,7 +108,7 @@ fn eq_1_and_2_resource_bounds_in_both_cases() {
         "{b:?}"
     );
     // Case (1) once it ended: eq. (1) counts its consumption ?size in [0.9, 1].
-    plan.stn.execute(plan.action(p).end, 8_000).unwrap();
+    plan.execute_at(plan.action(p).end, 8_000).unwrap();
     let b = level_bounds(&plan, r, 9_000, &[], past);
     assert_eq!(b.case, LevelCase::Exact);
     assert!(
@@ -117,7 +116,7 @@ fn eq_1_and_2_resource_bounds_in_both_cases() {
         "{b:?}"
     );
     // Removed from the plan, it is aggregated into the past level: same bounds.
-    let mut agg = vec![(0.0, 0.0); plan.domain.resources.len()];
+    let mut agg = vec![(0.0, 0.0); plan.domain().resources.len()];
     agg[r.index()] = past;
     remove_past(&mut plan, 9_000);
     fold_removed(&plan, p, &mut agg);
@@ -130,8 +129,8 @@ fn section_3_3_levels_in_bounds_over_consumption_over_production() {
     let mut plan = fig2();
     let r = storage(&plan);
     let p = picture(&mut plan, "p1");
-    plan.stn.execute(plan.action(p).start, 0).unwrap();
-    plan.stn.execute(plan.action(p).end, 8_000).unwrap();
+    plan.execute_at(plan.action(p).start, 0).unwrap();
+    plan.execute_at(plan.action(p).end, 8_000).unwrap();
     let b = level_bounds(&plan, r, 9_000, &[], (3.0, 3.0));
     // In bounds, case (1): the level becomes exact.
     let u = integrate_level(&b, 2.1, ResourceKind::Reservoir, EPS);
@@ -155,7 +154,7 @@ fn section_3_3_levels_in_bounds_over_consumption_over_production() {
     assert!(u.repair);
     // Case (2): the worst case of the past part, then Definition 5 must be re-checked.
     let q = picture(&mut plan, "p2");
-    plan.stn.execute(plan.action(q).start, 9_000).unwrap();
+    plan.execute_at(plan.action(q).start, 9_000).unwrap();
     let b = level_bounds(&plan, r, 10_000, &[q], (3.0, 3.0));
     let u = integrate_level(&b, b.lb - 0.4, ResourceKind::Reservoir, EPS);
     assert!(u.check_executable && u.repair);
@@ -167,10 +166,10 @@ fn section_3_3_report_in_bounds_too_early_too_late() {
     // take_picture lasts 5 to 20 s.
     let mut plan = fig2();
     let p = picture(&mut plan, "p1");
-    let g1 = plan.goals[0].cond;
+    let g1 = plan.goals()[0].cond;
     let e = event_on(&plan, p, "PICTURE");
     plan.add_link(e, g1).unwrap();
-    plan.stn.execute(plan.action(p).start, 0).unwrap();
+    plan.execute_at(plan.action(p).start, 0).unwrap();
     assert_eq!(timing(&plan, p, 10_000), Timing::InBounds);
     assert_eq!(timing(&plan, p, 25_000), Timing::TooLate);
     assert_eq!(timing(&plan, p, 2_000), Timing::TooEarly);
@@ -178,12 +177,15 @@ fn section_3_3_report_in_bounds_too_early_too_late() {
     assert!(!integrate(&mut late, p, 25_000).unwrap());
     let mut ok = plan.clone();
     assert!(integrate(&mut ok, p, 10_000).unwrap());
-    assert_eq!(ok.stn.executed_at(ok.action(p).end), Some(10_000));
+    assert_eq!(
+        ok.temporal_network().executed_at(ok.action(p).end),
+        Some(10_000)
+    );
     // Too early: the end is now 2 s, the old constraints relaxed, the goal still after it.
     assert!(integrate(&mut plan, p, 2_000).unwrap());
     let et = plan.action(p).end;
-    assert_eq!(plan.stn.executed_at(et), Some(2_000));
-    assert!(plan.stn.lb(plan.goals[0].st) >= 2_000);
+    assert_eq!(plan.temporal_network().executed_at(et), Some(2_000));
+    assert!(plan.temporal_network().lb(plan.goals()[0].st) >= 2_000);
 }
 
 #[test]
@@ -191,37 +193,49 @@ fn definitions_2_to_5_executable_timepoint_goal_action_plan() {
     let mut plan = fig2();
     let p = picture(&mut plan, "p1");
     let e = event_on(&plan, p, "PICTURE");
-    let g1 = plan.goals[0].cond;
+    let g1 = plan.goals()[0].cond;
     plan.add_link(e, g1).unwrap();
-    let st_g = plan.goals[0].st;
+    let st_g = plan.goals()[0].st;
     // The goal's start must wait for the picture's end (its direct predecessor).
-    assert!(!timepoint_executable(&plan.stn, st_g, 30_000));
+    assert!(!timepoint_executable(
+        plan.temporal_network(),
+        st_g,
+        30_000
+    ));
     assert!(!goal_achievable(&plan, GoalId(0), 30_000));
     // The picture has open conditions (AT_ROBOT, PTU_POS, ...): not executable (Definition 4).
     let flawed = flawed_actions(&mut plan);
     assert!(flawed.contains(&p));
-    assert!(timepoint_executable(&plan.stn, plan.action(p).start, 0));
+    assert!(timepoint_executable(
+        plan.temporal_network(),
+        plan.action(p).start,
+        0
+    ));
     assert!(!action_executable(&plan, p, 0, &flawed));
     // Definition 5: the plan is executable while the flawed action is not running, not once it runs.
     assert!(plan_executable(&[], &flawed));
     assert!(!plan_executable(&[p], &flawed));
-    plan.stn.execute(plan.action(p).start, 0).unwrap();
-    plan.stn.execute(plan.action(p).end, 10_000).unwrap();
-    assert!(timepoint_executable(&plan.stn, st_g, 10_000));
+    plan.execute_at(plan.action(p).start, 0).unwrap();
+    plan.execute_at(plan.action(p).end, 10_000).unwrap();
+    assert!(timepoint_executable(plan.temporal_network(), st_g, 10_000));
     assert!(goal_achievable(&plan, GoalId(0), 10_000));
     // Outside [T_lb, T_ub]: g3's start window ends at 8 min.
-    let st3 = plan.goals[2].st;
-    assert!(!timepoint_executable(&plan.stn, st3, 9 * 60_000));
+    let st3 = plan.goals()[2].st;
+    assert!(!timepoint_executable(
+        plan.temporal_network(),
+        st3,
+        9 * 60_000
+    ));
 }
 
 fn picture_goal(plan: &PartialPlan, name: &str, loc: &str, window_s: (i64, i64)) -> Goal {
-    let attr = plan.domain.attr_id("PICTURE").unwrap();
+    let attr = plan.domain().attr_id("PICTURE").unwrap();
     Goal {
         name: name.into(),
         kind: GoalKind::External,
         priority: 1,
         attr,
-        args: vec![plan.problem.object_id(loc).unwrap()],
+        args: vec![plan.problem().object_id(loc).unwrap()],
         value: Value::Obj(mavtempo::model::Domain::TRUE),
         start_window: TimeInterval::closed(window_s.0 * 1000, window_s.1 * 1000),
         duration: TimeInterval::closed(0, 0),
@@ -232,40 +246,42 @@ fn picture_goal(plan: &PartialPlan, name: &str, loc: &str, window_s: (i64, i64))
 #[test]
 fn section_3_3_goal_request_accepted_rejected_and_ordered_after_running_actions() {
     let mut plan = fig2();
-    let n = plan.goals.len();
+    let n = plan.goals().len();
     // Accepted: open window; it becomes an open condition.
     let g = picture_goal(&plan, "g6", "p2", (0, 1800));
     let id = request(&mut plan, g, 600_000, &[]).expect("accepted");
-    assert_eq!(plan.goals.len(), n + 1);
+    assert_eq!(plan.goals().len(), n + 1);
     assert!(
-        plan.stn.lb(plan.goals[n].st) >= 640_000,
+        plan.temporal_network().lb(plan.goals()[n].st) >= 640_000,
         "st^g ≥ t + d_achiev"
     );
-    assert_eq!(plan.problem.goals[id.index()].name, "g6");
+    assert_eq!(plan.problem().goals[id.index()].name, "g6");
     // Rejected: st^g − origin ≤ 10 min, but now is 9.5 min and d_achiev is 40 s.
     let g = picture_goal(&plan, "g7", "p3", (0, 600));
     let r = request(&mut plan, g, 570_000, &[]);
     assert!(matches!(r, Err(Rejection::TooLate { .. })), "{r:?}");
     assert_eq!(
-        plan.goals.len(),
+        plan.goals().len(),
         n + 1,
         "a rejected goal leaves the plan as it was"
     );
-    assert_eq!(plan.problem.goals.len(), n + 1);
+    assert_eq!(plan.problem().goals.len(), n + 1);
     // A goal AT_ROBOT = p3 threatens the running move's hold AT_ROBOT = +oo: ordered after its end.
     let m = go(&mut plan, "base", "p1");
-    plan.stn.execute(plan.action(m).start, 0).unwrap();
-    let at = plan.domain.attr_id("AT_ROBOT").unwrap();
+    plan.execute_at(plan.action(m).start, 0).unwrap();
+    let at = plan.domain().attr_id("AT_ROBOT").unwrap();
     let g = Goal {
         attr: at,
         args: vec![],
-        value: Value::Obj(plan.problem.object_id("p3").unwrap()),
+        value: Value::Obj(plan.problem().object_id("p3").unwrap()),
         achieve: 0,
         ..picture_goal(&plan, "g8", "p3", (0, 1800))
     };
     request(&mut plan, g, 1_000, &[m]).expect("accepted");
-    let st = plan.goals.last().unwrap().st;
-    assert!(plan.stn.necessarily_before(plan.action(m).end, st));
+    let st = plan.goals().last().unwrap().st;
+    assert!(plan
+        .temporal_network()
+        .necessarily_before(plan.action(m).end, st));
 }
 
 #[test]
@@ -278,7 +294,7 @@ fn section_3_3_capacity_alteration_repair_or_abort() {
     let mut future = plan.clone();
     assert_eq!(alter(&mut future, r, 1.0, 0, &[]), CapacityOutcome::Repair);
     // The same drop while one of them runs: the conflict involves a running action, abort.
-    plan.stn.execute(plan.action(a).start, 0).unwrap();
+    plan.execute_at(plan.action(a).start, 0).unwrap();
     assert_eq!(
         alter(&mut plan, r, 1.0, 1_000, &[a]),
         CapacityOutcome::Abort
@@ -288,8 +304,8 @@ fn section_3_3_capacity_alteration_repair_or_abort() {
 #[test]
 fn section_3_3_causal_link_removal_by_the_abstraction_hierarchy() {
     let mut plan = fig2();
-    let h = Hierarchy::new(&plan.domain);
-    let dom = plan.domain.clone();
+    let h = Hierarchy::new(plan.domain());
+    let dom = plan.domain().clone();
     let id = |n: &str| dom.attr_id(n).unwrap();
     let att = h.closure(&[id("PICTURE")]);
     for a in [
@@ -308,7 +324,7 @@ fn section_3_3_causal_link_removal_by_the_abstraction_hierarchy() {
     // A goal's link on PICTURE is broken; a link supporting a running action is kept.
     let p = picture(&mut plan, "p1");
     let e = event_on(&plan, p, "PICTURE");
-    let g1 = plan.goals[0].cond;
+    let g1 = plan.goals()[0].cond;
     let l = plan.add_link(e, g1).unwrap();
     assert_eq!(links_to_break(&plan, &att, &[]), vec![l]);
     assert!(links_to_break(&plan, &[id("COMMUNICATED")], &[]).is_empty());
@@ -319,11 +335,11 @@ fn a_location_added_at_run_time_gets_its_wildcard_initial_facts_in_the_executing
     // A goal from the ground on a new target (e3/e4) adds a location object; `PICTURE(*) = false` must hold
     // for it in the executing plan too, or the picture's condition `PICTURE(new) = false` is unsupportable.
     let mut plan = fig2();
-    let picture = plan.domain.attr_id("PICTURE").expect("PICTURE");
-    let ty = plan.domain.type_id("location").expect("location");
-    let mut problem = (*plan.problem).clone();
+    let picture = plan.domain().attr_id("PICTURE").expect("PICTURE");
+    let ty = plan.domain().type_id("location").expect("location");
+    let mut problem = (**plan.problem()).clone();
     let new = problem.add_object_with_defaults(
-        &plan.domain,
+        plan.domain(),
         mavtempo::model::Object {
             name: "g6_loc".into(),
             ty,
@@ -341,5 +357,5 @@ fn a_location_added_at_run_time_gets_its_wildcard_initial_facts_in_the_executing
     assert_eq!(initial_of_new(&plan), 1);
     let e = plan.events_on(picture)[plan.events_on(picture).len() - 1];
     assert_eq!(plan.event(e).to, STerm::Obj(mavtempo::model::Domain::FALSE));
-    assert_eq!(plan.event(e).at, plan.stn.origin());
+    assert_eq!(plan.event(e).at, plan.temporal_network().origin());
 }

@@ -74,7 +74,7 @@ fn planned() -> PartialPlan {
 
 fn action_named(plan: &PartialPlan, task: &str) -> mavtempo::plan::ActionId {
     plan.live_actions()
-        .find(|&a| plan.domain.task(plan.action(a).task).name == task)
+        .find(|&a| plan.domain().task(plan.action(a).task).name == task)
         .unwrap_or_else(|| panic!("{task} in the plan"))
 }
 
@@ -84,11 +84,11 @@ fn the_relay_would_squeeze_the_running_drive() {
     let drive = action_named(&plan, "drive");
     let relay = action_named(&plan, "relay");
     let (drive_st, drive_et) = (plan.action(drive).start, plan.action(drive).end);
-    let natural_ub = plan.stn.ub(drive_et);
+    let natural_ub = plan.temporal_network().ub(drive_et);
     let relay_st = plan.action(relay).start;
-    let t0 = plan.stn.lb(drive_st);
+    let t0 = plan.temporal_network().lb(drive_st);
     assert!(
-        plan.stn.lb(relay_st) <= t0,
+        plan.temporal_network().lb(relay_st) <= t0,
         "the relay could open with the drive"
     );
     // Weighed against the drive launched at the same time, then against the drive running.
@@ -96,14 +96,13 @@ fn the_relay_would_squeeze_the_running_drive() {
         .expect("opening with the drive squeezes it");
     assert_eq!(a, drive);
     assert!(ub <= t0 + 25_000 && ub < natural_ub, "{ub} vs {natural_ub}");
-    plan.stn.execute(drive_st, t0).expect("the drive starts");
+    plan.execute_at(drive_st, t0).expect("the drive starts");
     let (a, ub) = squeezed_running_end(&plan, &[drive], relay_st, t0)
         .expect("opening now squeezes the running drive");
     assert_eq!(a, drive);
     assert!(ub <= t0 + 25_000, "{ub}");
     // Once the drive has ended, nothing is squeezed.
-    plan.stn
-        .execute(drive_et, 60_000)
+    plan.execute_at(drive_et, 60_000)
         .expect("drive ends at 60 s");
     assert_eq!(
         squeezed_running_end(&plan, &[drive], relay_st, 60_000),

@@ -117,7 +117,8 @@ fn rover_low_battery_recharges_do_not_overlap() {
     assert!(!recharges.is_empty(), "no recharge in the plan");
     for (i, &(s1, e1)) in recharges.iter().enumerate() {
         for &(s2, e2) in &recharges[i + 1..] {
-            let ordered = plan.stn.distance(s2, e1) <= 0 || plan.stn.distance(s1, e2) <= 0;
+            let ordered = plan.temporal_network().distance(s2, e1) <= 0
+                || plan.temporal_network().distance(s1, e2) <= 0;
             assert!(ordered, "two recharges may overlap");
         }
     }

@@ -67,7 +67,7 @@ fn checked(d: &Arc<Domain>, p: &Arc<Problem>) -> PartialPlan {
 
 fn takes(plan: &PartialPlan) -> Vec<mavtempo::plan::ActionId> {
     plan.live_actions()
-        .filter(|&a| plan.domain.task(plan.action(a).task).name == "take")
+        .filter(|&a| plan.domain().task(plan.action(a).task).name == "take")
         .collect()
 }
 
@@ -85,9 +85,12 @@ fn independent_actions_stay_unordered() {
     let (plan, [a, b]) = two_takes(false);
     let (a, b) = (plan.action(a), plan.action(b));
     // Least commitment: either order (and overlap) remains possible.
-    assert!(plan.stn.possibly_before(a.end, b.start));
-    assert!(plan.stn.possibly_before(b.end, a.start));
-    assert!(plan.stn.possibly_before(a.start, b.end) && plan.stn.possibly_before(b.start, a.end));
+    assert!(plan.temporal_network().possibly_before(a.end, b.start));
+    assert!(plan.temporal_network().possibly_before(b.end, a.start));
+    assert!(
+        plan.temporal_network().possibly_before(a.start, b.end)
+            && plan.temporal_network().possibly_before(b.start, a.end)
+    );
 }
 
 #[test]
@@ -95,7 +98,7 @@ fn unary_resource_conflict_is_solved_by_ordering() {
     let (plan, [a, b]) = two_takes(true);
     let (a, b) = (plan.action(a), plan.action(b));
     let ordered = |x: &mavtempo::plan::Action, y: &mavtempo::plan::Action| {
-        !plan.stn.possibly_before(y.start, x.end)
+        !plan.temporal_network().possibly_before(y.start, x.end)
     };
     assert!(
         ordered(a, b) || ordered(b, a),
@@ -109,7 +112,7 @@ fn fourth_picture_with_capacity_three_needs_a_download_before_it() {
     let plan = checked(&d, &problem(&d, 4, None));
     let downloads: Vec<_> = plan
         .live_actions()
-        .filter(|&a| plan.domain.task(plan.action(a).task).name == "download")
+        .filter(|&a| plan.domain().task(plan.action(a).task).name == "download")
         .collect();
     assert_eq!(
         downloads.len(),
@@ -130,11 +133,11 @@ fn fourth_picture_with_capacity_three_needs_a_download_before_it() {
     let after = takes(&plan)
         .into_iter()
         .filter(|&a| {
-            plan.stn
+            plan.temporal_network()
                 .necessarily_before(produced_at, plan.action(a).start)
                 || {
                     let s = plan.action(a).start;
-                    plan.stn.distance(s, produced_at) <= 0
+                    plan.temporal_network().distance(s, produced_at) <= 0
                 }
         })
         .count();
@@ -191,7 +194,7 @@ fn step_budget_is_a_resumable_deadline_and_changes_are_logged() {
     assert_eq!(actions, live);
     assert_eq!(
         links.len(),
-        search.plan().links.iter().filter(|l| l.active).count()
+        search.plan().links().iter().filter(|l| l.active).count()
     );
     assert!(search.executable(&[]));
 }

@@ -10,7 +10,7 @@ use crate::exec::config::ExecConfig;
 use crate::exec::cycle::CycleOutcome;
 use crate::exec::executive::Executive;
 use crate::lang::{parse_domain, parse_problem};
-use crate::plan::{PartialPlan, STerm};
+use crate::plan::PartialPlan;
 use crate::vehicle::mock::Outcome;
 use crate::vehicle::MockVehicle;
 
@@ -91,7 +91,7 @@ pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
     );
     let mut plan = PartialPlan::new(Arc::new(d), Arc::new(p))?;
     let mut prev_event = *plan
-        .events
+        .events()
         .iter()
         .enumerate()
         .find(|(_, e)| e.owner == crate::plan::Owner::Initial)
@@ -103,8 +103,8 @@ pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
         let act = plan.insert_action(task)?;
         let (from, to) = if i % 2 == 0 { (a, b) } else { (b, a) };
         let vars = plan.action(act).vars.clone();
-        plan.bindings.unify(STerm::Var(vars[0]), STerm::Obj(from))?;
-        plan.bindings.unify(STerm::Var(vars[1]), STerm::Obj(to))?;
+        plan.bind_var(vars[0], from)?;
+        plan.bind_var(vars[1], to)?;
         if let Some(e) = prev_end {
             let st = plan.action(act).start;
             plan.order(e, st)?;

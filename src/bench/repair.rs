@@ -214,8 +214,8 @@ pub fn run() -> Result<Vec<RepairFigures>, BenchError> {
         .map_err(|e| BenchError::load("config/demo-rover.toml", e))?;
     let mapping = resolve_mapping(
         &cfg.mapping,
-        &plan.domain,
-        Some(&plan.problem),
+        plan.domain(),
+        Some(plan.problem()),
         cfg.source.as_ref(),
     )
     .map_err(|issues| {

@@ -384,7 +384,7 @@ pub fn run_one(p: &Prepared, policy: PolicyKind, seed: u64, repair_steps: u64) -
     };
     let problem_goals: Vec<String> = p
         .plan
-        .problem
+        .problem()
         .goals
         .iter()
         .map(|g| g.name.clone())

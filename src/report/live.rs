@@ -119,7 +119,7 @@ impl LiveFeed {
             .into_iter()
             .enumerate()
             .filter(|(i, _)| {
-                let kind = ex.plan().domain.resources.get(*i).map(|r| r.kind);
+                let kind = ex.plan().domain().resources.get(*i).map(|r| r.kind);
                 kind == Some(crate::model::ResourceKind::Reservoir)
             })
             .map(|(i, (resource, lb, ub))| SampleView {
@@ -205,8 +205,8 @@ fn planned_bars(ex: &Executive) -> Vec<PlannedBar> {
             let act = plan.action(a);
             PlannedBar {
                 action: ex.action_text(a),
-                start_ms: plan.stn.lb(act.start),
-                end_ms: plan.stn.lb(act.end),
+                start_ms: plan.temporal_network().lb(act.start),
+                end_ms: plan.temporal_network().lb(act.end),
             }
         })
         .collect()

@@ -11,7 +11,7 @@ use mavtempo::vehicle::config_check::check;
 pub fn rover(plan: &PartialPlan) -> DomainMapping {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/config/demo-rover.toml");
     let cfg = VehicleConfig::load(std::path::Path::new(path)).unwrap_or_else(|e| panic!("{e}"));
-    match check(&cfg, &plan.domain, Some(&plan.problem)) {
+    match check(&cfg, plan.domain(), Some(plan.problem())) {
         Ok(c) => c.mapping,
         Err(issues) => panic!("{issues:?}"),
     }

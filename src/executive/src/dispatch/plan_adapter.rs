@@ -50,7 +50,7 @@ impl PlanView<'_> {
 
     fn live_action(&self, a: ActionKey) -> Option<ActionId> {
         let id = ActionId(a.0);
-        (id.index() < self.0.actions.len() && !self.0.action(id).removed).then_some(id)
+        (id.index() < self.0.actions().len() && !self.0.action(id).removed).then_some(id)
     }
 }
 
@@ -79,7 +79,7 @@ impl CausalView for PlanView<'_> {
                 None => return,
             },
             Node::Goal(g) => plan
-                .goals
+                .goals()
                 .iter()
                 .filter(|pg| pg.active && goal_key(pg.goal) == g)
                 .map(|pg| pg.cond)
@@ -98,10 +98,10 @@ impl CausalView for PlanView<'_> {
 
     fn goal_kind(&self, g: GoalKey) -> Option<GoalKind> {
         let plan = self.0;
-        plan.goals
+        plan.goals()
             .iter()
             .find(|pg| pg.active && goal_key(pg.goal) == g)
-            .and_then(|pg| plan.problem.goals.get(pg.goal.index()))
+            .and_then(|pg| plan.problem().goals.get(pg.goal.index()))
             .map(|goal| goal.kind)
     }
 }
@@ -196,7 +196,7 @@ impl PlanMarking {
                     return Ok(());
                 }
                 let kind = plan
-                    .problem
+                    .problem()
                     .goals
                     .get(g.index())
                     .map_or(GoalKind::Internal, |goal| goal.kind);

@@ -75,7 +75,7 @@ impl Executive {
                 if act.removed || self.plan.is_executed(act.end) || self.stop_sent.contains(&a) {
                     continue;
                 }
-                let pre = self.plan.domain.task(act.task).preemption;
+                let pre = self.plan.domain().task(act.task).preemption;
                 let c = self.candidate(act.end, TpKind::End(pre));
                 if pre == Preemption::NonPreemptive {
                     wake(c.ub, &mut next);
@@ -88,8 +88,8 @@ impl Executive {
                     wake(te, &mut next);
                 }
             }
-            for i in 0..self.plan.goals.len() {
-                let pg = self.plan.goals[i].clone();
+            for i in 0..self.plan.goals().len() {
+                let pg = self.plan.goals()[i].clone();
                 if !pg.active || self.plan.is_executed(pg.et) {
                     continue;
                 }
@@ -117,7 +117,7 @@ impl Executive {
                     && self.plan.execute_at(pg.et, now).is_ok()
                 {
                     executed = true;
-                    let name = self.plan.problem.goals[pg.goal.index()].name.clone();
+                    let name = self.plan.problem().goals[pg.goal.index()].name.clone();
                     self.set_fate(pg.goal, Fate::Achieved, None);
                     self.trace(TraceEvent::GoalAchieved { goal: name });
                 }
@@ -202,7 +202,7 @@ impl Executive {
     fn execute_timed_facts(&mut self, now: Time, next: &mut Option<Time>) {
         let tps: Vec<_> = self
             .plan
-            .events
+            .events()
             .iter()
             .filter(|e| matches!(e.owner, Owner::Exogenous(_)))
             .map(|e| e.at)
@@ -260,11 +260,11 @@ impl Executive {
             self.action_failed(a, "sent no report by its latest end", now);
         }
         let stn = self.plan.temporal_network();
-        for pg in self.plan.goals.iter().filter(|g| g.active) {
+        for pg in self.plan.goals().iter().filter(|g| g.active) {
             if !stn.is_executed(pg.st) && stn.ub(pg.st) < now {
                 late = Some(format!(
                     "start of goal {}",
-                    self.plan.problem.goals[pg.goal.index()].name
+                    self.plan.problem().goals[pg.goal.index()].name
                 ));
             }
         }

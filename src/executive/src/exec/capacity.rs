@@ -35,7 +35,7 @@ pub fn alter(
     t: Time,
     running: &[ActionId],
 ) -> CapacityOutcome {
-    let mut problem = (*plan.problem).clone();
+    let mut problem = (**plan.problem()).clone();
     let Some(setup) = problem.resources.get_mut(r.index()) else {
         return CapacityOutcome::Nothing;
     };
@@ -48,7 +48,7 @@ pub fn alter(
     let flawed = flawed_actions(plan);
     if !plan_executable(running, &flawed) {
         CapacityOutcome::Abort
-    } else if capacity < old || plan.domain.resource(r).kind == ResourceKind::Reservoir {
+    } else if capacity < old || plan.domain().resource(r).kind == ResourceKind::Reservoir {
         CapacityOutcome::Repair
     } else {
         CapacityOutcome::Nothing

@@ -52,7 +52,7 @@ pub fn flawed_actions(plan: &mut PartialPlan) -> Vec<ActionId> {
 
 /// Definition 3: `st^g` is executable and g is not in F_t (its condition is not open).
 pub fn goal_achievable(plan: &PartialPlan, g: GoalId, t: Time) -> bool {
-    plan.goals.iter().any(|pg| {
+    plan.goals().iter().any(|pg| {
         pg.goal == g
             && pg.active
             && plan.cond(pg.cond).link.is_some()

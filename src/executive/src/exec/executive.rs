@@ -122,14 +122,14 @@ impl Executive {
     /// An executive over a solution plan (the planner's output, or a hand-built plan in tests).
     pub fn new(plan: PartialPlan, cfg: ExecConfig) -> Self {
         let past = plan
-            .problem
+            .problem()
             .resources
             .iter()
             .map(|s| (s.level, s.level))
             .collect();
         let mut fates = BTreeMap::new();
-        for pg in &plan.goals {
-            if let Some(g) = plan.problem.goals.get(pg.goal.index()) {
+        for pg in plan.goals() {
+            if let Some(g) = plan.problem().goals.get(pg.goal.index()) {
                 fates.insert(
                     pg.goal,
                     GoalFate {
@@ -140,8 +140,8 @@ impl Executive {
                 );
             }
         }
-        let last_reported = vec![None; plan.problem.resources.len()];
-        let hierarchy = Hierarchy::new(&plan.domain);
+        let last_reported = vec![None; plan.problem().resources.len()];
+        let hierarchy = Hierarchy::new(plan.domain());
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
         Executive {
@@ -223,7 +223,7 @@ impl Executive {
     /// [`Self::action_text`] of an action of another plan (e.g. a replanning's).
     pub fn action_text_in(&self, plan: &PartialPlan, a: ActionId) -> String {
         let act = plan.action(a);
-        let task = plan.domain.task(act.task);
+        let task = plan.domain().task(act.task);
         let args: Vec<String> = act.vars[..task.n_params]
             .iter()
             .map(|&v| plan.term_name(mavtempo_temporal::plan::STerm::Var(v)))
@@ -234,20 +234,20 @@ impl Executive {
     /// `START a p_a i_a`: the task name and its grounded parameters in vehicle terms.
     pub fn start_command(&self, a: ActionId, vid: u64) -> ActionStart {
         let act = self.plan.action(a);
-        let task = self.plan.domain.task(act.task);
-        let home = self.plan.problem.home;
+        let task = self.plan.domain().task(act.task);
+        let home = self.plan.problem().home;
         let mut args = Vec::new();
         for (i, p) in task.params().iter().enumerate() {
             let v = act.vars[i];
             let arg = match self
                 .plan
-                .bindings
+                .bindings()
                 .value(mavtempo_temporal::plan::STerm::Var(v))
             {
                 Some(mavtempo_temporal::model::Value::Obj(o)) => {
                     let (name, obj) = (
-                        self.plan.problem.object_name(o).to_string(),
-                        self.plan.problem.object(o),
+                        self.plan.problem().object_name(o).to_string(),
+                        self.plan.problem().object(o),
                     );
                     match obj.and_then(|ob| ob.local(home.as_ref())) {
                         Some((e, n, u)) => Arg::location(&name, Enu::new(e, n, u)),
@@ -267,7 +267,7 @@ impl Executive {
 
     /// The resource named `name` in the domain.
     pub fn resource(&self, name: &str) -> Option<ResourceId> {
-        self.plan.domain.resource_id(name)
+        self.plan.domain().resource_id(name)
     }
 
     /// Goal fates in the order of the problem, then the goals refused before they entered the plan, then

@@ -25,10 +25,10 @@ pub struct Instance {
 impl Instance {
     pub fn of(plan: &PartialPlan, a: ActionId) -> Self {
         let act = plan.action(a);
-        let task = plan.domain.task(act.task);
+        let task = plan.domain().task(act.task);
         let args = act.vars[..task.n_params]
             .iter()
-            .map(|&v| match plan.bindings.value(STerm::Var(v)) {
+            .map(|&v| match plan.bindings().value(STerm::Var(v)) {
                 Some(_) => plan.term_name(STerm::Var(v)),
                 None => "?".into(),
             })
@@ -42,15 +42,15 @@ impl Instance {
     /// Whether action `a` of `plan` may be this instance (its unbound arguments may take these values).
     pub fn possibly(&self, plan: &PartialPlan, a: ActionId) -> bool {
         let act = plan.action(a);
-        let task = plan.domain.task(act.task);
+        let task = plan.domain().task(act.task);
         if task.name != self.task {
             return false;
         }
         act.vars[..task.n_params]
             .iter()
             .zip(&self.args)
-            .all(|(&v, name)| match plan.problem.object_id(name) {
-                Some(o) => plan.bindings.possibly_equal(STerm::Var(v), STerm::Obj(o)),
+            .all(|(&v, name)| match plan.problem().object_id(name) {
+                Some(o) => plan.bindings().possibly_equal(STerm::Var(v), STerm::Obj(o)),
                 None => false,
             })
     }
@@ -259,7 +259,7 @@ pub fn dependent_goals(plan: &PartialPlan, a: ActionId) -> Vec<GoalId> {
     }
     goals
         .into_iter()
-        .filter(|g| plan.goals.iter().any(|pg| pg.goal == *g && pg.active))
+        .filter(|g| plan.goals().iter().any(|pg| pg.goal == *g && pg.active))
         .collect()
 }
 

@@ -29,7 +29,7 @@ pub fn request(
     t: Time,
     running: &[ActionId],
 ) -> Result<GoalId, Rejection> {
-    let old_problem = plan.problem.clone();
+    let old_problem = plan.problem().clone();
     let level = plan.save();
     let mut problem = (*old_problem).clone();
     let g = GoalId::from_index(problem.goals.len());
@@ -76,8 +76,8 @@ fn order_after_threatened(
                 && h.args
                     .iter()
                     .zip(&c.args)
-                    .all(|(&x, &y)| plan.bindings.possibly_equal(x, y))
-                && !plan.bindings.necessarily_equal(h.value, c.value)
+                    .all(|(&x, &y)| plan.bindings().possibly_equal(x, y))
+                && !plan.bindings().necessarily_equal(h.value, c.value)
         });
         if threatens {
             plan.order(end, c.from)?;

@@ -21,17 +21,16 @@ pub enum InstantiateError {
 pub fn instantiate_at_start(plan: &mut PartialPlan, a: ActionId) -> Result<(), InstantiateError> {
     let vars = plan.action(a).vars.clone();
     for v in vars {
-        if plan.bindings.value(STerm::Var(v)).is_some() {
+        if plan.bindings().value(STerm::Var(v)).is_some() {
             continue;
         }
         let flaws_before = plan.flaws().len();
-        let candidates = plan.bindings.domain(v).to_vec();
+        let candidates = plan.bindings().domain(v).to_vec();
         let mut fallback = None;
         let mut chosen = false;
         for o in candidates {
             let level = plan.save();
-            let ok = plan.bindings.restrict_var(v, &[o]).is_ok()
-                && plan.propagate_changed_bindings().is_ok();
+            let ok = plan.bind_var(v, o).is_ok();
             if ok && plan.flaws().len() <= flaws_before {
                 chosen = true;
                 break;
@@ -50,8 +49,7 @@ pub fn instantiate_at_start(plan: &mut PartialPlan, a: ActionId) -> Result<(), I
                 var: plan.term_name(STerm::Var(v)),
             });
         };
-        let ok = plan.bindings.restrict_var(v, &[o]).is_ok()
-            && plan.propagate_changed_bindings().is_ok();
+        let ok = plan.bind_var(v, o).is_ok();
         if !ok {
             return Err(InstantiateError::BindingFailed {
                 var: plan.term_name(STerm::Var(v)),

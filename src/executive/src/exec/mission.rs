@@ -498,7 +498,7 @@ impl Log {
             resources: self.resources,
             reservoirs: ex
                 .plan
-                .domain
+                .domain()
                 .resources
                 .iter()
                 .filter(|r| r.kind == mavtempo_temporal::model::ResourceKind::Reservoir)
@@ -533,7 +533,7 @@ pub fn fresh_level(ex: &Executive, i: usize, seen: &mut Option<(Time, f64)>) -> 
 pub fn resource_bounds_now(ex: &Executive, now: Time) -> Vec<(String, f64, f64)> {
     let running = classify(&ex.plan, now).running;
     ex.plan
-        .domain
+        .domain()
         .resources
         .iter()
         .enumerate()
@@ -547,7 +547,7 @@ pub fn resource_bounds_now(ex: &Executive, now: Time) -> Vec<(String, f64, f64)>
 
 /// The final problem's location objects with coordinates (metres from the problem's home).
 pub fn places(ex: &Executive) -> Vec<Place> {
-    let problem = &ex.plan.problem;
+    let problem = &ex.plan.problem();
     let home = problem.home.as_ref();
     problem
         .objects

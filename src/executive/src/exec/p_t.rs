@@ -84,7 +84,7 @@ impl State {
     /// Recomputes LgcS_t from the plan's executed events (events of the initial state at the origin and of
     /// executed timepoints), keeping reported values that are more recent.
     pub fn refresh(&mut self, plan: &PartialPlan, t: Time) {
-        for e in &plan.events {
+        for e in plan.events() {
             let Some(at) = plan.executed_at(e.at) else {
                 continue;
             };
@@ -94,12 +94,12 @@ impl State {
             let args: Option<Vec<ObjectId>> = e
                 .args
                 .iter()
-                .map(|&a| match plan.bindings.value(a) {
+                .map(|&a| match plan.bindings().value(a) {
                     Some(Value::Obj(o)) => Some(o),
                     _ => None,
                 })
                 .collect();
-            let (Some(args), Some(value)) = (args, plan.bindings.value(e.to)) else {
+            let (Some(args), Some(value)) = (args, plan.bindings().value(e.to)) else {
                 continue;
             };
             let key = (e.attr, args);
@@ -124,7 +124,7 @@ impl State {
 
 /// G_t: goals still active whose `et^g_ub ≥ t` (footnote 5).
 pub fn goals(plan: &PartialPlan, t: Time) -> Vec<GoalId> {
-    plan.goals
+    plan.goals()
         .iter()
         .filter(|g| g.active && plan.latest(g.et) >= t)
         .map(|g| g.goal)

@@ -65,7 +65,7 @@ fn not_before(
         .flat_map(|a| plan.action(a).tps.clone())
         .collect();
     tps.extend(
-        plan.goals
+        plan.goals()
             .iter()
             .filter(|g| g.active)
             .flat_map(|g| [g.st, g.et]),

@@ -38,7 +38,7 @@ pub struct Extracted {
 
 /// The problem of P_ti: S_t as the initial state, the resource levels at t, the timed facts still to come.
 pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
-    let mut p: Problem = (*ex.plan.problem).clone();
+    let mut p: Problem = (**ex.plan.problem()).clone();
     for f in p.initial.iter_mut() {
         if let Some(v) = ex.state.get(&(f.attr, f.args.clone())) {
             f.value = v;
@@ -63,10 +63,10 @@ pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
 /// P_ti: the extracted problem's root plan, without the goals in `dropped` or already achieved, with T_end.
 pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracted, PlanError> {
     let problem = Arc::new(extract_problem(ex, now));
-    let mut plan = PartialPlan::new(ex.plan.domain.clone(), problem.clone())?;
+    let mut plan = PartialPlan::new(ex.plan.domain().clone(), problem.clone())?;
     let t_end = plan.add_planning_end(now)?;
     let mut incoherent = Vec::new();
-    for pg in plan.goals.clone() {
+    for pg in plan.goals().to_vec() {
         let g = &problem.goals[pg.goal.index()];
         let settled = ex
             .fates
@@ -98,11 +98,11 @@ pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracte
 /// The goal to abandon: the lowest priority, then the least flexibility `st_ub − d_achiev`, then the
 /// newest (the goals held longest are kept).
 pub fn goal_to_reject(plan: &PartialPlan) -> Option<GoalId> {
-    plan.goals
+    plan.goals()
         .iter()
         .filter(|g| g.active)
         .min_by_key(|g| {
-            let goal = &plan.problem.goals[g.goal.index()];
+            let goal = &plan.problem().goals[g.goal.index()];
             (
                 goal.priority,
                 plan.latest(g.st) - goal.achieve,
@@ -259,7 +259,7 @@ pub enum ReplanResult {
 fn active_goal_names(plan: &PartialPlan) -> Vec<String> {
     active_goals(plan)
         .into_iter()
-        .filter_map(|g| plan.problem.goals.get(g.index()))
+        .filter_map(|g| plan.problem().goals.get(g.index()))
         .map(|g| g.name.clone())
         .collect()
 }
@@ -270,7 +270,7 @@ struct SoloPlans(Vec<(GoalId, PartialPlan)>);
 
 /// The active goals of `plan`.
 fn active_goals(plan: &PartialPlan) -> Vec<GoalId> {
-    plan.goals
+    plan.goals()
         .iter()
         .filter(|g| g.active)
         .map(|g| g.goal)
@@ -290,8 +290,8 @@ impl SoloPlans {
             .iter()
             .filter(|(g, _)| !dropped.contains(g))
             .max_by_key(|(g, p)| {
-                let goal = &p.problem.goals[g.index()];
-                let st = p.goals.iter().find(|pg| pg.goal == *g).map(|pg| pg.st);
+                let goal = &p.problem().goals[g.index()];
+                let st = p.goals().iter().find(|pg| pg.goal == *g).map(|pg| pg.st);
                 (
                     goal.priority,
                     st.map_or(0, |st| p.latest(st) - goal.achieve),
@@ -380,7 +380,7 @@ impl Executive {
         let mut solo = SoloPlans(Vec::new());
         for attempt in 1.. {
             let t = now();
-            if t >= self.plan.horizon {
+            if t >= self.plan.horizon() {
                 // Nothing can be planned past the mission's end: what is left is settled here.
                 for g in self.pending_goals() {
                     self.reject_goal(g, FateReason::HorizonPassed);
@@ -394,7 +394,7 @@ impl Executive {
                 Err(e) => return ReplanResult::Error(e.to_string()),
             };
             for &g in &ext.incoherent {
-                let goal = &self.plan.problem.goals[g.index()];
+                let goal = &self.plan.problem().goals[g.index()];
                 let reason = FateReason::WindowPassed {
                     now_ms: t,
                     achieve_ms: goal.achieve,
@@ -406,8 +406,8 @@ impl Executive {
             let mut ext = ext;
             if attempt == 1 {
                 tracing::debug!(
-                    state = ?ext.plan.problem.initial.iter().map(|f| ext.plan.problem.fact_string(&ext.plan.domain, f)).collect::<Vec<_>>(),
-                    levels = ?ext.plan.problem.resources.iter().map(|r| r.level).collect::<Vec<_>>(),
+                    state = ?ext.plan.problem().initial.iter().map(|f| ext.plan.problem().fact_string(ext.plan.domain(), f)).collect::<Vec<_>>(),
+                    levels = ?ext.plan.problem().resources.iter().map(|r| r.level).collect::<Vec<_>>(),
                     "P_ti extracted"
                 );
                 // A goal no plan achieves even alone is rejected at once, with why, rather than costing
@@ -524,11 +524,11 @@ impl Executive {
         let reason = match &kept {
             Some((g, _)) => FateReason::OtherKept {
                 reason: Box::new(reason),
-                kept: self.plan.problem.goals[g.index()].name.clone(),
+                kept: self.plan.problem().goals[g.index()].name.clone(),
             },
             None => reason,
         };
-        for g in left.goals.iter().filter(|g| g.active).map(|g| g.goal) {
+        for g in left.goals().iter().filter(|g| g.active).map(|g| g.goal) {
             if kept.as_ref().is_none_or(|(k, _)| *k != g) {
                 self.reject_goal(g, reason.clone());
                 dropped.push(g);
@@ -562,6 +562,6 @@ impl Executive {
         self.abort = None;
         // A new goal's insertion attempt starts again from the new plan.
         self.insertion_stale = true;
-        self.hierarchy = super::abstraction::Hierarchy::new(&self.plan.domain);
+        self.hierarchy = super::abstraction::Hierarchy::new(self.plan.domain());
     }
 }

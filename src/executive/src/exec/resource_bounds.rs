@@ -44,7 +44,7 @@ pub fn past_level(
         if plan.action(us.action).removed || running.contains(&us.action) {
             continue;
         }
-        let (qlo, qhi) = plan.numeric.term(us.quantity);
+        let (qlo, qhi) = plan.numeric().term(us.quantity);
         match us.kind {
             UsageKind::Produce { at } if plan.latest(at) < t => {
                 changes.push((plan.latest(at), qlo, qhi, us.saturating));
@@ -56,7 +56,7 @@ pub fn past_level(
         }
     }
     changes.sort_by_key(|c| c.0);
-    let capacity = plan.domain.resource(r).capacity;
+    let capacity = plan.domain().resource(r).capacity;
     changes
         .into_iter()
         .fold(past, |(lb, ub), (_, dlo, dhi, saturating)| {
@@ -89,7 +89,7 @@ pub fn running_estimate(
             continue;
         }
         any = true;
-        let (qlo, qhi) = plan.numeric.term(us.quantity);
+        let (qlo, qhi) = plan.numeric().term(us.quantity);
         match us.kind {
             UsageKind::Consume { .. } => min -= qhi,
             UsageKind::Produce { .. } => max += qhi,
@@ -134,8 +134,8 @@ pub fn level_bounds(
 pub fn fold_removed(plan: &PartialPlan, a: ActionId, past: &mut [(f64, f64)]) {
     for &u in &plan.action(a).usages {
         let us = plan.usage(u);
-        let (qlo, qhi) = plan.numeric.term(us.quantity);
-        let capacity = plan.domain.resource(us.resource).capacity;
+        let (qlo, qhi) = plan.numeric().term(us.quantity);
+        let capacity = plan.domain().resource(us.resource).capacity;
         let p = &mut past[us.resource.index()];
         *p = match us.kind {
             UsageKind::Produce { .. } => add(p.0, p.1, qlo, qhi, us.saturating, capacity),

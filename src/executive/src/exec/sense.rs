@@ -119,7 +119,7 @@ impl Executive {
         }
         let running = classify(&self.plan, t).running;
         let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
-        let kind = self.plan.domain.resource(r).kind;
+        let kind = self.plan.domain().resource(r).kind;
         let u = integrate_level(&b, l.level, kind, self.level_tolerance);
         // The constraint on the level is posted on the past part: every still-counted usage is subtracted
         // back out so that eq. (1) gives the new level.
@@ -129,7 +129,7 @@ impl Executive {
         );
         self.past[r.index()] = (u.past.0 - counted.0, u.past.1 - counted.1);
         // The reservoir envelope starts from the (pessimistic) aggregated level.
-        let mut problem = (*self.plan.problem).clone();
+        let mut problem = (**self.plan.problem()).clone();
         if let Some(s) = problem.resources.get_mut(r.index()) {
             s.level = self.past[r.index()].0;
         }
@@ -171,8 +171,8 @@ impl Executive {
         if l.new {
             return None;
         }
-        let o = self.plan.problem.object_id(&l.name)?;
-        let ty = self.plan.problem.object(o)?.ty;
+        let o = self.plan.problem().object_id(&l.name)?;
+        let ty = self.plan.problem().object(o)?.ty;
         (Some(ty) == self.mapping.location_type).then_some(o)
     }
 
@@ -215,12 +215,12 @@ impl Executive {
         let window_hi = if g.start_window_s.1.is_finite() {
             ms(g.start_window_s.1)
         } else {
-            self.plan.horizon
+            self.plan.horizon()
         };
         let dur_hi = if g.duration_s.1.is_finite() {
             ms(g.duration_s.1)
         } else {
-            self.plan.horizon
+            self.plan.horizon()
         };
         Ok(Goal {
             name: g.name.clone(),
@@ -231,7 +231,7 @@ impl Executive {
             value,
             start_window: TimeInterval::closed(
                 ms(g.start_window_s.0),
-                window_hi.min(self.plan.horizon),
+                window_hi.min(self.plan.horizon()),
             ),
             duration: TimeInterval::closed(ms(g.duration_s.0), dur_hi),
             achieve: ms(g.d_achiev_s),

@@ -128,7 +128,7 @@ impl Executive {
         if self.fates.get(&g).is_some_and(|f| f.fate != Fate::Pending) {
             return;
         }
-        let name = self.plan.problem.goals[g.index()].name.clone();
+        let name = self.plan.problem().goals[g.index()].name.clone();
         self.set_fate(g, Fate::Rejected, Some(reason.clone()));
         self.trace(TraceEvent::GoalRejected { goal: name, reason });
     }
@@ -137,23 +137,20 @@ impl Executive {
 /// Keeps action `a` apart from instance `inst` by separating one unbound argument from its banned value.
 fn avoid(plan: &mut PartialPlan, a: ActionId, inst: &Instance) -> bool {
     let act = plan.action(a);
-    let n = plan.domain.task(act.task).n_params;
+    let n = plan.domain().task(act.task).n_params;
     let vars: Vec<_> = act.vars[..n].to_vec();
     for (v, name) in vars.into_iter().zip(&inst.args) {
-        let Some(o) = plan.problem.object_id(name) else {
+        let Some(o) = plan.problem().object_id(name) else {
             continue;
         };
         if plan
-            .bindings
+            .bindings()
             .necessarily_equal(STerm::Var(v), STerm::Obj(o))
         {
             continue;
         }
         let level = plan.save();
-        if plan.bindings.separate(STerm::Var(v), STerm::Obj(o)).is_ok()
-            && plan.propagate_changed_bindings().is_ok()
-            && plan.flaws().is_empty()
-        {
+        if plan.keep_var_off(v, o).is_ok() && plan.flaws().is_empty() {
             return true;
         }
         plan.restore(level);

@@ -31,10 +31,10 @@ pub fn location_object(
     at: Enu,
     from: Option<ObjectId>,
 ) -> Result<ObjectId, MappingError> {
-    let home = ex.plan.problem.home;
+    let home = ex.plan.problem().home;
     let ty = ex.mapping.location_type;
     let mut best: Option<(f64, ObjectId)> = None;
-    for (i, o) in ex.plan.problem.objects.iter().enumerate() {
+    for (i, o) in ex.plan.problem().objects.iter().enumerate() {
         if ty.is_some_and(|t| t != o.ty) {
             continue;
         }
@@ -54,14 +54,14 @@ pub fn location_object(
             north: at.north,
         });
     };
-    let mut problem = (*ex.plan.problem).clone();
+    let mut problem = (**ex.plan.problem()).clone();
     let mut unique = name.to_string();
     let mut k = 1;
     while problem.object_id(&unique).is_some() {
         k += 1;
         unique = format!("{name}_{k}");
     }
-    let d = ex.plan.domain.clone();
+    let d = ex.plan.domain().clone();
     let statics: Vec<AttrId> = (0..d.attrs.len())
         .map(AttrId::from_index)
         .filter(|&a| d.tasks.iter().all(|t| t.events.iter().all(|e| e.attr != a)))
@@ -96,7 +96,7 @@ fn reported_value(
                 .mapping
                 .position
                 .ok_or(MappingError::NoPositionAttribute)?;
-            let name = format!("L{}", ex.plan.problem.objects.len());
+            let name = format!("L{}", ex.plan.problem().objects.len());
             // Where the action started from: the value its start event on the position changed.
             let act = ex.plan.action(a);
             let from = act
@@ -112,13 +112,13 @@ fn reported_value(
             Ok((attr, vec![], Value::Obj(o)))
         }
         StateValue::Symbol(s) => {
-            let d = &ex.plan.domain;
+            let d = &ex.plan.domain();
             let attr = d.attr_id(var).ok_or_else(|| MappingError::NoAttribute {
                 name: var.to_string(),
             })?;
             let o = ex
                 .plan
-                .problem
+                .problem()
                 .object_id(s)
                 .or_else(|| d.object_id(s))
                 .ok_or_else(|| MappingError::NoObject { name: s.clone() })?;
@@ -150,8 +150,8 @@ fn threatened(
                     && k.args
                         .iter()
                         .zip(args)
-                        .all(|(&x, &o)| plan.bindings.possibly_equal(x, STerm::Obj(o)))
-                    && !plan.bindings.possibly_equal(k.value, value.into())
+                        .all(|(&x, &o)| plan.bindings().possibly_equal(x, STerm::Obj(o)))
+                    && !plan.bindings().possibly_equal(k.value, value.into())
             })
         })
         .collect()
@@ -161,11 +161,11 @@ fn threatened(
 fn before_value(ex: &Executive, e: EventId) -> Option<(AttrId, Vec<ObjectId>, Value)> {
     let ev = ex.plan.event(e);
     let from = ex.plan.cond(ev.cond?).value;
-    let value = ex.plan.bindings.value(from)?;
+    let value = ex.plan.bindings().value(from)?;
     let args = ev
         .args
         .iter()
-        .map(|&x| match ex.plan.bindings.value(x) {
+        .map(|&x| match ex.plan.bindings().value(x) {
             Some(Value::Obj(o)) => Some(o),
             _ => None,
         })
@@ -184,7 +184,7 @@ fn restored_value(
 ) -> Option<(AttrId, Vec<ObjectId>, Value)> {
     let plan = &ex.plan;
     let ev = plan.event(e);
-    let b = &plan.bindings;
+    let b = &plan.bindings();
     let from = plan.cond(ev.cond?).value;
     let st = plan.action(a).start;
     let undone = plan.action(a).events.iter().any(|&s| {
@@ -227,7 +227,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     // complete, its unreported end effects did not happen.
     let et = ex.plan.action(a).end;
     let preemptive =
-        ex.plan.domain.task(ex.plan.action(a).task).preemption != Preemption::NonPreemptive;
+        ex.plan.domain().task(ex.plan.action(a).task).preemption != Preemption::NonPreemptive;
     for &e in &ex.plan.action(a).events.clone() {
         let ev = ex.plan.event(e);
         if ev.at != et {
@@ -238,13 +238,13 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
             ev.args
                 .iter()
                 .zip(args)
-                .all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)))
+                .all(|(&x, &o)| ex.plan.bindings().necessarily_equal(x, STerm::Obj(o)))
         };
         let report = reported
             .iter()
             .find(|(at, args, _)| *at == attr && same_instance(args));
         let happened = match report {
-            Some((_, _, v)) => ex.plan.bindings.necessarily_equal(ev.to, (*v).into()),
+            Some((_, _, v)) => ex.plan.bindings().necessarily_equal(ev.to, (*v).into()),
             None => preemptive && r.status == mavtempo_vehicle::ReportStatus::Interrupted,
         };
         if happened {
@@ -277,7 +277,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
         let threats = threatened(ex, attr, &args, value, t, a);
         if !threats.is_empty() {
             for ra in threats {
-                let pre = ex.plan.domain.task(ex.plan.action(ra).task).preemption;
+                let pre = ex.plan.domain().task(ex.plan.action(ra).task).preemption;
                 let name = ex.action_text(ra);
                 if pre != Preemption::NonPreemptive && !ex.stop_sent.contains(&ra) {
                     ex.trace(TraceEvent::Interrupt {
@@ -302,13 +302,13 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
                 .args
                 .iter()
                 .zip(&args)
-                .all(|(&x, &o)| ex.plan.bindings.necessarily_equal(x, STerm::Obj(o)));
+                .all(|(&x, &o)| ex.plan.bindings().necessarily_equal(x, STerm::Obj(o)));
             let est_done = ex.plan.latest(ex.plan.event(link.event).at) <= t;
             let open_after = ex.plan.latest(c.to) >= t;
             if same
                 && est_done
                 && open_after
-                && !ex.plan.bindings.possibly_equal(c.value, value.into())
+                && !ex.plan.bindings().possibly_equal(c.value, value.into())
             {
                 broken.push(l);
             }

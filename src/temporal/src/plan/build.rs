@@ -241,7 +241,7 @@ impl PartialPlan {
     }
 
     /// Re-propagates the numeric constraints of actions whose variables' domains changed (distances).
-    pub fn propagate_changed_bindings(&mut self) -> Result<(), PlanError> {
+    pub(crate) fn propagate_changed_bindings(&mut self) -> Result<(), PlanError> {
         let changed = self.bindings.take_changed();
         if changed.is_empty() {
             return Ok(());

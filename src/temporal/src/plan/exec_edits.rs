@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use super::{ActionId, LinkId, PartialPlan};
+use super::{ActionId, LinkId, PartialPlan, PlanError, STerm, VarId};
 use crate::model::{AttrId, ObjectId, Problem, Time, Value};
 use crate::stn::{Inconsistent, Timepoint, INF};
 
@@ -14,6 +14,20 @@ impl PartialPlan {
     /// distances and predecessors).
     pub fn temporal_network(&self) -> &crate::stn::Stn {
         &self.stn
+    }
+
+    /// Binds `v` to `value` (an action's parameter instantiated before its START), then re-propagates what
+    /// depends on the binding (the distances of moves); on `Err` the caller restores its level.
+    pub fn bind_var(&mut self, v: VarId, value: ObjectId) -> Result<(), PlanError> {
+        self.bindings.restrict_var(v, &[value])?;
+        self.propagate_changed_bindings()
+    }
+
+    /// Keeps `v` off `value`, then re-propagates what depends on the binding; on `Err` the caller restores
+    /// its level.
+    pub fn keep_var_off(&mut self, v: VarId, value: ObjectId) -> Result<(), PlanError> {
+        self.bindings.separate(STerm::Var(v), STerm::Obj(value))?;
+        self.propagate_changed_bindings()
     }
 
     /// The lower bound of `tp` (ms since the origin).
@@ -50,6 +64,18 @@ impl PartialPlan {
     /// §3.6).
     pub fn order(&mut self, before: Timepoint, after: Timepoint) -> Result<(), Inconsistent> {
         self.stn.add_precedence(before, after).map(|_| ())
+    }
+
+    /// `min ≤ to − from ≤ max` (a resolver's temporal constraint, for plans built by hand). Constraints only
+    /// narrow the windows, so a candidate flaw once resolved stays resolved: the caches stay right.
+    pub fn constrain(
+        &mut self,
+        from: Timepoint,
+        to: Timepoint,
+        min: Time,
+        max: Time,
+    ) -> Result<(), Inconsistent> {
+        self.stn.add_constraint(from, to, min, max).map(|_| ())
     }
 
     /// §3.6 T_end, the end of the planning process: a new timepoint within `[now, horizon]`.

@@ -286,22 +286,24 @@ pub(crate) struct Candidate<A, B> {
     pub done: bool,
 }
 
-/// The partial plan.
+/// The partial plan. Its networks and tables are read from outside this crate through accessors and
+/// changed only through its methods (the planner's resolvers, [`exec_edits`]), which keep the flaw caches,
+/// the indexes and the trail right: a caller cannot forget them.
 #[derive(Clone, Debug)]
 pub struct PartialPlan {
-    pub domain: Arc<Domain>,
-    pub problem: Arc<Problem>,
-    pub stn: Stn,
-    pub bindings: Bindings,
-    pub numeric: Numeric,
-    pub actions: Vec<Action>,
-    pub events: Vec<EventRec>,
-    pub conds: Vec<Condition>,
-    pub links: Vec<CausalLink>,
-    pub usages: Vec<Usage>,
-    pub goals: Vec<PlanGoal>,
+    pub(crate) domain: Arc<Domain>,
+    pub(crate) problem: Arc<Problem>,
+    pub(crate) stn: Stn,
+    pub(crate) bindings: Bindings,
+    pub(crate) numeric: Numeric,
+    pub(crate) actions: Vec<Action>,
+    pub(crate) events: Vec<EventRec>,
+    pub(crate) conds: Vec<Condition>,
+    pub(crate) links: Vec<CausalLink>,
+    pub(crate) usages: Vec<Usage>,
+    pub(crate) goals: Vec<PlanGoal>,
     /// The horizon timepoint's bound: every timepoint is before `problem.horizon`.
-    pub horizon: Time,
+    pub(crate) horizon: Time,
     floor: TimeFloor,
     /// Events per attribute (index = AttrId).
     events_by_attr: Vec<Vec<EventId>>,
@@ -469,6 +471,59 @@ impl PartialPlan {
     /// Usages of `r`.
     pub fn usages_of(&self, r: ResourceId) -> &[UsageId] {
         &self.usages_by_res[r.index()]
+    }
+
+    pub fn domain(&self) -> &Arc<Domain> {
+        &self.domain
+    }
+
+    pub fn problem(&self) -> &Arc<Problem> {
+        &self.problem
+    }
+
+    /// The binding CSP of its symbolic variables.
+    pub fn bindings(&self) -> &Bindings {
+        &self.bindings
+    }
+
+    /// The CSP of its numeric variables.
+    pub fn numeric(&self) -> &Numeric {
+        &self.numeric
+    }
+
+    /// Every action ever inserted, removed ones included, indexed by [`ActionId`].
+    pub fn actions(&self) -> &[Action] {
+        &self.actions
+    }
+
+    /// Every event, indexed by [`EventId`].
+    pub fn events(&self) -> &[EventRec] {
+        &self.events
+    }
+
+    /// Every condition, indexed by [`CondId`].
+    pub fn conds(&self) -> &[Condition] {
+        &self.conds
+    }
+
+    /// Every causal link, removed ones included, indexed by [`LinkId`].
+    pub fn links(&self) -> &[CausalLink] {
+        &self.links
+    }
+
+    /// Every resource usage, indexed by [`UsageId`].
+    pub fn usages(&self) -> &[Usage] {
+        &self.usages
+    }
+
+    /// The problem's goals as the plan holds them (active or rejected).
+    pub fn goals(&self) -> &[PlanGoal] {
+        &self.goals
+    }
+
+    /// The horizon: every timepoint is before it.
+    pub fn horizon(&self) -> Time {
+        self.horizon
     }
 
     pub fn event(&self, e: EventId) -> &EventRec {
