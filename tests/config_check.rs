@@ -85,13 +85,19 @@ fn line(text: &str, needle: &str) -> usize {
         + 1
 }
 
-/// The issues of the AUV config edited by `edits` (from, to), checked against auv/vents.
-fn issues(edits: &[(&str, &str)]) -> (String, Vec<ConfigIssue>) {
-    let mut text = AUV_CONFIG.to_string();
+/// `text` with the first `from` of each of `edits` (it must be there) replaced by its `to`.
+fn edited(text: &str, edits: &[(&str, &str)]) -> String {
+    let mut text = text.to_string();
     for (from, to) in edits {
         assert!(text.contains(from), "{from:?} not in the config");
         text = text.replacen(from, to, 1);
     }
+    text
+}
+
+/// The issues of the AUV config edited by `edits` (from, to), checked against auv/vents.
+fn issues(edits: &[(&str, &str)]) -> (String, Vec<ConfigIssue>) {
+    let text = edited(AUV_CONFIG, edits);
     let cfg = VehicleConfig::parse(&text, "auv.toml").unwrap_or_else(|e| panic!("{e}"));
     let (d, p) = auv();
     let found = match check(&cfg, &d, Some(&p)) {
@@ -101,14 +107,11 @@ fn issues(edits: &[(&str, &str)]) -> (String, Vec<ConfigIssue>) {
     (text, found)
 }
 
-/// The issues of config/demo-rover.toml edited by `edits` (each `from` replaced by `to`), checked against
-/// the rover domain, which it must not match.
+/// The issues of config/demo-rover.toml edited by `edits` (from, to), checked against the rover domain,
+/// which it must not match.
 fn rover_issues(edits: &[(&str, &str)]) -> (String, Vec<ConfigIssue>) {
-    let mut text = std::fs::read_to_string(root().join("config/demo-rover.toml")).expect("config");
-    for (from, to) in edits {
-        assert!(text.contains(from), "{from:?} not in the config");
-        text = text.replace(from, to);
-    }
+    let shipped = std::fs::read_to_string(root().join("config/demo-rover.toml")).expect("config");
+    let text = edited(&shipped, edits);
     let cfg = VehicleConfig::parse(&text, "rover.toml").expect("parses");
     let rover = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
     let found = check(&cfg, &rover, None).expect_err("mismatch");
@@ -429,11 +432,10 @@ fn observed_state_names_are_checked_against_the_domain() {
     let text = include_str!("../config/ardupilot-rover.toml");
     let d = load_domain(Path::new("domains/rover/rover.ixt")).expect("rover");
     let with = |from: &str, to: &str| {
-        assert!(text.contains(from), "{from:?} not in the config");
-        let edited = text.replacen(from, to, 1);
-        let cfg = VehicleConfig::parse(&edited, "rover.toml").unwrap_or_else(|e| panic!("{e}"));
+        let text = edited(text, &[(from, to)]);
+        let cfg = VehicleConfig::parse(&text, "rover.toml").unwrap_or_else(|e| panic!("{e}"));
         let found = check(&cfg, &d, None).err().unwrap_or_default();
-        (edited, found)
+        (text, found)
     };
     let shipped = "moving = { attribute = \"ROBOT_STATUS\", yes = \"MOVING\", no = \"STILL\" }";
     let (edited, found) = with(

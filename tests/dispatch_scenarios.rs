@@ -21,7 +21,7 @@ const MIN: Time = 60_000;
 const TS: Time = MIN;
 
 /// Clock time `h:m` relative to the 08:00 origin.
-fn hm(h: i64, m: i64) -> Time {
+const fn hm(h: i64, m: i64) -> Time {
     ((h - 8) * 60 + m) * MIN
 }
 
@@ -198,8 +198,76 @@ impl Sim {
         self.acts[a].started.map(clock)
     }
 
+    fn ended(&self, a: usize) -> Option<String> {
+        self.stn.executed_at(self.acts[a].et).map(clock)
+    }
+
     fn trace(&self) -> Vec<(&'static str, Option<Time>)> {
         self.acts.iter().map(|a| (a.name, a.started)).collect()
+    }
+}
+
+/// A plan fragment as seed 2 draws it: the actions it first removes (plan repair), its goals, its actions
+/// (each with the index it must get), causal links, threat-resolving orderings, deadlines on action ends and
+/// releases of action starts. Applied in that order, so the marking sees the changes a planner would send.
+struct Fragment {
+    remove: &'static [usize],
+    goals: &'static [(u32, GoalKind)],
+    actions: &'static [(usize, &'static str, Time)],
+    links: &'static [(Option<usize>, Node)],
+    orders: &'static [(usize, usize)],
+    deadlines: &'static [(usize, Time)],
+    releases: &'static [(usize, Time)],
+}
+
+const NOTHING: Fragment = Fragment {
+    remove: &[],
+    goals: &[],
+    actions: &[],
+    links: &[],
+    orders: &[],
+    deadlines: &[],
+    releases: &[],
+};
+
+const fn action_node(a: usize) -> Node {
+    Node::Action(ActionKey(a as u32))
+}
+
+const fn goal_node(g: u32) -> Node {
+    Node::Goal(GoalKey(g))
+}
+
+impl Fragment {
+    fn apply(&self, s: &mut Sim) {
+        for &a in self.remove {
+            s.remove(a);
+        }
+        for &(g, kind) in self.goals {
+            s.goal(g, kind);
+        }
+        for &(index, name, dur) in self.actions {
+            assert_eq!(s.action(name, dur), index, "{name}");
+        }
+        for &(from, to) in self.links {
+            s.link(from, to);
+        }
+        for &(a, b) in self.orders {
+            s.order(a, b);
+        }
+        for &(a, end_by) in self.deadlines {
+            s.deadline(a, end_by);
+        }
+        for &(a, start_from) in self.releases {
+            s.release(a, start_from);
+        }
+    }
+
+    /// A fresh plan of this fragment, dispatched under `kind`.
+    fn plan(&self, kind: PolicyKind) -> Sim {
+        let mut s = Sim::new(kind);
+        self.apply(&mut s);
+        s
     }
 }
 
@@ -216,30 +284,34 @@ const GO_H_ANY: usize = 4;
 
 /// Fig. 2: at home at 08:00, wants an apple before noon (external), must be home by 20:00 (internal); the
 /// grocery is reached through the clothing store; the plan model makes every `At` token be followed by a
-/// `Go`, hence the trailing `Go(home, ?)` after 20:00.
-fn shopping(kind: PolicyKind) -> Sim {
-    let mut s = Sim::new(kind);
-    s.goal(HAVE_APPLE, GoalKind::External);
-    s.goal(AT_HOME, GoalKind::Internal);
-    assert_eq!(s.action("Go(home, clothing)", 20 * MIN), GO_H_C);
-    assert_eq!(s.action("Go(clothing, grocery)", 10 * MIN), GO_C_G);
-    assert_eq!(s.action("Buy(apple)", 10 * MIN), BUY_APPLE);
-    assert_eq!(s.action("Go(grocery, home)", 25 * MIN), GO_G_H);
-    assert_eq!(s.action("Go(home, ?)", 20 * MIN), GO_H_ANY);
-    s.link(None, Node::Action(ActionKey(GO_H_C as u32)));
-    s.link(Some(GO_H_C), Node::Action(ActionKey(GO_C_G as u32)));
-    s.link(Some(GO_C_G), Node::Action(ActionKey(BUY_APPLE as u32)));
-    s.link(Some(GO_C_G), Node::Action(ActionKey(GO_G_H as u32)));
-    s.link(Some(BUY_APPLE), Node::Goal(GoalKey(HAVE_APPLE)));
-    s.link(Some(GO_G_H), Node::Goal(GoalKey(AT_HOME)));
-    s.link(Some(GO_G_H), Node::Action(ActionKey(GO_H_ANY as u32)));
-    // Buy(apple) holds At(grocery), which Go(grocery, home) changes: the threat is resolved by ordering.
-    s.order(BUY_APPLE, GO_G_H);
-    s.deadline(BUY_APPLE, hm(12, 0));
-    s.deadline(GO_G_H, hm(20, 0));
-    s.release(GO_H_ANY, hm(20, 0));
-    s
-}
+/// `Go`, hence the trailing `Go(home, ?)` after 20:00. Buy(apple) holds At(grocery), which
+/// Go(grocery, home) changes: the threat is resolved by ordering.
+const SHOPPING: Fragment = Fragment {
+    goals: &[
+        (HAVE_APPLE, GoalKind::External),
+        (AT_HOME, GoalKind::Internal),
+    ],
+    actions: &[
+        (GO_H_C, "Go(home, clothing)", 20 * MIN),
+        (GO_C_G, "Go(clothing, grocery)", 10 * MIN),
+        (BUY_APPLE, "Buy(apple)", 10 * MIN),
+        (GO_G_H, "Go(grocery, home)", 25 * MIN),
+        (GO_H_ANY, "Go(home, ?)", 20 * MIN),
+    ],
+    links: &[
+        (None, action_node(GO_H_C)),
+        (Some(GO_H_C), action_node(GO_C_G)),
+        (Some(GO_C_G), action_node(BUY_APPLE)),
+        (Some(GO_C_G), action_node(GO_G_H)),
+        (Some(BUY_APPLE), goal_node(HAVE_APPLE)),
+        (Some(GO_G_H), goal_node(AT_HOME)),
+        (Some(GO_G_H), action_node(GO_H_ANY)),
+    ],
+    orders: &[(BUY_APPLE, GO_G_H)],
+    deadlines: &[(BUY_APPLE, hm(12, 0)), (GO_G_H, hm(20, 0))],
+    releases: &[(GO_H_ANY, hm(20, 0))],
+    ..NOTHING
+};
 
 const GO_G_C: usize = 5;
 const BUY_SHIRT: usize = 6;
@@ -247,23 +319,26 @@ const GO_C_H: usize = 7;
 
 /// Fig. 5: the 09:00 call asking for a shirt, integrated by repair: Go(grocery, home) gives way to
 /// Go(grocery, clothing), Buy(shirt), Go(clothing, home).
-fn shirt_request(s: &mut Sim) {
-    s.remove(GO_G_H);
-    s.goal(HAVE_SHIRT, GoalKind::External);
-    assert_eq!(s.action("Go(grocery, clothing)", 10 * MIN), GO_G_C);
-    assert_eq!(s.action("Buy(shirt)", 10 * MIN), BUY_SHIRT);
-    assert_eq!(s.action("Go(clothing, home)", 20 * MIN), GO_C_H);
-    s.link(Some(GO_C_G), Node::Action(ActionKey(GO_G_C as u32)));
-    s.link(Some(GO_G_C), Node::Action(ActionKey(BUY_SHIRT as u32)));
-    s.link(Some(GO_G_C), Node::Action(ActionKey(GO_C_H as u32)));
-    s.link(Some(BUY_SHIRT), Node::Goal(GoalKey(HAVE_SHIRT)));
-    s.link(Some(GO_C_H), Node::Goal(GoalKey(AT_HOME)));
-    s.link(Some(GO_C_H), Node::Action(ActionKey(GO_H_ANY as u32)));
-    s.order(BUY_APPLE, GO_G_C);
-    s.order(BUY_SHIRT, GO_C_H);
-    s.deadline(BUY_SHIRT, hm(12, 0));
-    s.deadline(GO_C_H, hm(20, 0));
-}
+const SHIRT_REQUEST: Fragment = Fragment {
+    remove: &[GO_G_H],
+    goals: &[(HAVE_SHIRT, GoalKind::External)],
+    actions: &[
+        (GO_G_C, "Go(grocery, clothing)", 10 * MIN),
+        (BUY_SHIRT, "Buy(shirt)", 10 * MIN),
+        (GO_C_H, "Go(clothing, home)", 20 * MIN),
+    ],
+    links: &[
+        (Some(GO_C_G), action_node(GO_G_C)),
+        (Some(GO_G_C), action_node(BUY_SHIRT)),
+        (Some(GO_G_C), action_node(GO_C_H)),
+        (Some(BUY_SHIRT), goal_node(HAVE_SHIRT)),
+        (Some(GO_C_H), goal_node(AT_HOME)),
+        (Some(GO_C_H), action_node(GO_H_ANY)),
+    ],
+    orders: &[(BUY_APPLE, GO_G_C), (BUY_SHIRT, GO_C_H)],
+    deadlines: &[(BUY_SHIRT, hm(12, 0)), (GO_C_H, hm(20, 0))],
+    ..NOTHING
+};
 
 const FORMS: [SupportForm; 2] = [SupportForm::Search, SupportForm::Marking];
 
@@ -271,16 +346,13 @@ const FORMS: [SupportForm; 2] = [SupportForm::Search, SupportForm::Marking];
 /// starts at 20:00.
 #[test]
 fn shopping_earliest_goes_home_at_once() {
-    let mut s = shopping(PolicyKind::Earliest);
+    let mut s = SHOPPING.plan(PolicyKind::Earliest);
     s.run_until(hm(23, 59));
     assert_eq!(s.started(GO_H_C).as_deref(), Some("08:00"));
     assert_eq!(s.started(GO_C_G).as_deref(), Some("08:20"));
     assert_eq!(s.started(BUY_APPLE).as_deref(), Some("08:30"));
     assert_eq!(s.started(GO_G_H).as_deref(), Some("08:40"));
-    assert_eq!(
-        s.stn.executed_at(s.acts[GO_G_H].et).map(clock).as_deref(),
-        Some("09:05")
-    );
+    assert_eq!(s.ended(GO_G_H).as_deref(), Some("09:05"));
     assert_eq!(s.started(GO_H_ANY).as_deref(), Some("20:00"));
 }
 
@@ -289,7 +361,7 @@ fn shopping_earliest_goes_home_at_once() {
 #[test]
 fn shopping_goal_driven_buys_the_apple_at_once_and_stays_at_the_grocery() {
     for form in FORMS {
-        let mut s = shopping(PolicyKind::GoalDriven(form));
+        let mut s = SHOPPING.plan(PolicyKind::GoalDriven(form));
         for a in [GO_H_C, GO_C_G, BUY_APPLE] {
             assert!(s.supports(a), "{form:?}: {} starred", s.acts[a].name);
         }
@@ -314,10 +386,10 @@ fn shopping_goal_driven_buys_the_apple_at_once_and_stays_at_the_grocery() {
 fn shopping_goal_driven_serves_the_shirt_request_proactively() {
     let mut traces = Vec::new();
     for form in FORMS {
-        let mut s = shopping(PolicyKind::GoalDriven(form));
+        let mut s = SHOPPING.plan(PolicyKind::GoalDriven(form));
         s.run_until(hm(9, 0));
         assert_eq!(s.started(GO_G_H), None, "{form:?}: still at the grocery");
-        shirt_request(&mut s);
+        SHIRT_REQUEST.apply(&mut s);
         for a in [GO_G_C, BUY_SHIRT] {
             assert!(s.supports(a), "{form:?}: {} starred", s.acts[a].name);
         }
@@ -327,10 +399,7 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
         assert_eq!(s.started(GO_G_C).as_deref(), Some("09:00"), "{form:?}");
         assert_eq!(s.started(BUY_SHIRT).as_deref(), Some("09:10"), "{form:?}");
         assert_eq!(s.started(GO_C_H).as_deref(), Some("19:39"), "{form:?}");
-        assert_eq!(
-            s.stn.executed_at(s.acts[GO_C_H].et).map(clock).as_deref(),
-            Some("19:59")
-        );
+        assert_eq!(s.ended(GO_C_H).as_deref(), Some("19:59"));
         assert_eq!(s.started(GO_H_ANY), None, "{form:?}");
         assert_eq!(s.started(GO_G_H), None, "{form:?}");
         traces.push(s.trace());
@@ -342,7 +411,7 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
 /// the trailing Go(home, ?).
 #[test]
 fn shopping_latest_defers_even_the_operators_goal() {
-    let mut s = shopping(PolicyKind::Latest);
+    let mut s = SHOPPING.plan(PolicyKind::Latest);
     s.run_until(hm(23, 59));
     assert_eq!(s.started(GO_H_C).as_deref(), Some("11:19"));
     assert_eq!(s.started(BUY_APPLE).as_deref(), Some("11:49"));
@@ -361,30 +430,35 @@ const GO_V2_S: usize = 3;
 
 /// Fig. 1c/2: at the surface at 08:00, the scientist wants vent 2 sampled (external); the AUV must be back
 /// at the surface by 20:00 (internal).
-fn vents(kind: PolicyKind) -> Sim {
-    let mut s = Sim::new(kind);
-    s.goal(SAMPLED, GoalKind::External);
-    s.goal(AT_SURFACE, GoalKind::Internal);
-    assert_eq!(s.action("Go(surface, vent1)", 30 * MIN), GO_S_V1);
-    assert_eq!(s.action("Go(vent1, vent2)", 5 * MIN), GO_V1_V2);
-    assert_eq!(s.action("Sample(vent2)", 10 * MIN), SAMPLE_V2);
-    assert_eq!(s.action("Go(vent2, surface)", 30 * MIN), GO_V2_S);
-    s.link(None, Node::Action(ActionKey(GO_S_V1 as u32)));
-    s.link(Some(GO_S_V1), Node::Action(ActionKey(GO_V1_V2 as u32)));
-    s.link(Some(GO_V1_V2), Node::Action(ActionKey(SAMPLE_V2 as u32)));
-    s.link(Some(GO_V1_V2), Node::Action(ActionKey(GO_V2_S as u32)));
-    s.link(Some(SAMPLE_V2), Node::Goal(GoalKey(SAMPLED)));
-    s.link(Some(GO_V2_S), Node::Goal(GoalKey(AT_SURFACE)));
-    s.order(SAMPLE_V2, GO_V2_S);
-    s.deadline(GO_V2_S, hm(20, 0));
-    s
-}
+const VENTS: Fragment = Fragment {
+    goals: &[
+        (SAMPLED, GoalKind::External),
+        (AT_SURFACE, GoalKind::Internal),
+    ],
+    actions: &[
+        (GO_S_V1, "Go(surface, vent1)", 30 * MIN),
+        (GO_V1_V2, "Go(vent1, vent2)", 5 * MIN),
+        (SAMPLE_V2, "Sample(vent2)", 10 * MIN),
+        (GO_V2_S, "Go(vent2, surface)", 30 * MIN),
+    ],
+    links: &[
+        (None, action_node(GO_S_V1)),
+        (Some(GO_S_V1), action_node(GO_V1_V2)),
+        (Some(GO_V1_V2), action_node(SAMPLE_V2)),
+        (Some(GO_V1_V2), action_node(GO_V2_S)),
+        (Some(SAMPLE_V2), goal_node(SAMPLED)),
+        (Some(GO_V2_S), goal_node(AT_SURFACE)),
+    ],
+    orders: &[(SAMPLE_V2, GO_V2_S)],
+    deadlines: &[(GO_V2_S, hm(20, 0))],
+    ..NOTHING
+};
 
 #[test]
 fn vents_goal_driven_samples_at_once_and_surfaces_at_the_last_moment() {
     let mut traces = Vec::new();
     for form in FORMS {
-        let mut s = vents(PolicyKind::GoalDriven(form));
+        let mut s = VENTS.plan(PolicyKind::GoalDriven(form));
         assert_eq!(s.stn.ub(s.acts[GO_V2_S].st), hm(19, 30));
         s.run_until(hm(21, 0));
         assert_eq!(s.started(GO_S_V1).as_deref(), Some("08:00"), "{form:?}");
@@ -398,11 +472,11 @@ fn vents_goal_driven_samples_at_once_and_surfaces_at_the_last_moment() {
 
 #[test]
 fn vents_earliest_surfaces_early_and_latest_samples_late() {
-    let mut s = vents(PolicyKind::Earliest);
+    let mut s = VENTS.plan(PolicyKind::Earliest);
     s.run_until(hm(21, 0));
     assert_eq!(s.started(SAMPLE_V2).as_deref(), Some("08:35"));
     assert_eq!(s.started(GO_V2_S).as_deref(), Some("08:45"));
-    let mut s = vents(PolicyKind::Latest);
+    let mut s = VENTS.plan(PolicyKind::Latest);
     s.run_until(hm(21, 0));
     assert_eq!(s.started(GO_S_V1).as_deref(), Some("18:44"));
     assert_eq!(s.started(GO_V2_S).as_deref(), Some("19:29"));

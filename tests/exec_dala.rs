@@ -115,6 +115,18 @@ fn first_launch<'a>(launches: &'a [(u64, Time, String)], action: &str) -> &'a (u
         .unwrap_or_else(|| panic!("{action} is launched: {launches:?}"))
 }
 
+/// The cycle and time of the first trace event that `is` accepts; `what` says which in a failure.
+fn first_event(
+    ev: &[(u64, Time, TraceEvent)],
+    what: &str,
+    is: impl Fn(&TraceEvent) -> bool,
+) -> (u64, Time) {
+    ev.iter()
+        .find(|(_, _, e)| is(e))
+        .map(|(i, t, _)| (*i, *t))
+        .unwrap_or_else(|| panic!("{what}: {ev:?}"))
+}
+
 fn all_achieved(r: &MissionReport) {
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
     assert_eq!(r.goals.len(), 7);
@@ -137,13 +149,11 @@ fn slow_move_is_stopped_before_w1_and_the_rover_moves_on_after_repair() {
     let l = launches(&r);
     let started = first_launch(&l, "move(l0, l1)").1;
     // Late-preemptive: END at ub − ts, ub being the slowest 9 m (0.3 m/s: 30 s) — before W1, no timeout.
-    let (stop_cycle, stopped) = ev
-        .iter()
-        .find_map(|(i, t, e)| match e {
-            TraceEvent::Stop { action, .. } if action == "move(l0, l1)" => Some((*i, *t)),
-            _ => None,
-        })
-        .expect("the slow move is stopped");
+    let (stop_cycle, stopped) = first_event(
+        &ev,
+        "the slow move is stopped",
+        |e| matches!(e, TraceEvent::Stop { action, .. } if action == "move(l0, l1)"),
+    );
     assert_eq!(stopped, started + 30_000 - TS);
     assert!(stopped < W1.0);
     assert!(!ev
@@ -155,10 +165,9 @@ fn slow_move_is_stopped_before_w1_and_the_rover_moves_on_after_repair() {
     // Plan repair, not replanning, spread over several cycles: a move from the new location where the rover
     // stopped to l1, launched once (from the last executable node, before the repair's end at the latest).
     assert_eq!(r.counters.replans, 0);
-    let repaired = ev
-        .iter()
-        .find_map(|(i, _, e)| matches!(e, TraceEvent::RepairDone { .. }).then_some(*i))
-        .expect("the plan is repaired");
+    let (repaired, _) = first_event(&ev, "the plan is repaired", |e| {
+        matches!(e, TraceEvent::RepairDone { .. })
+    });
     let steps: Vec<u64> = ev
         .iter()
         .filter(|(i, _, _)| *i > stop_cycle && *i < repaired)
@@ -194,17 +203,10 @@ fn early_picture_end_gets_a_new_end_timepoint_and_the_ptu_move_starts_at_once() 
     let ev = events(&r);
     let l = launches(&r);
     let shot = first_launch(&l, "take_picture(l0)").1;
-    let (report_cycle, reported) = ev
-        .iter()
-        .find_map(|(i, t, e)| match e {
-            TraceEvent::Report { action, timing, .. }
-                if action == "take_picture(l0)" && *timing == Timing::TooEarly =>
-            {
-                Some((*i, *t))
-            }
-            _ => None,
-        })
-        .expect("the picture's report is too early");
+    let (report_cycle, reported) = first_event(&ev, "the picture's report is too early", |e| {
+        matches!(e, TraceEvent::Report { action, timing, .. }
+            if action == "take_picture(l0)" && *timing == Timing::TooEarly)
+    });
     assert_eq!(reported, shot + 3_000);
     assert!(ev.iter().any(|(i, _, e)| *i == report_cycle
         && matches!(e, TraceEvent::Level { resource, verdict, .. }

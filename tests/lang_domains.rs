@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use mavtempo::lang;
 use mavtempo::model::{
-    Bound, Domain, Goal, GoalKind, NumConstraint, Preemption, Problem, ResourceId, ResourceKind,
-    Task, Term, UsageKind, Value,
+    Bound, Domain, Goal, GoalKind, NumConstraint, Object, ObjectId, Position, Preemption, Problem,
+    ResourceId, ResourceKind, Task, Term, TypeId, UsageKind, Value,
 };
 
 fn root() -> PathBuf {
@@ -392,48 +392,51 @@ fn readme_examples_parse() {
     assert_eq!(p.initial.iter().filter(|f| f.attr == pic).count(), 4);
 }
 
+/// Adds object `name` of type `ty` at run time; returns it with how many initial facts the problem's `*`
+/// statements gave it.
+fn add_at_run_time(
+    d: &Domain,
+    p: &mut Problem,
+    name: &str,
+    ty: TypeId,
+    position: Option<Position>,
+) -> (ObjectId, usize) {
+    let before = p.initial.len();
+    let object = Object {
+        name: name.into(),
+        ty,
+        position,
+    };
+    let id = p.add_object_with_defaults(d, object);
+    (id, p.initial.len() - before)
+}
+
 /// A location discovered at run time gets the initial values the problem's `*` statements give every
 /// location: a picture of it can then be planned like the others.
 #[test]
 fn objects_added_at_run_time_get_wildcard_defaults() {
-    use mavtempo::model::{Object, Position};
     let (d, mut p) = load("rover", "fig2");
     let loc = d
         .type_id("location")
         .unwrap_or_else(|| panic!("no location"));
-    let before = p.initial.len();
-    let id = p.add_object_with_defaults(
-        &d,
-        Object {
-            name: "reported_1".into(),
-            ty: loc,
-            position: Some(Position::Local {
-                east: 3.0,
-                north: 4.0,
-                up: 0.0,
-            }),
-        },
-    );
+    let at = Position::Local {
+        east: 3.0,
+        north: 4.0,
+        up: 0.0,
+    };
+    let (id, added) = add_at_run_time(&d, &mut p, "reported_1", loc, Some(at));
     let pic = d.attr_id("PICTURE").unwrap_or_else(|| panic!("no PICTURE"));
     assert_eq!(p.initial_value(pic, &[id]), Value::Obj(Domain::FALSE));
-    assert_eq!(p.initial.len(), before + 1);
+    assert_eq!(added, 1);
     assert_eq!(p.distance(id, p.object_id("base").unwrap_or(id)), Some(5.0));
     // Two-argument patterns: a new place in the shopping domain is connected to nothing, sells nothing.
     let (d, mut p) = load("shopping", "day");
     let place = d.type_id("place").unwrap_or_else(|| panic!("no place"));
     let n_places = p.objects_of(place).len();
     let n_items = p.objects_of(d.type_id("item").unwrap_or(place)).len();
-    let before = p.initial.len();
-    let mall = p.add_object_with_defaults(
-        &d,
-        Object {
-            name: "mall".into(),
-            ty: place,
-            position: None,
-        },
-    );
+    let (mall, added) = add_at_run_time(&d, &mut p, "mall", place, None);
     // CONNECTED(mall, x), CONNECTED(x, mall) for every place x (mall included once), SELLS(mall, i).
-    assert_eq!(p.initial.len() - before, 2 * (n_places + 1) - 1 + n_items);
+    assert_eq!(added, 2 * (n_places + 1) - 1 + n_items);
     let conn = d
         .attr_id("CONNECTED")
         .unwrap_or_else(|| panic!("no CONNECTED"));

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use mavtempo::model::{Domain, Value};
-use mavtempo::pddl::{self, simulate, writer, Src};
+use mavtempo::pddl::{self, ast, simulate, writer, PddlError, Src};
 use mavtempo::planner::Budget;
 
 fn fixture(name: &str) -> PathBuf {
@@ -13,10 +13,37 @@ fn fixture(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn ipc2002(folder: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+/// The domain and instance `n` of an IPC-2002 benchmark folder.
+fn ipc2002(folder: &str, n: u32) -> (PathBuf, PathBuf) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/benchmarks/ipc2002")
-        .join(folder)
+        .join(folder);
+    (
+        dir.join("domain.pddl"),
+        dir.join(format!("instances/instance-{n}.pddl")),
+    )
+}
+
+/// Reads, parses and translates a domain and a problem; a failure fails the test with the located error.
+fn load(domain: &Path, problem: &Path) -> pddl::Loaded {
+    pddl::load(domain, problem).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The sources of an IPC-2002 folder's domain and first instance, and their syntax trees.
+fn parse_first_instance(folder: &str) -> (Src, ast::Domain, Src, ast::Problem) {
+    let (domain, problem) = ipc2002(folder, 1);
+    let read = |path: &Path| pddl::read_src(path).unwrap_or_else(|e| panic!("{e}"));
+    let (ds, ps) = (read(&domain), read(&problem));
+    let d = pddl::parse_domain(&ds).unwrap_or_else(|e| panic!("{folder}: {e}"));
+    let p = pddl::parse_problem(&ps).unwrap_or_else(|e| panic!("{folder}: {e}"));
+    (ds, d, ps, p)
+}
+
+/// Parses a domain and a problem source and translates them.
+fn parse_and_translate(ds: &Src, ps: &Src) -> Result<(), PddlError> {
+    let d = pddl::parse_domain(ds)?;
+    let p = pddl::parse_problem(ps)?;
+    pddl::translate(ds, &d, ps, &p).map(|_| ())
 }
 
 const DOMAIN: &str = "(define (domain d)
@@ -41,11 +68,7 @@ fn domain_error(text: &str) -> String {
 fn problem_error(problem: &str) -> String {
     let ds = Src::new("d.pddl", DOMAIN);
     let ps = Src::new("p.pddl", problem);
-    let r = pddl::parse_domain(&ds).and_then(|d| {
-        let p = pddl::parse_problem(&ps)?;
-        pddl::translate(&ds, &d, &ps, &p)
-    });
-    match r {
+    match parse_and_translate(&ds, &ps) {
         Ok(_) => String::from("accepted"),
         Err(e) => e.to_string(),
     }
@@ -64,40 +87,48 @@ fn the_reference_domain_is_accepted() {
 
 #[test]
 fn malformed_domains_are_located_at_file_line_col() {
-    let cases: [(String, &str, &str); 6] = [
+    // Each case edits DOMAIN (`from` becomes `to`) and expects the error at `at`, saying `what`.
+    let cases = [
         (
-            DOMAIN.replace("(q))\n  (:dur", "(q)\n  (:dur"),
+            "(q))\n  (:dur",
+            "(q)\n  (:dur",
             "d.pddl:1:1:",
             "never closed",
         ),
         (
-            DOMAIN.replace(":typing", ":typing :conditional-effects"),
+            ":typing",
+            ":typing :conditional-effects",
             "d.pddl:2:26:",
             "not supported",
         ),
         (
-            DOMAIN.replace("(at start (p ?x))", "(at start (or (p ?x) (q)))"),
+            "(at start (p ?x))",
+            "(at start (or (p ?x) (q)))",
             "d.pddl:8:26:",
             "`or` is not supported",
         ),
         (
-            DOMAIN.replace("(= ?duration 2)", "(= ?duration two)"),
+            "(= ?duration 2)",
+            "(= ?duration two)",
             "d.pddl:7:28:",
             "expected a number",
         ),
         (
-            DOMAIN.replace(":condition (at start (p ?x))", ":condition (p ?x)"),
+            ":condition (at start (p ?x))",
+            ":condition (p ?x)",
             "d.pddl:8:16:",
             "at start",
         ),
         (
-            DOMAIN.replace("(:types thing)", "(:types thing) (:derived (q) (p ?x))"),
+            "(:types thing)",
+            "(:types thing) (:derived (q) (p ?x))",
             "d.pddl:3:18:",
             "`:derived` is not supported",
         ),
     ];
-    for (text, at, what) in cases {
-        let e = domain_error(&text);
+    for (from, to, at, what) in cases {
+        assert!(DOMAIN.contains(from), "{from:?} not in DOMAIN");
+        let e = domain_error(&DOMAIN.replace(from, to));
         assert!(
             e.starts_with(at) && e.contains(what),
             "expected {at} … {what}, got:\n{e}"
@@ -147,10 +178,7 @@ fn garbage_never_panics_and_is_located() {
 
 #[test]
 fn translation_recovers_multi_valued_state_variables() {
-    let l =
-        pddl::load(&fixture("courier.pddl"), &fixture("courier-1.pddl")).map_err(|e| e.to_string());
-    let l = l.as_ref().map_err(String::as_str);
-    let Ok(l) = l else { panic!("{l:?}") };
+    let l = load(&fixture("courier.pddl"), &fixture("courier-1.pddl"));
     let t = &l.translated;
     let mv = &t.multi_valued;
     assert!(mv.contains(&"at(?r: robot) = place".to_string()), "{mv:?}");
@@ -166,14 +194,8 @@ fn translation_recovers_multi_valued_state_variables() {
         Some(Domain::BOOL)
     );
     // The rover's position in IPC-2002 Rovers, and a store's `empty`/`full` as one two-valued variable.
-    let rovers = ipc2002("rovers-time-simple-automatic");
-    let r = pddl::load(
-        &rovers.join("domain.pddl"),
-        &rovers.join("instances/instance-1.pddl"),
-    )
-    .map_err(|e| e.to_string());
-    let r = r.as_ref().map_err(String::as_str);
-    let Ok(r) = r else { panic!("{r:?}") };
+    let (domain, problem) = ipc2002("rovers-time-simple-automatic", 1);
+    let r = load(&domain, &problem);
     let mv = &r.translated.multi_valued;
     assert!(
         mv.contains(&"at(?x: rover) = waypoint".to_string()),
@@ -196,12 +218,8 @@ fn translation_recovers_multi_valued_state_variables() {
 
 /// Plans, checks the IPC plan's text by reading it back and replaying it on the PDDL.
 fn plan_and_replay(domain: &Path, problem: &Path) -> (usize, i64) {
-    let l = pddl::load(domain, problem).map_err(|e| e.to_string());
-    let l = l.as_ref().map_err(String::as_str);
-    let Ok(l) = l else { panic!("{l:?}") };
-    let s = pddl::solve(l, Budget::steps(200_000)).map_err(|e| e.to_string());
-    let s = s.as_ref().map_err(String::as_str);
-    let Ok(s) = s else { panic!("{s:?}") };
+    let l = load(domain, problem);
+    let s = pddl::solve(&l, Budget::steps(200_000)).unwrap_or_else(|e| panic!("{e}"));
     let text = s.ipc.to_string();
     let back = writer::parse_ipc(&text);
     assert_eq!(back.as_ref(), Ok(&s.ipc.steps), "{text}");
@@ -231,11 +249,8 @@ fn ipc2002_simple_time_first_instances_are_planned_and_checked() {
         "rovers-time-simple-automatic",
         "satellite-time-simple-automatic",
     ] {
-        let dir = ipc2002(folder);
-        let (n, makespan) = plan_and_replay(
-            &dir.join("domain.pddl"),
-            &dir.join("instances/instance-1.pddl"),
-        );
+        let (domain, problem) = ipc2002(folder, 1);
+        let (n, makespan) = plan_and_replay(&domain, &problem);
         assert!(n > 0 && makespan > 0, "{folder}");
     }
 }
@@ -245,25 +260,14 @@ fn ipc2002_simple_time_first_instances_are_planned_and_checked() {
 /// moves); the portfolio's static-choices-last search plans it in a few thousand.
 #[test]
 fn rovers_simple_time_p6_is_planned_within_the_step_budget() {
-    let dir = ipc2002("rovers-time-simple-automatic");
-    let (n, makespan) = plan_and_replay(
-        &dir.join("domain.pddl"),
-        &dir.join("instances/instance-6.pddl"),
-    );
+    let (domain, problem) = ipc2002("rovers-time-simple-automatic", 6);
+    let (n, makespan) = plan_and_replay(&domain, &problem);
     assert!(n > 0 && makespan > 0);
 }
 
 #[test]
 fn the_simulator_refuses_broken_plans() {
-    let dir = ipc2002("rovers-time-simple-automatic");
-    let ds = pddl::read_src(&dir.join("domain.pddl")).map_err(|e| e.to_string());
-    let ps = pddl::read_src(&dir.join("instances/instance-1.pddl")).map_err(|e| e.to_string());
-    let (Ok(ds), Ok(ps)) = (ds, ps) else {
-        panic!("benchmark files missing")
-    };
-    let (Ok(d), Ok(p)) = (pddl::parse_domain(&ds), pddl::parse_problem(&ps)) else {
-        panic!("parse")
-    };
+    let (_, d, _, p) = parse_first_instance("rovers-time-simple-automatic");
     // A move without `can_traverse`, a move overlapping its own effect, and a wrong duration.
     use simulate::{SimulateError as E, StepFault};
     let no_traverse = |e: &E| match e {
@@ -301,23 +305,13 @@ fn the_simulator_refuses_broken_plans() {
 #[test]
 fn time_variants_parse_and_what_the_model_cannot_express_is_refused_with_a_place() {
     for folder in ["rovers-time-automatic", "satellite-time-automatic"] {
-        let dir = ipc2002(folder);
-        let ds = pddl::read_src(&dir.join("domain.pddl")).map_err(|e| e.to_string());
-        let ps = pddl::read_src(&dir.join("instances/instance-1.pddl")).map_err(|e| e.to_string());
-        let (Ok(ds), Ok(ps)) = (ds, ps) else {
-            panic!("benchmark files missing")
-        };
-        let d = pddl::parse_domain(&ds).map_err(|e| e.to_string());
-        let p = pddl::parse_problem(&ps).map_err(|e| e.to_string());
-        let (Ok(d), Ok(p)) = (d, p) else {
-            panic!("{folder} does not parse")
-        };
+        let (ds, d, ps, p) = parse_first_instance(folder);
         // `?duration` in a numeric effect parses (Rovers Time's recharge).
         let uses_duration = d
             .actions
             .iter()
             .flat_map(|a| &a.effects)
-            .any(|(_, e)| matches!(e, pddl::ast::Effect::Num(_, _, x, _) if x.uses_duration()));
+            .any(|(_, e)| matches!(e, ast::Effect::Num(_, _, x, _) if x.uses_duration()));
         assert_eq!(uses_duration, folder.starts_with("rovers"), "{folder}");
         if let Err(e) = pddl::translate(&ds, &d, &ps, &p) {
             let e = e.to_string();
@@ -333,9 +327,9 @@ fn time_variants_parse_and_what_the_model_cannot_express_is_refused_with_a_place
 #[test]
 fn mutated_pddl_never_panics_and_errors_stay_located() {
     use rand::{Rng, SeedableRng};
-    let dir = ipc2002("rovers-time-automatic");
+    let (rovers, _) = ipc2002("rovers-time-automatic", 1);
     let texts = [
-        std::fs::read_to_string(dir.join("domain.pddl")).unwrap_or_default(),
+        std::fs::read_to_string(rovers).unwrap_or_default(),
         std::fs::read_to_string(fixture("courier.pddl")).unwrap_or_default(),
     ];
     let problem = std::fs::read_to_string(fixture("courier-1.pddl")).unwrap_or_default();
@@ -373,11 +367,7 @@ fn mutated_pddl_never_panics_and_errors_stay_located() {
         };
         let ds = Src::new("m.pddl", dtext);
         let ps = Src::new("c.pddl", ptext);
-        let r = pddl::parse_domain(&ds).and_then(|d| {
-            let p = pddl::parse_problem(&ps)?;
-            pddl::translate(&ds, &d, &ps, &p).map(|_| ())
-        });
-        if let Err(e) = r {
+        if let Err(e) = parse_and_translate(&ds, &ps) {
             let e = e.to_string();
             assert!(
                 e.starts_with("m.pddl:") || e.starts_with("c.pddl:"),

@@ -7,7 +7,7 @@ use mavtempo::model::{
     ResourceUsage, SymVar, SymVarId, Task, TemporalConstraint, Term, TimeInterval, TpId, TypeKind,
     UsageKind, Value,
 };
-use mavtempo::plan::solution::{Consumer, Establisher, PlanTp, Solution};
+use mavtempo::plan::solution::{ActionId, Consumer, Establisher, PlanTp, Solution};
 
 use super::builder::Builder;
 
@@ -251,14 +251,7 @@ pub enum Step {
 
 /// The minimal duration of a move at top speed `vmax`, rounded up to the millisecond (what a planner's
 /// numeric propagation adds to the network).
-pub fn move_window(
-    b: &mut Builder,
-    id: mavtempo::plan::solution::ActionId,
-    from: &str,
-    to: &str,
-    vmin: f64,
-    vmax: f64,
-) {
+pub fn move_window(b: &mut Builder, id: ActionId, from: &str, to: &str, vmin: f64, vmax: f64) {
     let (p, q) = (
         b.p.object_id(from).expect("from"),
         b.p.object_id(to).expect("to"),
@@ -268,6 +261,14 @@ pub fn move_window(
     let lo = (dist / vmax * 1000.0).ceil() as i64;
     let hi = (dist / vmin * 1000.0).floor() as i64;
     b.constrain(st, et, Some(lo), Some(hi));
+}
+
+/// Appends action `id` to a sequential plan: it starts after `prev`, and `at` (what last set the robot's
+/// place) supports its use of that place, `robot_at`.
+fn append(b: &mut Builder, prev: PlanTp, at: Establisher, id: ActionId, robot_at: Consumer) {
+    let st = b.st(id);
+    b.before(prev, st);
+    b.link(at, robot_at);
 }
 
 /// A sequential plan with every causal link; snaps of places already seen, or beyond `max_snaps`, are
@@ -284,10 +285,11 @@ pub fn sequential(d: &Domain, p: &Problem, steps: &[Step], max_snaps: usize) -> 
             Step::Go(t) if t != cur => {
                 let id = b.action("go", &[PLACES[cur], PLACES[t]]);
                 move_window(&mut b, id, PLACES[cur], PLACES[t], 0.5, 2.0);
-                let st = b.st(id);
-                b.before(prev, st);
-                b.link(
+                append(
+                    &mut b,
+                    prev,
                     at_est,
+                    id,
                     Consumer::EventFrom {
                         action: id,
                         event: 0,
@@ -303,10 +305,11 @@ pub fn sequential(d: &Domain, p: &Problem, steps: &[Step], max_snaps: usize) -> 
             }
             Step::Snap if !seen[cur] && snaps < max_snaps => {
                 let id = b.action("snap", &[PLACES[cur]]);
-                let st = b.st(id);
-                b.before(prev, st);
-                b.link(
+                append(
+                    &mut b,
+                    prev,
                     at_est,
+                    id,
                     Consumer::Hold {
                         action: id,
                         hold: 0,
