@@ -316,7 +316,7 @@ impl PartialPlan {
 
     /// Forgets the incremental detection state and rebuilds every candidate (after relaxations by the
     /// executive). Trail levels saved before this call must not be restored afterwards.
-    pub fn recompute_candidates(&mut self) {
+    pub(crate) fn recompute_candidates(&mut self) {
         self.threats.clear();
         self.unary.clear();
         for attr in 0..self.events_by_attr.len() {
