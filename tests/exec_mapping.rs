@@ -235,8 +235,7 @@ fn shopping_goals_follow_an_inline_mapping() {
         "#,
     )
     .expect("mapping parses");
-    let mapping =
-        resolve_mapping(&m, plan.domain(), Some(plan.problem()), None).expect("resolves");
+    let mapping = resolve_mapping(&m, plan.domain(), Some(plan.problem()), None).expect("resolves");
     let mut ex = Executive::new(plan, ExecConfig::default()).with_mapping(mapping);
     // The places have no coordinates: a place the intake named is taken by its name.
     assert_eq!(

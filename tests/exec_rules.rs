@@ -197,11 +197,7 @@ fn definitions_2_to_5_executable_timepoint_goal_action_plan() {
     plan.add_link(e, g1).unwrap();
     let st_g = plan.goals()[0].st;
     // The goal's start must wait for the picture's end (its direct predecessor).
-    assert!(!timepoint_executable(
-        plan.temporal_network(),
-        st_g,
-        30_000
-    ));
+    assert!(!timepoint_executable(plan.temporal_network(), st_g, 30_000));
     assert!(!goal_achievable(&plan, GoalId(0), 30_000));
     // The picture has open conditions (AT_ROBOT, PTU_POS, ...): not executable (Definition 4).
     let flawed = flawed_actions(&mut plan);

@@ -6,6 +6,7 @@ use clap::{Args, ValueEnum};
 
 use super::json_out::print_json_lines;
 use crate::bench::stn as stn_bench;
+use crate::cli::out::outln;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -121,7 +122,7 @@ fn bench_sim(json: bool) -> ExitCode {
         });
     show("bench sim", json, report.map(|r| vec![r]), |reports| {
         for r in reports {
-            println!(
+            outln!(
                 "sim speed-up: requested {:.0}x, achieved {:.1}x ({} waypoints, {:.1} s sim in {:.3} s wall); ceiling {:.0}x",
                 r.speedup_requested, r.speedup_achieved, r.waypoints, r.sim_s, r.wall_s, r.speedup_ceiling
             );
@@ -132,9 +133,15 @@ fn bench_sim(json: bool) -> ExitCode {
 fn bench_stn(json: bool) -> ExitCode {
     let figures = stn_bench::run(&[100, 1_000, 10_000], 1_000);
     show("bench stn", json, figures, |figures| {
-        println!(
+        outln!(
             "{:>7} {:>8} {:>10} {:>11} {:>13} {:>8} {:>10}",
-            "n", "constr", "insert µs", "execute µs", "exec med µs", "FW ms", "speed-up"
+            "n",
+            "constr",
+            "insert µs",
+            "execute µs",
+            "exec med µs",
+            "FW ms",
+            "speed-up"
         );
         for f in figures {
             let fw = f
@@ -143,7 +150,7 @@ fn bench_stn(json: bool) -> ExitCode {
             let sp = f
                 .speedup_vs_floyd_warshall
                 .map_or("-".into(), |v| format!("{v:.0}×"));
-            println!(
+            outln!(
                 "{:>7} {:>8} {:>10.3} {:>11.3} {:>13.3} {:>8} {:>10}",
                 f.n,
                 f.constraints,
@@ -161,7 +168,7 @@ fn bench_dispatch(json: bool) -> ExitCode {
     let figures = crate::bench::dispatch::run(&[200, 2_000], 20_000, 2026);
     show("bench dispatch", json, figures, |figures| {
         let us = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.3}"));
-        println!(
+        outln!(
             "{:>7} {:>7} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>10} {:>8}",
             "actions",
             "form",
@@ -175,7 +182,7 @@ fn bench_dispatch(json: bool) -> ExitCode {
             "build ms"
         );
         for f in figures {
-            println!(
+            outln!(
                 "{:>7} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>10.2} {:>11} {:>10} {:>10} {:>8}",
                 f.actions,
                 f.form,
@@ -196,7 +203,7 @@ fn bench_link(json: bool) -> ExitCode {
     let bench = crate::bench::vehicle::run_link_bench(21, 200_000);
     show("bench link", json, bench.map(|b| vec![b]), |benches| {
         for b in benches {
-            println!(
+            outln!(
                 "upload 100 items (median of {}): {:.2} ms (target <= 100 ms); telemetry: {:.0} msgs/s over {} msgs (target >= 50000/s)",
                 b.upload_runs, b.upload_100_items_ms, b.telemetry_msgs_per_s, b.telemetry_msgs
             );
@@ -208,7 +215,7 @@ fn bench_plan(json: bool) -> ExitCode {
     let figures = crate::bench::plan::run(std::path::Path::new("domains"), 20_000);
     show("bench plan", json, figures, |figures| {
         for f in figures {
-            println!(
+            outln!(
                 "{:<18} {:>6} {:>10.1} ms {:>7} steps {:>6} backtracks {:>4} actions {}",
                 f.problem,
                 if f.solved { "solved" } else { "FAILED" },
@@ -228,9 +235,13 @@ fn bench_cycle(json: bool) -> ExitCode {
         let figures = crate::bench::exec::run(n, 100).map(|f| vec![f]);
         let shown = show("bench cycle", json, figures, |figures| {
             for f in figures {
-                println!(
+                outln!(
                     "{:>6} actions: {} cycles, p50 {} µs, p99 {} µs, max {} µs",
-                    f.actions, f.cycles, f.p50_us, f.p99_us, f.max_us
+                    f.actions,
+                    f.cycles,
+                    f.p50_us,
+                    f.p99_us,
+                    f.max_us
                 );
             }
         });
@@ -253,7 +264,7 @@ fn bench_repair(json: bool) -> ExitCode {
                     .map_or("no repair (replanned)".to_string(), |ms| {
                         format!("{ms:.2} ms")
                     });
-                println!(
+                outln!(
                     "{:<16} repair {repair}, complete replanning {:.2} ms ({})",
                     f.event,
                     f.replan_ms,

@@ -13,6 +13,7 @@ use super::demo::exec_config;
 use super::error::CliError;
 use super::mission_out::initial_plan;
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use crate::cli::out::outln;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions};
 use crate::lang;
@@ -148,7 +149,7 @@ pub fn run(json: bool) -> ExitCode {
 
 fn print_figures(f: &CpuFigures) {
     let s = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3} s"));
-    println!(
+    outln!(
         "{}: {:.1} s of mission ({}), {} cycles at ts {} ms, μ {}: executive {:.3} s = {:.3} % of a core \
          (thread {}, process with SITL {}), {} repairs, {} replans, {:.1} s wall",
         f.problem,
@@ -166,9 +167,9 @@ fn print_figures(f: &CpuFigures) {
         f.wall_s
     );
     for g in &f.goals {
-        println!("  {:<12} {:?} {}", g.name, g.fate, g.reason_text());
+        outln!("  {:<12} {:?} {}", g.name, g.fate, g.reason_text());
     }
-    println!(
+    outln!(
         "most launches of one action: {}",
         f.max_launches_of_one_action
     );

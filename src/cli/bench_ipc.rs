@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 
 use super::bench::BenchArgs;
+use crate::cli::out::outln;
 use crate::pddl;
 use crate::planner::Budget;
 
@@ -81,9 +82,16 @@ pub fn run(args: &BenchArgs) -> ExitCode {
     }
     let mut rows: Vec<Row> = Vec::new();
     if !args.json {
-        println!(
+        outln!(
             "{:<10} {:<7} {:>4}  {:>6} {:>10} {:>10} {:>9} {:>7}",
-            "domain", "variant", "inst", "solved", "search ms", "prep ms", "makespan", "actions"
+            "domain",
+            "variant",
+            "inst",
+            "solved",
+            "search ms",
+            "prep ms",
+            "makespan",
+            "actions"
         );
     }
     for d in &domains {
@@ -98,10 +106,10 @@ pub fn run(args: &BenchArgs) -> ExitCode {
                 let row = one(d, v, i, &base.join("domain.pddl"), &problem, args, &name);
                 if args.json {
                     if let Ok(line) = serde_json::to_string(&row) {
-                        println!("{line}");
+                        outln!("{line}");
                     }
                 } else {
-                    println!(
+                    outln!(
                         "{:<10} {:<7} {:>4}  {:>6} {:>10.1} {:>10.1} {:>9} {:>7}{}",
                         row.domain,
                         row.variant,
@@ -121,7 +129,7 @@ pub fn run(args: &BenchArgs) -> ExitCode {
         }
     }
     if !args.json {
-        println!("totals:");
+        outln!("totals:");
         for d in &domains {
             for v in &variants {
                 let these: Vec<&Row> = rows
@@ -135,7 +143,7 @@ pub fn run(args: &BenchArgs) -> ExitCode {
                     n if n % 2 == 1 => ms.get(n / 2).copied(),
                     n => Some((ms[n / 2 - 1] + ms[n / 2]) / 2.0),
                 };
-                println!(
+                outln!(
                     "  {d:<10} {v:<7} solved {}/{}  median search {}",
                     ms.len(),
                     these.len(),

@@ -6,6 +6,7 @@ use std::time::Duration;
 use super::bench::BenchArgs;
 use crate::bench::suite::generate::{Mission, SuiteDomain};
 use crate::bench::suite::{self, pddl, SuiteOptions, SuiteRun};
+use crate::cli::out::outln;
 
 pub fn run(args: &BenchArgs) -> ExitCode {
     let domain = match args.domain.as_deref() {
@@ -52,7 +53,7 @@ pub fn run(args: &BenchArgs) -> ExitCode {
         }
         if json {
             if let Ok(line) = serde_json::to_string(r) {
-                println!("{line}");
+                outln!("{line}");
             }
         } else if !r.solved {
             eprintln!(
@@ -78,11 +79,11 @@ pub fn run(args: &BenchArgs) -> ExitCode {
     for s in &sizes {
         if json {
             if let Ok(line) = serde_json::to_string(s) {
-                println!("{line}");
+                outln!("{line}");
             }
         } else {
             let ms = |v: Option<f64>| v.map_or("-".to_string(), |m| format!("{m:.0} ms"));
-            println!(
+            outln!(
                 "{:<9} n={:<3} solved {:>2}/{:<2}  median {:>9}  max {:>9}",
                 s.domain.name(),
                 s.size,

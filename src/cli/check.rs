@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+use crate::cli::out::outln;
 use crate::lang::{self, Diagnostics, FileKind};
 use crate::model::{Domain, Problem};
 use crate::vehicle::config::VehicleConfig;
@@ -53,7 +54,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
         if let FileKind::Domain(name) = kind {
             match lang::load_domain(path) {
                 Ok(d) => {
-                    println!(
+                    outln!(
                         "{}: ok (domain {}: {} types, {} attributes, {} resources, {} tasks)",
                         path.display(),
                         d.name,
@@ -101,7 +102,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
             continue;
         };
         match lang::load_problem(path, d) {
-            Ok(p) => println!(
+            Ok(p) => outln!(
                 "{}: ok (problem {} for {}: {} objects, {} goals, horizon {} s)",
                 path.display(),
                 p.name,
@@ -153,7 +154,7 @@ fn check_config(config: &Path, files: &[PathBuf]) -> Result<(), CliError> {
         Some(p) => format!("{} and {}", domain_path.display(), p.display()),
         None => domain_path.display().to_string(),
     };
-    println!(
+    outln!(
         "{}: ok against {against} ({} bindings; home {:.6}, {:.6} from the {})",
         config.display(),
         cfg.actions.len(),

@@ -15,6 +15,7 @@ use clap::Args;
 use super::error::CliError;
 use super::mission_out::{initial_plan, print_summary, MissionOutArgs, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use crate::cli::out::outln;
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
@@ -111,7 +112,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
         &mut |line: &str| {
             // Progress lines inside the trace are indented with it.
             if !(quiet && line.starts_with(' ')) {
-                println!("{line}");
+                outln!("{line}");
             }
         },
         &mut |c: &CycleRecord| {
@@ -123,7 +124,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
     match result {
         Ok(run) => {
             for u in run.upload.iter().chain(&run.timed_upload) {
-                println!("{u}");
+                outln!("{u}");
             }
             print_summary(&run.report);
             if let Err(e) = args.out.write(&run.report, "mavtempo demo") {

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Subcommand};
 
+use crate::cli::out::outln;
 use crate::dispatch::PolicyKind;
 use crate::experiment::{self, ExperimentOptions, Row};
 
@@ -98,10 +99,10 @@ pub fn run(args: ExperimentArgs) -> ExitCode {
 }
 
 fn print_table(rows: &[Row]) {
-    println!(
+    outln!(
         "| scenario | policy | seeds | arrived | achieved | rejected (reasons) | pending | mean time to achieve (min) | idle (h/mission) | distance (km/mission) | wasted (km/mission) | replans/mission | repairs/mission | mission goals achieved |"
     );
-    println!("|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    outln!("|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for r in rows {
         let reasons: Vec<String> = r
             .rejected_reasons
@@ -113,7 +114,7 @@ fn print_table(rows: &[Row]) {
         } else {
             format!(" ({})", reasons.join(", "))
         };
-        println!(
+        outln!(
             "| {} | {} | {} | {} | {} | {}{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {}/{} |",
             r.scenario,
             r.policy,

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+use crate::cli::out::outln;
 use crate::fuzz::{self, Target};
 
 #[derive(Args, Debug)]
@@ -62,12 +63,12 @@ pub fn run(args: FuzzArgs) -> ExitCode {
         failed |= r.failures > 0;
         if args.json {
             match serde_json::to_string(&r) {
-                Ok(line) => println!("{line}"),
+                Ok(line) => outln!("{line}"),
                 Err(e) => eprintln!("mavtempo fuzz: {e}"),
             }
             continue;
         }
-        println!(
+        outln!(
             "{:<8} {:>10} execs in {:>7.1} s = {:>9.0} execs/s, slowest {:.1} ms, {} failures",
             target.name(),
             r.execs,
@@ -77,9 +78,9 @@ pub fn run(args: FuzzArgs) -> ExitCode {
             r.failures
         );
         for k in &r.kinds {
-            println!("  {} x {}", k.count, k.message.replace('\n', " "));
+            outln!("  {} x {}", k.count, k.message.replace('\n', " "));
             for p in &k.saved {
-                println!("    saved {}", p.display());
+                outln!("    saved {}", p.display());
             }
         }
     }
@@ -104,11 +105,11 @@ fn replay(args: &FuzzArgs, file: &std::path::Path) -> ExitCode {
     };
     match fuzz::replay(target, &input) {
         Ok(()) => {
-            println!("{}: passes", file.display());
+            outln!("{}: passes", file.display());
             ExitCode::SUCCESS
         }
         Err(e) => {
-            println!("{}: fails: {e}", file.display());
+            outln!("{}: fails: {e}", file.display());
             ExitCode::FAILURE
         }
     }

@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use clap::{Args, Subcommand};
 
+use crate::cli::out::outln;
 use crate::vehicle::geo::Home;
 use crate::vehicle::goal_client::send_goals;
 use crate::vehicle::goal_files;
@@ -85,7 +86,7 @@ fn check(file: PathBuf) -> ExitCode {
     match crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1) {
         Ok(goals) => {
             for g in goals {
-                println!(
+                outln!(
                     "{}: {} priority {} window [{}, {}] s duration [{}, {}] s d_achiev {} s",
                     g.name,
                     g.proposition,
@@ -117,11 +118,11 @@ async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
     match send_goals(&to, parsed.items, Duration::from_secs(timeout)).await {
         Ok(report) => {
             for t in &report.texts {
-                println!("{t}");
+                outln!("{t}");
             }
             match report.failure {
                 None => {
-                    println!("upload accepted");
+                    outln!("upload accepted");
                     ExitCode::SUCCESS
                 }
                 Some(f) => {
@@ -162,8 +163,8 @@ async fn serve(listen: String, home: String, system_id: u8, tlog: Option<PathBuf
         }
     };
     match server.local_addr {
-        Some(a) => println!("listening on {a}"),
-        None => println!("listening on {listen}"),
+        Some(a) => outln!("listening on {a}"),
+        None => outln!("listening on {listen}"),
     }
     // Decided locally: the server's event channel stays empty; keep the server alive until Ctrl-C.
     let _ = tokio::signal::ctrl_c().await;

@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use clap::Args;
 
+use crate::cli::out::outln;
 use crate::exec::interrupt::Interrupt;
 use crate::exec::pacer::StepGate;
 use crate::report::live::{GoalForm, PictureGoal};
@@ -74,7 +75,7 @@ pub fn goal_form(home: Home, gcs: String, gate: Option<Arc<StepGate>>) -> GoalFo
 
 /// After the mission: the page keeps showing its end until a signal.
 pub fn linger(addr: &SocketAddr, interrupt: &Interrupt) {
-    println!("mission over; the page stays at http://{addr}/ until interrupted (Ctrl-C)");
+    outln!("mission over; the page stays at http://{addr}/ until interrupted (Ctrl-C)");
     while interrupt.requested().is_none() {
         std::thread::sleep(Duration::from_millis(100));
     }

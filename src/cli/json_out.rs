@@ -3,6 +3,7 @@
 
 use std::process::ExitCode;
 
+use crate::cli::out::outln;
 use serde::Serialize;
 
 /// Prints each row as one JSON line; at the first that does not serialise, says `{context}: {error}` on
@@ -26,7 +27,7 @@ fn print_with<'a, T: Serialize + 'a>(
 ) -> ExitCode {
     for row in rows {
         match to_json(row) {
-            Ok(text) => println!("{text}"),
+            Ok(text) => outln!("{text}"),
             Err(e) => {
                 eprintln!("{context}: {e}");
                 return ExitCode::FAILURE;

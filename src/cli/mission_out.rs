@@ -7,6 +7,7 @@ use std::sync::Arc;
 use clap::Args;
 
 use super::error::CliError;
+use crate::cli::out::outln;
 use crate::exec::executive::Fate;
 use crate::exec::mission::MissionReport;
 use crate::exec::trace::{names, CycleRecord, TraceEvent};
@@ -37,12 +38,12 @@ impl MissionOutArgs {
     pub fn write(&self, r: &MissionReport, title: &str) -> Result<(), CliError> {
         if let Some(path) = &self.report {
             write_report(path, r)?;
-            println!("report written to {}", path.display());
+            outln!("report written to {}", path.display());
         }
         if let Some(path) = &self.html {
             let charts = crate::report::charts_of(r)?;
             crate::report::write_page(path, title, &charts)?;
-            println!("page written to {}", path.display());
+            outln!("page written to {}", path.display());
         }
         Ok(())
     }
@@ -93,7 +94,7 @@ impl TracePrinter {
         if lines.is_empty() {
             return;
         }
-        println!(
+        outln!(
             "[{:>8.1} s] cycle {} (sense {} µs, repair {} µs, act {} µs)",
             c.time_ms as f64 / 1000.0,
             c.index,
@@ -102,14 +103,14 @@ impl TracePrinter {
             c.act_us
         );
         for l in lines {
-            println!("             {l}");
+            outln!("             {l}");
         }
     }
 }
 
 pub fn print_summary(r: &MissionReport) {
-    println!();
-    println!(
+    outln!();
+    outln!(
         "mission ended ({:?}) at {:.1} s after {} cycles",
         r.end,
         r.duration_ms as f64 / 1000.0,
@@ -122,13 +123,13 @@ pub fn print_summary(r: &MissionReport) {
             Fate::Pending => "pending",
         };
         match &g.reason {
-            None => println!("  {:<6} {fate}", g.name),
-            Some(reason) => println!("  {:<6} {fate}: {reason}", g.name),
+            None => outln!("  {:<6} {fate}", g.name),
+            Some(reason) => outln!("  {:<6} {fate}: {reason}", g.name),
         }
     }
     for rp in &r.replannings {
         let rejected: Vec<String> = rp.rejected.iter().map(|x| x.goal.clone()).collect();
-        println!(
+        outln!(
             "complete replanning at {:.1} s after \"{}\": {} ({} attempts, {} steps); kept: {}; rejected: {}",
             rp.time_ms as f64 / 1000.0,
             rp.abort,
@@ -139,16 +140,22 @@ pub fn print_summary(r: &MissionReport) {
             names(&rejected)
         );
     }
-    println!(
+    outln!(
         "plan repairs: {} ({} repair steps), complete replannings: {}, actions launched: {}",
-        r.counters.repairs, r.counters.repair_steps, r.counters.replans, r.counters.launches
+        r.counters.repairs,
+        r.counters.repair_steps,
+        r.counters.replans,
+        r.counters.launches
     );
-    println!(
+    outln!(
         "cycle time (executive CPU): p50 {} µs, p99 {} µs, max {} µs over {} cycles",
-        r.cycle_times.p50_us, r.cycle_times.p99_us, r.cycle_times.max_us, r.cycle_times.count
+        r.cycle_times.p50_us,
+        r.cycle_times.p99_us,
+        r.cycle_times.max_us,
+        r.cycle_times.count
     );
     if let Some(s) = &r.shutdown {
-        println!(
+        outln!(
             "shutdown: {:?} ({:?} mode {:?}; actions ended: {}; ACK {}; last mode {:?})",
             s.outcome,
             s.action,

@@ -14,6 +14,7 @@ mod goal;
 pub mod http_arg;
 mod json_out;
 mod mission_out;
+pub mod out;
 mod plan;
 mod plan_pddl;
 mod report;
@@ -69,6 +70,13 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     init_tracing();
+    out::on_closed(match cli.command {
+        // These drive or serve a vehicle: a closed stdout must not end them.
+        Command::Demo(_) | Command::Run(_) | Command::Sim(_) | Command::Goal(_) => {
+            out::OnClosed::KeepRunning
+        }
+        _ => out::OnClosed::Exit,
+    });
     match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Check(args) => check::run(args),

@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use clap::Args;
 
+use crate::cli::out::{out, outln};
 use crate::lang;
 use crate::plan::solution::{Consumer, Establisher, PlanTerm, Solution};
 use crate::plan::validate::validate;
@@ -74,10 +75,10 @@ pub fn run(args: PlanArgs) -> ExitCode {
             return printed;
         }
     } else if args.dot {
-        print!("{}", dot(&sol, &problem));
+        out!("{}", dot(&sol, &problem));
     } else {
-        print!("{}", text(&sol, &problem));
-        println!(
+        out!("{}", text(&sol, &problem));
+        outln!(
             "{} actions, {} causal links, {} planning steps, {} backtracks",
             sol.actions.len(),
             sol.causal_links.len(),
@@ -88,7 +89,7 @@ pub fn run(args: PlanArgs) -> ExitCode {
     match checked {
         Ok(_) => {
             if !args.json && !args.dot {
-                println!("checker: plan accepted");
+                outln!("checker: plan accepted");
             }
             ExitCode::SUCCESS
         }

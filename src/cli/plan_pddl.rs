@@ -5,6 +5,7 @@
 use std::process::ExitCode;
 
 use super::plan::PlanArgs;
+use crate::cli::out::{out, outln};
 use crate::pddl;
 use crate::planner::Budget;
 
@@ -48,14 +49,14 @@ pub fn run(args: &PlanArgs) -> ExitCode {
             return printed;
         }
     } else if args.dot {
-        print!("{}", super::plan::dot(&solved.solution, &t.problem));
+        out!("{}", super::plan::dot(&solved.solution, &t.problem));
     } else if to_stdout {
-        print!("{}", solved.ipc);
+        out!("{}", solved.ipc);
         eprintln!("{summary}");
     } else {
-        println!("plan for {} ({}):", t.problem.name, t.domain.name);
-        print!("{}", solved.ipc);
-        println!("{summary}");
+        outln!("plan for {} ({}):", t.problem.name, t.domain.name);
+        out!("{}", solved.ipc);
+        outln!("{summary}");
     }
     ExitCode::SUCCESS
 }

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+use crate::cli::out::outln;
 use crate::report::{self, data::Charts};
 
 #[derive(Args, Debug)]
@@ -30,7 +31,7 @@ pub fn run(args: ReportArgs) -> ExitCode {
     let title = format!("mavtempo: {}", args.report.display());
     match report::write_all(&args.out, &title, &charts) {
         Ok(files) => {
-            println!(
+            outln!(
                 "{} actions, {} marks, {} resources, {} track points, {} goals",
                 charts.bars.len(),
                 charts.marks.len(),
@@ -39,7 +40,7 @@ pub fn run(args: ReportArgs) -> ExitCode {
                 charts.goals.len()
             );
             for f in files {
-                println!("wrote {}", f.display());
+                outln!("wrote {}", f.display());
             }
             ExitCode::SUCCESS
         }

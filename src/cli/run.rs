@@ -13,6 +13,7 @@ use clap::Args;
 use super::error::CliError;
 use super::mission_out::{initial_plan, print_summary, MissionOutArgs, TracePrinter};
 use super::shutdown::Signals;
+use crate::cli::out::outln;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::Executive;
 use crate::exec::interrupt::Interrupt;
@@ -170,13 +171,13 @@ fn mission(
         Some(p) => initial_goals(p, &known, first)?,
         None => Vec::new(),
     };
-    println!(
+    outln!(
         "planning {} ({} goals)...",
         problem.name,
         problem.goals.len()
     );
     let plan = initial_plan(domain, problem.clone(), args.out.max_steps)?;
-    println!("initial plan: {} actions", plan.num_actions());
+    outln!("initial plan: {} actions", plan.num_actions());
     not_interrupted(interrupt)?;
     let opts = LinkOptions {
         address: args.vehicle.clone(),
@@ -203,9 +204,7 @@ fn mission(
     }
     let mut ready = None;
     if ready_limit_s > 0.0 {
-        println!(
-            "vehicle up; waiting for a position fix and arming (at most {ready_limit_s} s)..."
-        );
+        outln!("vehicle up; waiting for a position fix and arming (at most {ready_limit_s} s)...");
         // The limit runs on the vehicle's clock; the wall bound only covers a clock that stops.
         let wall = Duration::from_secs_f64(ready_limit_s / args.speedup + 30.0);
         let report = vehicle.wait_ready((ready_limit_s * 1000.0) as u64, wall, &mut |_| {
@@ -216,11 +215,11 @@ fn mission(
         if !report.ready {
             return Err(CliError::NotReady(report.why_not(ready_limit_s)));
         }
-        println!("{}", super::mission_out::ready_line(&report));
+        outln!("{}", super::mission_out::ready_line(&report));
         ready = Some(report);
     }
     let origin = vehicle.now_ms();
-    println!("vehicle ready; mission starts at vehicle time {origin} ms");
+    outln!("vehicle ready; mission starts at vehicle time {origin} ms");
     let home = checked.home;
     let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
     let mut printer = TracePrinter::default();
@@ -296,7 +295,7 @@ fn start_live(
             addr: h.addr,
             source,
         })?;
-    println!("http listening on http://{}/", server.addr);
+    outln!("http listening on http://{}/", server.addr);
     let server = crate::report::live::LiveServer {
         addr: server.addr,
         feed: server.feed.with_position(vehicle.position_probe()),

@@ -4,6 +4,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::cli::out::outln;
 use clap::Args;
 
 #[derive(Args, Debug)]
@@ -82,7 +83,7 @@ fn serve(config: sitl::SimConfig) -> ExitCode {
             }
         };
         // Scripts read this line to learn the port when they asked for port 0.
-        println!(
+        outln!(
             "sitl listening on {} (connect with {})",
             sim.local_addr(),
             sim.client_address()

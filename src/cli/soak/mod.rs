@@ -21,6 +21,7 @@ use super::demo::exec_config;
 use super::mission_out::{initial_plan, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::cli::error::CliError;
+use crate::cli::out::outln;
 use crate::exec::executive::{Executive, Fate};
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
 use crate::exec::pacer::StepGate;
@@ -139,9 +140,11 @@ pub fn run(args: SoakArgs) -> ExitCode {
     for i in 0..args.missions {
         let m = generate::mission(args.seed + i, args.domain);
         if args.show {
-            println!(
+            outln!(
                 "== mission seed {} ==\n{}\n-- scenario --\n{}",
-                m.seed, m.problem, m.scenario
+                m.seed,
+                m.problem,
+                m.scenario
             );
         }
         let outcome =
@@ -283,30 +286,40 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
 }
 
 fn print_summary(s: &Summary) {
-    println!(
+    outln!(
         "soak: {} missions ({} rover, {} auv) from seed {}, {:.0} s",
-        s.missions, s.rover_missions, s.auv_missions, s.first_seed, s.wall_s
+        s.missions,
+        s.rover_missions,
+        s.auv_missions,
+        s.first_seed,
+        s.wall_s
     );
-    println!(
+    outln!(
         "goals: {} of {} achieved; rejected by class: {:?}; unplanned missions: {}",
-        s.achieved, s.goals, s.rejected, s.unplanned
+        s.achieved,
+        s.goals,
+        s.rejected,
+        s.unplanned
     );
-    println!(
+    outln!(
         "plan repairs {}, complete replannings {}",
-        s.repairs, s.replans
+        s.repairs,
+        s.replans
     );
-    println!(
+    outln!(
         "problem goals: {} of {} achieved; missions with every goal rejected: {}",
-        s.held_achieved, s.held_goals, s.all_rejected
+        s.held_achieved,
+        s.held_goals,
+        s.all_rejected
     );
     if let Some(k) = s.kept_goals {
-        println!(
+        outln!(
             "missions achieving every problem goal their run without uploads achieves: {k} of {}",
             s.missions
         );
     }
     for (f, sh) in &s.by_fault {
-        println!(
+        outln!(
             "  fault {f:<14} {:>4} missions, {:>4} of {:>4} goals achieved ({:.0} %)",
             sh.missions,
             sh.achieved,
@@ -315,13 +328,16 @@ fn print_summary(s: &Summary) {
         );
     }
     if s.violations.is_empty() {
-        println!("invariants: no violation");
+        outln!("invariants: no violation");
     } else {
-        println!("invariants: {} violations", s.violations.len());
+        outln!("invariants: {} violations", s.violations.len());
         for v in &s.violations {
-            println!(
+            outln!(
                 "  {} (seed {}): {}  — rerun: mavtempo soak --missions 1 --seed {} --trace",
-                v.invariant, v.seed, v.detail, v.seed
+                v.invariant,
+                v.seed,
+                v.detail,
+                v.seed
             );
         }
     }
