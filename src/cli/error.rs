@@ -10,7 +10,6 @@ use crate::lang::Diagnostics;
 use crate::planner::PlanFailure;
 use crate::vehicle::config::ConfigError;
 use crate::vehicle::goal_files::FileError;
-use crate::vehicle::goals::ItemError;
 use crate::vehicle::link::LinkError;
 
 #[derive(Debug, Error)]
@@ -23,8 +22,6 @@ pub enum CliError {
     Config(#[from] ConfigError),
     #[error("{0}")]
     GoalFile(#[from] FileError),
-    #[error("{file}: {error}")]
-    GoalItems { file: String, error: ItemError },
     #[error("{0}")]
     Link(#[from] LinkError),
     #[error("{0}")]

@@ -83,28 +83,24 @@ fn check(file: PathBuf) -> ExitCode {
         lon: 0.0,
         alt: 0.0,
     });
-    match crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1) {
-        Ok(goals) => {
-            for g in goals {
-                outln!(
-                    "{}: {} priority {} window [{}, {}] s duration [{}, {}] s d_achiev {} s",
-                    g.name,
-                    g.proposition,
-                    g.priority,
-                    g.start_window_s.0,
-                    g.start_window_s.1,
-                    g.duration_s.0,
-                    g.duration_s.1,
-                    g.d_achiev_s
-                );
-            }
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {}: {e}", file.display());
-            ExitCode::FAILURE
-        }
+    let list = crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1);
+    for e in &list.skipped {
+        eprintln!("warning: {}: {e}", file.display());
     }
+    for g in list.requests() {
+        outln!(
+            "{}: {} priority {} window [{}, {}] s duration [{}, {}] s d_achiev {} s",
+            g.name,
+            g.proposition,
+            g.priority,
+            g.start_window_s.0,
+            g.start_window_s.1,
+            g.duration_s.0,
+            g.duration_s.1,
+            g.d_achiev_s
+        );
+    }
+    ExitCode::SUCCESS
 }
 
 async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {

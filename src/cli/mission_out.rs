@@ -121,6 +121,7 @@ pub fn print_summary(r: &MissionReport) {
             Fate::Achieved => "achieved",
             Fate::Rejected => "REJECTED",
             Fate::Pending => "pending",
+            Fate::Cancelled => "cancelled",
         };
         match &g.reason {
             None => outln!("  {:<6} {fate}", g.name),

@@ -146,10 +146,11 @@ fn initial_goals(
     first: u32,
 ) -> Result<Vec<GoalRequest>, CliError> {
     let file = goal_files::load(path)?;
-    items_to_goals(&file.items, known, first).map_err(|error| CliError::GoalItems {
-        file: path.display().to_string(),
-        error,
-    })
+    let list = items_to_goals(&file.items, known, first);
+    for e in &list.skipped {
+        tracing::warn!("{}: {e}", path.display());
+    }
+    Ok(list.requests())
 }
 
 fn mission(

@@ -337,7 +337,7 @@ fn outcome(
                 }
                 continue;
             }
-            Some((Fate::Rejected, reason)) => *reason,
+            Some((Fate::Rejected | Fate::Cancelled, reason)) => *reason,
             Some((Fate::Pending, _)) => {
                 out.pending += 1;
                 continue;

@@ -207,7 +207,7 @@ pub fn decisions(bytes: &[u8]) -> usize {
     let mut intake = intake();
     let mut decoder = FrameDecoder::default();
     let mut out = Vec::new();
-    let mut pending = None;
+    let mut pending: Option<crate::vehicle::intake::PendingDecision> = None;
     let mut now = 0u64;
     let mut rest = bytes;
     while let [op, len, tail @ ..] = rest {
@@ -229,7 +229,8 @@ pub fn decisions(bytes: &[u8]) -> usize {
                         Some(1) => vec![GoalVerdict::Rejected("no".into())],
                         Some(_) => vec![GoalVerdict::Inserting; 4],
                     };
-                    intake.decided(p, &verdicts, &mut out);
+                    let cancelled = Some(p.cancel.clone());
+                    intake.decided(p, &verdicts, cancelled, &mut out);
                 }
             }
             TICK => {
@@ -281,10 +282,14 @@ fn feed(
 ) {
     match MavMessage::parse(MavlinkVersion::V2, id, payload) {
         Ok(msg) => {
-            if let Some(p) = intake.handle(header, &msg, SYS, now, out) {
+            if let Some(p) = intake.handle(header, &msg, None, SYS, now, out) {
                 *pending = Some(p);
             }
         }
-        Err(_) => intake.unparsable_item(header, id, payload, SYS, out),
+        Err(_) => {
+            if let Some(p) = intake.unparsable_item(header, id, payload, SYS, now, out) {
+                *pending = Some(p);
+            }
+        }
     }
 }

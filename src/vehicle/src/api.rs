@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use super::goals::GoalBatch;
+use super::goals::{GoalBatch, GoalCancel};
 use super::types::{
     ActionId, ActionReport, ActionStart, CapacityChange, LinkStatus, ResourceLevel,
 };
@@ -48,5 +48,7 @@ pub enum VehicleEvent {
     Capacity(CapacityChange),
     /// A goal list from a ground station, waiting for the executive's verdicts.
     Goals(GoalBatch),
+    /// A ground station withdraws goals it uploaded, waiting for the executive to confirm.
+    Cancel(GoalCancel),
     Link(LinkStatus),
 }

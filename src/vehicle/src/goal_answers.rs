@@ -1,7 +1,8 @@
-//! The executive's answers to ground-station uploads, on the link's side: an upload waits for its answer
-//! (MISSION_ACK and a STATUSTEXT per goal, or the syntactic verdicts past a deadline); a goal that was still
-//! being inserted into the plan when the upload was answered gets its final STATUSTEXT when the executive
-//! reaches it.
+//! The executive's answers to ground-station uploads and clears, on the link's side: an upload waits for its
+//! answer (the verdicts of its new goals, the confirmation of the goals it cancels); past a deadline it is
+//! answered with what is known, never "accepted" before the executive said so (a goal not decided yet is
+//! "received, verdict to follow"). The verdicts that come after the answer, and each goal's end (achieved,
+//! rejected by a replanning, cancelled), follow as STATUSTEXTs and keep the held list true.
 
 use std::time::Instant;
 
@@ -12,41 +13,70 @@ use super::goals::{LaterVerdicts, SyntacticDecider};
 use super::intake::{GoalIntake, PendingDecision};
 use super::types::{GoalRequest, GoalVerdict};
 
-/// An upload handed to the executive, not answered yet.
+/// An upload (or a clear) handed to the executive, not answered yet.
 pub struct Awaiting {
     pub pending: PendingDecision,
-    pub rx: oneshot::Receiver<Vec<GoalVerdict>>,
-    pub later: LaterVerdicts,
+    /// The verdicts of its new goals (`None`: it has none).
+    pub rx: Option<oneshot::Receiver<Vec<GoalVerdict>>>,
+    /// The names the executive withdrew (`None`: nothing to cancel).
+    pub cancel_rx: Option<oneshot::Receiver<Vec<String>>>,
+    pub later: Option<LaterVerdicts>,
     pub deadline: Instant,
 }
 
-/// An answered upload whose goals are not all decided: their verdicts follow.
+/// An answered upload whose goals' words may still come: the verdicts the answer did not wait for and the
+/// goals' ends.
 pub struct FollowUp {
     goals: Vec<GoalRequest>,
-    later: LaterVerdicts,
-    open: usize,
+    /// The executive's first answer when the upload was answered before it came.
+    first: Option<oneshot::Receiver<Vec<GoalVerdict>>>,
+    later: Option<LaterVerdicts>,
 }
 
 impl FollowUp {
-    /// Sends the verdicts that arrived; false once none can come any more.
+    fn tell(&self, i: usize, v: &GoalVerdict, intake: &mut GoalIntake, out: &mut Vec<MavMessage>) {
+        if let Some(g) = self.goals.get(i) {
+            intake.verdict(g, v, out);
+            intake.settle(g, v);
+        }
+    }
+
+    /// Sends the words that arrived; false once none can come any more.
     fn pump(&mut self, intake: &mut GoalIntake, out: &mut Vec<MavMessage>) -> bool {
-        loop {
-            match self.later.try_recv() {
-                Ok((i, v)) => {
-                    if let Some(g) = self.goals.get(i) {
-                        intake.verdict(g, &v, out);
-                        self.open = self.open.saturating_sub(1);
+        if let Some(rx) = &mut self.first {
+            match rx.try_recv() {
+                Ok(verdicts) => {
+                    self.first = None;
+                    for (i, v) in verdicts.iter().enumerate() {
+                        if v.is_final() {
+                            self.tell(i, v, intake, out);
+                        }
                     }
                 }
-                Err(mpsc::error::TryRecvError::Empty) => return self.open > 0,
-                Err(mpsc::error::TryRecvError::Disconnected) => return false,
+                Err(oneshot::error::TryRecvError::Empty) => {}
+                Err(oneshot::error::TryRecvError::Closed) => self.first = None,
             }
         }
+        let Some(later) = &mut self.later else {
+            return self.first.is_some();
+        };
+        let mut got = Vec::new();
+        let open = loop {
+            match later.try_recv() {
+                Ok(w) => got.push(w),
+                Err(mpsc::error::TryRecvError::Empty) => break true,
+                Err(mpsc::error::TryRecvError::Disconnected) => break false,
+            }
+        };
+        for (i, v) in got {
+            self.tell(i, &v, intake, out);
+        }
+        open || self.first.is_some()
     }
 }
 
-/// Answers the uploads whose verdicts came (or whose deadline passed: syntactic verdicts, so the ground
-/// station is not left hanging) and sends the verdicts that followed.
+/// Answers the uploads whose verdicts came (or whose deadline passed: what is known so far, the rest to
+/// follow; the syntactic verdicts only when the executive is gone) and sends the words that followed.
 pub fn answer_uploads(
     intake: &mut GoalIntake,
     awaiting: &mut Vec<Awaiting>,
@@ -57,32 +87,47 @@ pub fn answer_uploads(
     following.retain_mut(|f| f.pump(intake, out));
     let mut k = 0;
     while k < awaiting.len() {
-        let verdicts = match awaiting[k].rx.try_recv() {
-            Ok(v) => v,
-            Err(oneshot::error::TryRecvError::Empty) if now < awaiting[k].deadline => {
-                k += 1;
-                continue;
+        let a = &mut awaiting[k];
+        let late = now >= a.deadline;
+        let verdicts = match a.rx.as_mut().map(|rx| rx.try_recv()) {
+            None => Some(Vec::new()),
+            Some(Ok(v)) => {
+                a.rx = None;
+                Some(v)
             }
-            Err(_) => {
+            Some(Err(oneshot::error::TryRecvError::Empty)) => None,
+            Some(Err(oneshot::error::TryRecvError::Closed)) => {
                 tracing::warn!("no goal decision from the executive: syntactic verdicts sent");
-                awaiting[k]
-                    .pending
-                    .goals
-                    .iter()
-                    .map(SyntacticDecider::verdict)
-                    .collect()
+                a.rx = None;
+                Some(a.pending.goals.iter().map(SyntacticDecider::verdict).collect())
             }
         };
+        let cancelled = match a.cancel_rx.as_mut().map(|rx| rx.try_recv()) {
+            None => Some(Some(Vec::new())),
+            Some(Ok(names)) => Some(Some(names)),
+            Some(Err(oneshot::error::TryRecvError::Empty)) => None,
+            Some(Err(oneshot::error::TryRecvError::Closed)) => Some(None),
+        };
+        if !late && (verdicts.is_none() || cancelled.is_none()) {
+            k += 1;
+            continue;
+        }
         let a = awaiting.remove(k);
-        let open = verdicts.iter().filter(|v| !v.is_final()).count();
+        let verdicts =
+            verdicts.unwrap_or_else(|| vec![GoalVerdict::Inserting; a.pending.goals.len()]);
+        let cancelled = if a.pending.cancel.is_empty() {
+            Some(Vec::new())
+        } else {
+            cancelled.flatten()
+        };
         let goals = a.pending.goals.clone();
-        intake.decided(a.pending, &verdicts, out);
+        intake.decided(a.pending, &verdicts, cancelled, out);
         let mut f = FollowUp {
             goals,
+            first: a.rx,
             later: a.later,
-            open,
         };
-        if open > 0 && f.pump(intake, out) {
+        if f.pump(intake, out) {
             following.push(f);
         }
     }

@@ -2,12 +2,11 @@
 //! accept/reject decision, which belongs to the executive (seed 1 §3.3's constraint test) and reaches it as a
 //! [`GoalBatch`] to answer; [`SyntacticDecider`] is the stand-in when no executive decides.
 
-use mavlink::dialects::ardupilotmega::{MavCmd, MavMissionResult};
+use mavlink::dialects::ardupilotmega::MavMissionResult;
 use num_traits::ToPrimitive;
 
 use super::geo::Home;
-use super::items::MissionItem;
-use super::types::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict};
+use super::types::{Enu, GoalLocation, GoalRequest, GoalVerdict};
 
 /// `MAV_CMD_USER_2`: attributes of the goal item that follows (priority, window, duration, d_achiev).
 /// (`MAV_CMD_USER_1` is left to the simulator's downlink command.)
@@ -35,7 +34,7 @@ impl KnownLocations {
         }
     }
 
-    fn resolve(&self, goal_name: &str, lat: f64, lon: f64, alt: f64) -> GoalLocation {
+    pub(crate) fn resolve(&self, goal_name: &str, lat: f64, lon: f64, alt: f64) -> GoalLocation {
         let at = self.home.to_local(lat, lon, alt);
         let known = self
             .objects
@@ -62,130 +61,7 @@ impl KnownLocations {
     }
 }
 
-/// Why an uploaded item cannot be a goal; maps to the MISSION_ACK error.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("item {seq}: {reason}")]
-pub struct ItemError {
-    pub seq: usize,
-    pub reason: String,
-    pub ack: MavMissionResult,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct Attributes {
-    priority: u32,
-    window: (f64, f64),
-    duration: (f64, f64),
-    d_achiev: f64,
-}
-
-impl Default for Attributes {
-    fn default() -> Self {
-        Self {
-            priority: 1,
-            window: (0.0, f64::INFINITY),
-            duration: (0.0, f64::INFINITY),
-            d_achiev: 0.0,
-        }
-    }
-}
-
-/// Maps an uploaded item list to goal requests, naming them `g<first_number>`, `g<first_number+1>`, ...
-pub fn items_to_goals(
-    items: &[MissionItem],
-    known: &KnownLocations,
-    first_number: u32,
-) -> Result<Vec<GoalRequest>, ItemError> {
-    let mut goals = Vec::new();
-    let mut pending: Option<Attributes> = None;
-    for (seq, item) in items.iter().enumerate() {
-        let err = |reason: String, ack| ItemError { seq, reason, ack };
-        if item.command == GOAL_ATTRIBUTES_CMD {
-            let [p1, p2, p3, p4] = item.params.map(f64::from);
-            if !(p1.is_finite() && p1 >= 0.0) {
-                return Err(err(
-                    format!("priority (param1) must be a number >= 0, got {p1}"),
-                    MavMissionResult::MAV_MISSION_INVALID_PARAM1,
-                ));
-            }
-            pending = Some(Attributes {
-                priority: p1 as u32,
-                window: (p2.max(0.0), if p3 > 0.0 { p3 } else { f64::INFINITY }),
-                duration: (
-                    p4.max(0.0),
-                    if item.y > 0.0 { item.y } else { f64::INFINITY },
-                ),
-                d_achiev: item.x.max(0.0),
-            });
-            continue;
-        }
-        let name = format!("g{}", first_number as usize + goals.len());
-        let mut attrs = pending.take().unwrap_or_default();
-        let cmd = item.command;
-        let kind = match cmd {
-            c if c == MavCmd::MAV_CMD_NAV_WAYPOINT as u16 => GoalKind::BeAt,
-            c if c == MavCmd::MAV_CMD_NAV_LOITER_TIME as u16 => {
-                // Loiter time = how long the position must hold, unless attributes said otherwise.
-                if attrs.duration.0 == 0.0 {
-                    attrs.duration.0 = super::wire_float::widen(item.params[0]).max(0.0);
-                }
-                GoalKind::BeAt
-            }
-            c if c == MavCmd::MAV_CMD_IMAGE_START_CAPTURE as u16 => GoalKind::PictureOf,
-            SAMPLE_GOAL_CMD => GoalKind::SampleAt,
-            SURVEY_GOAL_CMD => GoalKind::SurveyOf,
-            c if c == MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16 => GoalKind::ReturnHome,
-            other => {
-                return Err(err(
-                    format!("command {other} is not a goal (see README: goal items)"),
-                    MavMissionResult::MAV_MISSION_UNSUPPORTED,
-                ))
-            }
-        };
-        let needs_position = cmd != MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16;
-        let location = if needs_position {
-            if !item.has_position() {
-                return Err(err(
-                    format!("command {cmd} needs a position in a global frame (x = lat, y = lon)"),
-                    MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
-                ));
-            }
-            if !(-90.0..=90.0).contains(&item.x) || !(-180.0..=180.0).contains(&item.y) {
-                return Err(err(
-                    format!(
-                        "position ({}, {}) is not a latitude/longitude",
-                        item.x, item.y
-                    ),
-                    MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
-                ));
-            }
-            Some(known.resolve(&name, item.x, item.y, super::wire_float::widen(item.z)))
-        } else {
-            None
-        };
-        let object = location
-            .as_ref()
-            .map_or("home".to_string(), |l| l.name.clone());
-        goals.push(GoalRequest {
-            proposition: format!("{}({object})", kind.predicate()),
-            name,
-            kind,
-            location,
-            priority: attrs.priority,
-            start_window_s: attrs.window,
-            duration_s: attrs.duration,
-            d_achiev_s: attrs.d_achiev,
-        });
-    }
-    if pending.is_some() {
-        return Err(ItemError {
-            seq: items.len().saturating_sub(1),
-            reason: "goal attributes (MAV_CMD_USER_2) with no goal item after them".into(),
-            ack: MavMissionResult::MAV_MISSION_INVALID,
-        });
-    }
-    Ok(goals)
-}
+pub use super::item_goals::{items_to_goals, GoalList, ItemError, ListedGoal};
 
 /// Decides which goals of an upload are accepted.
 pub trait GoalDecider: Send {
@@ -323,6 +199,64 @@ impl GoalBatch {
     }
 }
 
+/// One goal of an upload, watched after its verdict: its later fate (achieved, rejected by a replanning,
+/// cancelled) is told to the goal intake, which keeps the list a ground station reads back true.
+#[derive(Debug, Clone)]
+pub struct GoalWatch {
+    tx: tokio::sync::mpsc::UnboundedSender<(usize, GoalVerdict)>,
+    index: usize,
+}
+
+impl GoalWatch {
+    /// Tells the goal intake (ignored if it went away).
+    pub fn tell(&self, verdict: GoalVerdict) {
+        let _ = self.tx.send((self.index, verdict));
+    }
+}
+
+impl GoalBatch {
+    /// A watch on goal `i` for its fate after the verdict; `None` for a batch nobody waits on.
+    pub fn watch(&self, i: usize) -> Option<GoalWatch> {
+        self.later.as_ref().map(|tx| GoalWatch {
+            tx: tx.clone(),
+            index: i,
+        })
+    }
+}
+
+/// Goals a ground station withdraws (by name), and why in its words; the executive answers with the names
+/// it withdrew (those it still held or was inserting).
+#[derive(Debug)]
+pub struct GoalCancel {
+    pub names: Vec<String>,
+    pub reason: String,
+    pub reply: Option<tokio::sync::oneshot::Sender<Vec<String>>>,
+}
+
+impl GoalCancel {
+    pub fn new(
+        names: Vec<String>,
+        reason: String,
+    ) -> (Self, tokio::sync::oneshot::Receiver<Vec<String>>) {
+        let (tx, rx) = tokio::sync::oneshot::channel();
+        (
+            Self {
+                names,
+                reason,
+                reply: Some(tx),
+            },
+            rx,
+        )
+    }
+
+    /// Answers with the names withdrawn.
+    pub fn answer(mut self, withdrawn: Vec<String>) {
+        if let Some(tx) = self.reply.take() {
+            let _ = tx.send(withdrawn);
+        }
+    }
+}
+
 /// The STATUSTEXT line for one verdict.
 pub fn verdict_text(goal: &GoalRequest, verdict: &GoalVerdict) -> String {
     match verdict {
@@ -331,6 +265,8 @@ pub fn verdict_text(goal: &GoalRequest, verdict: &GoalVerdict) -> String {
         GoalVerdict::Inserting => {
             format!("{} received: {}; {INSERTING}", goal.name, goal.proposition)
         }
+        GoalVerdict::Achieved => format!("{} achieved: {}", goal.name, goal.proposition),
+        GoalVerdict::Cancelled(reason) => format!("{} cancelled: {reason}", goal.name),
     }
 }
 
@@ -345,53 +281,13 @@ pub fn is_final_verdict_text(text: &str) -> bool {
     name.len() > 1
         && name.starts_with('g')
         && name[1..].bytes().all(|b| b.is_ascii_digit())
-        && (verdict == "accepted:" || verdict == "rejected:")
+        && matches!(
+            verdict,
+            "accepted:" | "rejected:" | "achieved:" | "cancelled:"
+        )
 }
 
 /// The MAVLink value of a MISSION_ACK result (for messages and logs).
 pub fn ack_code(r: MavMissionResult) -> u8 {
     r.to_u8().unwrap_or(u8::MAX)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Each goal item command becomes its kind, the key the config's `[mapping.goals]` maps.
-    #[test]
-    fn item_commands_become_goal_kinds() {
-        let home = Home {
-            lat: 43.5,
-            lon: 1.4,
-            alt: 0.0,
-        };
-        let at = |cmd: u16| {
-            let mut it = MissionItem::waypoint(43.5001, 1.4001, 0.0);
-            it.command = cmd;
-            it
-        };
-        let items = vec![
-            at(MavCmd::MAV_CMD_NAV_WAYPOINT as u16),
-            at(MavCmd::MAV_CMD_IMAGE_START_CAPTURE as u16),
-            at(SAMPLE_GOAL_CMD),
-            at(SURVEY_GOAL_CMD),
-            at(MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH as u16),
-        ];
-        let goals = items_to_goals(&items, &KnownLocations::new(home), 1).expect("goals");
-        let kinds: Vec<(&str, bool)> = goals
-            .iter()
-            .map(|g| (g.kind.key(), g.location.is_some()))
-            .collect();
-        assert_eq!(
-            kinds,
-            vec![
-                ("waypoint", true),
-                ("picture", true),
-                ("sample", true),
-                ("survey", true),
-                ("return_home", false),
-            ]
-        );
-        assert_eq!(goals[3].proposition, "surveyed(g4_loc)");
-    }
 }

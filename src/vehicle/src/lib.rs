@@ -3,7 +3,7 @@
 //! from a ground station, `.tlog` recording. Layers, bottom up:
 //! - `frame`, `tlog`: bytes ↔ frames, signing, recording;
 //! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
-//! - `intake`, `goals`, `goal_files`, `goal_answers`: goal lists from a ground station or a file, and the
+//! - `intake`, `goals`, `item_goals`, `goal_files`, `goal_answers`: goal lists from a ground station or a file, and the
 //!   executive's answers;
 //! - `config`, `config_check`, `mapping`: a configuration, checked against its domain, and the domain's names
 //!   the executive gives a vehicle meaning to, resolved;
@@ -27,7 +27,9 @@ pub mod goal_answers;
 pub mod goal_client;
 pub mod goal_files;
 pub mod goals;
+pub mod held;
 pub mod intake;
+pub mod item_goals;
 pub mod items;
 pub mod link;
 pub mod mapping;

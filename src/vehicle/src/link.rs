@@ -19,7 +19,7 @@ use super::driver::{companion_heartbeat, Driver, COMPANION_COMPONENT};
 use super::endpoint::{Address, Transport};
 use super::frame::{parse_key, Encoder, Signer};
 use super::goal_answers::{answer_uploads, Awaiting, FollowUp};
-use super::goals::{GoalBatch, GoalDecider, KnownLocations, SyntacticDecider};
+use super::goals::{GoalBatch, GoalCancel, GoalDecider, KnownLocations, SyntacticDecider};
 use super::intake::{GoalIntake, PendingDecision};
 use super::peers::Peers;
 use super::readiness::ReadyReport;
@@ -220,17 +220,22 @@ impl Pump {
                                     let from_autopilot = self.shared.as_ref().is_some_and(|s| {
                                         s.driver.lock().is_ok_and(|d| d.target() == Some((frame.system_id, frame.component_id)))
                                     });
-                                    if let (Some((intake, _)), false) = (&self.intake, from_autopilot) {
-                                        if let Ok(mut i) = intake.lock() {
-                                            i.unparsable_item(frame.header(), frame.message_id, frame.payload(), encoder.system_id, &mut out);
+                                    if let (Some((intake, decider)), false) = (&self.intake, from_autopilot) {
+                                        let done = intake.lock().ok().and_then(|mut i| i.unparsable_item(frame.header(), frame.message_id, frame.payload(), encoder.system_id, now, &mut out));
+                                        if let Some(p) = done {
+                                            self.decide(p, decider, intake, &mut awaiting, &mut out);
                                         }
                                     }
                                     continue;
                                 };
                                 let header = frame.header();
-                                if self.shared.is_none() && matches!(msg, MavMessage::HEARTBEAT(_)) {
-                                    // Answer a ground station's heartbeat at once: over UDP it is how we learn
-                                    // where it is, and it is waiting for ours to find component 191.
+                                if self.shared.is_none()
+                                    && matches!(msg, MavMessage::HEARTBEAT(_))
+                                    && last_own_heartbeat.is_none_or(|t| now.saturating_sub(t) >= 1000)
+                                {
+                                    // A new ground station hears ours at once (it waits for it to find
+                                    // component 191), but never more than once a second however many
+                                    // heartbeats come in: no amplification.
                                     out.push(companion_heartbeat());
                                     last_own_heartbeat = Some(now);
                                 }
@@ -256,7 +261,7 @@ impl Pump {
                                 // The autopilot's mission messages to 191 belong to our mission client, never
                                 // to the goal intake.
                                 if let (Some((intake, decider)), false) = (&self.intake, from_autopilot) {
-                                    let done = intake.lock().ok().and_then(|mut i| i.handle(header, &msg, encoder.system_id, now, &mut out));
+                                    let done = intake.lock().ok().and_then(|mut i| i.handle(header, &msg, from, encoder.system_id, now, &mut out));
                                     if let Some(p) = done {
                                         self.decide(p, decider, intake, &mut awaiting, &mut out);
                                     }
@@ -361,18 +366,32 @@ impl Pump {
         let Ok(mut d) = decider.lock() else { return };
         match &mut *d {
             Decider::Local(local) => {
+                // Nothing executes the goals here: cancelling is forgetting them.
                 let verdicts = local.decide(&pending.goals);
+                let cancelled = Some(pending.cancel.clone());
                 if let Ok(mut i) = intake.lock() {
-                    i.decided(pending, &verdicts, out);
+                    i.decided(pending, &verdicts, cancelled, out);
                 }
             }
             Decider::Executive { timeout } => {
-                let (batch, rx, later) = GoalBatch::with_later(pending.goals.clone());
-                let _ = self.events.send(VehicleEvent::Goals(batch));
-                self.stats.goal_batches.fetch_add(1, Ordering::AcqRel);
+                let cancel_rx = (!pending.cancel.is_empty()).then(|| {
+                    let (cancel, rx) =
+                        GoalCancel::new(pending.cancel.clone(), pending.cancel_reason.clone());
+                    let _ = self.events.send(VehicleEvent::Cancel(cancel));
+                    rx
+                });
+                let (rx, later) = if pending.goals.is_empty() {
+                    (None, None)
+                } else {
+                    let (batch, rx, later) = GoalBatch::with_later(pending.goals.clone());
+                    let _ = self.events.send(VehicleEvent::Goals(batch));
+                    self.stats.goal_batches.fetch_add(1, Ordering::AcqRel);
+                    (Some(rx), Some(later))
+                };
                 awaiting.push(Awaiting {
                     pending,
                     rx,
+                    cancel_rx,
                     later,
                     deadline: Instant::now() + *timeout,
                 });

@@ -243,6 +243,11 @@ pub enum GoalVerdict {
     /// Passed the acceptance test; its bounded insertion into the plan (plan repair) is still going on when
     /// the upload is answered: `Accepted` or `Rejected` follows.
     Inserting,
+    /// An accepted goal was achieved (told later, so the goal list a ground station reads back is true).
+    Achieved,
+    /// An accepted or waiting goal was withdrawn by its ground station (MISSION_CLEAR_ALL, or a new list
+    /// without it): why.
+    Cancelled(String),
 }
 
 impl GoalVerdict {

@@ -17,7 +17,8 @@ use super::repair::Repair;
 use super::trace::{CycleRecord, TraceEvent};
 use mavtempo_temporal::model::{GoalId, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
-use mavtempo_vehicle::goals::GoalBatch;
+use mavtempo_vehicle::goals::{GoalBatch, GoalWatch};
+use mavtempo_vehicle::GoalVerdict;
 use mavtempo_vehicle::{ActionStart, Arg, Enu};
 
 /// The fate of a goal at the end of a run.
@@ -27,6 +28,8 @@ pub enum Fate {
     Achieved,
     Rejected,
     Pending,
+    /// Withdrawn by its ground station.
+    Cancelled,
 }
 
 /// A goal's fate and why (the report writes the reason's text, empty without one).
@@ -116,6 +119,8 @@ pub struct Executive {
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
     /// `resources[].reported`.
     pub(crate) last_reported: Vec<Option<(Time, f64)>>,
+    /// Uploaded goals held in the plan: their ground station is told how each ends.
+    pub(crate) watches: BTreeMap<GoalId, GoalWatch>,
 }
 
 impl Executive {
@@ -176,6 +181,7 @@ impl Executive {
             replannings: Vec::new(),
             insertion_stale: false,
             last_reported,
+            watches: BTreeMap::new(),
         }
     }
 
@@ -295,8 +301,20 @@ impl Executive {
 
     pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: Option<FateReason>) {
         if let Some(f) = self.fates.get_mut(&g) {
-            f.fate = fate;
-            f.reason = reason;
+            f.fate = fate.clone();
+            f.reason = reason.clone();
+        }
+        // The ground station that uploaded it is told how it ended (its held list stays true).
+        if fate != Fate::Pending {
+            if let Some(w) = self.watches.remove(&g) {
+                w.tell(match (fate, reason) {
+                    (Fate::Achieved, _) => GoalVerdict::Achieved,
+                    (Fate::Cancelled, r) => {
+                        GoalVerdict::Cancelled(r.map_or(String::new(), |r| r.to_string()))
+                    }
+                    (_, r) => GoalVerdict::Rejected(r.map_or(String::new(), |r| r.to_string())),
+                });
+            }
         }
     }
 

@@ -41,6 +41,8 @@ pub struct Insertion {
     pub cycles: u32,
     /// The goal's id in the attempt's plan.
     id: Option<GoalId>,
+    /// Where its end is told once accepted.
+    watch: Option<mavtempo_vehicle::goals::GoalWatch>,
 }
 
 impl Insertion {
@@ -70,6 +72,7 @@ impl Executive {
                         steps: 0,
                         cycles: 0,
                         id: None,
+                        watch: batch.watch(i),
                     });
                 }
                 Err(e) => {
@@ -236,6 +239,9 @@ impl Executive {
                 reason: None,
             },
         );
+        if let Some(w) = ins.watch {
+            self.watches.insert(id, w);
+        }
         self.trace(TraceEvent::RepairDone { steps: ins.steps });
         self.trace(TraceEvent::GoalAccepted {
             goal: ins.goal.name.clone(),
@@ -267,7 +273,7 @@ impl Executive {
         });
     }
 
-    fn decide_goal(&mut self, (batch, i): (u64, usize), verdict: GoalVerdict) {
+    pub(crate) fn decide_goal(&mut self, (batch, i): (u64, usize), verdict: GoalVerdict) {
         if let Some(b) = self.goal_batches.get_mut(&batch) {
             b.decide(i, verdict);
         }

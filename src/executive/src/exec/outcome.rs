@@ -174,6 +174,9 @@ pub enum FateReason {
     TimeLimit,
     #[error("mission interrupted ({signal})")]
     Interrupted { signal: String },
+    /// Withdrawn by the ground station that uploaded it (src/executive/src/exec/cancel.rs).
+    #[error("{by}")]
+    Cancelled { by: String },
 }
 
 impl FateReason {

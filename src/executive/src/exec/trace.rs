@@ -97,6 +97,11 @@ pub enum TraceEvent {
     GoalAchieved {
         goal: String,
     },
+    /// Withdrawn by its ground station (src/executive/src/exec/cancel.rs).
+    GoalCancelled {
+        goal: String,
+        reason: FateReason,
+    },
     Capacity {
         resource: String,
         capacity: f64,
@@ -177,6 +182,7 @@ impl TraceEvent {
             }
             TraceEvent::GoalAccepted { goal } => format!("goal {goal} accepted"),
             TraceEvent::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
+            TraceEvent::GoalCancelled { goal, reason } => format!("goal {goal} cancelled: {reason}"),
             TraceEvent::GoalAchieved { goal } => format!("goal {goal} achieved"),
             TraceEvent::Capacity {
                 resource,

@@ -83,7 +83,8 @@ impl PartialPlan {
     /// timepoints whose order decides.
     fn threat_window(&self, e: EventId, l: LinkId) -> Result<ThreatWindow, ThreatCheck> {
         let link = self.link(l);
-        if !link.active || !self.cond_live(link.cond) || e == link.event {
+        if !link.active || !self.cond_live(link.cond) || e == link.event || !self.event_in_effect(e)
+        {
             return Err(ThreatCheck::Inactive);
         }
         let cond = self.cond(link.cond);

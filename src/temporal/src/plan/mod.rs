@@ -31,6 +31,7 @@ mod export;
 pub mod flaws;
 mod numeric;
 mod order;
+mod withdraw;
 pub mod solution;
 pub mod validate;
 

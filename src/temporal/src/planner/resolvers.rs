@@ -217,7 +217,7 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
     let mut existing: Vec<(Time, u32)> = Vec::new();
     let mut undecided: Vec<crate::plan::EventId> = Vec::new();
     for &e in plan.events_on(cond.attr) {
-        if Some(e) == own {
+        if Some(e) == own || !plan.event_in_effect(e) {
             continue;
         }
         let ev = plan.event(e);

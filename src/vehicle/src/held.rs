@@ -1,0 +1,116 @@
+//! The goals each ground station holds on the companion, as the mission protocol sees them: the list a
+//! station uploaded (what MISSION_REQUEST_LIST reads back, only goals neither achieved, rejected nor
+//! cancelled), replaced by the next list that station uploads (a goal left out of it is cancelled; a goal
+//! uploaded again, same items, is kept, not inserted twice).
+
+use std::collections::BTreeMap;
+
+use super::item_goals::GoalList;
+use super::items::MissionItem;
+use super::types::GoalRequest;
+
+/// A ground station: its MAVLink system and component.
+pub type Station = (u8, u8);
+
+/// One goal a station holds and the items it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldGoal {
+    pub request: GoalRequest,
+    pub items: Vec<MissionItem>,
+    pub ordinal: usize,
+}
+
+impl HeldGoal {
+    fn same(&self, items: &[MissionItem], ordinal: usize) -> bool {
+        self.ordinal == ordinal && self.items == items
+    }
+}
+
+/// A new list from a station against what it holds.
+#[derive(Debug, Clone, Default)]
+pub struct Replacement {
+    /// Goals to request (new in the list).
+    pub new: Vec<HeldGoal>,
+    /// Goals held and uploaded again: kept as they are.
+    pub kept: Vec<HeldGoal>,
+    /// Goals held and left out of the list: to cancel.
+    pub dropped: Vec<String>,
+}
+
+#[derive(Debug, Default)]
+pub struct HeldGoals {
+    by_station: BTreeMap<Station, Vec<HeldGoal>>,
+}
+
+impl HeldGoals {
+    /// What `list` (mapped from `items`) changes for `station`.
+    pub fn replace(&self, station: Station, items: &[MissionItem], list: &GoalList) -> Replacement {
+        let held = self.by_station.get(&station).map_or(&[][..], Vec::as_slice);
+        let mut r = Replacement::default();
+        let mut matched = vec![false; held.len()];
+        for g in &list.goals {
+            let its = items.get(g.items.clone()).unwrap_or(&[]).to_vec();
+            let found = held
+                .iter()
+                .enumerate()
+                .find(|(k, h)| !matched[*k] && h.same(&its, g.ordinal));
+            match found {
+                Some((k, h)) => {
+                    matched[k] = true;
+                    r.kept.push(h.clone());
+                }
+                None => r.new.push(HeldGoal {
+                    request: g.request.clone(),
+                    items: its,
+                    ordinal: g.ordinal,
+                }),
+            }
+        }
+        r.dropped = held
+            .iter()
+            .zip(&matched)
+            .filter(|(_, m)| !**m)
+            .map(|(h, _)| h.request.name.clone())
+            .collect();
+        r
+    }
+
+    /// `station` now holds `goals`.
+    pub fn set(&mut self, station: Station, goals: Vec<HeldGoal>) {
+        if goals.is_empty() {
+            self.by_station.remove(&station);
+        } else {
+            self.by_station.insert(station, goals);
+        }
+    }
+
+    /// The names `station` holds.
+    pub fn names(&self, station: Station) -> Vec<String> {
+        self.by_station
+            .get(&station)
+            .map(|v| v.iter().map(|h| h.request.name.clone()).collect())
+            .unwrap_or_default()
+    }
+
+    /// Goal `name` is no longer held (achieved, rejected, cancelled).
+    pub fn release(&mut self, name: &str) {
+        for v in self.by_station.values_mut() {
+            v.retain(|h| h.request.name != name);
+        }
+        self.by_station.retain(|_, v| !v.is_empty());
+    }
+
+    /// The items `station` holds, in upload order, each item once (the pictures of one trigger distance
+    /// share their items).
+    pub fn items(&self, station: Station) -> Vec<MissionItem> {
+        let mut out: Vec<MissionItem> = Vec::new();
+        let mut last: Option<&[MissionItem]> = None;
+        for h in self.by_station.get(&station).map_or(&[][..], Vec::as_slice) {
+            if last != Some(h.items.as_slice()) {
+                out.extend(h.items.iter().cloned());
+            }
+            last = Some(&h.items);
+        }
+        out
+    }
+}
