@@ -36,7 +36,7 @@ fn plan_maps_to_goals_with_attributes_and_locations() {
     known
         .objects
         .push(("L7".into(), Enu::new(l7.east + 0.5, l7.north, 0.0)));
-    let goals = items_to_goals(&f.items, &known, 6).expect("goals");
+    let goals = items_to_goals(&f.items, &known, 6).requests();
     assert_eq!(goals.len(), 2);
     assert_eq!(goals[0].name, "g6");
     assert_eq!(goals[0].kind, GoalKind::PictureOf);
@@ -109,7 +109,7 @@ fn waypoints_row_zero_is_home_and_others_are_goals() {
         })
     );
     let goals =
-        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).expect("goals");
+        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).requests();
     assert_eq!(
         goals.iter().map(|g| g.kind).collect::<Vec<_>>(),
         vec![GoalKind::BeAt, GoalKind::ReturnHome]
@@ -146,10 +146,10 @@ fn malformed_waypoints_give_line_and_column() {
 }
 
 #[test]
-fn items_that_cannot_be_goals_are_refused_with_the_item() {
+fn items_that_cannot_be_goals_are_skipped_with_the_item() {
     let f =
         parse_waypoints(&WAYPOINTS.replace("1\t0\t3\t16", "1\t0\t3\t183"), "w").expect("parses");
-    let err = items_to_goals(
+    let list = items_to_goals(
         &f.items,
         &KnownLocations::new(Home {
             lat: 0.0,
@@ -157,10 +157,12 @@ fn items_that_cannot_be_goals_are_refused_with_the_item() {
             alt: 0.0,
         }),
         1,
-    )
-    .unwrap_err();
+    );
+    assert_eq!(list.skipped.len(), 1);
+    let err = &list.skipped[0];
     assert_eq!(err.seq, 0);
     assert!(err.reason.contains("183 is not a goal"), "{err}");
+    assert_eq!(list.goals.len(), f.items.len() - 1);
 }
 
 #[test]
@@ -171,7 +173,7 @@ fn syntactic_decider_rejects_a_window_ending_before_reachable() {
     )
     .expect("valid");
     let goals =
-        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).expect("goals");
+        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).requests();
     assert_eq!(
         SyntacticDecider::verdict(&goals[0]),
         GoalVerdict::Rejected("window ends before reachable".into())

@@ -55,12 +55,14 @@ fn converse(
     verdicts: &[GoalVerdict],
 ) -> (Option<MissionOutcome>, Vec<String>) {
     let mut texts = Vec::new();
+    let mut asm = mavtempo::vehicle::goal_client::TextAssembler::default();
     let mut outcome = None;
-    for _ in 0..100 {
+    for _ in 0..1000 {
         let mut to_gcs = Vec::new();
         for m in to_intake.drain(..) {
-            if let Some(p) = i.handle(GCS, &m, SYS, now, &mut to_gcs) {
-                i.decided(p, verdicts, &mut to_gcs);
+            if let Some(p) = i.handle(GCS, &m, None, SYS, now, &mut to_gcs) {
+                let cancelled = Some(p.cancel.clone());
+                i.decided(p, verdicts, cancelled, &mut to_gcs);
             }
         }
         if to_gcs.is_empty() {
@@ -68,13 +70,7 @@ fn converse(
         }
         for m in to_gcs {
             if let MavMessage::STATUSTEXT(s) = &m {
-                texts.push(
-                    s.text
-                        .to_str()
-                        .unwrap_or("")
-                        .trim_end_matches('\0')
-                        .to_string(),
-                );
+                texts.extend(asm.push(s.id, &s.text[..]));
             }
             if let Some((_, o)) = c.handle(&m, now, &mut to_intake) {
                 outcome = Some(o);
@@ -84,8 +80,9 @@ fn converse(
     (outcome, texts)
 }
 
+/// The list read back holds exactly the goals held: not the rejected one.
 #[test]
-fn upload_decide_then_download_the_accepted_list() {
+fn upload_decide_then_download_the_goals_held() {
     let (mut i, mut c) = (intake(), MissionClient::new((SYS, 191), 1500, 3));
     let mut out = Vec::new();
     assert!(c.upload(0, items(), 0, &mut out));
@@ -109,25 +106,62 @@ fn upload_decide_then_download_the_accepted_list() {
     let Some(MissionOutcome::Downloaded(got)) = outcome else {
         panic!("{outcome:?}")
     };
-    assert_eq!(got.len(), 2);
+    assert_eq!(got.len(), 1, "the rejected g2 is not held: {got:?}");
     assert!(
-        (got[1].x - 43.5602).abs() < 1e-7 && (got[1].y - 1.4802).abs() < 1e-7,
+        (got[0].x - 43.5601).abs() < 1e-7 && (got[0].y - 1.4801).abs() < 1e-7,
         "{:?}",
-        got[1]
+        got[0]
     );
 
     let mut out = Vec::new();
     assert!(c.clear(2, 20, &mut out));
-    let (outcome, _) = converse(&mut i, &mut c, out, 20, &[]);
+    let (outcome, texts) = converse(&mut i, &mut c, out, 20, &[]);
     assert_eq!(outcome, Some(MissionOutcome::Cleared));
+    assert!(
+        texts.iter().any(|t| t.starts_with("g1 cancelled: cleared")),
+        "{texts:?}"
+    );
+    assert!(i.held_names((255, 190)).is_empty());
+}
+
+/// A new list from the same station replaces its last one: the goal left out is cancelled, the goal
+/// uploaded again is kept (not inserted twice), a new one is requested.
+#[test]
+fn a_new_list_replaces_the_station_s_last_one() {
+    let (mut i, mut c) = (intake(), MissionClient::new((SYS, 191), 1500, 3));
+    let mut out = Vec::new();
+    assert!(c.upload(0, items(), 0, &mut out));
+    converse(
+        &mut i,
+        &mut c,
+        out,
+        0,
+        &[GoalVerdict::Accepted, GoalVerdict::Accepted],
+    );
+    assert_eq!(i.held_names((255, 190)), ["g1", "g2"]);
+    let mut out = Vec::new();
+    let list = vec![items()[1].clone(), MissionItem::waypoint(43.5603, 1.4803, 0.0)];
+    assert!(c.upload(1, list, 10, &mut out));
+    let (outcome, texts) = converse(&mut i, &mut c, out, 10, &[GoalVerdict::Accepted]);
+    assert_eq!(outcome, Some(MissionOutcome::Uploaded));
+    assert!(
+        texts.iter().any(|t| t.starts_with("g1 cancelled: left out")),
+        "{texts:?}"
+    );
+    assert!(texts.iter().any(|t| t == "g3 accepted: at(g3_loc)"), "{texts:?}");
+    assert_eq!(i.held_names((255, 190)), ["g2", "g3"]);
 }
 
 #[test]
 fn goal_numbers_continue_across_uploads() {
     let (mut i, mut c) = (intake(), MissionClient::new((SYS, 191), 1500, 3));
-    for (n, expected) in [(0u64, "g1"), (1, "g3")] {
+    let second = vec![
+        MissionItem::waypoint(43.5611, 1.4811, 0.0),
+        MissionItem::waypoint(43.5612, 1.4812, 0.0),
+    ];
+    for (n, expected, list) in [(0u64, "g1", items()), (1, "g3", second)] {
         let mut out = Vec::new();
-        assert!(c.upload(n, items(), 0, &mut out));
+        assert!(c.upload(n, list, 0, &mut out));
         let (_, texts) = converse(
             &mut i,
             &mut c,
@@ -135,7 +169,10 @@ fn goal_numbers_continue_across_uploads() {
             0,
             &[GoalVerdict::Accepted, GoalVerdict::Accepted],
         );
-        assert!(texts[0].starts_with(expected), "{texts:?}");
+        assert!(
+            texts.iter().any(|t| t.starts_with(expected)),
+            "{texts:?}"
+        );
     }
 }
 
@@ -149,7 +186,7 @@ fn requests_from_someone_not_downloading_are_not_answered() {
         target_component: 191,
         mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
     });
-    assert!(i.handle(GCS, &req, SYS, 0, &mut out).is_none());
+    assert!(i.handle(GCS, &req, None, SYS, 0, &mut out).is_none());
     assert!(out.is_empty(), "{out:?}");
 }
 
@@ -158,7 +195,7 @@ fn a_lost_item_is_requested_again_and_a_silent_uploader_is_cancelled() {
     let mut i = intake();
     let mut out = Vec::new();
     let count = mission_count(2);
-    i.handle(GCS, &count, SYS, 0, &mut out);
+    i.handle(GCS, &count, None, SYS, 0, &mut out);
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
     out.clear();
     // Item 1 before item 0: item 0 is asked again.
@@ -167,7 +204,7 @@ fn a_lost_item_is_requested_again_and_a_silent_uploader_is_cancelled() {
             .to_int(1, (SYS, 191), MavMissionType::MAV_MISSION_TYPE_MISSION)
             .expect("wire"),
     );
-    i.handle(GCS, &item1, SYS, 10, &mut out);
+    i.handle(GCS, &item1, None, SYS, 10, &mut out);
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
     out.clear();
     i.tick(1509, &mut out);
@@ -187,16 +224,16 @@ fn a_lost_item_is_requested_again_and_a_silent_uploader_is_cancelled() {
     );
 }
 
-/// An item whose command id the dialect does not know cannot be parsed: it is answered with MISSION_ACK
-/// UNSUPPORTED and a reason at once, and the intake is free for the next uploader (it used to be dropped
-/// silently, leaving the upload locked while others were DENIED).
+/// An item whose command id the dialect does not know cannot be parsed: it is kept as an item no goal is
+/// made of, and the list's answer names it in a warning (the whole list used to be refused); someone
+/// else's unparsable traffic is not ours to answer.
 #[test]
-fn an_item_with_an_unknown_command_is_refused_at_once() {
+fn an_item_with_an_unknown_command_is_skipped_with_a_warning() {
     use mavlink::Message;
     let mut i = intake();
     let mut out = Vec::new();
     let count = mission_count(2);
-    assert!(i.handle(GCS, &count, SYS, 0, &mut out).is_none());
+    assert!(i.handle(GCS, &count, None, SYS, 0, &mut out).is_none());
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
     // MISSION_ITEM_INT's wire payload: seq 0, command 48879 (no such MAV_CMD), to (SYS, 191).
     let mut payload = vec![0u8; 38];
@@ -207,43 +244,151 @@ fn an_item_with_an_unknown_command_is_refused_at_once() {
         MavMessage::parse(mavlink::MavlinkVersion::V2, 73, &payload).is_err(),
         "the dialect should not read it"
     );
+    // Someone else's unparsable traffic (another target) is not ours to answer.
+    let mut foreign = payload.clone();
+    foreign[33] = 1;
     let mut out = Vec::new();
-    i.unparsable_item(GCS, 73, &payload, SYS, &mut out);
+    assert!(i.unparsable_item(GCS, 73, &foreign, SYS, 5, &mut out).is_none());
+    assert!(out.is_empty());
+    assert!(i.unparsable_item(GCS, 73, &payload, SYS, 5, &mut out).is_none());
+    assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 1));
+    let item1 = MavMessage::MISSION_ITEM_INT(
+        items()[1]
+            .to_int(1, (SYS, 191), MavMissionType::MAV_MISSION_TYPE_MISSION)
+            .expect("wire"),
+    );
+    let mut out = Vec::new();
+    let p = i
+        .handle(GCS, &item1, None, SYS, 10, &mut out)
+        .expect("complete");
+    assert_eq!(p.goals.len(), 1);
+    i.decided(p, &[GoalVerdict::Accepted], Some(Vec::new()), &mut out);
+    let texts = texts(&out);
     assert!(
         out.iter().any(|m| matches!(m, MavMessage::MISSION_ACK(a)
-            if a.mavtype == MavMissionResult::MAV_MISSION_UNSUPPORTED && a.target_system == 255)),
+            if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED && a.target_system == 255)),
         "{out:?}"
     );
-    let texts: String = out
-        .iter()
+    assert!(
+        texts.iter().any(|t| t.starts_with("item 0: command 48879")),
+        "{texts:?}"
+    );
+    assert!(texts.iter().any(|t| t == "g1 accepted: at(g1_loc)"), "{texts:?}");
+}
+
+fn texts(out: &[MavMessage]) -> Vec<String> {
+    let mut asm = mavtempo::vehicle::goal_client::TextAssembler::default();
+    out.iter()
         .filter_map(|m| match m {
-            MavMessage::STATUSTEXT(s) => s
-                .text
-                .to_str()
-                .ok()
-                .map(|t| t.trim_end_matches('\0').to_string()),
+            MavMessage::STATUSTEXT(s) => asm.push(s.id, &s.text[..]),
             _ => None,
         })
-        .collect();
-    assert!(texts.contains("command 48879"), "{texts}");
-    // Another station can upload right away.
+        .collect()
+}
+
+fn acks(out: &[MavMessage]) -> Vec<MavMissionResult> {
+    out.iter()
+        .filter_map(|m| match m {
+            MavMessage::MISSION_ACK(a) => Some(a.mavtype),
+            _ => None,
+        })
+        .collect()
+}
+
+/// A declared count past the limit is refused at once with why; one station's stalled upload never
+/// blocks another's; a station speaking with the same ids from another address is refused, not mixed in.
+#[test]
+fn nobody_can_jam_the_intake() {
+    use mavtempo::vehicle::intake::MAX_GOAL_ITEMS;
+    let mut i = intake();
+    let mut out = Vec::new();
+    i.handle(GCS, &mission_count(MAX_GOAL_ITEMS + 1), None, SYS, 0, &mut out);
+    assert_eq!(acks(&out), [MavMissionResult::MAV_MISSION_NO_SPACE]);
+    assert!(texts(&out)[0].contains("at most 256"), "{:?}", texts(&out));
+    let a: std::net::SocketAddr = "127.0.0.1:1000".parse().expect("addr");
+    let b: std::net::SocketAddr = "127.0.0.1:2000".parse().expect("addr");
+    let mut out = Vec::new();
+    i.handle(GCS, &mission_count(MAX_GOAL_ITEMS), Some(a), SYS, 0, &mut out);
+    assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
+    // The same ids from another address: refused with why, the first upload goes on.
+    let mut out = Vec::new();
+    i.handle(GCS, &mission_count(1), Some(b), SYS, 1, &mut out);
+    assert_eq!(acks(&out), [MavMissionResult::MAV_MISSION_DENIED]);
+    assert!(texts(&out)[0].contains("share these ids"), "{:?}", texts(&out));
+    let item0 = MavMessage::MISSION_ITEM_INT(
+        items()[0]
+            .to_int(0, (SYS, 191), MavMissionType::MAV_MISSION_TYPE_MISSION)
+            .expect("wire"),
+    );
+    let mut out = Vec::new();
+    i.handle(GCS, &item0, Some(b), SYS, 2, &mut out);
+    assert!(out.is_empty(), "an item from the other address is not mixed in: {out:?}");
+    // Another station uploads while the first stalls.
     let other = MavHeader {
         system_id: 254,
         component_id: 190,
         sequence: 0,
     };
     let mut out = Vec::new();
-    i.handle(other, &count, SYS, 10, &mut out);
-    assert!(
-        matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0 && r.target_system == 254),
-        "{out:?}"
-    );
-    // Someone else's unparsable traffic (another target) is not ours to answer.
-    let mut foreign = payload.clone();
-    foreign[33] = 1;
+    i.handle(other, &mission_count(1), None, SYS, 3, &mut out);
     let mut out = Vec::new();
-    i.unparsable_item(GCS, 73, &foreign, SYS, &mut out);
-    assert!(out.is_empty());
+    let p = i.handle(other, &item0, None, SYS, 4, &mut out);
+    assert_eq!(p.map(|p| p.goals.len()), Some(1));
+}
+
+/// A large list is answered with counts by reason, not one text per item.
+#[test]
+fn a_large_upload_is_answered_with_counts() {
+    let (mut i, mut c) = (intake(), MissionClient::new((SYS, 191), 1500, 3));
+    let mut list = Vec::new();
+    for k in 0..100 {
+        list.push(MissionItem::waypoint(43.5601 + f64::from(k) * 1e-5, 1.4801, 0.0));
+        let mut speed = MissionItem::waypoint(0.0, 0.0, 0.0);
+        speed.command = 178; // DO_CHANGE_SPEED: no goal
+        list.push(speed);
+    }
+    let mut out = Vec::new();
+    assert!(c.upload(0, list, 0, &mut out));
+    let verdicts: Vec<GoalVerdict> = (0..100)
+        .map(|k| {
+            if k % 4 == 0 {
+                GoalVerdict::Rejected("too far".into())
+            } else {
+                GoalVerdict::Accepted
+            }
+        })
+        .collect();
+    let (outcome, texts) = converse(&mut i, &mut c, out, 0, &verdicts);
+    assert_eq!(outcome, Some(MissionOutcome::Uploaded));
+    assert_eq!(texts.len(), 2, "{texts:?}");
+    assert!(texts[0].starts_with("100 items skipped: 100 x command 178"), "{texts:?}");
+    assert_eq!(
+        texts[1],
+        "100 goals (g1-g100): 75 x accepted; 25 x rejected: too far"
+    );
+}
+
+/// Home as item 0 (pymavlink's mavwp, MAVProxy's `wp load`: a waypoint in the absolute global frame) is
+/// not a goal; the answer says so.
+#[test]
+fn home_as_item_0_is_skipped() {
+    let (mut i, mut c) = (intake(), MissionClient::new((SYS, 191), 1500, 3));
+    let mut home = MissionItem::waypoint(43.56, 1.48, 0.0);
+    home.frame = 0;
+    let mut list = vec![home];
+    list.extend(items());
+    let mut out = Vec::new();
+    assert!(c.upload(0, list, 0, &mut out));
+    let (_, texts) = converse(
+        &mut i,
+        &mut c,
+        out,
+        0,
+        &[GoalVerdict::Accepted, GoalVerdict::Accepted],
+    );
+    assert!(texts[0].starts_with("item 0: the home position"), "{texts:?}");
+    assert_eq!(texts[1], "g1 accepted: at(g1_loc)");
+    assert_eq!(i.held_names((255, 190)), ["g1", "g2"]);
 }
 
 /// A chunked STATUSTEXT is complete at its first chunk shorter than 50 bytes: a text of exactly 100 bytes

@@ -10,7 +10,7 @@ use mavlink::dialects::ardupilotmega::{
 use super::driver::COMPANION_COMPONENT;
 use super::endpoint::{Address, Transport};
 use super::frame::{Encoder, FrameDecoder};
-use super::goals::{is_final_verdict_text, GOAL_ATTRIBUTES_CMD, INSERTING};
+use super::goals::{is_final_verdict_text, summary_finals, GOAL_ATTRIBUTES_CMD, INSERTING};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
 
@@ -156,7 +156,11 @@ pub async fn send_goals_as(
         let finals = collected
             .iter()
             .filter(|t| is_final_verdict_text(t))
-            .count();
+            .count()
+            + collected
+                .iter()
+                .filter_map(|t| summary_finals(t))
+                .sum::<usize>();
         let done_texts = finals >= expected_texts
             || (awaiting_verdicts(&collected) == 0
                 && quiet_since.elapsed() > Duration::from_millis(1500))

@@ -287,6 +287,21 @@ pub fn is_final_verdict_text(text: &str) -> bool {
         )
 }
 
+/// How many final verdicts a large upload's summary line (`100 goals (g1-g100): 75 x accepted; 25 x
+/// rejected: …`) carries: every count but the goals still "received, verdict to follow".
+pub fn summary_finals(text: &str) -> Option<usize> {
+    let (head, rest) = text.split_once(" goals (g")?;
+    head.parse::<usize>().ok()?;
+    let (_, counts) = rest.split_once("): ")?;
+    Some(
+        counts
+            .split("; ")
+            .filter(|c| !c.ends_with("received, verdict to follow"))
+            .filter_map(|c| c.split_once(" x ")?.0.parse::<usize>().ok())
+            .sum(),
+    )
+}
+
 /// The MAVLink value of a MISSION_ACK result (for messages and logs).
 pub fn ack_code(r: MavMissionResult) -> u8 {
     r.to_u8().unwrap_or(u8::MAX)

@@ -36,7 +36,7 @@ pub const MAX_GOAL_ITEMS: u16 = 256;
 /// Uploads in progress at once (one per station).
 pub const MAX_UPLOADS: usize = 8;
 /// Past this many lines, an answer's texts are counts by reason.
-pub const SUMMARY_OVER: usize = 6;
+pub const SUMMARY_OVER: usize = 20;
 
 /// STATUSTEXT(s) for `text`: chunks of 50 bytes sharing a non-zero id when longer than one message. A
 /// receiver knows a chunked text is complete when a chunk holds a NUL (is shorter than 50 bytes): a text
