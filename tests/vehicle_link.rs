@@ -373,20 +373,23 @@ fn goal_upload_is_decided_by_the_executive_through_the_vehicle() {
 }
 
 #[test]
-fn goal_upload_with_an_item_that_is_no_goal_is_refused_with_the_reason() {
+fn goal_upload_with_an_item_that_is_no_goal_skips_it_with_the_reason() {
     let home = Home {
         lat: 0.0,
         lon: 0.0,
         alt: 0.0,
     };
-    let items = vec![MissionItem::new(
-        MavCmd::MAV_CMD_DO_SET_SERVO,
-        MavFrame::MAV_FRAME_MISSION,
-    )];
+    let items = vec![
+        MissionItem::new(MavCmd::MAV_CMD_DO_SET_SERVO, MavFrame::MAV_FRAME_MISSION),
+        MissionItem::waypoint(0.0001, 0.0001, 0.0),
+    ];
     let report = upload_to_syntactic_server("tcp", home, items);
-    reports::assert_upload_refused(
-        &report,
-        "MAV_MISSION_UNSUPPORTED",
-        &["item 0: command 183 is not a goal"],
+    assert_eq!(report.failure, None, "{report:?}");
+    assert_eq!(
+        report.texts,
+        [
+            "item 0: command 183 is not a goal (docs/goal-items.md): skipped",
+            "g1 accepted: at(g1_loc)"
+        ]
     );
 }

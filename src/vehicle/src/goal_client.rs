@@ -80,7 +80,7 @@ fn awaiting_verdicts(texts: &[String]) -> usize {
         .count()
 }
 
-pub(crate) fn gcs_heartbeat() -> MavMessage {
+pub fn gcs_heartbeat() -> MavMessage {
     MavMessage::HEARTBEAT(HEARTBEAT_DATA {
         custom_mode: 0,
         mavtype: MavType::MAV_TYPE_GCS,
