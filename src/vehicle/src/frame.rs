@@ -74,6 +74,13 @@ impl FrameDecoder {
         self.buf.extend_from_slice(bytes);
     }
 
+    /// The end of a datagram: what is left is the start of no frame (MAVLink over UDP never splits a frame
+    /// across datagrams), so a false start inside a corrupted frame cannot hold the next datagram's frames.
+    pub fn end_datagram(&mut self) {
+        self.buf.clear();
+        self.start = 0;
+    }
+
     pub fn next_frame(&mut self) -> Option<RawFrame> {
         loop {
             let data = &self.buf[self.start..];

@@ -1,6 +1,7 @@
 //! The peers of one transport. A stream (TCP, serial) has one; a UDP socket has as many as send to it, and
 //! each gets its own frame decoder: garbage from one sender (a false frame start waiting for bytes) never
-//! holds back another sender's frames. Replies go to the peer they answer (by the MAVLink system and
+//! holds back another sender's frames, and each datagram is decoded on its own (a false start inside a
+//! corrupted frame never holds the next datagram's frames). Replies go to the peer they answer (by the MAVLink system and
 //! component heard from each address), broadcasts to every peer that has sent a valid frame: a sender of
 //! garbage only is sent nothing.
 
@@ -91,6 +92,9 @@ impl Peers {
         let mut frames = Vec::new();
         while let Some(f) = decoder.next_frame() {
             frames.push(f);
+        }
+        if from.is_some() {
+            decoder.end_datagram();
         }
         (frames, decoder.crc_errors - before)
     }
@@ -212,6 +216,25 @@ mod tests {
         let bytes = Encoder::new(255, 190, None).encode(&heartbeat(), false);
         let (frames, _) = p.decode(addr(2), &bytes);
         assert_eq!(frames.len(), 1, "sender 2's frame is decoded at once");
+    }
+
+    /// A corrupted frame holding a false start (0xFD announcing 255 bytes) in its payload: the next datagrams'
+    /// frames are decoded at once, none swallowed (they used to wait for the false frame's bytes).
+    #[test]
+    fn after_a_crc_error_the_next_datagrams_are_decoded_at_once() {
+        let mut p = Peers::new(None);
+        let mut bad = Encoder::new(255, 190, None).encode(&heartbeat(), false);
+        let n = bad.len();
+        bad[n - 6] = 0xFD;
+        bad[n - 5] = 0xFF;
+        let (frames, crc) = p.decode(addr(1), &bad);
+        assert!(frames.is_empty());
+        assert_eq!(crc, 1);
+        for k in 0..5 {
+            let good = Encoder::new(255, 190, None).encode(&heartbeat(), false);
+            let (frames, _) = p.decode(addr(1), &good);
+            assert_eq!(frames.len(), 1, "retransmission {k} decoded at once");
+        }
     }
 
     #[test]
