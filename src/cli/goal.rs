@@ -83,6 +83,9 @@ fn check(file: PathBuf) -> ExitCode {
         lon: 0.0,
         alt: 0.0,
     });
+    for e in &parsed.skipped {
+        eprintln!("warning: {e}");
+    }
     let list = crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1);
     for e in &list.skipped {
         eprintln!("warning: {}: {e}", file.display());
@@ -111,6 +114,9 @@ async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    for e in &parsed.skipped {
+        eprintln!("warning: {e}");
+    }
     match send_goals(&to, parsed.items, Duration::from_secs(timeout)).await {
         Ok(report) => {
             for t in &report.texts {

@@ -146,6 +146,9 @@ fn initial_goals(
     first: u32,
 ) -> Result<Vec<GoalRequest>, CliError> {
     let file = goal_files::load(path)?;
+    for e in &file.skipped {
+        tracing::warn!("{e}");
+    }
     let list = items_to_goals(&file.items, known, first);
     for e in &list.skipped {
         tracing::warn!("{}: {e}", path.display());

@@ -16,11 +16,13 @@ pub struct FileError {
     pub message: String,
 }
 
-/// The items of a goal file and its home position, if it gives one.
+/// The items of a goal file and its home position, if it gives one; what of the file was left out, each
+/// with its place and why.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GoalFile {
     pub home: Option<Home>,
     pub items: Vec<MissionItem>,
+    pub skipped: Vec<FileError>,
 }
 
 /// Reads a `.plan` or `.waypoints` file, chosen by extension (else by content).
@@ -125,73 +127,116 @@ pub fn parse_plan(text: &str, name: &str) -> Result<GoalFile, FileError> {
         .as_array()
         .ok_or_else(|| at_path(name, "mission.items", "expected an array"))?;
     let mut out = Vec::with_capacity(items.len());
+    let mut skipped = Vec::new();
     for (i, it) in items.iter().enumerate() {
         let p = format!("mission.items[{i}]");
         match it.get("type").and_then(Value::as_str) {
-            Some("SimpleItem") => {}
-            Some(other) => {
-                return Err(at_path(
-                    name,
-                    &format!("{p}.type"),
-                    format!("\"{other}\" items are not supported (only SimpleItem)"),
-                ))
-            }
+            Some("SimpleItem") => out.push(simple_item(it, name, &p)?),
+            Some("ComplexItem") => complex_item(it, name, &p, &mut out, &mut skipped)?,
+            Some(other) => skipped.push(at_path(
+                name,
+                &format!("{p}.type"),
+                format!("\"{other}\" items are not goals: skipped"),
+            )),
             None => return Err(at_path(name, &format!("{p}.type"), "missing")),
         }
-        let command = field(it, "command", name, &p)?
-            .as_u64()
-            .filter(|c| *c <= u64::from(u16::MAX))
-            .ok_or_else(|| at_path(name, &format!("{p}.command"), "expected a MAV_CMD number"))?;
-        let frame = field(it, "frame", name, &p)?
-            .as_u64()
-            .filter(|f| *f <= 255)
-            .ok_or_else(|| at_path(name, &format!("{p}.frame"), "expected a MAV_FRAME number"))?;
-        let params = field(it, "params", name, &p)?
-            .as_array()
-            .filter(|a| a.len() == 7)
-            .ok_or_else(|| {
+    }
+    Ok(GoalFile {
+        home,
+        items: out,
+        skipped,
+    })
+}
+
+/// A QGroundControl `SimpleItem` at JSON path `p`.
+fn simple_item(it: &Value, name: &str, p: &str) -> Result<MissionItem, FileError> {
+    let command = field(it, "command", name, p)?
+        .as_u64()
+        .filter(|c| *c <= u64::from(u16::MAX))
+        .ok_or_else(|| at_path(name, &format!("{p}.command"), "expected a MAV_CMD number"))?;
+    let frame = field(it, "frame", name, p)?
+        .as_u64()
+        .filter(|f| *f <= 255)
+        .ok_or_else(|| at_path(name, &format!("{p}.frame"), "expected a MAV_FRAME number"))?;
+    let params = field(it, "params", name, p)?
+        .as_array()
+        .filter(|a| a.len() == 7)
+        .ok_or_else(|| {
+            at_path(
+                name,
+                &format!("{p}.params"),
+                "expected an array of 7 numbers",
+            )
+        })?;
+    let mut v = [0f64; 7];
+    for (k, x) in params.iter().enumerate() {
+        // QGroundControl writes NaN as null.
+        v[k] = match x {
+            Value::Null => f64::NAN,
+            other => other.as_f64().ok_or_else(|| {
                 at_path(
                     name,
-                    &format!("{p}.params"),
-                    "expected an array of 7 numbers",
+                    &format!("{p}.params[{k}]"),
+                    "expected a number or null",
                 )
-            })?;
-        let mut v = [0f64; 7];
-        for (k, x) in params.iter().enumerate() {
-            // QGroundControl writes NaN as null.
-            v[k] = match x {
-                Value::Null => f64::NAN,
-                other => other.as_f64().ok_or_else(|| {
-                    at_path(
-                        name,
-                        &format!("{p}.params[{k}]"),
-                        "expected a number or null",
-                    )
-                })?,
-            };
-        }
-        let autocontinue = match it.get("autoContinue") {
-            None => true,
-            Some(Value::Bool(b)) => *b,
-            Some(_) => {
-                return Err(at_path(
-                    name,
-                    &format!("{p}.autoContinue"),
-                    "expected true or false",
-                ))
-            }
+            })?,
         };
-        out.push(MissionItem {
-            command: command as u16,
-            frame: frame as u8,
-            params: [v[0] as f32, v[1] as f32, v[2] as f32, v[3] as f32],
-            x: if v[4].is_nan() { 0.0 } else { v[4] },
-            y: if v[5].is_nan() { 0.0 } else { v[5] },
-            z: v[6] as f32,
-            autocontinue,
-        });
     }
-    Ok(GoalFile { home, items: out })
+    let autocontinue = match it.get("autoContinue") {
+        None => true,
+        Some(Value::Bool(b)) => *b,
+        Some(_) => {
+            return Err(at_path(
+                name,
+                &format!("{p}.autoContinue"),
+                "expected true or false",
+            ))
+        }
+    };
+    Ok(MissionItem {
+        command: command as u16,
+        frame: frame as u8,
+        params: [v[0] as f32, v[1] as f32, v[2] as f32, v[3] as f32],
+        x: if v[4].is_nan() { 0.0 } else { v[4] },
+        y: if v[5].is_nan() { 0.0 } else { v[5] },
+        z: v[6] as f32,
+        autocontinue,
+    })
+}
+
+/// A QGroundControl `ComplexItem` (survey, corridor scan, structure scan) at JSON path `p`: the mission
+/// items QGroundControl generated for it (`TransectStyleComplexItem.Items`: the transects' waypoints and
+/// the camera trigger distance, DO_SET_CAM_TRIGG_DIST), which become picture goals along the transects in
+/// their order (the rover domains have no survey task; docs/goal-items.md). Without generated items it is
+/// skipped with why.
+fn complex_item(
+    it: &Value,
+    name: &str,
+    p: &str,
+    out: &mut Vec<MissionItem>,
+    skipped: &mut Vec<FileError>,
+) -> Result<(), FileError> {
+    let kind = it
+        .get("complexItemType")
+        .and_then(Value::as_str)
+        .unwrap_or("?");
+    let Some(generated) = it
+        .get("TransectStyleComplexItem")
+        .and_then(|t| t.get("Items"))
+        .and_then(Value::as_array)
+    else {
+        skipped.push(at_path(
+            name,
+            p,
+            format!("\"{kind}\" complex item without generated items (TransectStyleComplexItem.Items): skipped"),
+        ));
+        return Ok(());
+    };
+    for (k, g) in generated.iter().enumerate() {
+        let q = format!("{p}.TransectStyleComplexItem.Items[{k}]");
+        out.push(simple_item(g, name, &q)?);
+    }
+    Ok(())
 }
 
 /// `.waypoints`: `QGC WPL 110`, then INDEX CURRENT FRAME COMMAND P1 P2 P3 P4 LAT LON ALT AUTOCONTINUE per
@@ -296,5 +341,9 @@ pub fn parse_waypoints(text: &str, name: &str) -> Result<GoalFile, FileError> {
             autocontinue,
         });
     }
-    Ok(GoalFile { home, items })
+    Ok(GoalFile {
+        home,
+        items,
+        skipped: Vec::new(),
+    })
 }
