@@ -222,6 +222,14 @@ fn the_rover_goes_through_the_same_code() {
         verdict,
         GoalVerdict::Rejected("no goal mapping for sample items in the config".into())
     );
+    // No home object in demo-rover.toml: a return home is a "be at" the problem's home position, where
+    // fig2's `base` is (issue 30: RTL items were always rejected with the shipped rover configs).
+    let verdict = upload_one(
+        &mut ex,
+        request("g8", GoalKind::ReturnHome, "", false, Enu::default()),
+    );
+    assert_eq!(verdict, GoalVerdict::Accepted);
+    assert_eq!(last_goal(&ex), "AT_ROBOT() = base");
 }
 
 #[test]

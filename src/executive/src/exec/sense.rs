@@ -181,18 +181,34 @@ impl Executive {
     /// `attr() = L`; a new location object when the request names a place no object is at.
     pub fn goal_from_request(&mut self, g: &GoalRequest) -> Result<Goal, MappingError> {
         let what = g.kind.key();
+        // A return home with no return-home mapping or no home object in the config is a "be at" the
+        // problem's home position (the place there, or a new one named `home`).
+        let home_as_waypoint = g.kind == mavtempo_vehicle::GoalKind::ReturnHome
+            && (self.mapping.home_object.is_none()
+                || !self.mapping.goals.contains_key(&g.kind));
+        let kind = if home_as_waypoint {
+            mavtempo_vehicle::GoalKind::BeAt
+        } else {
+            g.kind
+        };
         let target =
             *self
                 .mapping
                 .goals
-                .get(&g.kind)
+                .get(&kind)
                 .ok_or_else(|| MappingError::NoGoalMapping {
                     kind: what.to_string(),
                 })?;
         let loc = match (&g.location, g.kind) {
-            (_, mavtempo_vehicle::GoalKind::ReturnHome) => {
-                self.mapping.home_object.ok_or(MappingError::NoHomeObject)?
-            }
+            (_, mavtempo_vehicle::GoalKind::ReturnHome) => match self.mapping.home_object {
+                Some(o) if !home_as_waypoint => o,
+                _ => super::state_update::location_object(
+                    self,
+                    "home",
+                    mavtempo_vehicle::Enu::new(0.0, 0.0, 0.0),
+                    None,
+                )?,
+            },
             // A place the intake already named (a known object of the location type) is that object.
             (Some(l), _) => match self.known_location(l) {
                 Some(o) => o,
