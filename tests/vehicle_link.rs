@@ -388,7 +388,7 @@ fn goal_upload_with_an_item_that_is_no_goal_skips_it_with_the_reason() {
     assert_eq!(
         report.texts,
         [
-            "item 0: command 183 is not a goal (docs/goal-items.md): skipped",
+            "item 0: command 183 is not a goal: skipped",
             "g1 accepted: at(g1_loc)"
         ]
     );

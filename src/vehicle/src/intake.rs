@@ -448,7 +448,7 @@ impl GoalIntake {
                 0,
                 ItemError {
                     seq: 0,
-                    reason: "the home position (ArduPilot ground stations send home as item 0): not a goal".into(),
+                    reason: "the home position, not a goal".into(),
                     ack: MavMissionResult::MAV_MISSION_ACCEPTED,
                 },
             );

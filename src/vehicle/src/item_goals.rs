@@ -305,7 +305,7 @@ impl Mapper<'_> {
             other => {
                 self.skip(
                     seq,
-                    format!("command {other} is not a goal (docs/goal-items.md): skipped"),
+                    format!("command {other} is not a goal: skipped"),
                     MavMissionResult::MAV_MISSION_UNSUPPORTED,
                 );
                 return;

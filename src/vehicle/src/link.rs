@@ -229,6 +229,12 @@ impl Pump {
                                     continue;
                                 };
                                 let header = frame.header();
+                                let mut msg = msg;
+                                if self.shared.is_none() {
+                                    // Only goals come to this port: a mission message to component 0 is
+                                    // ours (MAVProxy's defaults, see docs/goal-items.md).
+                                    to_companion(&mut msg);
+                                }
                                 if self.shared.is_none()
                                     && matches!(msg, MavMessage::HEARTBEAT(_))
                                     && last_own_heartbeat.is_none_or(|t| now.saturating_sub(t) >= 1000)
@@ -397,6 +403,28 @@ impl Pump {
                 });
             }
         }
+    }
+}
+
+/// A mission-protocol message to any component (0) addressed to the companion's (191): on the ground-station
+/// port nothing else could answer it. MAVProxy sends to `target_component` 0 until told otherwise (it
+/// takes its target from an autopilot's HEARTBEAT, and the companion's is not one).
+// The legacy MISSION_ITEM / MISSION_REQUEST must still be accepted (MAVProxy, ArduPilot's GCSs send them).
+#[allow(deprecated)]
+fn to_companion(msg: &mut MavMessage) {
+    let tc = match msg {
+        MavMessage::MISSION_COUNT(m) => &mut m.target_component,
+        MavMessage::MISSION_ITEM_INT(m) => &mut m.target_component,
+        MavMessage::MISSION_ITEM(m) => &mut m.target_component,
+        MavMessage::MISSION_REQUEST_LIST(m) => &mut m.target_component,
+        MavMessage::MISSION_REQUEST_INT(m) => &mut m.target_component,
+        MavMessage::MISSION_REQUEST(m) => &mut m.target_component,
+        MavMessage::MISSION_ACK(m) => &mut m.target_component,
+        MavMessage::MISSION_CLEAR_ALL(m) => &mut m.target_component,
+        _ => return,
+    };
+    if *tc == 0 {
+        *tc = COMPANION_COMPONENT;
     }
 }
 
