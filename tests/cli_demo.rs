@@ -32,7 +32,7 @@ fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
         "{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(stdout.contains("mission ended (Finished)"), "{stdout}");
+    assert!(stdout.contains("mission ended (finished)"), "{stdout}");
     let text = std::fs::read_to_string(&report_path).expect("report written");
     let report: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     let goals = report["goals"].as_array().expect("goals array");

@@ -111,7 +111,7 @@ impl TracePrinter {
 pub fn print_summary(r: &MissionReport) {
     outln!();
     outln!(
-        "mission ended ({:?}) at {:.1} s after {} cycles",
+        "mission ended ({}) at {:.1} s after {} cycles",
         r.end,
         r.duration_ms as f64 / 1000.0,
         r.cycles.len()
@@ -125,7 +125,7 @@ pub fn print_summary(r: &MissionReport) {
         };
         match &g.reason {
             None => outln!("  {:<6} {fate}", g.name),
-            Some(reason) => outln!("  {:<6} {fate}: {reason}", g.name),
+            Some(reason) => outln!("  {:<6} {fate}: {}", g.name, reason.operator_text()),
         }
     }
     for rp in &r.replannings {
@@ -157,17 +157,17 @@ pub fn print_summary(r: &MissionReport) {
     );
     if let Some(s) = &r.shutdown {
         outln!(
-            "shutdown: {:?} ({:?} mode {:?}; actions ended: {}; ACK {}; last mode {:?})",
+            "shutdown: {} ({} mode {}; actions ended: {}; ACK {}; last mode {})",
             s.outcome,
             s.action,
-            s.mode,
+            s.mode.map_or("none".to_string(), |m| m.to_string()),
             if s.stopped.is_empty() {
                 "none".to_string()
             } else {
                 s.stopped.join(", ")
             },
             s.ack.as_deref().unwrap_or("none"),
-            s.last_mode
+            s.last_mode.map_or("none".to_string(), |m| m.to_string())
         );
     }
 }

@@ -94,8 +94,10 @@ pub fn gcs_heartbeat() -> MavMessage {
 /// The system id a ground station uses (MAVLink's convention for a GCS).
 pub const GCS_SYSTEM_ID: u8 = 255;
 
-/// Uploads `items` to the companion at `address` and waits for the ACK and each goal's final verdict (a goal
-/// the companion is still inserting into its plan when it answers gets its verdict in a later STATUSTEXT).
+/// Adds `items` to the goals this station holds on the companion at `address` (it reads them back and uploads
+/// them with `items`: an upload replaces a station's list) and waits for the ACK and each new goal's final
+/// verdict (a goal the companion is still inserting into its plan when it answers gets its verdict in a
+/// later STATUSTEXT).
 pub async fn send_goals(
     address: &str,
     items: Vec<MissionItem>,
@@ -194,10 +196,11 @@ pub async fn send_goals_as(
             let Some(msg) = f.parse() else { continue };
             match (&msg, &mut client) {
                 (MavMessage::HEARTBEAT(_), None) => {
+                    // An upload replaces this station's list (the mission protocol's meaning): to add
+                    // goals, read back the goals it holds first and upload them with the new ones (the
+                    // same items: kept, not inserted again).
                     let mut c = MissionClient::new((f.system_id, COMPANION_COMPONENT), 1500, 5);
-                    if let Some(items) = pending_items.take() {
-                        c.upload(0, items, now(), &mut out);
-                    }
+                    c.download(0, now(), &mut out);
                     client = Some(c);
                 }
                 (MavMessage::STATUSTEXT(s), _) => {
@@ -209,6 +212,14 @@ pub async fn send_goals_as(
                 (_, Some(c)) => {
                     if let Some((_, outcome)) = c.handle(&msg, now(), &mut out) {
                         quiet_since = Instant::now();
+                        if let MissionOutcome::Downloaded(mut held) = outcome {
+                            held.extend(pending_items.take().unwrap_or_default());
+                            if held.len() > MAX_ITEMS {
+                                return Err(GoalSendError::TooManyItems(held.len()));
+                            }
+                            c.upload(1, held, now(), &mut out);
+                            continue;
+                        }
                         failure = Some(match outcome {
                             MissionOutcome::Uploaded => None,
                             MissionOutcome::Failed(r) => Some(r),

@@ -39,6 +39,29 @@ pub enum SafeStopOutcome {
     LeftAsIs,
 }
 
+impl std::fmt::Display for SafeStopOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            SafeStopOutcome::Confirmed => "confirmed",
+            SafeStopOutcome::Acknowledged => "acknowledged, mode not seen",
+            SafeStopOutcome::Refused => "refused by the autopilot",
+            SafeStopOutcome::NoAnswer => "no answer",
+            SafeStopOutcome::NoVehicle => "no vehicle heard",
+            SafeStopOutcome::LeftAsIs => "vehicle left as it was",
+        })
+    }
+}
+
+impl std::fmt::Display for OnShutdown {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            OnShutdown::Hold => "HOLD",
+            OnShutdown::Rtl => "RTL",
+            OnShutdown::None => "nothing",
+        })
+    }
+}
+
 /// What the safe stop did: the mission report's `shutdown`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SafeStopReport {

@@ -42,11 +42,18 @@ pub struct GoalFate {
 }
 
 impl GoalFate {
-    /// The reason's text, empty without one.
+    /// The reason's text (the planner's detail, for engineers), empty without one.
     pub fn reason_text(&self) -> String {
         self.reason
             .as_ref()
             .map_or(String::new(), |r| r.to_string())
+    }
+
+    /// The reason in the operator's words, empty without one.
+    pub fn operator_reason(&self) -> String {
+        self.reason
+            .as_ref()
+            .map_or(String::new(), |r| r.operator_text())
     }
 }
 
@@ -310,9 +317,11 @@ impl Executive {
                 w.tell(match (fate, reason) {
                     (Fate::Achieved, _) => GoalVerdict::Achieved,
                     (Fate::Cancelled, r) => {
-                        GoalVerdict::Cancelled(r.map_or(String::new(), |r| r.to_string()))
+                        GoalVerdict::Cancelled(r.map_or(String::new(), |r| r.operator_text()))
                     }
-                    (_, r) => GoalVerdict::Rejected(r.map_or(String::new(), |r| r.to_string())),
+                    (_, r) => {
+                        GoalVerdict::Rejected(r.map_or(String::new(), |r| r.operator_text()))
+                    }
                 });
             }
         }

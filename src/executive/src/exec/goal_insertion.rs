@@ -77,7 +77,7 @@ impl Executive {
                 }
                 Err(e) => {
                     let reason = FateReason::Unmapped(e);
-                    batch.decide(i, GoalVerdict::Rejected(reason.to_string()));
+                    batch.decide(i, GoalVerdict::Rejected(reason.operator_text()));
                     self.refuse(&g.name, reason);
                 }
             }
@@ -256,7 +256,7 @@ impl Executive {
         };
         self.insertion_stale = true;
         tracing::info!(goal = %ins.goal.name, steps = ins.steps, "new goal rejected: {reason}");
-        self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.to_string()));
+        self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.operator_text()));
         self.refuse(&ins.goal.name, reason);
     }
 

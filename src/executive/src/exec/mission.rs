@@ -77,6 +77,19 @@ pub enum MissionEnd {
     Interrupted(String),
 }
 
+impl std::fmt::Display for MissionEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MissionEnd::Finished => f.write_str("finished"),
+            MissionEnd::NoGoals => f.write_str("no goal left to pursue"),
+            MissionEnd::TimeLimit => f.write_str("time limit reached"),
+            MissionEnd::CycleLimit => f.write_str("cycle limit reached"),
+            MissionEnd::Error(e) => write!(f, "error: {e}"),
+            MissionEnd::Interrupted(s) => write!(f, "interrupted by {s}"),
+        }
+    }
+}
+
 /// A change of *ExecutingPlan*.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PlanChange {

@@ -44,6 +44,7 @@ pub mod goal_request;
 pub mod instantiate;
 pub mod interrupt;
 pub mod mission;
+pub mod operator_text;
 pub mod outcome;
 pub mod p_t;
 pub mod pacer;

@@ -13,6 +13,16 @@ pub enum Timing {
     TooEarly,
 }
 
+impl std::fmt::Display for Timing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Timing::InBounds => "in time",
+            Timing::TooLate => "later than planned",
+            Timing::TooEarly => "earlier than planned",
+        })
+    }
+}
+
 pub fn timing(plan: &PartialPlan, a: ActionId, t: Time) -> Timing {
     let et = plan.action(a).end;
     if t < plan.earliest(et) {

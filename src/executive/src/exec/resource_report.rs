@@ -24,6 +24,16 @@ pub enum LevelVerdict {
     OverProduction { p: f64 },
 }
 
+impl std::fmt::Display for LevelVerdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LevelVerdict::Consistent => f.write_str("as planned"),
+            LevelVerdict::OverConsumption { c } => write!(f, "{c:.2} more used than planned"),
+            LevelVerdict::OverProduction { p } => write!(f, "{p:.2} more produced than planned"),
+        }
+    }
+}
+
 /// What integrating a level does to the plan.
 #[derive(Copy, Clone, PartialEq, Debug, serde::Serialize)]
 pub struct LevelUpdate {

@@ -167,8 +167,8 @@ impl TraceEvent {
                 timing,
                 reason,
             } => match reason {
-                Some(why) => format!("report {action}: {status} ({timing:?}): {why}"),
-                None => format!("report {action}: {status} ({timing:?})"),
+                Some(why) => format!("report {action}: {status} ({timing}): {why}"),
+                None => format!("report {action}: {status} ({timing})"),
             },
             TraceEvent::Level {
                 resource,
@@ -176,7 +176,7 @@ impl TraceEvent {
                 lb,
                 ub,
                 verdict,
-            } => format!("{resource} = {level:.2} in [{lb:.2}, {ub:.2}]: {verdict:?}"),
+            } => format!("{resource} = {level:.2} in [{lb:.2}, {ub:.2}]: {verdict}"),
             TraceEvent::GoalReceived { goal } => {
                 format!("goal {goal} received: inserting it into the plan")
             }
