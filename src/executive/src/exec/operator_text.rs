@@ -107,7 +107,7 @@ impl FateReason {
                 abort.operator_text()
             ),
             FateReason::Abandoned { abort, .. } => format!(
-                "dropped for goals of higher priority when the plan was rebuilt after \"{}\"",
+                "dropped to keep the other goals when the plan was rebuilt after \"{}\"",
                 abort.operator_text()
             ),
             FateReason::NoPlanFound { .. } => "no plan found for it".to_string(),
