@@ -161,8 +161,9 @@ fn a_failed_insertion_leaves_the_plan_as_it_was_and_says_why() {
     ex.integrate(VehicleEvent::Goals(batch), 0);
     insertion_cycles(&mut ex, 0, 3);
     match rx.try_recv().expect("answered").as_slice() {
+        // In the operator's words (the planner's detail is in the goal's fate, below).
         [GoalVerdict::Rejected(r)] => {
-            assert!(r.starts_with("plan repair found no plan with it"), "{r}")
+            assert_eq!(r, "not enough battery to get there and back to the goals held")
         }
         other => panic!("{other:?}"),
     }
@@ -218,7 +219,9 @@ fn an_insertion_longer_than_a_cycle_is_answered_then_decided() {
     ex.integrate(VehicleEvent::Goals(batch), 0);
     insertion_cycles(&mut ex, 0, 1);
     match rx.try_recv().expect("answered").as_slice() {
-        [GoalVerdict::Rejected(r)] => assert!(r.contains("within 1 cycles (1 steps)"), "{r}"),
+        [GoalVerdict::Rejected(r)] => {
+            assert!(r.starts_with("no plan found for it within 1 cycles"), "{r}")
+        }
         other => panic!("{other:?}"),
     }
     assert_eq!(plan_text(&ex), before);

@@ -136,12 +136,21 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
     let mapped = ex.goal_from_request(&g4).expect("mapped");
     assert_eq!(goal_text(&ex, &mapped), "SURVEYED(g4_loc) = true");
     // No route leads to the new place (CONNECTED is static): its insertion fails and it is rejected
-    // with the planner's reason, the plan kept as it was.
+    // (the station told in its words, the planner's reason in the goal's fate), the plan kept as it was.
     let goals_before = ex.plan().problem().goals.len();
     match upload(&mut ex, vec![g4]).as_slice() {
-        [GoalVerdict::Rejected(r)] => assert!(r.contains("plan repair found no plan"), "{r}"),
+        [GoalVerdict::Rejected(r)] => assert_eq!(r, "no way to fit it in with the goals held"),
         other => panic!("{other:?}"),
     }
+    let fate = ex
+        .goal_fates()
+        .into_iter()
+        .find(|f| f.name == "g4")
+        .expect("g4's fate");
+    assert!(
+        fate.reason_text().contains("plan repair found no plan"),
+        "{fate:?}"
+    );
     assert_eq!(ex.plan().problem().goals.len(), goals_before);
     let o = ex.plan().problem().object_id("g4_loc").expect("new object");
     let location = ex.plan().domain().type_id("location");
