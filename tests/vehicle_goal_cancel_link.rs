@@ -16,6 +16,11 @@ use mavtempo::vehicle::mission_client::{MissionClient, MissionOutcome};
 use mavtempo::vehicle::{GoalVerdict, Vehicle, VehicleEvent};
 
 fn companion() -> (MavlinkVehicle, SocketAddr) {
+    companion_answering_within(Duration::from_secs(20))
+}
+
+/// A companion whose uploads are answered within `timeout` whatever the executive has decided by then.
+fn companion_answering_within(timeout: Duration) -> (MavlinkVehicle, SocketAddr) {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/config/sitl-rover.toml"
@@ -28,9 +33,7 @@ fn companion() -> (MavlinkVehicle, SocketAddr) {
     let cfg = VehicleConfig::parse(&text, "sitl-rover.toml (test)").expect("parses");
     let opts = LinkOptions {
         gcs: Some("udpin:127.0.0.1:0".into()),
-        decider: Decider::Executive {
-            timeout: Duration::from_secs(20),
-        },
+        decider: Decider::Executive { timeout },
         ..LinkOptions::default()
     };
     let v = MavlinkVehicle::connect_blocking(cfg, opts).expect("link");
@@ -204,4 +207,41 @@ fn a_heartbeat_flood_gets_heartbeats_at_their_own_rate() {
         "{heard} heartbeats in {secs} s for 2000 received"
     );
     assert!(heard >= 1, "the station hears the companion");
+}
+
+/// An executive that has not decided yet (e.g. still waiting for the vehicle to be ready) never has a goal
+/// answered "accepted" for it: past the answer's deadline the goal is "received; verdict to follow", and the
+/// verdict follows when the executive gives it.
+#[test]
+fn no_accepted_before_the_executive_s_verdict() {
+    let (mut v, gcs) = companion_answering_within(Duration::from_millis(200));
+    let mut st = Station::new(gcs);
+    st.send(vec![mavtempo::vehicle::goal_client::gcs_heartbeat()]);
+    let mut c = MissionClient::new((1, 191), 1500, 5);
+    let mut out = Vec::new();
+    assert!(c.upload(0, vec![MissionItem::waypoint(43.5615, 1.4778, 0.0)], 0, &mut out));
+    let mut held = None;
+    let (o, texts) = st.run(&mut c, out, &mut v, &mut |e| {
+        if let VehicleEvent::Goals(b) = e {
+            held = Some(b);
+        }
+    });
+    assert_eq!(o, MissionOutcome::Uploaded);
+    assert_eq!(
+        texts,
+        ["g1 received: at(g1_loc); inserting it into the plan, verdict to follow"]
+    );
+    held.expect("the batch reached the executive")
+        .answer(vec![GoalVerdict::Accepted]);
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut later = Vec::new();
+    while later.is_empty() {
+        assert!(Instant::now() < deadline, "no verdict followed");
+        for m in st.receive() {
+            if let MavMessage::STATUSTEXT(s) = &m {
+                later.extend(st.texts.push(s.id, &s.text[..]));
+            }
+        }
+    }
+    assert_eq!(later, ["g1 accepted: at(g1_loc)"]);
 }
