@@ -195,3 +195,28 @@ fn without_goal_sysids_any_system_may_upload() {
     let (report, took) = upload(42, gcs);
     assert_accepted(&report, took, "from system 42, no list");
 }
+
+/// On a `tcpin:` ground-station port every station has its own connection: one that connected first and
+/// says nothing never holds the port for the others (it used to: the port served one connection at a time).
+#[test]
+fn an_idle_tcp_client_does_not_block_another_station() {
+    let opts = LinkOptions {
+        gcs: Some("tcpin:127.0.0.1:0".into()),
+        decider: Decider::Local(Box::new(SyntacticDecider)),
+        ..LinkOptions::default()
+    };
+    let v = MavlinkVehicle::connect_blocking(config(""), opts).expect("link");
+    let gcs = v.gcs_addr().expect("gcs bound");
+    let _idle = std::net::TcpStream::connect(gcs).expect("idle client connects");
+    let rt = tokio::runtime::Runtime::new().expect("rt");
+    let start = Instant::now();
+    let report = rt
+        .block_on(send_goals_as(
+            255,
+            &format!("tcpout:{gcs}"),
+            items(),
+            Duration::from_secs(30),
+        ))
+        .expect("upload ran");
+    assert_accepted(&report, start.elapsed(), "beside an idle TCP client");
+}

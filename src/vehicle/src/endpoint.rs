@@ -19,6 +19,9 @@ pub struct Transport {
     listener: Option<TcpListener>,
     udp: Option<Arc<UdpSocket>>,
     udp_peer: Option<SocketAddr>,
+    /// One connection already accepted (a ground station on a `tcpin:` port): opened once, never again.
+    accepted: Option<TcpStream>,
+    one_shot: bool,
 }
 
 impl Transport {
@@ -29,6 +32,8 @@ impl Transport {
             listener: None,
             udp: None,
             udp_peer: None,
+            accepted: None,
+            one_shot: false,
         };
         match &address {
             Address::TcpIn(a) => t.listener = Some(TcpListener::bind(a).await?),
@@ -65,8 +70,53 @@ impl Transport {
         self.udp.is_some()
     }
 
+    /// A `tcpin:` transport: connections are accepted from its listener.
+    pub fn is_listener(&self) -> bool {
+        self.listener.is_some()
+    }
+
+    /// The next connection on a `tcpin:` listener.
+    pub async fn accept(&mut self) -> io::Result<TcpStream> {
+        let l = self
+            .listener
+            .as_ref()
+            .ok_or_else(|| io::Error::other("not a listener"))?;
+        let (s, from) = l.accept().await?;
+        tracing::info!(%from, "tcp peer connected");
+        s.set_nodelay(true)?;
+        Ok(s)
+    }
+
+    /// A transport for one accepted connection (each ground station on a `tcpin:` port is served on its
+    /// own): [`Transport::open`] hands it out once; once it closes, it is over ([`Transport::is_one_shot`]).
+    pub fn accepted(address: Address, stream: TcpStream) -> Self {
+        Self {
+            address,
+            listener: None,
+            udp: None,
+            udp_peer: None,
+            accepted: Some(stream),
+            one_shot: true,
+        }
+    }
+
+    pub fn is_one_shot(&self) -> bool {
+        self.one_shot
+    }
+
+    pub fn address(&self) -> &Address {
+        &self.address
+    }
+
     /// Connects (tcpout), accepts (tcpin), or hands out the bound socket (udp), or opens the serial port.
     pub async fn open(&mut self) -> io::Result<Endpoint> {
+        if self.one_shot {
+            return self
+                .accepted
+                .take()
+                .map(Endpoint::Tcp)
+                .ok_or_else(|| io::Error::other("connection closed"));
+        }
         match &self.address {
             Address::TcpIn(_) => {
                 let l = self

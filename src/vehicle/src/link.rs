@@ -128,6 +128,11 @@ impl Shared {
     }
 }
 
+/// Ground stations connected at once to a `tcpin:` ground-station port.
+pub const MAX_GCS_CONNECTIONS: u64 = 16;
+/// A ground station on a `tcpin:` port that sends nothing (not even a HEARTBEAT) for this long is dropped.
+pub const GCS_IDLE: Duration = Duration::from_secs(30);
+
 /// The goal intake shared by the pumps that serve it, and who decides.
 type IntakeRole = (Arc<Mutex<GoalIntake>>, Arc<Mutex<Decider>>);
 
@@ -162,7 +167,61 @@ impl Pump {
         }
     }
 
-    async fn run(mut self) {
+    /// A copy serving one accepted ground-station connection.
+    fn for_connection(&self, stream: tokio::net::TcpStream) -> Pump {
+        Pump {
+            transport: Transport::accepted(self.transport.address().clone(), stream),
+            shared: self.shared.clone(),
+            follow: self.follow.clone(),
+            intake: self.intake.clone(),
+            own_system: self.own_system,
+            signer_key: self.signer_key,
+            tlog: self.tlog.clone(),
+            events: self.events.clone(),
+            stats: self.stats.clone(),
+            reconnect: self.reconnect,
+            epoch: self.epoch,
+        }
+    }
+
+    /// A ground-station `tcpin:` port: every station is served on its own connection (one idle client
+    /// never holds the port), at most [`MAX_GCS_CONNECTIONS`] at once; an idle one is dropped after
+    /// [`GCS_IDLE`].
+    async fn serve_stations(mut self) {
+        let open = Arc::new(AtomicU64::new(0));
+        loop {
+            let stream = match self.transport.accept().await {
+                Ok(s) => s,
+                Err(e) => {
+                    tracing::debug!("gcs accept failed: {e}");
+                    tokio::time::sleep(self.reconnect).await;
+                    continue;
+                }
+            };
+            if open.load(Ordering::Acquire) >= MAX_GCS_CONNECTIONS {
+                tracing::warn!("{MAX_GCS_CONNECTIONS} ground stations connected: one more refused");
+                drop(stream);
+                continue;
+            }
+            open.fetch_add(1, Ordering::AcqRel);
+            let pump = self.for_connection(stream);
+            let open = open.clone();
+            tokio::spawn(async move {
+                pump.run_inner().await;
+                open.fetch_sub(1, Ordering::AcqRel);
+            });
+        }
+    }
+
+    async fn run(self) {
+        if self.shared.is_none() && self.transport.is_listener() {
+            return self.serve_stations().await;
+        }
+        self.run_inner().await
+    }
+
+    async fn run_inner(mut self) {
+        let one_shot = self.transport.is_one_shot();
         let mut encoder = Encoder::new(
             self.own_system,
             COMPANION_COMPONENT,
@@ -189,6 +248,7 @@ impl Pump {
             ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
             let mut out = Vec::new();
             let mut rx_handled: u64 = 0;
+            let mut last_rx = self.now();
             let closed = loop {
                 let notified = async {
                     match &self.shared {
@@ -202,6 +262,7 @@ impl Pump {
                         Ok((n, from)) => {
                             let (frames, corrupted) = peers.decode(from, &buf[..n]);
                             let now = self.now();
+                            last_rx = now;
                             for frame in frames {
                                 rx_handled += 1;
                                 self.record(&frame.bytes);
@@ -280,6 +341,10 @@ impl Pump {
                     },
                     _ = ticker.tick() => {
                         let now = self.now();
+                        if one_shot && now.saturating_sub(last_rx) > GCS_IDLE.as_millis() as u64 {
+                            tracing::info!("ground station silent for {GCS_IDLE:?}: connection dropped");
+                            break true;
+                        }
                         match &self.shared {
                             Some(s) => if let Ok(mut d) = s.driver.lock() { d.tick(now) },
                             None => if last_own_heartbeat.is_none_or(|t| now.saturating_sub(t) >= 1000) {
@@ -342,6 +407,9 @@ impl Pump {
                     break true;
                 }
             };
+            if closed && one_shot {
+                return;
+            }
             if closed {
                 if let Some(s) = &self.shared {
                     if let Ok(mut d) = s.driver.lock() {
