@@ -57,12 +57,16 @@ fn a_cancelled_goal_leaves_the_plan_with_the_actions_that_served_only_it() {
     let (batch, mut rx, mut later) = GoalBatch::with_later(vec![picture("g6", 12.0, -8.0)]);
     ex.integrate(VehicleEvent::Goals(batch), 0);
     insert(&mut ex);
-    assert_eq!(rx.try_recv().expect("answered"), vec![GoalVerdict::Accepted]);
+    assert_eq!(
+        rx.try_recv().expect("answered"),
+        vec![GoalVerdict::Accepted]
+    );
     assert!(pursues(ex.plan(), "g6"));
     let with = actions(&ex);
     assert!(with.iter().any(|a| a.contains("g6_loc")), "{with:?}");
 
-    let (cancel, mut reply) = GoalCancel::new(vec!["g6".into()], "cleared by the ground station".into());
+    let (cancel, mut reply) =
+        GoalCancel::new(vec!["g6".into()], "cleared by the ground station".into());
     ex.integrate(VehicleEvent::Cancel(cancel), 0);
     assert_eq!(reply.try_recv().expect("confirmed"), vec!["g6".to_string()]);
     assert!(!pursues(ex.plan(), "g6"));
@@ -75,7 +79,10 @@ fn a_cancelled_goal_leaves_the_plan_with_the_actions_that_served_only_it() {
     assert_eq!(f.reason_text(), "cleared by the ground station");
     assert_eq!(
         later.try_recv().expect("told"),
-        (0, GoalVerdict::Cancelled("cleared by the ground station".into()))
+        (
+            0,
+            GoalVerdict::Cancelled("cleared by the ground station".into())
+        )
     );
     // The picture at g6_loc is gone; the plan is repaired without it and still holds g1 and g2.
     for _ in 0..50 {
@@ -89,7 +96,10 @@ fn a_cancelled_goal_leaves_the_plan_with_the_actions_that_served_only_it() {
     let mut plan = ex.plan().clone();
     assert!(plan.flaws().is_empty(), "repaired: {:?}", plan.flaws());
     assert_eq!(ex.pending_goals().len(), 2, "{:?}", ex.goal_fates());
-    assert!(after.len() < with.len() && before.len() <= after.len(), "{before:?} {with:?} {after:?}");
+    assert!(
+        after.len() < with.len() && before.len() <= after.len(),
+        "{before:?} {with:?} {after:?}"
+    );
     // Cancelling again: nothing held by that name.
     let (cancel, mut reply) = GoalCancel::new(vec!["g6".into()], "again".into());
     ex.integrate(VehicleEvent::Cancel(cancel), 0);

@@ -163,7 +163,10 @@ fn a_failed_insertion_leaves_the_plan_as_it_was_and_says_why() {
     match rx.try_recv().expect("answered").as_slice() {
         // In the operator's words (the planner's detail is in the goal's fate, below).
         [GoalVerdict::Rejected(r)] => {
-            assert_eq!(r, "not enough battery to get there and back to the goals held")
+            assert_eq!(
+                r,
+                "not enough battery to get there and back to the goals held"
+            )
         }
         other => panic!("{other:?}"),
     }

@@ -27,7 +27,10 @@ const DEBUG_PATTERNS: [&str; 14] = [
 fn camel_debug(text: &str) -> Option<&str> {
     text.split(|c: char| c.is_whitespace() || c == '"')
         .find(|w| {
-            let ident: String = w.chars().take_while(|c| c.is_ascii_alphanumeric()).collect();
+            let ident: String = w
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric())
+                .collect();
             let camel = ident.len() > 3
                 && ident.starts_with(|c: char| c.is_ascii_uppercase())
                 && ident.chars().skip(1).any(|c| c.is_ascii_uppercase())
@@ -41,7 +44,10 @@ fn assert_operator_words(what: &str, text: &str) {
         assert!(
             !text.contains(p),
             "{what} has Rust debug text `{p}`:\n{}",
-            text.lines().filter(|l| l.contains(p)).collect::<Vec<_>>().join("\n")
+            text.lines()
+                .filter(|l| l.contains(p))
+                .collect::<Vec<_>>()
+                .join("\n")
         );
     }
     if let Some(w) = camel_debug(text) {

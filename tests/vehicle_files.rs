@@ -108,8 +108,7 @@ fn waypoints_row_zero_is_home_and_others_are_goals() {
             alt: 150.0
         })
     );
-    let goals =
-        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).requests();
+    let goals = items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).requests();
     assert_eq!(
         goals.iter().map(|g| g.kind).collect::<Vec<_>>(),
         vec![GoalKind::BeAt, GoalKind::ReturnHome]
@@ -172,8 +171,7 @@ fn syntactic_decider_rejects_a_window_ending_before_reachable() {
         "p",
     )
     .expect("valid");
-    let goals =
-        items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).requests();
+    let goals = items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1).requests();
     assert_eq!(
         SyntacticDecider::verdict(&goals[0]),
         GoalVerdict::Rejected("window ends before reachable".into())

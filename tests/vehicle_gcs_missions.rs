@@ -12,14 +12,13 @@ fn fixture(name: &str) -> std::path::PathBuf {
         .join(name)
 }
 
-/// Each goal's kind and where it is (metres east, north of home, rounded).
-fn goals(name: &str) -> (Vec<(GoalKind, Option<(i64, i64)>)>, Vec<String>) {
+/// A goal's kind and where it is (metres east, north of home, rounded).
+type Spot = (GoalKind, Option<(i64, i64)>);
+
+/// Each goal of the file and the warnings naming what was skipped.
+fn goals(name: &str) -> (Vec<Spot>, Vec<String>) {
     let f = load(&fixture(name)).expect("loads");
-    let list = items_to_goals(
-        &f.items,
-        &KnownLocations::new(f.home.expect("home")),
-        1,
-    );
+    let list = items_to_goals(&f.items, &KnownLocations::new(f.home.expect("home")), 1);
     let goals = list
         .goals
         .iter()
@@ -78,10 +77,7 @@ fn a_qgc_plan_with_a_survey_and_camera_actions_gives_pictures_along_the_transect
 fn a_mission_planner_file_with_digicam_and_trigger_distance_gives_pictures() {
     let (goals, warnings) = goals("camera.waypoints");
     let pic = |e, n| (GoalKind::PictureOf, Some((e, n)));
-    assert_eq!(
-        goals,
-        [pic(10, 5), pic(0, 20), pic(5, 20), pic(10, 20)]
-    );
+    assert_eq!(goals, [pic(10, 5), pic(0, 20), pic(5, 20), pic(10, 20)]);
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(
         warnings[0].starts_with("item 6: command 178 is not a goal"),

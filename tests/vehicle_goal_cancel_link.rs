@@ -156,7 +156,10 @@ fn clear_all_cancels_through_the_executive_and_the_list_reads_back_what_is_held(
     assert_eq!(o, MissionOutcome::Uploaded, "{texts:?}");
     assert_eq!(
         texts,
-        ["g1 accepted: at(g1_loc)", "g2 rejected: needs 280 % of the battery"]
+        [
+            "g1 accepted: at(g1_loc)",
+            "g2 rejected: needs 280 % of the battery"
+        ]
     );
     // Read back: only g1 is held.
     let mut out = Vec::new();
@@ -180,7 +183,6 @@ fn clear_all_cancels_through_the_executive_and_the_list_reads_back_what_is_held(
     assert!(c.download(3, 0, &mut out));
     let (o, _) = st.run(&mut c, out, &mut v, &mut exec);
     assert_eq!(o, MissionOutcome::Downloaded(Vec::new()));
-    drop(exec);
     assert_eq!(cancels, [vec!["g1".to_string()]]);
 }
 
@@ -219,7 +221,12 @@ fn no_accepted_before_the_executive_s_verdict() {
     st.send(vec![mavtempo::vehicle::goal_client::gcs_heartbeat()]);
     let mut c = MissionClient::new((1, 191), 1500, 5);
     let mut out = Vec::new();
-    assert!(c.upload(0, vec![MissionItem::waypoint(43.5615, 1.4778, 0.0)], 0, &mut out));
+    assert!(c.upload(
+        0,
+        vec![MissionItem::waypoint(43.5615, 1.4778, 0.0)],
+        0,
+        &mut out
+    ));
     let mut held = None;
     let (o, texts) = st.run(&mut c, out, &mut v, &mut |e| {
         if let VehicleEvent::Goals(b) = e {

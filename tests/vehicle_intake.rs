@@ -140,15 +140,23 @@ fn a_new_list_replaces_the_station_s_last_one() {
     );
     assert_eq!(i.held_names((255, 190)), ["g1", "g2"]);
     let mut out = Vec::new();
-    let list = vec![items()[1].clone(), MissionItem::waypoint(43.5603, 1.4803, 0.0)];
+    let list = vec![
+        items()[1].clone(),
+        MissionItem::waypoint(43.5603, 1.4803, 0.0),
+    ];
     assert!(c.upload(1, list, 10, &mut out));
     let (outcome, texts) = converse(&mut i, &mut c, out, 10, &[GoalVerdict::Accepted]);
     assert_eq!(outcome, Some(MissionOutcome::Uploaded));
     assert!(
-        texts.iter().any(|t| t.starts_with("g1 cancelled: left out")),
+        texts
+            .iter()
+            .any(|t| t.starts_with("g1 cancelled: left out")),
         "{texts:?}"
     );
-    assert!(texts.iter().any(|t| t == "g3 accepted: at(g3_loc)"), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t == "g3 accepted: at(g3_loc)"),
+        "{texts:?}"
+    );
     assert_eq!(i.held_names((255, 190)), ["g2", "g3"]);
 }
 
@@ -169,10 +177,7 @@ fn goal_numbers_continue_across_uploads() {
             0,
             &[GoalVerdict::Accepted, GoalVerdict::Accepted],
         );
-        assert!(
-            texts.iter().any(|t| t.starts_with(expected)),
-            "{texts:?}"
-        );
+        assert!(texts.iter().any(|t| t.starts_with(expected)), "{texts:?}");
     }
 }
 
@@ -248,9 +253,13 @@ fn an_item_with_an_unknown_command_is_skipped_with_a_warning() {
     let mut foreign = payload.clone();
     foreign[33] = 1;
     let mut out = Vec::new();
-    assert!(i.unparsable_item(GCS, 73, &foreign, SYS, 5, &mut out).is_none());
+    assert!(i
+        .unparsable_item(GCS, 73, &foreign, SYS, 5, &mut out)
+        .is_none());
     assert!(out.is_empty());
-    assert!(i.unparsable_item(GCS, 73, &payload, SYS, 5, &mut out).is_none());
+    assert!(i
+        .unparsable_item(GCS, 73, &payload, SYS, 5, &mut out)
+        .is_none());
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 1));
     let item1 = MavMessage::MISSION_ITEM_INT(
         items()[1]
@@ -273,7 +282,10 @@ fn an_item_with_an_unknown_command_is_skipped_with_a_warning() {
         texts.iter().any(|t| t.starts_with("item 0: command 48879")),
         "{texts:?}"
     );
-    assert!(texts.iter().any(|t| t == "g1 accepted: at(g1_loc)"), "{texts:?}");
+    assert!(
+        texts.iter().any(|t| t == "g1 accepted: at(g1_loc)"),
+        "{texts:?}"
+    );
 }
 
 fn texts(out: &[MavMessage]) -> Vec<String> {
@@ -302,19 +314,37 @@ fn nobody_can_jam_the_intake() {
     use mavtempo::vehicle::intake::MAX_GOAL_ITEMS;
     let mut i = intake();
     let mut out = Vec::new();
-    i.handle(GCS, &mission_count(MAX_GOAL_ITEMS + 1), None, SYS, 0, &mut out);
+    i.handle(
+        GCS,
+        &mission_count(MAX_GOAL_ITEMS + 1),
+        None,
+        SYS,
+        0,
+        &mut out,
+    );
     assert_eq!(acks(&out), [MavMissionResult::MAV_MISSION_NO_SPACE]);
     assert!(texts(&out)[0].contains("at most 256"), "{:?}", texts(&out));
     let a: std::net::SocketAddr = "127.0.0.1:1000".parse().expect("addr");
     let b: std::net::SocketAddr = "127.0.0.1:2000".parse().expect("addr");
     let mut out = Vec::new();
-    i.handle(GCS, &mission_count(MAX_GOAL_ITEMS), Some(a), SYS, 0, &mut out);
+    i.handle(
+        GCS,
+        &mission_count(MAX_GOAL_ITEMS),
+        Some(a),
+        SYS,
+        0,
+        &mut out,
+    );
     assert!(matches!(out.as_slice(), [MavMessage::MISSION_REQUEST_INT(r)] if r.seq == 0));
     // The same ids from another address: refused with why, the first upload goes on.
     let mut out = Vec::new();
     i.handle(GCS, &mission_count(1), Some(b), SYS, 1, &mut out);
     assert_eq!(acks(&out), [MavMissionResult::MAV_MISSION_DENIED]);
-    assert!(texts(&out)[0].contains("share these ids"), "{:?}", texts(&out));
+    assert!(
+        texts(&out)[0].contains("share these ids"),
+        "{:?}",
+        texts(&out)
+    );
     let item0 = MavMessage::MISSION_ITEM_INT(
         items()[0]
             .to_int(0, (SYS, 191), MavMissionType::MAV_MISSION_TYPE_MISSION)
@@ -322,7 +352,10 @@ fn nobody_can_jam_the_intake() {
     );
     let mut out = Vec::new();
     i.handle(GCS, &item0, Some(b), SYS, 2, &mut out);
-    assert!(out.is_empty(), "an item from the other address is not mixed in: {out:?}");
+    assert!(
+        out.is_empty(),
+        "an item from the other address is not mixed in: {out:?}"
+    );
     // Another station uploads while the first stalls.
     let other = MavHeader {
         system_id: 254,
@@ -342,7 +375,11 @@ fn a_large_upload_is_answered_with_counts() {
     let (mut i, mut c) = (intake(), MissionClient::new((SYS, 191), 1500, 3));
     let mut list = Vec::new();
     for k in 0..100 {
-        list.push(MissionItem::waypoint(43.5601 + f64::from(k) * 1e-5, 1.4801, 0.0));
+        list.push(MissionItem::waypoint(
+            43.5601 + f64::from(k) * 1e-5,
+            1.4801,
+            0.0,
+        ));
         let mut speed = MissionItem::waypoint(0.0, 0.0, 0.0);
         speed.command = 178; // DO_CHANGE_SPEED: no goal
         list.push(speed);
@@ -361,7 +398,10 @@ fn a_large_upload_is_answered_with_counts() {
     let (outcome, texts) = converse(&mut i, &mut c, out, 0, &verdicts);
     assert_eq!(outcome, Some(MissionOutcome::Uploaded));
     assert_eq!(texts.len(), 2, "{texts:?}");
-    assert!(texts[0].starts_with("100 items skipped: 100 x command 178"), "{texts:?}");
+    assert!(
+        texts[0].starts_with("100 items skipped: 100 x command 178"),
+        "{texts:?}"
+    );
     assert_eq!(
         texts[1],
         "100 goals (g1-g100): 75 x accepted; 25 x rejected: too far"
@@ -386,7 +426,10 @@ fn home_as_item_0_is_skipped() {
         0,
         &[GoalVerdict::Accepted, GoalVerdict::Accepted],
     );
-    assert!(texts[0].starts_with("item 0: the home position"), "{texts:?}");
+    assert!(
+        texts[0].starts_with("item 0: the home position"),
+        "{texts:?}"
+    );
     assert_eq!(texts[1], "g1 accepted: at(g1_loc)");
     assert_eq!(i.held_names((255, 190)), ["g1", "g2"]);
 }

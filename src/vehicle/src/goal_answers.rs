@@ -99,7 +99,13 @@ pub fn answer_uploads(
             Some(Err(oneshot::error::TryRecvError::Closed)) => {
                 tracing::warn!("no goal decision from the executive: syntactic verdicts sent");
                 a.rx = None;
-                Some(a.pending.goals.iter().map(SyntacticDecider::verdict).collect())
+                Some(
+                    a.pending
+                        .goals
+                        .iter()
+                        .map(SyntacticDecider::verdict)
+                        .collect(),
+                )
             }
         };
         let cancelled = match a.cancel_rx.as_mut().map(|rx| rx.try_recv()) {

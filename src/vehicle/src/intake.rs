@@ -295,7 +295,11 @@ impl GoalIntake {
                     return None;
                 }
                 self.uploads.remove(&peer);
-                self.withdraw_all(peer, "cleared by the ground station (MISSION_CLEAR_ALL)", out)
+                self.withdraw_all(
+                    peer,
+                    "cleared by the ground station (MISSION_CLEAR_ALL)",
+                    out,
+                )
             }
             _ => None,
         }
@@ -337,14 +341,14 @@ impl GoalIntake {
             return None;
         }
         if mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
-            let text = "goal upload refused: only mission lists carry goals (not fences or rally points)";
+            let text =
+                "goal upload refused: only mission lists carry goals (not fences or rally points)";
             self.refuse(peer, MavMissionResult::MAV_MISSION_UNSUPPORTED, text, out);
             return None;
         }
         if count > MAX_GOAL_ITEMS {
-            let text = format!(
-                "goal upload refused: {count} items declared, at most {MAX_GOAL_ITEMS}"
-            );
+            let text =
+                format!("goal upload refused: {count} items declared, at most {MAX_GOAL_ITEMS}");
             self.refuse(peer, MavMissionResult::MAV_MISSION_NO_SPACE, &text, out);
             return None;
         }
@@ -464,10 +468,7 @@ impl GoalIntake {
             peer,
             goals: r.new.iter().map(|g| g.request.clone()).collect(),
             cancel: r.dropped,
-            cancel_reason: format!(
-                "left out of the goal list system {} uploaded again",
-                peer.0
-            ),
+            cancel_reason: format!("left out of the goal list system {} uploaded again", peer.0),
             new: r.new,
             kept: r.kept,
             skipped: list.skipped,
@@ -593,7 +594,7 @@ impl GoalIntake {
     /// `n × reason; …`, the most frequent first.
     fn tally<'a>(lines: impl Iterator<Item = &'a str>) -> String {
         let mut c = counted(lines);
-        c.sort_by(|a, b| b.0.cmp(&a.0));
+        c.sort_by_key(|x| std::cmp::Reverse(x.0));
         c.iter()
             .map(|(n, t)| format!("{n} x {t}"))
             .collect::<Vec<_>>()
@@ -602,12 +603,19 @@ impl GoalIntake {
 
     /// The STATUSTEXT of one goal's verdict or end: in the answer, or later (a goal still being inserted
     /// into the plan when the upload was answered; achieved, rejected by a replanning, cancelled).
-    pub fn verdict(&mut self, goal: &GoalRequest, verdict: &GoalVerdict, out: &mut Vec<MavMessage>) {
+    pub fn verdict(
+        &mut self,
+        goal: &GoalRequest,
+        verdict: &GoalVerdict,
+        out: &mut Vec<MavMessage>,
+    ) {
         let severity = match verdict {
             GoalVerdict::Accepted | GoalVerdict::Inserting | GoalVerdict::Achieved => {
                 MavSeverity::MAV_SEVERITY_INFO
             }
-            GoalVerdict::Rejected(_) | GoalVerdict::Cancelled(_) => MavSeverity::MAV_SEVERITY_WARNING,
+            GoalVerdict::Rejected(_) | GoalVerdict::Cancelled(_) => {
+                MavSeverity::MAV_SEVERITY_WARNING
+            }
         };
         self.texts(&verdict_text(goal, verdict), severity, out);
     }
@@ -649,7 +657,12 @@ impl GoalIntake {
                 peer.0,
                 self.retries + 1
             );
-            self.refuse(peer, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED, &text, out);
+            self.refuse(
+                peer,
+                MavMissionResult::MAV_MISSION_OPERATION_CANCELLED,
+                &text,
+                out,
+            );
         }
     }
 }

@@ -243,7 +243,13 @@ impl Mapper<'_> {
         }
         for (k, p) in points.into_iter().enumerate() {
             let at = home.to_global(p);
-            self.push(GoalKind::PictureOf, Some(at), t.attrs, t.first_item..last + 1, k);
+            self.push(
+                GoalKind::PictureOf,
+                Some(at),
+                t.attrs,
+                t.first_item..last + 1,
+                k,
+            );
         }
     }
 
@@ -265,7 +271,9 @@ impl Mapper<'_> {
                 if !self.picture_at_last_waypoint(seq) {
                     self.skip(
                         seq,
-                        format!("camera command {cmd} has no waypoint before it to take the picture at"),
+                        format!(
+                            "camera command {cmd} has no waypoint before it to take the picture at"
+                        ),
                         MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
                     );
                 }
@@ -357,7 +365,11 @@ impl Mapper<'_> {
 
 /// Maps an uploaded item list to goal requests, named `g<first_number>`, `g<first_number+1>`, ...; items
 /// that are no goal are skipped, each with why.
-pub fn items_to_goals(items: &[MissionItem], known: &KnownLocations, first_number: u32) -> GoalList {
+pub fn items_to_goals(
+    items: &[MissionItem],
+    known: &KnownLocations,
+    first_number: u32,
+) -> GoalList {
     let mut m = Mapper {
         known,
         first_number,
@@ -493,12 +505,20 @@ mod tests {
             camera(DIGICAM_CONTROL, 0.0),
         ];
         let list = items_to_goals(&items, &KnownLocations::new(home()), 6);
-        let props: Vec<_> = list.goals.iter().map(|g| g.request.proposition.clone()).collect();
+        let props: Vec<_> = list
+            .goals
+            .iter()
+            .map(|g| g.request.proposition.clone())
+            .collect();
         assert_eq!(props, ["picture_of(g6_loc)", "picture_of(g7_loc)"]);
         assert_eq!(list.goals[0].items, 0..2);
         assert_eq!(list.skipped.len(), 1);
         assert_eq!(list.skipped[0].seq, 2);
-        assert!(list.skipped[0].reason.contains("command 178"), "{:?}", list.skipped);
+        assert!(
+            list.skipped[0].reason.contains("command 178"),
+            "{:?}",
+            list.skipped
+        );
     }
 
     #[test]
@@ -526,7 +546,10 @@ mod tests {
             })
             .collect();
         assert_eq!(spots, [(0, 10), (10, 10), (20, 10), (30, 10), (30, 20)]);
-        assert!(list.goals.iter().all(|g| g.request.kind == GoalKind::PictureOf));
+        assert!(list
+            .goals
+            .iter()
+            .all(|g| g.request.kind == GoalKind::PictureOf));
     }
 
     #[test]
@@ -537,11 +560,22 @@ mod tests {
         loiter.params[0] = -5.0;
         let mut inf_end = camera(GOAL_ATTRIBUTES_CMD, 1.0);
         inf_end.params[2] = f32::INFINITY;
-        let items = vec![attrs, at(WAYPOINT), loiter, inf_end, at(WAYPOINT), at(WAYPOINT)];
+        let items = vec![
+            attrs,
+            at(WAYPOINT),
+            loiter,
+            inf_end,
+            at(WAYPOINT),
+            at(WAYPOINT),
+        ];
         let list = items_to_goals(&items, &KnownLocations::new(home()), 1);
         let seqs: Vec<usize> = list.skipped.iter().map(|e| e.seq).collect();
         assert_eq!(seqs, [0, 1, 2, 3, 4], "{:?}", list.skipped);
         assert_eq!(list.goals.len(), 1);
-        assert!(list.skipped[0].reason.contains("window start"), "{:?}", list.skipped);
+        assert!(
+            list.skipped[0].reason.contains("window start"),
+            "{:?}",
+            list.skipped
+        );
     }
 }

@@ -54,9 +54,9 @@ impl Executive {
             return false;
         };
         let serving = self.plan.actions_serving_only(g);
-        let (started, not_started): (Vec<_>, Vec<_>) = serving
-            .into_iter()
-            .partition(|&a| self.has_started(a) || self.plan.is_executed(self.plan.action(a).start));
+        let (started, not_started): (Vec<_>, Vec<_>) = serving.into_iter().partition(|&a| {
+            self.has_started(a) || self.plan.is_executed(self.plan.action(a).start)
+        });
         self.plan.withdraw_goal(g, &not_started);
         for a in started {
             if !self.interrupt.contains(&a) {
@@ -71,7 +71,12 @@ impl Executive {
             goal: name.to_string(),
             reason: reason.clone(),
         });
-        tracing::info!(goal = name, now, withdrawn = not_started.len(), "goal cancelled: {by}");
+        tracing::info!(
+            goal = name,
+            now,
+            withdrawn = not_started.len(),
+            "goal cancelled: {by}"
+        );
         self.set_fate(g, Fate::Cancelled, Some(reason));
         true
     }

@@ -319,9 +319,7 @@ impl Executive {
                     (Fate::Cancelled, r) => {
                         GoalVerdict::Cancelled(r.map_or(String::new(), |r| r.operator_text()))
                     }
-                    (_, r) => {
-                        GoalVerdict::Rejected(r.map_or(String::new(), |r| r.operator_text()))
-                    }
+                    (_, r) => GoalVerdict::Rejected(r.map_or(String::new(), |r| r.operator_text())),
                 });
             }
         }

@@ -43,14 +43,18 @@ impl AbortReason {
             AbortReason::RepairDiverged { .. } | AbortReason::RepairFailed { .. } => {
                 "the plan could not be repaired".to_string()
             }
-            AbortReason::CannotInstantiate { action, .. } => format!("{action} could not be started"),
+            AbortReason::CannotInstantiate { action, .. } => {
+                format!("{action} could not be started")
+            }
             AbortReason::StartRefused { action, error } => {
                 format!("the vehicle refused to start {action}: {error}")
             }
             AbortReason::StartInconsistent { action, .. } => {
                 format!("{action} started outside its planned time")
             }
-            AbortReason::LaunchBanned { ban, .. } | AbortReason::InstanceBanned { ban } => ban.clone(),
+            AbortReason::LaunchBanned { ban, .. } | AbortReason::InstanceBanned { ban } => {
+                ban.clone()
+            }
             AbortReason::PlanChurn(c) => c.to_string(),
             AbortReason::Timeout { timepoint } => format!("{timepoint} did not happen in time"),
             AbortReason::Unstated => "execution stopped".to_string(),
@@ -152,6 +156,10 @@ mod tests {
         let t = FateReason::Acceptance(Rejection::Window {
             error: "negative cycle of 2 edges, total -128280".into(),
         });
-        assert!(!t.operator_text().contains("cycle"), "{}", t.operator_text());
+        assert!(
+            !t.operator_text().contains("cycle"),
+            "{}",
+            t.operator_text()
+        );
     }
 }

@@ -184,21 +184,19 @@ impl Executive {
         // A return home with no return-home mapping or no home object in the config is a "be at" the
         // problem's home position (the place there, or a new one named `home`).
         let home_as_waypoint = g.kind == mavtempo_vehicle::GoalKind::ReturnHome
-            && (self.mapping.home_object.is_none()
-                || !self.mapping.goals.contains_key(&g.kind));
+            && (self.mapping.home_object.is_none() || !self.mapping.goals.contains_key(&g.kind));
         let kind = if home_as_waypoint {
             mavtempo_vehicle::GoalKind::BeAt
         } else {
             g.kind
         };
-        let target =
-            *self
-                .mapping
-                .goals
-                .get(&kind)
-                .ok_or_else(|| MappingError::NoGoalMapping {
-                    kind: what.to_string(),
-                })?;
+        let target = *self
+            .mapping
+            .goals
+            .get(&kind)
+            .ok_or_else(|| MappingError::NoGoalMapping {
+                kind: what.to_string(),
+            })?;
         let loc = match (&g.location, g.kind) {
             (_, mavtempo_vehicle::GoalKind::ReturnHome) => match self.mapping.home_object {
                 Some(o) if !home_as_waypoint => o,

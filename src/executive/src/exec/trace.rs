@@ -182,7 +182,9 @@ impl TraceEvent {
             }
             TraceEvent::GoalAccepted { goal } => format!("goal {goal} accepted"),
             TraceEvent::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
-            TraceEvent::GoalCancelled { goal, reason } => format!("goal {goal} cancelled: {reason}"),
+            TraceEvent::GoalCancelled { goal, reason } => {
+                format!("goal {goal} cancelled: {reason}")
+            }
             TraceEvent::GoalAchieved { goal } => format!("goal {goal} achieved"),
             TraceEvent::Capacity {
                 resource,

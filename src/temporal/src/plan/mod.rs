@@ -31,9 +31,9 @@ mod export;
 pub mod flaws;
 mod numeric;
 mod order;
-mod withdraw;
 pub mod solution;
 pub mod validate;
+mod withdraw;
 
 use std::sync::Arc;
 
