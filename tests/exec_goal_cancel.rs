@@ -4,33 +4,17 @@
 
 #[path = "common/mapping.rs"]
 mod mapping;
+#[path = "common/picture_goal.rs"]
+mod picture_goal;
 #[path = "common/rover_mock.rs"]
 mod rover_mock;
 
 use mavtempo::exec::cancel::pursues;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::vehicle::goals::{GoalBatch, GoalCancel};
-use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict, VehicleEvent};
+use mavtempo::vehicle::{GoalVerdict, VehicleEvent};
+use picture_goal::picture;
 use rover_mock::executive;
-
-fn picture(name: &str, east: f64, north: f64) -> GoalRequest {
-    GoalRequest {
-        name: name.into(),
-        kind: GoalKind::PictureOf,
-        proposition: format!("picture_of({name}_loc)"),
-        location: Some(GoalLocation {
-            name: format!("{name}_loc"),
-            new: true,
-            at: Enu::new(east, north, 0.0),
-            lat: 0.0,
-            lon: 0.0,
-        }),
-        priority: 1,
-        start_window_s: (0.0, 1_800.0),
-        duration_s: (0.0, f64::INFINITY),
-        d_achiev_s: 60.0,
-    }
-}
 
 fn actions(ex: &Executive) -> Vec<String> {
     ex.plan()
@@ -54,7 +38,7 @@ fn insert(ex: &mut Executive) {
 fn a_cancelled_goal_leaves_the_plan_with_the_actions_that_served_only_it() {
     let mut ex = executive();
     let before = actions(&ex);
-    let (batch, mut rx, mut later) = GoalBatch::with_later(vec![picture("g6", 12.0, -8.0)]);
+    let (batch, mut rx, mut later) = GoalBatch::with_later(vec![picture("g6", 12.0, -8.0, 1)]);
     ex.integrate(VehicleEvent::Goals(batch), 0);
     insert(&mut ex);
     assert_eq!(
@@ -109,7 +93,7 @@ fn a_cancelled_goal_leaves_the_plan_with_the_actions_that_served_only_it() {
 #[test]
 fn a_goal_being_inserted_is_cancelled_out_of_the_queue() {
     let mut ex = executive();
-    let (batch, _rx, _later) = GoalBatch::with_later(vec![picture("g6", 12.0, -8.0)]);
+    let (batch, _rx, _later) = GoalBatch::with_later(vec![picture("g6", 12.0, -8.0, 1)]);
     ex.integrate(VehicleEvent::Goals(batch), 0);
     assert_eq!(ex.insertion_queue(), ["g6"]);
     let (cancel, mut reply) = GoalCancel::new(vec!["g6".into()], "left out".into());

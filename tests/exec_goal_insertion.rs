@@ -4,6 +4,8 @@
 
 #[path = "common/mapping.rs"]
 mod mapping;
+#[path = "common/picture_goal.rs"]
+mod picture_goal;
 #[path = "common/rover_mock.rs"]
 mod rover_mock;
 
@@ -13,30 +15,11 @@ use mavtempo::exec::outcome::FateReason;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::goals::GoalBatch;
 use mavtempo::vehicle::mock::Scripted;
-use mavtempo::vehicle::{Enu, GoalKind, GoalLocation, GoalRequest, GoalVerdict, VehicleEvent};
+use mavtempo::vehicle::{GoalRequest, GoalVerdict, VehicleEvent};
+use picture_goal::picture;
 use rover_mock::{
     assert_both_achieved, events, executive, executive_with, fate, launches, nominal_rover, run,
 };
-
-/// A picture of a new target `east`, `north` metres from home (the window is the whole mission).
-fn picture(name: &str, east: f64, north: f64, priority: u32) -> GoalRequest {
-    GoalRequest {
-        name: name.into(),
-        kind: GoalKind::PictureOf,
-        proposition: format!("picture_of({name}_loc)"),
-        location: Some(GoalLocation {
-            name: format!("{name}_loc"),
-            new: true,
-            at: Enu::new(east, north, 0.0),
-            lat: 0.0,
-            lon: 0.0,
-        }),
-        priority,
-        start_window_s: (0.0, 1_800.0),
-        duration_s: (0.0, f64::INFINITY),
-        d_achiev_s: 60.0,
-    }
-}
 
 /// The nominal rover_two mission; `goal`, if any, is requested 10 s into the first move.
 fn mission(goal: Option<GoalRequest>) -> mavtempo::exec::mission::MissionReport {

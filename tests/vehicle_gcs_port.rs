@@ -2,6 +2,8 @@
 //! costs only that sender (one frame decoder per UDP peer, replies to the peer they answer), and goals are
 //! taken only from the system ids the configuration allows (`link.goal_sysids`).
 
+#[path = "common/gcs_config.rs"]
+mod gcs_config;
 #[path = "common/reports.rs"]
 mod reports;
 
@@ -10,27 +12,12 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use mavtempo::vehicle::config::VehicleConfig;
+use gcs_config::config;
 use mavtempo::vehicle::goal_client::{send_goals_as, GoalSendReport};
 use mavtempo::vehicle::goals::SyntacticDecider;
 use mavtempo::vehicle::items::MissionItem;
 use mavtempo::vehicle::link::{Decider, LinkOptions, MavlinkVehicle};
 use rand::{Rng, SeedableRng};
-
-/// The shipped SITL rover configuration, listening for nothing in particular on the vehicle side, with
-/// `extra_link` added to its `[link]` table.
-fn config(extra_link: &str) -> VehicleConfig {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/config/sitl-rover.toml"
-    ))
-    .expect("config");
-    let text = text.replace(
-        "address = \"tcpout:127.0.0.1:5760\"",
-        &format!("address = \"udpin:127.0.0.1:0\"\n{extra_link}"),
-    );
-    VehicleConfig::parse(&text, "sitl-rover.toml (test)").expect("parses")
-}
 
 /// A companion whose ground-station port is a UDP socket on a free port, deciding goals syntactically.
 fn companion(extra_link: &str) -> (MavlinkVehicle, SocketAddr) {

@@ -3,11 +3,13 @@
 //! answered ACCEPTED only once the executive confirms, MISSION_REQUEST_LIST then reads back exactly the goals
 //! held; a flood of HEARTBEATs gets the companion's at its own rate.
 
+#[path = "common/gcs_config.rs"]
+mod gcs_config;
+
 use std::net::{SocketAddr, UdpSocket};
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::ardupilotmega::*;
-use mavtempo::vehicle::config::VehicleConfig;
 use mavtempo::vehicle::frame::{Encoder, FrameDecoder};
 use mavtempo::vehicle::goal_client::TextAssembler;
 use mavtempo::vehicle::items::MissionItem;
@@ -21,16 +23,7 @@ fn companion() -> (MavlinkVehicle, SocketAddr) {
 
 /// A companion whose uploads are answered within `timeout` whatever the executive has decided by then.
 fn companion_answering_within(timeout: Duration) -> (MavlinkVehicle, SocketAddr) {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/config/sitl-rover.toml"
-    ))
-    .expect("config");
-    let text = text.replace(
-        "address = \"tcpout:127.0.0.1:5760\"",
-        "address = \"udpin:127.0.0.1:0\"",
-    );
-    let cfg = VehicleConfig::parse(&text, "sitl-rover.toml (test)").expect("parses");
+    let cfg = gcs_config::config("");
     let opts = LinkOptions {
         gcs: Some("udpin:127.0.0.1:0".into()),
         decider: Decider::Executive { timeout },

@@ -118,16 +118,7 @@ impl Transport {
                 .ok_or_else(|| io::Error::other("connection closed"));
         }
         match &self.address {
-            Address::TcpIn(_) => {
-                let l = self
-                    .listener
-                    .as_ref()
-                    .ok_or_else(|| io::Error::other("listener gone"))?;
-                let (s, from) = l.accept().await?;
-                tracing::info!(%from, "tcp peer connected");
-                s.set_nodelay(true)?;
-                Ok(Endpoint::Tcp(s))
-            }
+            Address::TcpIn(_) => Ok(Endpoint::Tcp(self.accept().await?)),
             Address::TcpOut(a) => {
                 let s = TcpStream::connect(a).await?;
                 s.set_nodelay(true)?;

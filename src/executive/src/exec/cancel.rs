@@ -5,7 +5,7 @@
 //! ([`PartialPlan::withdraw_goal`]); running actions that served only it are stopped (`END i_a`, their
 //! report integrated as for any interruption); the plan is then repaired (§3.4). Its fate is `cancelled`.
 
-use super::executive::{Executive, Fate, GoalFate};
+use super::executive::{Executive, Fate};
 use super::outcome::FateReason;
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::Time;
@@ -34,15 +34,7 @@ impl Executive {
             };
             self.insertion_stale = true;
             self.decide_goal(ins.reply, GoalVerdict::Cancelled(by.to_string()));
-            self.trace(TraceEvent::GoalCancelled {
-                goal: name.to_string(),
-                reason: reason.clone(),
-            });
-            self.refused.push(GoalFate {
-                name: name.to_string(),
-                fate: Fate::Cancelled,
-                reason: Some(reason),
-            });
+            self.never_held(name, Fate::Cancelled, reason);
             return true;
         }
         let Some(g) = self

@@ -262,13 +262,26 @@ impl Executive {
 
     /// A requested goal that does not enter the plan: its fate and the trace say why.
     fn refuse(&mut self, name: &str, reason: FateReason) {
-        self.trace(TraceEvent::GoalRejected {
-            goal: name.to_string(),
-            reason: reason.clone(),
+        self.never_held(name, Fate::Rejected, reason);
+    }
+
+    /// A requested goal that left before it entered the plan (rejected or cancelled): its fate and the
+    /// trace say why.
+    pub(crate) fn never_held(&mut self, name: &str, fate: Fate, reason: FateReason) {
+        let goal = name.to_string();
+        self.trace(match fate {
+            Fate::Cancelled => TraceEvent::GoalCancelled {
+                goal,
+                reason: reason.clone(),
+            },
+            _ => TraceEvent::GoalRejected {
+                goal,
+                reason: reason.clone(),
+            },
         });
         self.refused.push(GoalFate {
             name: name.to_string(),
-            fate: Fate::Rejected,
+            fate,
             reason: Some(reason),
         });
     }
