@@ -91,8 +91,15 @@ fn malformed_plans_name_the_json_place() {
         "\"type\": \"SimpleItem\", \"command\": 16",
         "\"type\": \"ComplexItem\", \"command\": 16",
     );
-    let err = parse_plan(&complex, "p.plan").unwrap_err();
-    assert!(err.to_string().contains("mission.items[2].type"), "{err}");
+    // A complex item without the items QGroundControl generates for it is skipped with its place, not
+    // refused whole.
+    let f = parse_plan(&complex, "p.plan").expect("parses");
+    assert_eq!(f.skipped.len(), 1);
+    assert!(
+        f.skipped[0].to_string().contains("mission.items[2]"),
+        "{:?}",
+        f.skipped
+    );
 }
 
 const WAYPOINTS: &str = "QGC WPL 110\n0\t1\t0\t16\t0\t0\t0\t0\t43.5616\t1.4847\t150\t1\n1\t0\t3\t16\t0\t0\t0\t0\t43.5620\t1.4850\t0\t1\n2\t0\t3\t20\t0\t0\t0\t0\t0\t0\t0\t1\n";
