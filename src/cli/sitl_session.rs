@@ -37,6 +37,8 @@ pub struct SitlSession {
     pub gcs: String,
     /// The vehicle time (ms) of the plan's origin.
     pub origin_ms: u64,
+    /// Within this distance of the plan's place the vehicle is there (the moves' acceptance radius).
+    pub start_radius_m: f64,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -51,6 +53,8 @@ pub struct SessionSpec {
     pub first_goal_number: u32,
     /// Seeds the simulator's picture sizes and link faults.
     pub seed: u64,
+    /// The simulated vehicle starts this far (east, north metres) from the problem's home.
+    pub vehicle_offset_m: (f64, f64),
 }
 
 impl SessionSpec {
@@ -63,6 +67,7 @@ impl SessionSpec {
             speedup: None,
             first_goal_number: 1,
             seed: 1,
+            vehicle_offset_m: (0.0, 0.0),
         })
     }
 }
@@ -82,14 +87,18 @@ impl SitlSession {
         // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock
         // timeouts must not take a long planning for a lost link.
         cfg.link.heartbeat_timeout_ms = cfg.link.heartbeat_timeout_ms.max(60_000);
+        let (east, north) = spec.vehicle_offset_m;
+        let (sim_lat, sim_lon, _) =
+            home.to_global(crate::vehicle::Enu::new(east, north, 0.0));
+        let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
             seed: spec.seed,
             vehicle: spec.vehicle,
             home: sitl::GeoPoint {
-                lat: home.lat,
-                lon: home.lon,
+                lat: sim_lat,
+                lon: sim_lon,
             },
             ..sitl::SimConfig::for_tests()
         };
@@ -132,6 +141,7 @@ impl SitlSession {
             mapping: checked.mapping,
             gcs,
             origin_ms,
+            start_radius_m,
             rt,
         })
     }

@@ -42,6 +42,9 @@ pub struct VehicleConfig {
     /// Waiting for the autopilot to be ready before the mission's first start.
     #[serde(default)]
     pub ready: ReadyConfig,
+    /// Who commands the vehicle: yielding to the operator, arming, the end of a mission.
+    #[serde(default)]
+    pub authority: super::authority::AuthorityConfig,
     /// Task name of the domain → binding (from `tables`, once parsed).
     #[serde(skip)]
     pub actions: BTreeMap<String, Binding>,

@@ -14,6 +14,7 @@
 
 pub mod actions;
 pub mod api;
+pub mod authority;
 pub mod binding_table;
 pub mod capture_evidence;
 pub mod commands;

@@ -116,6 +116,8 @@ pub struct Executive {
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
     /// `resources[].reported`.
     pub(crate) last_reported: Vec<Option<(Time, f64)>>,
+    /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
+    pub(crate) paused: Option<String>,
 }
 
 impl Executive {
@@ -176,6 +178,7 @@ impl Executive {
             replannings: Vec::new(),
             insertion_stale: false,
             last_reported,
+            paused: None,
         }
     }
 

@@ -51,6 +51,7 @@ impl Executive {
             }
             VehicleEvent::Goals(batch) => self.receive_goals(batch),
             VehicleEvent::Link(status) => tracing::info!(?status, "vehicle link"),
+            VehicleEvent::Authority(e) => self.authority_event(e, now),
         }
     }
 
