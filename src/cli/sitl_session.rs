@@ -87,9 +87,13 @@ impl SitlSession {
         // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock
         // timeouts must not take a long planning for a lost link.
         cfg.link.heartbeat_timeout_ms = cfg.link.heartbeat_timeout_ms.max(60_000);
-        let (east, north) = spec.vehicle_offset_m;
-        let (sim_lat, sim_lon, _) =
-            home.to_global(crate::vehicle::Enu::new(east, north, 0.0));
+        let (sim_lat, sim_lon) = match spec.vehicle_offset_m {
+            (0.0, 0.0) => (home.lat, home.lon),
+            (east, north) => {
+                let (lat, lon, _) = home.to_global(crate::vehicle::Enu::new(east, north, 0.0));
+                (lat, lon)
+            }
+        };
         let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
