@@ -345,7 +345,8 @@ pub fn run_demo(
     let mut ex = Executive::new(plan, exec_config())
         .with_policy(setup.dispatch)
         .with_mapping(session.mapping.clone())
-        .with_level_tolerance(LEVEL_TOLERANCE);
+        .with_level_tolerance(LEVEL_TOLERANCE)
+        .with_limits(session.limits.clone());
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = crate::vehicle::Vehicle::position(&session.vehicle) {
         ex.start_from(Enu::new(e, n, 0.0), session.start_radius_m, 0);

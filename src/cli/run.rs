@@ -191,6 +191,7 @@ fn mission(
     };
     let ready_limit_s = checked.vehicle.ready.timeout_s;
     let start_radius_m = crate::vehicle::authority::start_radius_m(&checked.vehicle);
+    let limits = crate::vehicle::limits::Limits::from_config(&checked.vehicle.limits, checked.home);
     let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
         signals.before_exit_at_once(flush);
@@ -222,7 +223,9 @@ fn mission(
     let origin = vehicle.now_ms();
     outln!("vehicle ready; mission starts at vehicle time {origin} ms");
     let home = checked.home;
-    let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
+    let mut ex = Executive::new(plan, exec_cfg)
+        .with_mapping(checked.mapping)
+        .with_limits(limits);
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = vehicle.position() {
         if let Some(d) = ex.start_from(crate::vehicle::Enu::new(e, n, 0.0), start_radius_m, 0) {

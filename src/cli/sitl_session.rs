@@ -39,6 +39,8 @@ pub struct SitlSession {
     pub origin_ms: u64,
     /// Within this distance of the plan's place the vehicle is there (the moves' acceptance radius).
     pub start_radius_m: f64,
+    /// Where the vehicle may go (`[limits]`).
+    pub limits: Option<crate::vehicle::limits::Limits>,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -95,6 +97,7 @@ impl SitlSession {
             }
         };
         let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
+        let limits = crate::vehicle::limits::Limits::from_config(&cfg.limits, home);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
@@ -146,6 +149,7 @@ impl SitlSession {
             gcs,
             origin_ms,
             start_radius_m,
+            limits,
             rt,
         })
     }

@@ -45,6 +45,9 @@ pub struct VehicleConfig {
     /// Who commands the vehicle: yielding to the operator, arming, the end of a mission.
     #[serde(default)]
     pub authority: super::authority::AuthorityConfig,
+    /// Where the vehicle may go: a range from home, a polygon (src/vehicle/src/limits.rs).
+    #[serde(default)]
+    pub limits: super::limits::LimitsConfig,
     /// Task name of the domain → binding (from `tables`, once parsed).
     #[serde(skip)]
     pub actions: BTreeMap<String, Binding>,
@@ -358,6 +361,9 @@ impl VehicleConfig {
             .map_err(|r| invalid("link.address".into(), &r.to_string()))?;
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
+        }
+        if let Some((key, reason)) = self.limits.invalid() {
+            return Err(invalid(key.into(), &reason));
         }
         if let Some(ids) = &self.link.goal_sysids {
             if ids.is_empty() || ids.contains(&0) {

@@ -30,6 +30,7 @@ pub mod goal_files;
 pub mod goals;
 pub mod intake;
 pub mod items;
+pub mod limits;
 pub mod link;
 pub mod mapping;
 pub mod mission_client;

@@ -16,6 +16,13 @@ use mavtempo_vehicle::authority::AuthorityEvent;
 use mavtempo_vehicle::Enu;
 
 impl Executive {
+    /// Why a requested goal's place is outside the vehicle's limits, if it is (one check:
+    /// [`mavtempo_vehicle::limits::Limits::check_local`]).
+    pub(crate) fn beyond_limits(&self, g: &mavtempo_vehicle::GoalRequest) -> Option<String> {
+        let at = g.location.as_ref()?.at;
+        self.limits.as_ref()?.check_local(at).err().map(|v| v.to_string())
+    }
+
     /// Whether the operator has the vehicle (the executive launches and stops nothing).
     pub fn is_paused(&self) -> bool {
         self.paused.is_some()

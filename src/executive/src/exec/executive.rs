@@ -118,6 +118,8 @@ pub struct Executive {
     pub(crate) last_reported: Vec<Option<(Time, f64)>>,
     /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
     pub(crate) paused: Option<String>,
+    /// Where the vehicle may go: goals at places outside are refused at intake.
+    pub(crate) limits: Option<mavtempo_vehicle::limits::Limits>,
 }
 
 impl Executive {
@@ -179,7 +181,15 @@ impl Executive {
             insertion_stale: false,
             last_reported,
             paused: None,
+            limits: None,
         }
+    }
+
+    /// Where the vehicle may go (`[limits]`, the autopilot's fence): a goal at a place outside is
+    /// rejected when it arrives, with the distance and the limit.
+    pub fn with_limits(mut self, limits: Option<mavtempo_vehicle::limits::Limits>) -> Self {
+        self.limits = limits.filter(|l| !l.is_empty());
+        self
     }
 
     /// The vehicle configuration's `[mapping]`, resolved against this plan's domain

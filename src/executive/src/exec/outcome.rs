@@ -180,6 +180,9 @@ pub enum FateReason {
     TimeLimit,
     #[error("mission interrupted ({signal})")]
     Interrupted { signal: String },
+    /// Its place is beyond the vehicle's limits (`[limits]`, the autopilot's fence).
+    #[error("{why}")]
+    BeyondLimits { why: String },
     /// Its window closed while the operator had the vehicle.
     #[error("its window closed at {:.1} s while the operator had the vehicle ({why})", *closed_ms as f64 / 1000.0)]
     ClosedWhilePaused { closed_ms: Time, why: String },
