@@ -28,6 +28,11 @@ impl Executive {
         self.paused.is_some()
     }
 
+    /// Why the operator has the vehicle, while they have it.
+    pub fn paused_why(&self) -> Option<&str> {
+        self.paused.as_deref()
+    }
+
     pub(crate) fn authority_event(&mut self, e: AuthorityEvent, now: Time) {
         match e {
             AuthorityEvent::Paused { why } => {
