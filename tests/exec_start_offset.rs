@@ -25,7 +25,9 @@ fn a_vehicle_55_m_from_base_is_planned_from_where_it_is() {
     let first_move = events
         .iter()
         .find_map(|e| match e {
-            TraceEvent::Launch { action, .. } if action.starts_with("move(") => Some(action.clone()),
+            TraceEvent::Launch { action, .. } if action.starts_with("move(") => {
+                Some(action.clone())
+            }
             _ => None,
         })
         .expect("a move is launched");
@@ -34,7 +36,10 @@ fn a_vehicle_55_m_from_base_is_planned_from_where_it_is() {
         "the first move starts from the vehicle's place {place}: {first_move}"
     );
     assert!(
-        run.report.goals.iter().any(|g| g.fate == mavtempo::exec::executive::Fate::Achieved),
+        run.report
+            .goals
+            .iter()
+            .any(|g| g.fate == mavtempo::exec::executive::Fate::Achieved),
         "{:?}",
         run.report.goals
     );

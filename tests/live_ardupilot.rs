@@ -77,9 +77,12 @@ fn a_rover_mission_on_the_ardupilot_profile_waits_for_the_operator_and_yields_to
         "nothing commanded while paused: {during:?}"
     );
     assert!(
-        events[paused_at.saturating_sub(3)..=resumed_at].iter().any(|e| matches!(e, TraceEvent::Report { action, status, .. }
+        events[paused_at.saturating_sub(3)..=resumed_at]
+            .iter()
+            .any(|e| matches!(e, TraceEvent::Report { action, status, .. }
             if action.starts_with("move(") && *status == ReportStatus::Interrupted)),
-        "the move ends where the vehicle stopped: {:?}", &events[paused_at.saturating_sub(3)..(resumed_at + 3).min(events.len())]
+        "the move ends where the vehicle stopped: {:?}",
+        &events[paused_at.saturating_sub(3)..(resumed_at + 3).min(events.len())]
     );
     let pause_ms = |i: usize| {
         run.report

@@ -20,7 +20,8 @@ fn root(p: &str) -> std::path::PathBuf {
 }
 
 struct Rig {
-    rt: tokio::runtime::Runtime,
+    /// Runs the simulator and the link (kept for the rig's life).
+    _rt: tokio::runtime::Runtime,
     sim: Arc<sitl::SimHandle>,
     v: MavlinkVehicle,
     pacer: SitlStepPacer,
@@ -55,7 +56,7 @@ impl Rig {
             Arc::new(StepGate::default()),
         );
         Rig {
-            rt,
+            _rt: rt,
             sim,
             v,
             pacer,
@@ -75,9 +76,10 @@ impl Rig {
 
     fn ready(&mut self) -> mavtempo::vehicle::readiness::ReadyReport {
         let pacer = &self.pacer;
-        self.v.wait_ready(120_000, Duration::from_secs(60), &mut |v| {
-            pacer.step_settled(v, 100).is_ok()
-        })
+        self.v
+            .wait_ready(120_000, Duration::from_secs(60), &mut |v| {
+                pacer.step_settled(v, 100).is_ok()
+            })
     }
 
     fn snapshot(&self) -> sitl::Snapshot {
@@ -91,7 +93,10 @@ impl Rig {
                 task: "move".into(),
                 args: vec![
                     ("from".into(), Arg::Symbol("here".into())),
-                    ("to".into(), Arg::location("there", Enu::new(east, 0.0, 0.0))),
+                    (
+                        "to".into(),
+                        Arg::location("there", Enu::new(east, 0.0, 0.0)),
+                    ),
                 ],
             })
             .expect("started");
@@ -114,10 +119,15 @@ impl Rig {
         self.move_to(1, 80.0);
         self.step(4_000);
         assert!(self.snapshot().speed_mps > 0.2, "moving");
-        self.sim.inject(Fault::ModeChange { mode: 4 }).expect("inject");
+        self.sim
+            .inject(Fault::ModeChange { mode: 4 })
+            .expect("inject");
         self.step(1_000);
         assert!(self.paused(), "{:?}", self.events);
-        assert!(self.events.iter().any(|e| matches!(e, VehicleEvent::Report(r)
+        assert!(self
+            .events
+            .iter()
+            .any(|e| matches!(e, VehicleEvent::Report(r)
             if r.id == 1 && r.status == ReportStatus::Interrupted)));
         let before = self.snapshot().control_commands;
         self.step(15_000);
@@ -128,12 +138,17 @@ impl Rig {
             "no command from the companion while the operator has the vehicle"
         );
         assert!(!self.resumed());
-        self.sim.inject(Fault::ModeChange { mode: 15 }).expect("inject");
+        self.sim
+            .inject(Fault::ModeChange { mode: 15 })
+            .expect("inject");
         self.step(1_000);
         assert!(self.resumed(), "{:?}", self.events);
         self.move_to(2, 80.0);
         self.step(2_000);
-        assert!(self.snapshot().control_commands > before, "commanding again");
+        assert!(
+            self.snapshot().control_commands > before,
+            "commanding again"
+        );
     }
 }
 
@@ -158,5 +173,9 @@ fn on_the_ardupilot_profile_the_operator_arms_and_the_companion_yields_to_a_hold
     assert_eq!(ready.arm_attempts, 0);
     assert_eq!(rig.snapshot().arm_commands, 0);
     rig.hold_and_hand_back();
-    assert_eq!(rig.snapshot().arm_commands, 0, "never an ARM from the companion");
+    assert_eq!(
+        rig.snapshot().arm_commands,
+        0,
+        "never an ARM from the companion"
+    );
 }

@@ -954,7 +954,12 @@ fn a_foreign_hold_pauses_with_no_command_until_guided_is_restored() {
     )));
     for k in 0..60u32 {
         b.tick(1_000);
-        b.feed(moving(&cfg, Enu::new(10.2, 0.0, 0.0), 0.0, 3_000 + k * 1_000));
+        b.feed(moving(
+            &cfg,
+            Enu::new(10.2, 0.0, 0.0),
+            0.0,
+            3_000 + k * 1_000,
+        ));
         b.feed(b.ap.heartbeat());
     }
     assert_eq!(
@@ -1028,7 +1033,10 @@ fn pause_continue_to_the_companion_pauses_and_resumes() {
     b.ap.respond(out);
     b.settle();
     assert!(b.d.is_paused());
-    assert_eq!(b.report(1).expect("ended").status, ReportStatus::Interrupted);
+    assert_eq!(
+        b.report(1).expect("ended").status,
+        ReportStatus::Interrupted
+    );
     b.d.handle(gcs, &pause_continue(1.0), b.now);
     assert!(!b.d.is_paused());
 }
@@ -1077,7 +1085,8 @@ fn with_operator_arming_the_companion_never_arms() {
         b.now,
     );
     assert!(
-        err.as_ref().is_err_and(|e| e.to_string().contains("operator")),
+        err.as_ref()
+            .is_err_and(|e| e.to_string().contains("operator")),
         "{err:?}"
     );
     b.ap.armed = true; // the operator arms

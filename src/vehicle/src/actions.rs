@@ -3,9 +3,9 @@
 
 use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, COMMAND_INT_DATA};
 
+use super::authority::Arming;
 use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
-use super::authority::Arming;
 use super::config::{Autopilot, Binding, Mode, VehicleConfig};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
@@ -171,7 +171,9 @@ pub enum StartError {
     TransferBusy,
     #[error("command {0} unknown to the dialect")]
     UnknownCommand(u16),
-    #[error("the vehicle is disarmed and arming is the operator's ([authority] arm = \"operator\")")]
+    #[error(
+        "the vehicle is disarmed and arming is the operator's ([authority] arm = \"operator\")"
+    )]
     NotArmed,
 }
 

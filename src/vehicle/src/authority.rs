@@ -160,7 +160,10 @@ impl Authority {
         self.armed = armed;
         if armed {
             self.disarmed_since = None;
-        } else if self.in_control && !self.paused && self.cfg.on_foreign_mode == OnForeignMode::Pause {
+        } else if self.in_control
+            && !self.paused
+            && self.cfg.on_foreign_mode == OnForeignMode::Pause
+        {
             // A disarm is the operator's only once no restart explains it (see `on_tick`).
             self.disarmed_since.get_or_insert(vnow);
         }
@@ -169,10 +172,9 @@ impl Authority {
             self.expected.retain(|&m| m == mode);
         }
         if self.paused {
-            return (armed && mode == self.own_mode && handed).then(|| self.resume(format!(
-                "the vehicle is back in {}, armed",
-                self.name(mode)
-            )));
+            return (armed && mode == self.own_mode && handed).then(|| {
+                self.resume(format!("the vehicle is back in {}, armed", self.name(mode)))
+            });
         }
         if self.expected.contains(&mode) {
             self.in_control |= armed;
@@ -340,7 +342,11 @@ mod tests {
 
     fn driving() -> Authority {
         let mut a = Authority::new(AuthorityConfig::default(), &modes());
-        assert_eq!(a.on_heartbeat(0, false, 0), None, "MANUAL before the mission");
+        assert_eq!(
+            a.on_heartbeat(0, false, 0),
+            None,
+            "MANUAL before the mission"
+        );
         assert_eq!(a.on_heartbeat(0, true, 100), None, "armed by the operator");
         a.commanded(15);
         assert_eq!(a.on_heartbeat(0, true, 200), None, "not switched yet");
@@ -357,7 +363,11 @@ mod tests {
         assert_eq!(why, "the vehicle was switched to HOLD");
         assert!(a.is_paused());
         assert_eq!(a.on_heartbeat(4, true, 2_000), None, "still paused");
-        assert_eq!(a.on_heartbeat(0, true, 3_000), None, "MANUAL: still the operator's");
+        assert_eq!(
+            a.on_heartbeat(0, true, 3_000),
+            None,
+            "MANUAL: still the operator's"
+        );
         let Some(Change::Resumed { how }) = a.on_heartbeat(15, true, 9_000) else {
             panic!("no resume")
         };
@@ -391,7 +401,10 @@ mod tests {
         let mut a = driving();
         assert_eq!(a.on_heartbeat(15, false, 1_000), None);
         assert_eq!(a.on_tick(1_000 + DISARM_GRACE_MS - 1), None);
-        assert!(matches!(a.on_tick(1_000 + DISARM_GRACE_MS), Some(Change::Paused { .. })));
+        assert!(matches!(
+            a.on_tick(1_000 + DISARM_GRACE_MS),
+            Some(Change::Paused { .. })
+        ));
         // Continue is refused while disarmed, accepted once armed.
         assert!(a.on_pause_continue(true).is_err());
         a.on_heartbeat(15, true, 5_000);
@@ -405,8 +418,14 @@ mod tests {
     #[test]
     fn pause_continue_pauses_and_resumes() {
         let mut a = driving();
-        assert!(matches!(a.on_pause_continue(false), Ok(Some(Change::Paused { .. }))));
-        assert!(matches!(a.on_pause_continue(true), Ok(Some(Change::Resumed { .. }))));
+        assert!(matches!(
+            a.on_pause_continue(false),
+            Ok(Some(Change::Paused { .. }))
+        ));
+        assert!(matches!(
+            a.on_pause_continue(true),
+            Ok(Some(Change::Resumed { .. }))
+        ));
         assert_eq!(a.on_pause_continue(true), Ok(None));
     }
 
@@ -421,11 +440,19 @@ mod tests {
             })
         };
         assert!(!allowed_while_paused(&cmd(MavCmd::MAV_CMD_DO_SET_MODE)));
-        assert!(!allowed_while_paused(&cmd(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM)));
+        assert!(!allowed_while_paused(&cmd(
+            MavCmd::MAV_CMD_COMPONENT_ARM_DISARM
+        )));
         assert!(allowed_while_paused(&cmd(MavCmd::MAV_CMD_REQUEST_MESSAGE)));
-        assert!(allowed_while_paused(&MavMessage::HEARTBEAT(HEARTBEAT_DATA::default())));
+        assert!(allowed_while_paused(&MavMessage::HEARTBEAT(
+            HEARTBEAT_DATA::default()
+        )));
         assert_eq!(
-            commanded_mode(&cmd(MavCmd::MAV_CMD_DO_SET_MODE), &modes(), Autopilot::Ardupilot),
+            commanded_mode(
+                &cmd(MavCmd::MAV_CMD_DO_SET_MODE),
+                &modes(),
+                Autopilot::Ardupilot
+            ),
             Some(4)
         );
     }

@@ -214,7 +214,12 @@ impl Driver {
 
     /// A ground station's `MAV_CMD_DO_PAUSE_CONTINUE` to component 191 (p1 = 1: continue, 0: pause):
     /// applied, and its COMMAND_ACK returned (for the link the command came in on).
-    pub fn operator_command(&mut self, header: MavHeader, msg: &MavMessage, now: u64) -> Option<MavMessage> {
+    pub fn operator_command(
+        &mut self,
+        header: MavHeader,
+        msg: &MavMessage,
+        now: u64,
+    ) -> Option<MavMessage> {
         let MavMessage::COMMAND_LONG(c) = msg else {
             return None;
         };
@@ -276,11 +281,7 @@ impl Driver {
         );
         self.cmds.send(u64::MAX, hold, now, &mut self.out);
         if at_end == authority::AtEnd::HoldDisarm {
-            let disarm = Command::long(
-                MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
-                target,
-                [0.0; 7],
-            );
+            let disarm = Command::long(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, target, [0.0; 7]);
             self.cmds.send(u64::MAX, disarm, now, &mut self.out);
         }
         tracing::info!(?at_end, "mission over: the vehicle left in HOLD");
@@ -532,7 +533,9 @@ impl Driver {
             self.resume_after_restart(now);
         }
         if let MavMessage::HEARTBEAT(h) = msg {
-            let armed = h.base_mode.contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
+            let armed = h
+                .base_mode
+                .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
             let vnow = self.tel.time_boot_ms.unwrap_or(now);
             if let Some(change) = self.authority.on_heartbeat(h.custom_mode, armed, vnow) {
                 self.authority_changed(change, now);

@@ -28,11 +28,14 @@ impl LimitsConfig {
         }
         if let Some(p) = &self.polygon {
             if p.len() < 3 {
-                return Some(("limits.polygon", "needs at least 3 corners [lat, lon]".into()));
+                return Some((
+                    "limits.polygon",
+                    "needs at least 3 corners [lat, lon]".into(),
+                ));
             }
-            let bad = p
-                .iter()
-                .find(|[lat, lon]| !((-90.0..=90.0).contains(lat) && (-180.0..=180.0).contains(lon)));
+            let bad = p.iter().find(|[lat, lon]| {
+                !((-90.0..=90.0).contains(lat) && (-180.0..=180.0).contains(lon))
+            });
             if let Some([lat, lon]) = bad {
                 return Some((
                     "limits.polygon",
@@ -64,7 +67,7 @@ fn distance(m: f64) -> String {
         let s = km.to_string();
         let mut out = String::new();
         for (i, c) in s.chars().enumerate() {
-            if i > 0 && (s.len() - i) % 3 == 0 {
+            if i > 0 && (s.len() - i).is_multiple_of(3) {
                 out.push(',');
             }
             out.push(c);
@@ -201,7 +204,10 @@ mod tests {
         let very = l
             .check_local(Enu::new(3_000_000.0, 0.0, 0.0))
             .expect_err("very far");
-        assert_eq!(very.to_string(), "3,000 km from home, beyond the 500 m range");
+        assert_eq!(
+            very.to_string(),
+            "3,000 km from home, beyond the 500 m range"
+        );
         let (lat, lon, _) = HOME.to_global(Enu::new(0.0, 600.0, 0.0));
         assert!(l.check(lat, lon).is_err());
     }
@@ -225,7 +231,10 @@ mod tests {
         let mut l = Limits::from_config(&cfg, HOME).expect("limits");
         assert_eq!(l.check_local(Enu::new(50.0, -50.0, 0.0)), Ok(()));
         let out = l.check_local(Enu::new(150.0, 0.0, 0.0)).expect_err("out");
-        assert_eq!(out.to_string(), "outside the operating area (150 m from home)");
+        assert_eq!(
+            out.to_string(),
+            "outside the operating area (150 m from home)"
+        );
         let (lat, lon, _) = HOME.to_global(Enu::new(0.0, 0.0, 0.0));
         l.add_circle(lat, lon, 60.0);
         assert!(l.check_local(Enu::new(50.0, -50.0, 0.0)).is_err());

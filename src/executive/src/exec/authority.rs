@@ -20,7 +20,11 @@ impl Executive {
     /// [`mavtempo_vehicle::limits::Limits::check_local`]).
     pub(crate) fn beyond_limits(&self, g: &mavtempo_vehicle::GoalRequest) -> Option<String> {
         let at = g.location.as_ref()?.at;
-        self.limits.as_ref()?.check_local(at).err().map(|v| v.to_string())
+        self.limits
+            .as_ref()?
+            .check_local(at)
+            .err()
+            .map(|v| v.to_string())
     }
 
     /// Whether the operator has the vehicle (the executive launches and stops nothing).
@@ -107,14 +111,14 @@ impl Executive {
             return None;
         }
         let name = format!("L{}", self.plan.problem().objects.len());
-        let new: ObjectId =
-            match super::state_update::location_object(self, &name, at, Some(place)) {
-                Ok(o) => o,
-                Err(e) => {
-                    tracing::warn!("the vehicle's position names no place: {e}");
-                    return None;
-                }
-            };
+        let new: ObjectId = match super::state_update::location_object(self, &name, at, Some(place))
+        {
+            Ok(o) => o,
+            Err(e) => {
+                tracing::warn!("the vehicle's position names no place: {e}");
+                return None;
+            }
+        };
         let place = self.plan.problem().object_name(new).to_string();
         tracing::warn!(
             distance_m,
