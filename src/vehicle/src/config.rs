@@ -473,3 +473,20 @@ impl VehicleConfig {
         Ok(())
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::{Mode, Modes};
+
+    /// ArduPilot Rover's modes (MANUAL 0, HOLD 4, AUTO 10, RTL 11, GUIDED 15).
+    pub(crate) fn rover_modes() -> Modes {
+        Modes {
+            hold: Mode::Number(4),
+            auto: Mode::Number(10),
+            guided: Mode::Number(15),
+            rtl: Mode::Number(11),
+            manual: Some(Mode::Number(0)),
+            on_shutdown: Default::default(),
+        }
+    }
+}

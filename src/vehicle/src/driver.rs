@@ -186,22 +186,14 @@ impl Driver {
                 let guided = authority::mode_name(self.cfg.modes.guided.custom_mode());
                 let text = format!("mavtempo paused: {why}; {guided} or continue resumes");
                 tracing::warn!("{text}");
-                self.out.extend(super::intake::statustext(
-                    &text,
-                    MavSeverity::MAV_SEVERITY_WARNING,
-                    0,
-                ));
+                self.tell(&text, MavSeverity::MAV_SEVERITY_WARNING);
                 self.events
                     .push(VehicleEvent::Authority(AuthorityEvent::Paused { why }));
             }
             Change::Resumed { how } => {
                 let text = format!("mavtempo resumes: {how}");
                 tracing::info!("{text}");
-                self.out.extend(super::intake::statustext(
-                    &text,
-                    MavSeverity::MAV_SEVERITY_NOTICE,
-                    0,
-                ));
+                self.tell(&text, MavSeverity::MAV_SEVERITY_NOTICE);
                 self.events
                     .push(VehicleEvent::Authority(AuthorityEvent::Resumed {
                         how,
@@ -210,6 +202,12 @@ impl Driver {
                     }));
             }
         }
+    }
+
+    /// A STATUSTEXT for the ground stations.
+    fn tell(&mut self, text: &str, severity: MavSeverity) {
+        self.out
+            .extend(super::intake::statustext(text, severity, 0));
     }
 
     /// A ground station's `MAV_CMD_DO_PAUSE_CONTINUE` to component 191 (p1 = 1: continue, 0: pause):
@@ -458,11 +456,7 @@ impl Driver {
             ReadyAction::AskOperator => {
                 let text = "mavtempo ready: waiting for the operator to arm";
                 tracing::warn!("{text} ([authority] arm = \"operator\")");
-                self.out.extend(super::intake::statustext(
-                    text,
-                    MavSeverity::MAV_SEVERITY_NOTICE,
-                    0,
-                ));
+                self.tell(text, MavSeverity::MAV_SEVERITY_NOTICE);
             }
             ReadyAction::Nothing => {}
         }
