@@ -645,13 +645,14 @@ impl Run {
                 self.stored(ctx, end)
             }
             // ArduPilot's camera library confirms a picture with CAMERA_FEEDBACK only (no
-            // CAMERA_IMAGE_CAPTURED): an image index past the one before the command is this picture.
+            // CAMERA_IMAGE_CAPTURED): an image index past the one before the command is this picture. It
+            // reports no storage (STORAGE_INFORMATION is refused): the picture ends here, not 2 s later.
             MavMessage::CAMERA_FEEDBACK(f)
                 if matches!(self.binding, Binding::TakePicture { .. })
                     && !matches!(self.phase, Phase::Stored(_))
                     && self.feedback_before.is_none_or(|b| f.img_idx != b) =>
             {
-                self.stored(ctx, End::nominal())
+                Some(End::nominal())
             }
             MavMessage::CAMERA_CAPTURE_STATUS(c) if !matches!(self.phase, Phase::Stored(_)) => {
                 let status = CaptureStatus {
