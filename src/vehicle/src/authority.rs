@@ -116,7 +116,13 @@ pub struct Authority {
     last_mode: Option<u32>,
     armed: bool,
     disarmed_since: Option<u64>,
+    /// When (vehicle ms) the autopilot last reported an error (STATUSTEXT ERROR or worse).
+    error_at: Option<u64>,
 }
+
+/// A mode change this soon (vehicle ms) after an autopilot error is the autopilot's own reaction (a
+/// failsafe HOLD after "Navigation failed"): the failed motion is repaired, nobody took control.
+pub const AUTOPILOT_REACTION_MS: u64 = 2_000;
 
 impl Authority {
     pub fn new(cfg: AuthorityConfig, modes: &Modes) -> Self {
@@ -129,7 +135,13 @@ impl Authority {
             last_mode: None,
             armed: false,
             disarmed_since: None,
+            error_at: None,
         }
+    }
+
+    /// The autopilot reported an error (its own mode change may follow).
+    pub fn on_error_text(&mut self, vnow: u64) {
+        self.error_at = Some(vnow);
     }
 
     pub fn config(&self) -> AuthorityConfig {
@@ -182,6 +194,14 @@ impl Authority {
         }
         // A switch into the companion's own mode is a hand-over, never a taking of control.
         if !self.in_control || mode == self.own_mode || !armed {
+            return None;
+        }
+        if self
+            .error_at
+            .is_some_and(|t| vnow.saturating_sub(t) <= AUTOPILOT_REACTION_MS)
+        {
+            // The autopilot's reaction to its error: the companion repairs from there.
+            self.expected = vec![mode];
             return None;
         }
         if self.cfg.on_foreign_mode == OnForeignMode::Repair {
@@ -402,6 +422,17 @@ mod tests {
         b.on_heartbeat(0, false, 1_000);
         assert_eq!(b.on_restart(), None, "the companion arms after a restart");
         assert_eq!(b.on_tick(9_000), None);
+    }
+
+    #[test]
+    fn the_autopilots_own_hold_after_an_error_is_no_pause() {
+        let mut a = driving();
+        a.on_error_text(1_000);
+        assert_eq!(a.on_heartbeat(4, true, 1_200), None);
+        assert!(!a.is_paused());
+        a.commanded(15);
+        a.on_heartbeat(15, true, 5_000);
+        assert!(matches!(a.on_heartbeat(4, true, 9_000), Some(Change::Paused { .. })));
     }
 
     #[test]

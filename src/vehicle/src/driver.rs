@@ -547,6 +547,12 @@ impl Driver {
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
         }
+        if let MavMessage::STATUSTEXT(t) = msg {
+            if (t.severity as u8) <= 3 {
+                self.authority
+                    .on_error_text(self.tel.time_boot_ms.unwrap_or(now));
+            }
+        }
         if let (Some(r), MavMessage::STATUSTEXT(t)) = (&mut self.readiness, msg) {
             // WARNING or worse: ArduPilot's "PreArm: ..." and "Arm: ..." reasons are CRITICAL.
             if (t.severity as u8) <= 4 {
