@@ -432,7 +432,10 @@ mod tests {
         assert!(!a.is_paused());
         a.commanded(15);
         a.on_heartbeat(15, true, 5_000);
-        assert!(matches!(a.on_heartbeat(4, true, 9_000), Some(Change::Paused { .. })));
+        assert!(matches!(
+            a.on_heartbeat(4, true, 9_000),
+            Some(Change::Paused { .. })
+        ));
     }
 
     #[test]
