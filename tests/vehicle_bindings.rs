@@ -282,18 +282,26 @@ impl Bench {
     }
 
     fn start(&mut self, id: u64, task: &str, args: Vec<(&str, Arg)>) {
+        self.try_start(id, task, args).expect("start accepted");
+    }
+
+    fn try_start(
+        &mut self,
+        id: u64,
+        task: &str,
+        args: Vec<(&str, Arg)>,
+    ) -> Result<(), mavtempo::vehicle::VehicleError> {
         let args = args.into_iter().map(|(n, a)| (n.to_string(), a)).collect();
-        self.d
-            .start(
-                ActionStart {
-                    id,
-                    task: task.into(),
-                    args,
-                },
-                self.now,
-            )
-            .expect("start accepted");
+        let started = self.d.start(
+            ActionStart {
+                id,
+                task: task.into(),
+                args,
+            },
+            self.now,
+        );
         self.settle();
+        started
     }
 
     /// The report of action `id`, which must be a failure naming `why`.
@@ -968,17 +976,7 @@ fn a_foreign_hold_pauses_with_no_command_until_guided_is_restored() {
         &b.ap.seen[seen_before..]
     );
     // Starting an action while paused is refused.
-    let refused = b.d.start(
-        ActionStart {
-            id: 2,
-            task: "move".into(),
-            args: to(Enu::new(0.0, 0.0, 0.0))
-                .into_iter()
-                .map(|(n, a)| (n.to_string(), a))
-                .collect(),
-        },
-        b.now,
-    );
+    let refused = b.try_start(2, "move", to(Enu::new(0.0, 0.0, 0.0)));
     assert_eq!(refused, Err(mavtempo::vehicle::VehicleError::Yielded));
     b.ap.mode = 15; // handed back
     b.feed(b.ap.heartbeat());
@@ -1072,17 +1070,7 @@ fn with_operator_arming_the_companion_never_arms() {
     assert!(!r.report().ready);
     let why = r.report().why_not(30.0);
     assert!(why.contains("operator"), "{why} {:?}", r.phase());
-    let err = b.d.start(
-        ActionStart {
-            id: 1,
-            task: "move".into(),
-            args: to(Enu::new(10.0, 0.0, 0.0))
-                .into_iter()
-                .map(|(n, a)| (n.to_string(), a))
-                .collect(),
-        },
-        b.now,
-    );
+    let err = b.try_start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
     assert!(
         err.as_ref()
             .is_err_and(|e| e.to_string().contains("operator")),
