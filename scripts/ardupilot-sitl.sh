@@ -2,8 +2,9 @@
 # A whole mission on a real ArduPilot Rover SITL, as a user would run it: the SITL is started and
 # `mavtempo run --config config/ardupilot-rover.toml` right after it (no waiting for its boot: the companion
 # waits for a fix and arming itself); an operator script (scripts/ardupilot-faults.py, pymavlink in a
-# virtualenv this script creates) uploads a goal file through the companion's ground-station port during the
-# run and switches the rover to HOLD in the middle of a move. Everything runs inside a private network
+# virtualenv this script creates) arms the rover (arming is the operator's in that config), uploads a goal
+# file through the companion's ground-station port during the run, switches the rover to HOLD in the middle
+# of a move (the companion yields) and back to GUIDED 10 s later (it resumes). Everything runs inside a private network
 # namespace (ArduPilot's SITL listens on all interfaces).
 #
 #   scripts/ardupilot-sitl.sh -b ARDUROVER -d ROVER_PARM [-p PROBLEM] [-g GOALS] [-u UPLOAD_AT_S]
@@ -82,7 +83,7 @@ echo "ArduPilot SITL: $bin_ap, home $home, speed-up $speedup, camera $camera; lo
 sitl=$!
 trap 'kill $sitl 2>/dev/null || true' EXIT
 
-# Right after boot: the companion waits for the fix and arming itself.
+# Right after boot: the companion waits for the fix and the operator's arming.
 "$bin" run --config config/ardupilot-rover.toml --speedup "$speedup" --gcs udpin:127.0.0.1:14551 \
   --report "$out/report.json" --link-timeout 60 domains/rover/rover.ixt "$problem" > "$out/run.log" 2>&1 &
 companion=$!

@@ -394,3 +394,28 @@ fn get<'a>(doc: &'a DocumentMut, path: &str) -> Option<&'a toml_edit::Value> {
     }
     item.as_value()
 }
+
+/// Issue 30: `[authority]` and `[limits]` are checked like the rest: a value that is not one of the
+/// choices, or a limit that cannot be, is reported at its line with the key.
+#[test]
+fn authority_and_limits_are_checked() {
+    let parse = |extra: &str| {
+        MissionConfig::parse(&format!("{SHIPPED}{extra}"), "sitl-rover.toml").map(|_| ())
+    };
+    let e = parse("\n[authority2]\n").expect_err("an unknown table");
+    assert!(e.to_string().contains("authority2"), "{e}");
+    let text = SHIPPED.replace("arm = \"companion\"", "arm = \"pilot\"");
+    let (line, _) = written_at(&text, "arm = \"pilot\"");
+    let e = MissionConfig::parse(&text, "sitl-rover.toml").expect_err("not a choice");
+    assert!(e.to_string().contains("unknown variant `pilot`"), "{e}");
+    assert!(
+        e.to_string().contains(&format!("sitl-rover.toml:{line}:")),
+        "{e}"
+    );
+    let e = parse("\n[limits]\nmax_range_m = -5\n").expect_err("a negative range");
+    assert!(e.to_string().contains("limits.max_range_m"), "{e}");
+    let e = parse("\n[limits]\npolygon = [[43.5, 1.4], [43.6, 1.4]]\n").expect_err("two corners");
+    assert!(e.to_string().contains("at least 3 corners"), "{e}");
+    parse("\n[limits]\nmax_range_m = 500\npolygon = [[43.5, 1.4], [43.6, 1.4], [43.6, 1.5]]\n")
+        .expect("good limits");
+}

@@ -33,6 +33,26 @@ fn px4_config() -> VehicleConfig {
     cfg
 }
 
+/// The fixture with `[authority] on_foreign_mode = "repair"`: a foreign mode fails the running motion.
+fn repair_config() -> VehicleConfig {
+    let text = std::fs::read_to_string(FIXTURE).expect("fixture readable");
+    VehicleConfig::parse(
+        &format!("{text}\n[authority]\non_foreign_mode = \"repair\"\n"),
+        "repair fixture",
+    )
+    .expect("fixture parses")
+}
+
+/// The fixture with `[authority] arm = "operator"`.
+fn operator_config() -> VehicleConfig {
+    let text = std::fs::read_to_string(FIXTURE).expect("fixture readable");
+    VehicleConfig::parse(
+        &format!("{text}\n[authority]\narm = \"operator\"\n"),
+        "operator fixture",
+    )
+    .expect("fixture parses")
+}
+
 /// A scripted ArduPilot-like autopilot: answers commands and the mission protocol, holds a position.
 struct Autopilot {
     mode: u32,
@@ -262,18 +282,26 @@ impl Bench {
     }
 
     fn start(&mut self, id: u64, task: &str, args: Vec<(&str, Arg)>) {
+        self.try_start(id, task, args).expect("start accepted");
+    }
+
+    fn try_start(
+        &mut self,
+        id: u64,
+        task: &str,
+        args: Vec<(&str, Arg)>,
+    ) -> Result<(), mavtempo::vehicle::VehicleError> {
         let args = args.into_iter().map(|(n, a)| (n.to_string(), a)).collect();
-        self.d
-            .start(
-                ActionStart {
-                    id,
-                    task: task.into(),
-                    args,
-                },
-                self.now,
-            )
-            .expect("start accepted");
+        let started = self.d.start(
+            ActionStart {
+                id,
+                task: task.into(),
+                args,
+            },
+            self.now,
+        );
         self.settle();
+        started
     }
 
     /// The report of action `id`, which must be a failure naming `why`.
@@ -379,8 +407,8 @@ fn move_fails_on_denied_reposition() {
 }
 
 #[test]
-fn move_fails_on_a_foreign_mode_change() {
-    let mut b = Bench::new();
+fn move_fails_on_a_foreign_mode_change_when_the_config_says_repair() {
+    let mut b = Bench::with(repair_config());
     b.start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
     b.feed(b.ap.heartbeat()); // GUIDED seen
     assert!(b.report(1).is_none());
@@ -715,7 +743,7 @@ fn a_picture_ends_on_camera_feedback_as_ardupilot_confirms_it() {
     let mut b = Bench::new();
     b.ap.feedback = true;
     b.start(4, "take_picture", vec![]);
-    b.feed(storage(1.0));
+    // At once: no storage answer is waited for (ArduPilot sends none).
     let r = b.report(4).expect("report on CAMERA_FEEDBACK");
     assert_eq!(r.status, ReportStatus::Nominal);
     // A second picture is not confirmed by the first one's feedback, sent again late.
@@ -738,14 +766,13 @@ fn a_picture_ends_on_camera_feedback_as_ardupilot_confirms_it() {
         completed_captures: 2,
         ..Default::default()
     }));
-    b.feed(storage(2.0));
     assert_eq!(b.report(5).expect("report").status, ReportStatus::Nominal);
 }
 
 #[test]
 fn a_failed_move_is_reported_once_still_with_the_observed_state() {
     let cfg = config();
-    let mut b = Bench::new();
+    let mut b = Bench::with(repair_config());
     b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
     b.feed(b.ap.heartbeat()); // GUIDED seen
     b.feed(moving(&cfg, Enu::new(10.0, 0.0, 0.0), 0.5, 2_000));
@@ -769,7 +796,7 @@ fn a_failed_move_is_reported_once_still_with_the_observed_state() {
 #[test]
 fn a_failed_move_still_moving_after_the_settle_time_says_so() {
     let cfg = config();
-    let mut b = Bench::new();
+    let mut b = Bench::with(repair_config());
     b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
     b.feed(b.ap.heartbeat());
     b.feed(moving(&cfg, Enu::new(10.0, 0.0, 0.0), 0.5, 2_000));
@@ -900,4 +927,158 @@ fn readiness_waits_for_a_fix_and_a_home_then_retries_arm_with_a_backoff_until_ac
     assert_eq!(r.navigation_after_ms, Some(6_000));
     assert!(r.refusals.iter().any(|t| t.contains("EKF3")), "{r:?}");
     assert!(b.ap.armed);
+}
+
+/// Issue 30: a foreign HOLD mid-move hands the vehicle to the operator. The move ends interrupted where the
+/// vehicle is, with no command; nothing that commands the vehicle goes out while paused (a minute of
+/// ticks and telemetry); GUIDED again, armed, resumes, with the position for the plan.
+#[test]
+fn a_foreign_hold_pauses_with_no_command_until_guided_is_restored() {
+    let cfg = config();
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    b.feed(b.ap.heartbeat()); // GUIDED seen, armed by the companion
+    b.feed(moving(&cfg, Enu::new(10.0, 0.0, 0.0), 0.5, 2_000));
+    b.ap.mode = 4; // the operator's HOLD
+    let seen_before = b.ap.seen.len();
+    b.feed(b.ap.heartbeat());
+    assert!(b.d.is_paused());
+    let r = b.report(1).expect("the move ends at once");
+    assert_eq!(r.status, ReportStatus::Interrupted);
+    assert!(
+        r.reason.as_deref().is_some_and(|w| w.contains("HOLD")),
+        "{r:?}"
+    );
+    assert!(
+        matches!(r.state[0], (_, StateValue::Position(p)) if (p.east - 10.0).abs() < 0.1),
+        "{:?}",
+        r.state
+    );
+    assert!(b.events.iter().any(|e| matches!(
+        e,
+        VehicleEvent::Authority(mavtempo::vehicle::authority::AuthorityEvent::Paused { why })
+            if why.contains("HOLD")
+    )));
+    for k in 0..60u32 {
+        b.tick(1_000);
+        b.feed(moving(
+            &cfg,
+            Enu::new(10.2, 0.0, 0.0),
+            0.0,
+            3_000 + k * 1_000,
+        ));
+        b.feed(b.ap.heartbeat());
+    }
+    assert_eq!(
+        b.ap.seen.len(),
+        seen_before,
+        "no command while paused: {:?}",
+        &b.ap.seen[seen_before..]
+    );
+    // Starting an action while paused is refused.
+    let refused = b.try_start(2, "move", to(Enu::new(0.0, 0.0, 0.0)));
+    assert_eq!(refused, Err(mavtempo::vehicle::VehicleError::Yielded));
+    b.ap.mode = 15; // handed back
+    b.feed(b.ap.heartbeat());
+    assert!(!b.d.is_paused());
+    let resumed = b.events.iter().find_map(|e| match e {
+        VehicleEvent::Authority(mavtempo::vehicle::authority::AuthorityEvent::Resumed {
+            position,
+            ..
+        }) => Some(*position),
+        _ => None,
+    });
+    let at = resumed.expect("resumed").expect("with the position");
+    assert!((at.east - 10.2).abs() < 0.1, "{at:?}");
+    // The companion commands again.
+    b.start(2, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    assert!(b.ap.seen.len() > seen_before);
+}
+
+/// `MAV_CMD_DO_PAUSE_CONTINUE` to 191 from a ground station: p1 = 0 stops the move (HOLD) and pauses,
+/// p1 = 1 resumes; each answered with a COMMAND_ACK to the ground station.
+#[test]
+fn pause_continue_to_the_companion_pauses_and_resumes() {
+    let cfg = config();
+    let mut b = Bench::new();
+    b.start(1, "move", to(Enu::new(30.0, 0.0, 0.0)));
+    b.feed(b.ap.heartbeat());
+    b.feed(moving(&cfg, Enu::new(5.0, 0.0, 0.0), 0.5, 2_000));
+    let gcs = MavHeader {
+        system_id: 255,
+        component_id: 190,
+        sequence: 0,
+    };
+    let pause_continue = |p1: f32| {
+        MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_DO_PAUSE_CONTINUE,
+            param1: p1,
+            target_system: 1,
+            target_component: 191,
+            ..Default::default()
+        })
+    };
+    b.d.handle(gcs, &pause_continue(0.0), b.now);
+    let out = b.d.take_outgoing();
+    assert!(out.iter().any(|m| matches!(m, MavMessage::COMMAND_ACK(a)
+        if a.command == MavCmd::MAV_CMD_DO_PAUSE_CONTINUE && a.result == MavResult::MAV_RESULT_ACCEPTED && a.target_system == 255)));
+    assert!(
+        out.iter().any(|m| matches!(m, MavMessage::COMMAND_LONG(c)
+            if c.command == MavCmd::MAV_CMD_DO_SET_MODE && c.param2 == 4.0)),
+        "the pause asked stops the vehicle: {out:?}"
+    );
+    b.ap.respond(out);
+    b.settle();
+    assert!(b.d.is_paused());
+    assert_eq!(
+        b.report(1).expect("ended").status,
+        ReportStatus::Interrupted
+    );
+    b.d.handle(gcs, &pause_continue(1.0), b.now);
+    assert!(!b.d.is_paused());
+}
+
+/// `[authority] arm = "operator"`: readiness never sends ARM and waits for the vehicle armed by someone
+/// else; a move on a disarmed vehicle is refused rather than armed.
+#[test]
+fn with_operator_arming_the_companion_never_arms() {
+    let cfg = operator_config();
+    let mut b = Bench::with(cfg.clone());
+    b.feed(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+        lat: 435_616_000,
+        lon: 14_847_000,
+        ..Default::default()
+    }));
+    b.feed(MavMessage::HOME_POSITION(HOME_POSITION_DATA {
+        latitude: 435_616_000,
+        longitude: 14_847_000,
+        ..Default::default()
+    }));
+    b.d.begin_ready(b.now);
+    for _ in 0..30 {
+        b.tick(1_000);
+        b.feed(b.ap.heartbeat());
+    }
+    let arms = |b: &Bench| {
+        b.ap.seen
+            .iter()
+            .filter(|m| matches!(m, MavMessage::COMMAND_LONG(c) if c.command == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM))
+            .count()
+    };
+    assert_eq!(arms(&b), 0);
+    let r = b.d.readiness().expect("waiting");
+    assert!(!r.report().ready);
+    let why = r.report().why_not(30.0);
+    assert!(why.contains("operator"), "{why} {:?}", r.phase());
+    let err = b.try_start(1, "move", to(Enu::new(10.0, 0.0, 0.0)));
+    assert!(
+        err.as_ref()
+            .is_err_and(|e| e.to_string().contains("operator")),
+        "{err:?}"
+    );
+    b.ap.armed = true; // the operator arms
+    b.tick(1_000);
+    b.feed(b.ap.heartbeat());
+    assert!(b.d.readiness().expect("waiting").report().ready);
+    assert_eq!(arms(&b), 0);
 }

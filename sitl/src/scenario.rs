@@ -392,6 +392,9 @@ pub enum Fault {
     /// Someone else changes the mode (an RC mode switch, another ground station): the autopilot enters
     /// custom mode `mode` (e.g. 4, HOLD on a rover) as if commanded, and the companion is not told why.
     ModeChange { mode: u32 },
+    /// Someone else arms the vehicle (an RC stick, a ground station): refused as an ARM command would be
+    /// while the autopilot is not ready.
+    Arm,
     /// Nothing in or out for `duration_s`.
     LinkBlackout { duration_s: f64 },
     /// Per-frame probabilities on the link for `duration_s` (absent: for ever).

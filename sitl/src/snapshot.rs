@@ -32,4 +32,8 @@ pub struct Snapshot {
     pub frames_dropped: u64,
     /// The last STATUSTEXTs sent, oldest first.
     pub statustexts: Vec<String>,
+    /// COMMAND_LONG/INT received that command the vehicle (all but message requests), copies included.
+    pub control_commands: u32,
+    /// ARM requests received (MAV_CMD_COMPONENT_ARM_DISARM with p1 = 1).
+    pub arm_commands: u32,
 }

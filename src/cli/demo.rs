@@ -104,6 +104,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
         dispatch: args.dispatch.dispatch,
         interrupt: interrupt.clone(),
         http: args.http.spec(),
+        vehicle_offset_m: (0.0, 0.0),
     };
     let mut printer = TracePrinter::default();
     let quiet = args.out.quiet;
@@ -177,6 +178,8 @@ pub struct DemoSetup {
     pub interrupt: Interrupt,
     /// Serve the live page (`--http ADDR`, `--http-goals`).
     pub http: Option<super::http_arg::HttpSpec>,
+    /// The simulated vehicle starts this far (east, north metres) from the problem's home.
+    pub vehicle_offset_m: (f64, f64),
 }
 
 impl Default for DemoSetup {
@@ -196,6 +199,7 @@ impl Default for DemoSetup {
             dispatch: PolicyKind::default(),
             interrupt: Interrupt::default(),
             http: None,
+            vehicle_offset_m: (0.0, 0.0),
         }
     }
 }
@@ -293,6 +297,7 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;
     spec.seed = setup.seed;
+    spec.vehicle_offset_m = setup.vehicle_offset_m;
     spec.first_goal_number = problem.goals.len() as u32 + 1;
     Ok((spec, scenario_name))
 }
@@ -340,7 +345,12 @@ pub fn run_demo(
     let mut ex = Executive::new(plan, exec_config())
         .with_policy(setup.dispatch)
         .with_mapping(session.mapping.clone())
-        .with_level_tolerance(LEVEL_TOLERANCE);
+        .with_level_tolerance(LEVEL_TOLERANCE)
+        .with_limits(session.limits.clone());
+    // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
+    if let Some((e, n)) = crate::vehicle::Vehicle::position(&session.vehicle) {
+        ex.start_from(Enu::new(e, n, 0.0), session.start_radius_m, 0);
+    }
     // Stepped, the simulator waits for the upload to reach the executive: it lands at a fixed sim time.
     let gate = Arc::new(StepGate::default());
     let mut live = match &setup.http {

@@ -194,6 +194,8 @@ fn mission(
         first_goal_number: first + goals.len() as u32,
     };
     let ready_limit_s = checked.vehicle.ready.timeout_s;
+    let start_radius_m = crate::vehicle::authority::start_radius_m(&checked.vehicle);
+    let limits = crate::vehicle::limits::Limits::from_config(&checked.vehicle.limits, checked.home);
     let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
         signals.before_exit_at_once(flush);
@@ -225,7 +227,15 @@ fn mission(
     let origin = vehicle.now_ms();
     outln!("vehicle ready; mission starts at vehicle time {origin} ms");
     let home = checked.home;
-    let mut ex = Executive::new(plan, exec_cfg).with_mapping(checked.mapping);
+    let mut ex = Executive::new(plan, exec_cfg)
+        .with_mapping(checked.mapping)
+        .with_limits(limits);
+    // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
+    if let Some((e, n)) = vehicle.position() {
+        if let Some(d) = ex.start_from(crate::vehicle::Enu::new(e, n, 0.0), start_radius_m, 0) {
+            outln!("warning: the vehicle is {d:.0} m from the plan's start: planning again from where it is");
+        }
+    }
     let mut printer = TracePrinter::default();
     let quiet = args.out.quiet;
     let mut live = match args.http.spec() {
@@ -255,6 +265,10 @@ fn mission(
     if matches!(report.end, MissionEnd::Interrupted(_)) {
         report.shutdown =
             Some(vehicle.safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))));
+    } else {
+        // `[authority] at_end`: HOLD, then disarmed (by default); the commands need a moment to go out.
+        vehicle.end_of_mission();
+        std::thread::sleep(Duration::from_millis(200));
     }
     vehicle.flush_tlog();
     let keep = live.map(|(server, rt)| {

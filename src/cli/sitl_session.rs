@@ -37,6 +37,10 @@ pub struct SitlSession {
     pub gcs: String,
     /// The vehicle time (ms) of the plan's origin.
     pub origin_ms: u64,
+    /// Within this distance of the plan's place the vehicle is there (the moves' acceptance radius).
+    pub start_radius_m: f64,
+    /// Where the vehicle may go (`[limits]`).
+    pub limits: Option<crate::vehicle::limits::Limits>,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -51,6 +55,8 @@ pub struct SessionSpec {
     pub first_goal_number: u32,
     /// Seeds the simulator's picture sizes and link faults.
     pub seed: u64,
+    /// The simulated vehicle starts this far (east, north metres) from the problem's home.
+    pub vehicle_offset_m: (f64, f64),
 }
 
 impl SessionSpec {
@@ -63,6 +69,7 @@ impl SessionSpec {
             speedup: None,
             first_goal_number: 1,
             seed: 1,
+            vehicle_offset_m: (0.0, 0.0),
         })
     }
 }
@@ -82,14 +89,23 @@ impl SitlSession {
         // The simulator is frozen while the executive plans (stepped) or runs fast (paced): wall-clock
         // timeouts must not take a long planning for a lost link.
         cfg.link.heartbeat_timeout_ms = cfg.link.heartbeat_timeout_ms.max(60_000);
+        let (sim_lat, sim_lon) = match spec.vehicle_offset_m {
+            (0.0, 0.0) => (home.lat, home.lon),
+            (east, north) => {
+                let (lat, lon, _) = home.to_global(crate::vehicle::Enu::new(east, north, 0.0));
+                (lat, lon)
+            }
+        };
+        let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
+        let limits = crate::vehicle::limits::Limits::from_config(&cfg.limits, home);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
             seed: spec.seed,
             vehicle: spec.vehicle,
             home: sitl::GeoPoint {
-                lat: home.lat,
-                lon: home.lon,
+                lat: sim_lat,
+                lon: sim_lon,
             },
             ..sitl::SimConfig::for_tests()
         };
@@ -132,6 +148,8 @@ impl SitlSession {
             mapping: checked.mapping,
             gcs,
             origin_ms,
+            start_radius_m,
+            limits,
             rt,
         })
     }

@@ -156,7 +156,12 @@ impl LiveFeed {
                     .unwrap_or_default(),
             })
             .collect();
-        let counters = counters_of(ex.counters());
+        let mut counters = counters_of(ex.counters());
+        // Who commands the vehicle (issue 30): the page says when the operator has it.
+        let control = ex.paused_why().map_or("companion".to_string(), |why| {
+            format!("operator (paused: {why})")
+        });
+        counters.insert("control".into(), serde_json::Value::String(control));
         let at = self.position.as_ref().and_then(|p| p());
         let moved = at.filter(|&p| moved_on(self.last_position, p));
         if moved.is_some() {

@@ -79,6 +79,15 @@ impl Autopilot {
     }
 
     pub(super) fn on_command(&mut self, c: Cmd) {
+        if !matches!(
+            c.command,
+            MavCmd::MAV_CMD_REQUEST_MESSAGE | MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL
+        ) {
+            self.control_commands += 1;
+        }
+        if c.command == MavCmd::MAV_CMD_COMPONENT_ARM_DISARM && c.p[0] >= 0.5 {
+            self.arm_commands += 1;
+        }
         if let Some(a) = self.cmd_memory.repeat(&c, self.now_ms) {
             // A duplicate or a re-sent copy of what was done: answered again, not done twice.
             self.ack(&c, a.result, a.progress);

@@ -100,6 +100,10 @@ pub struct Autopilot {
     pictures_ok: u32,
     pictures_failed: u32,
     statustexts: Vec<String>,
+    /// COMMAND_LONG/INT received that command the vehicle (all but message requests), copies included;
+    /// and among them ARM requests.
+    control_commands: u32,
+    arm_commands: u32,
     // plumbing
     faults: FaultEngine,
     pub link_faults: LinkFaults,
@@ -158,6 +162,8 @@ impl Autopilot {
             pictures_ok: 0,
             pictures_failed: 0,
             statustexts: Vec::new(),
+            control_commands: 0,
+            arm_commands: 0,
             faults: FaultEngine::new(&s.faults),
             link_faults: LinkFaults::new(link_rng),
             out: Vec::new(),
@@ -447,6 +453,11 @@ impl Autopilot {
                     self.broadcast_mission_current();
                 }
             }
+            Fault::Arm => {
+                if let Err(why) = self.arm(false) {
+                    tracing::info!(?why, "arm fault: arming refused");
+                }
+            }
             Fault::ModeChange { mode } => match Mode::from_number(mode, self.vehicle) {
                 Some(m) => {
                     if let Err(why) = self.set_mode(m) {
@@ -522,6 +533,8 @@ impl Autopilot {
             link_blackout: self.link_faults.in_blackout(self.now_ms),
             frames_dropped: self.link_faults.dropped,
             statustexts: self.statustexts.clone(),
+            control_commands: self.control_commands,
+            arm_commands: self.arm_commands,
         }
     }
 }

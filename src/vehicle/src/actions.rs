@@ -3,6 +3,7 @@
 
 use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, COMMAND_INT_DATA};
 
+use super::authority::Arming;
 use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
 use super::config::{Autopilot, Binding, Mode, VehicleConfig};
@@ -170,6 +171,10 @@ pub enum StartError {
     TransferBusy,
     #[error("command {0} unknown to the dialect")]
     UnknownCommand(u16),
+    #[error(
+        "the vehicle is disarmed and arming is the operator's ([authority] arm = \"operator\")"
+    )]
+    NotArmed,
 }
 
 fn location_arg(start: &ActionStart, name: &str) -> Result<Enu, StartError> {
@@ -211,7 +216,7 @@ impl Run {
             Binding::Move { to, .. } => {
                 run.goal = Some(location_arg(start, to)?);
                 run.expect_mode = Some(ctx.cfg.modes.guided.custom_mode());
-                run.arm_or(ctx, Self::start_motion);
+                run.arm_or(ctx, Self::start_motion)?;
             }
             Binding::Survey {
                 area,
@@ -247,7 +252,7 @@ impl Run {
                 run.arm_or(ctx, |r, c| {
                     let rtl = c.cfg.modes.rtl;
                     c.set_mode(r.id, rtl);
-                });
+                })?;
             }
             Binding::Recharge {
                 until_percent,
@@ -284,14 +289,17 @@ impl Run {
         ctx.request_capture_status();
     }
 
-    fn arm_or(&mut self, ctx: &mut Ctx, then: fn(&mut Run, &mut Ctx)) {
+    fn arm_or(&mut self, ctx: &mut Ctx, then: fn(&mut Run, &mut Ctx)) -> Result<(), StartError> {
         if ctx.tel.armed {
             then(self, ctx);
             self.phase = Phase::Starting;
+        } else if ctx.cfg.authority.arm == Arming::Operator {
+            return Err(StartError::NotArmed);
         } else {
             ctx.arm(self.id);
             self.phase = Phase::Arming;
         }
+        Ok(())
     }
 
     fn start_motion(&mut self, ctx: &mut Ctx) {
@@ -563,6 +571,8 @@ impl Run {
             MissionOutcome::Uploaded if self.phase == Phase::Uploading => {
                 if ctx.tel.armed {
                     self.start_auto(ctx);
+                } else if ctx.cfg.authority.arm == Arming::Operator {
+                    return Some(self.failed(ctx, StartError::NotArmed.to_string()));
                 } else {
                     ctx.arm(self.id);
                     self.phase = Phase::Arming;
@@ -635,13 +645,14 @@ impl Run {
                 self.stored(ctx, end)
             }
             // ArduPilot's camera library confirms a picture with CAMERA_FEEDBACK only (no
-            // CAMERA_IMAGE_CAPTURED): an image index past the one before the command is this picture.
+            // CAMERA_IMAGE_CAPTURED): an image index past the one before the command is this picture. It
+            // reports no storage (STORAGE_INFORMATION is refused): the picture ends here, not 2 s later.
             MavMessage::CAMERA_FEEDBACK(f)
                 if matches!(self.binding, Binding::TakePicture { .. })
                     && !matches!(self.phase, Phase::Stored(_))
                     && self.feedback_before.is_none_or(|b| f.img_idx != b) =>
             {
-                self.stored(ctx, End::nominal())
+                Some(End::nominal())
             }
             MavMessage::CAMERA_CAPTURE_STATUS(c) if !matches!(self.phase, Phase::Stored(_)) => {
                 let status = CaptureStatus {
@@ -811,6 +822,25 @@ impl Run {
                 | Binding::ReturnHome { .. }
                 | Binding::Recharge { .. }
         )
+    }
+
+    /// The operator took control (`why`): the run ends where the vehicle is, with no command. A motion is
+    /// interrupted at the position reached (as a stopped move); another action did not do its work
+    /// (failed).
+    pub fn yield_control(&mut self, ctx: &mut Ctx, why: &str) -> End {
+        if let Some(end) = self.settled(ctx) {
+            return end;
+        }
+        ctx.cmds.cancel(self.id);
+        if self.is_vehicle_motion() {
+            End {
+                status: ReportStatus::Interrupted,
+                reason: Some(format!("the operator took control: {why}")),
+                state: self.state_values(ctx, false),
+            }
+        } else {
+            self.failed(ctx, format!("the operator took control: {why}"))
+        }
     }
 
     /// `END i_a`: stops the action; motion is stopped by HOLD, a downlink by its command with p1 = 0.

@@ -20,6 +20,9 @@ pub enum VehicleError {
     BadArguments { task: String, reason: String },
     #[error("vehicle link closed")]
     Closed,
+    /// A mode the companion did not command, or a disarm: the operator has the vehicle.
+    #[error("the operator has the vehicle: nothing is commanded until control is handed back")]
+    Yielded,
 }
 
 /// Seed 1 §2.1: `START a p_a i_a`, `END i_a`, and the messages coming back.
@@ -51,4 +54,6 @@ pub enum VehicleEvent {
     /// A ground station withdraws goals it uploaded, waiting for the executive to confirm.
     Cancel(GoalCancel),
     Link(LinkStatus),
+    /// The companion yields to the operator, or control was handed back.
+    Authority(super::authority::AuthorityEvent),
 }

@@ -42,6 +42,12 @@ pub struct VehicleConfig {
     /// Waiting for the autopilot to be ready before the mission's first start.
     #[serde(default)]
     pub ready: ReadyConfig,
+    /// Who commands the vehicle: yielding to the operator, arming, the end of a mission.
+    #[serde(default)]
+    pub authority: super::authority::AuthorityConfig,
+    /// Where the vehicle may go: a range from home, a polygon (src/vehicle/src/limits.rs).
+    #[serde(default)]
+    pub limits: super::limits::LimitsConfig,
     /// Task name of the domain → binding (from `tables`, once parsed).
     #[serde(skip)]
     pub actions: BTreeMap<String, Binding>,
@@ -356,6 +362,9 @@ impl VehicleConfig {
         if let Some(k) = &self.link.signing_key {
             super::frame::parse_key(k).map_err(|r| invalid("link.signing_key".into(), &r))?;
         }
+        if let Some((key, reason)) = self.limits.invalid() {
+            return Err(invalid(key.into(), &reason));
+        }
         if let Some(ids) = &self.link.goal_sysids {
             if ids.is_empty() || ids.contains(&0) {
                 return Err(invalid(
@@ -462,5 +471,22 @@ impl VehicleConfig {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::{Mode, Modes};
+
+    /// ArduPilot Rover's modes (MANUAL 0, HOLD 4, AUTO 10, RTL 11, GUIDED 15).
+    pub(crate) fn rover_modes() -> Modes {
+        Modes {
+            hold: Mode::Number(4),
+            auto: Mode::Number(10),
+            guided: Mode::Number(15),
+            rtl: Mode::Number(11),
+            manual: Some(Mode::Number(0)),
+            on_shutdown: Default::default(),
+        }
     }
 }

@@ -5,13 +5,15 @@
 use std::collections::BTreeMap;
 
 use mavlink::dialects::ardupilotmega::{
-    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavState, MavType, HEARTBEAT_DATA,
+    MavAutopilot, MavCmd, MavMessage, MavModeFlag, MavResult, MavSeverity, MavState, MavType,
+    COMMAND_ACK_DATA, HEARTBEAT_DATA,
 };
 use mavlink::MavHeader;
 
 use super::actions::{Ctx, End, Run};
 use super::api::VehicleError;
 use super::api::VehicleEvent;
+use super::authority::{self, Authority, AuthorityEvent, Change};
 use super::commands::{Command, CommandClient, CommandOutcome, Token};
 use super::config::VehicleConfig;
 use super::mission_client::MissionClient;
@@ -68,6 +70,10 @@ pub struct Driver {
     last_heartbeat_tx: Option<u64>,
     safe_stop: Option<SafeStop>,
     readiness: Option<Readiness>,
+    /// Who commands the vehicle: while the operator has it, no command goes out.
+    authority: Authority,
+    /// Messages before this index in `out` were produced before the pause began.
+    pause_mark: Option<usize>,
 }
 
 /// The HEARTBEAT of the companion.
@@ -90,8 +96,11 @@ impl Driver {
             cfg.link.mission_timeout_ms,
             cfg.link.mission_retries,
         );
+        let authority = Authority::new(cfg.authority, &cfg.modes);
         Self {
             cfg,
+            authority,
+            pause_mark: None,
             system_id: 1,
             target: None,
             tel: Telemetry::default(),
@@ -129,8 +138,151 @@ impl Driver {
         self.out.len()
     }
 
+    /// The messages to send. The modes they command are what the companion expects to see; while it
+    /// yields, whatever would command the vehicle is held back (a retry of a command from before).
     pub fn take_outgoing(&mut self) -> Vec<MavMessage> {
-        std::mem::take(&mut self.out)
+        let mut out = std::mem::take(&mut self.out);
+        let mark = self.pause_mark.take().unwrap_or(0).min(out.len());
+        if self.authority.is_paused() {
+            let before = out.len();
+            let mut i = 0;
+            out.retain(|m| {
+                i += 1;
+                i <= mark || authority::allowed_while_paused(m)
+            });
+            if out.len() < before {
+                tracing::warn!(
+                    held = before - out.len(),
+                    "the operator has the vehicle: commands not sent"
+                );
+            }
+        }
+        for m in &out {
+            if let Some(mode) = authority::commanded_mode(m, &self.cfg.modes, self.cfg.autopilot) {
+                self.authority.commanded(mode);
+            }
+        }
+        out
+    }
+
+    /// Whether the companion yields to the operator (a foreign mode, a disarm, a pause asked).
+    pub fn is_paused(&self) -> bool {
+        self.authority.is_paused()
+    }
+
+    /// A change of who commands the vehicle: on a pause the running actions end where the vehicle is,
+    /// with no command (a motion as interrupted, the others as failed); the operator is told by STATUSTEXT,
+    /// the executive by an event.
+    fn authority_changed(&mut self, change: Change, now: u64) {
+        match change {
+            Change::Paused { why } => {
+                let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+                for id in ids {
+                    let why = why.clone();
+                    self.with_run(id, now, |run, ctx| Some(run.yield_control(ctx, &why)));
+                }
+                // What was produced before the pause (a HOLD the operator asked for) still goes out.
+                self.pause_mark.get_or_insert(self.out.len());
+                let guided = authority::mode_name(self.cfg.modes.guided.custom_mode());
+                let text = format!("mavtempo paused: {why}; {guided} or continue resumes");
+                tracing::warn!("{text}");
+                self.tell(&text, MavSeverity::MAV_SEVERITY_WARNING);
+                self.events
+                    .push(VehicleEvent::Authority(AuthorityEvent::Paused { why }));
+            }
+            Change::Resumed { how } => {
+                let text = format!("mavtempo resumes: {how}");
+                tracing::info!("{text}");
+                self.tell(&text, MavSeverity::MAV_SEVERITY_NOTICE);
+                self.events
+                    .push(VehicleEvent::Authority(AuthorityEvent::Resumed {
+                        how,
+                        position: self.tel.position,
+                        radius_m: authority::start_radius_m(&self.cfg),
+                    }));
+            }
+        }
+    }
+
+    /// A STATUSTEXT for the ground stations.
+    fn tell(&mut self, text: &str, severity: MavSeverity) {
+        self.out
+            .extend(super::intake::statustext(text, severity, 0));
+    }
+
+    /// A ground station's `MAV_CMD_DO_PAUSE_CONTINUE` to component 191 (p1 = 1: continue, 0: pause):
+    /// applied, and its COMMAND_ACK returned (for the link the command came in on).
+    pub fn operator_command(
+        &mut self,
+        header: MavHeader,
+        msg: &MavMessage,
+        now: u64,
+    ) -> Option<MavMessage> {
+        let MavMessage::COMMAND_LONG(c) = msg else {
+            return None;
+        };
+        if c.command != MavCmd::MAV_CMD_DO_PAUSE_CONTINUE
+            || c.target_component != COMPANION_COMPONENT
+            || (c.target_system != 0 && c.target_system != self.system_id)
+        {
+            return None;
+        }
+        let result = match self.authority.on_pause_continue(c.param1 >= 0.5) {
+            Ok(change) => {
+                if let Some(change) = change {
+                    if matches!(change, Change::Paused { .. }) {
+                        // A pause asked: the vehicle is stopped (HOLD) before the companion yields.
+                        self.stop_all_motion(now);
+                    }
+                    self.authority_changed(change, now);
+                }
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            Err(why) => {
+                tracing::warn!("continue refused: {why}");
+                MavResult::MAV_RESULT_TEMPORARILY_REJECTED
+            }
+        };
+        Some(MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+            command: c.command,
+            result,
+            target_system: header.system_id as u8,
+            target_component: header.component_id,
+            ..Default::default()
+        }))
+    }
+
+    /// `END` to every running motion (HOLD is commanded): a pause asked by the operator.
+    fn stop_all_motion(&mut self, now: u64) {
+        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        for id in ids {
+            self.with_run(id, now, |run, ctx| Some(run.stop(ctx)));
+        }
+    }
+
+    /// The mission is over: the companion leaves the vehicle as `[authority] at_end` says (HOLD, then
+    /// disarm once held) and lets go of it.
+    pub fn end_of_mission(&mut self, now: u64) {
+        self.authority.release();
+        let at_end = self.cfg.authority.at_end;
+        if at_end == authority::AtEnd::None || self.authority.is_paused() {
+            return;
+        }
+        let Some(target) = self.target else {
+            return;
+        };
+        let (p2, p3) = self.cfg.modes.hold.set_mode_params();
+        let hold = Command::long(
+            MavCmd::MAV_CMD_DO_SET_MODE,
+            target,
+            [1.0, p2, p3, 0.0, 0.0, 0.0, 0.0],
+        );
+        self.cmds.send(u64::MAX, hold, now, &mut self.out);
+        if at_end == authority::AtEnd::HoldDisarm {
+            let disarm = Command::long(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, target, [0.0; 7]);
+            self.cmds.send(u64::MAX, disarm, now, &mut self.out);
+        }
+        tracing::info!(?at_end, "mission over: the vehicle left in HOLD");
     }
 
     pub fn take_events(&mut self) -> Vec<VehicleEvent> {
@@ -172,6 +324,9 @@ impl Driver {
     pub fn start(&mut self, action: ActionStart, now: u64) -> Result<(), VehicleError> {
         if self.runs.contains_key(&action.id) {
             return Err(VehicleError::AlreadyRunning(action.id));
+        }
+        if self.authority.is_paused() {
+            return Err(VehicleError::Yielded);
         }
         let binding = self
             .cfg
@@ -253,7 +408,11 @@ impl Driver {
     /// a backoff); [`Driver::readiness`] tells how it goes.
     pub fn begin_ready(&mut self, now: u64) {
         let vnow = self.tel.time_boot_ms.unwrap_or(now);
-        self.readiness = Some(Readiness::new(vnow));
+        let r = Readiness::new(vnow);
+        self.readiness = Some(match self.cfg.authority.arm {
+            authority::Arming::Operator => r.operator_arms(),
+            authority::Arming::Companion => r,
+        });
         self.drive_readiness(now);
     }
 
@@ -293,6 +452,11 @@ impl Driver {
                     );
                     self.cmds.send(u64::MAX, cmd, now, &mut self.out);
                 }
+            }
+            ReadyAction::AskOperator => {
+                let text = "mavtempo ready: waiting for the operator to arm";
+                tracing::warn!("{text} ([authority] arm = \"operator\")");
+                self.tell(text, MavSeverity::MAV_SEVERITY_NOTICE);
             }
             ReadyAction::Nothing => {}
         }
@@ -344,6 +508,9 @@ impl Driver {
             }
         }
         if self.target != Some((sys, comp)) {
+            if let Some(ack) = self.operator_command(header, msg, now) {
+                self.out.push(ack);
+            }
             return;
         }
         let cfg = &self.cfg;
@@ -354,7 +521,19 @@ impl Driver {
             self.mission.set_vehicle_time(t);
         }
         if self.tel.take_restart() {
+            if let Some(change) = self.authority.on_restart() {
+                self.authority_changed(change, now);
+            }
             self.resume_after_restart(now);
+        }
+        if let MavMessage::HEARTBEAT(h) = msg {
+            let armed = h
+                .base_mode
+                .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
+            let vnow = self.tel.time_boot_ms.unwrap_or(now);
+            if let Some(change) = self.authority.on_heartbeat(h.custom_mode, armed, vnow) {
+                self.authority_changed(change, now);
+            }
         }
         if matches!(
             msg,
@@ -367,6 +546,12 @@ impl Driver {
         }
         if let (Some(s), MavMessage::HEARTBEAT(h)) = (&mut self.safe_stop, msg) {
             s.on_heartbeat(h.custom_mode);
+        }
+        if let MavMessage::STATUSTEXT(t) = msg {
+            if (t.severity as u8) <= 3 {
+                self.authority
+                    .on_error_text(self.tel.time_boot_ms.unwrap_or(now));
+            }
         }
         if let (Some(r), MavMessage::STATUSTEXT(t)) = (&mut self.readiness, msg) {
             // WARNING or worse: ArduPilot's "PreArm: ..." and "Arm: ..." reasons are CRITICAL.
@@ -382,6 +567,7 @@ impl Driver {
         if let Some((token, outcome)) = self.mission.handle(msg, now, &mut self.out) {
             self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
         }
+        self.authority_tick(now);
         let ids: Vec<ActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
@@ -448,10 +634,19 @@ impl Driver {
         }
         self.expire_commands(now);
         self.expire_mission(now);
+        self.authority_tick(now);
         let ids: Vec<ActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
         }
         self.drive_readiness(now);
+    }
+
+    /// A disarm no restart explained, past its grace: the operator's.
+    fn authority_tick(&mut self, now: u64) {
+        let vnow = self.tel.time_boot_ms.unwrap_or(now);
+        if let Some(change) = self.authority.on_tick(vnow) {
+            self.authority_changed(change, now);
+        }
     }
 }

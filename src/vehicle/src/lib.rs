@@ -14,6 +14,7 @@
 
 pub mod actions;
 pub mod api;
+pub mod authority;
 pub mod binding_table;
 pub mod capture_evidence;
 pub mod commands;
@@ -31,6 +32,7 @@ pub mod held;
 pub mod intake;
 pub mod item_goals;
 pub mod items;
+pub mod limits;
 pub mod link;
 pub mod mapping;
 pub mod mission_client;

@@ -324,6 +324,17 @@ impl Pump {
                                 }
                                 if let Some(f) = &self.follow {
                                     encoder.system_id = f.system_id.load(Ordering::Relaxed);
+                                    // A ground station's pause / continue to 191 reaches the driver; what
+                                    // the driver then sends goes out on the vehicle's link.
+                                    if let Ok(mut d) = f.driver.lock() {
+                                        if let Some(ack) = d.operator_command(header, &msg, now) {
+                                            out.push(ack);
+                                            for e in d.take_events() {
+                                                let _ = self.events.send(e);
+                                            }
+                                            f.notify.notify_one();
+                                        }
+                                    }
                                 }
                                 // The autopilot's mission messages to 191 belong to our mission client, never
                                 // to the goal intake.
@@ -715,6 +726,16 @@ impl MavlinkVehicle {
                 return state.report();
             }
         }
+    }
+
+    /// The mission is over: the vehicle is left as `[authority] at_end` says (HOLD, then disarmed) and
+    /// the companion lets go of it. The commands go out with the link's next wake-up.
+    pub fn end_of_mission(&self) {
+        if let Ok(mut d) = self.shared.driver.lock() {
+            d.end_of_mission(self.shared.clock_now());
+            self.deliver(&mut d);
+        }
+        self.shared.notify.notify_one();
     }
 
     /// Waits for the autopilot to be ready for the mission's first start: a position fix, then ARM accepted

@@ -134,18 +134,7 @@ impl ObservedState {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::Mode;
-
-    fn modes() -> Modes {
-        Modes {
-            hold: Mode::Number(4),
-            auto: Mode::Number(10),
-            guided: Mode::Number(15),
-            rtl: Mode::Number(11),
-            manual: Some(Mode::Number(0)),
-            on_shutdown: Default::default(),
-        }
-    }
+    use crate::config::tests::rover_modes as modes;
 
     fn state() -> ObservedState {
         ObservedState {

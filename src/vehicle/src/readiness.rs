@@ -43,6 +43,8 @@ pub enum ReadyPhase {
     Backoff(u64),
     /// Armed, but the estimator does not trust its position yet (GUIDED would be refused).
     WaitingForNavigation,
+    /// A fix, and arming is the operator's (`[authority] arm = "operator"`): waiting for them to arm.
+    WaitingForOperator,
     /// Armed and navigating: the mission can start.
     Ready,
 }
@@ -68,6 +70,8 @@ impl ReadyReport {
             "no position fix (GLOBAL_POSITION_INT at 0, 0, or no HOME_POSITION)".to_string()
         } else if self.armed_after_ms.is_some() {
             "armed, but the estimator does not trust its position (EKF_STATUS_REPORT)".to_string()
+        } else if self.arm_attempts == 0 {
+            "not armed (arming is the operator's: [authority] arm = \"operator\")".to_string()
         } else {
             format!("arming refused {} times", self.arm_attempts)
         };
@@ -89,6 +93,8 @@ pub struct Readiness {
     /// When (vehicle ms) HOME_POSITION and the estimator's status were last asked for.
     status_asked: Option<u64>,
     report: ReadyReport,
+    /// Arming is the operator's: no ARM is ever sent.
+    operator_arms: bool,
 }
 
 /// What the driver must do next.
@@ -99,6 +105,8 @@ pub enum ReadyAction {
     Arm,
     /// Ask for HOME_POSITION (sent once home is set) and the estimator's status (MAV_CMD_REQUEST_MESSAGE).
     RequestStatus,
+    /// Tell the operator the vehicle waits for them to arm it (once).
+    AskOperator,
 }
 
 impl Readiness {
@@ -108,6 +116,7 @@ impl Readiness {
             started_ms: vnow,
             backoff_ms: FIRST_BACKOFF_MS,
             status_asked: None,
+            operator_arms: false,
             report: ReadyReport {
                 ready: false,
                 fix_after_ms: None,
@@ -117,6 +126,12 @@ impl Readiness {
                 refusals: Vec::new(),
             },
         }
+    }
+
+    /// Arming is left to the operator: the wait never sends ARM, it waits for the vehicle armed.
+    pub fn operator_arms(mut self) -> Self {
+        self.operator_arms = true;
+        self
     }
 
     pub fn phase(&self) -> ReadyPhase {
@@ -165,6 +180,10 @@ impl Readiness {
     }
 
     fn attempt(&mut self) -> ReadyAction {
+        if self.operator_arms {
+            self.phase = ReadyPhase::WaitingForOperator;
+            return ReadyAction::AskOperator;
+        }
         self.report.arm_attempts += 1;
         self.phase = ReadyPhase::Arming;
         ReadyAction::Arm
@@ -306,6 +325,24 @@ mod tests {
             ..ARMED
         };
         assert_eq!(r.tick(500, armed), ReadyAction::Nothing);
+        assert!(r.report().ready);
+        assert_eq!(r.report().arm_attempts, 0);
+    }
+
+    #[test]
+    fn with_operator_arming_no_arm_is_sent_and_the_operators_arming_makes_it_ready() {
+        let mut r = Readiness::new(0).operator_arms();
+        assert_eq!(r.tick(100, FIX), ReadyAction::AskOperator);
+        assert_eq!(r.phase(), ReadyPhase::WaitingForOperator);
+        for t in 1..100 {
+            assert_ne!(r.tick(100 + t * 500, FIX), ReadyAction::Arm);
+        }
+        assert!(r.report().why_not(60.0).contains("operator"));
+        let armed = Seen {
+            navigation: Some(true),
+            ..ARMED
+        };
+        assert_eq!(r.tick(60_000, armed), ReadyAction::Nothing);
         assert!(r.report().ready);
         assert_eq!(r.report().arm_attempts, 0);
     }

@@ -37,7 +37,10 @@ impl Executive {
         }
         let t1 = Instant::now();
         let mut repairing = false;
-        if self.abort.is_none() {
+        if self.paused.is_some() {
+            // The operator has the vehicle: time goes on, nothing is commanded, no plan is made.
+            self.while_paused(now);
+        } else if self.abort.is_none() {
             // The repair's μ·ts is mission time: the vehicle's clock, as the pacer reads it.
             let origin = self.vehicle_origin_ms;
             let v: &dyn Vehicle = vehicle;
@@ -51,7 +54,7 @@ impl Executive {
         // Uploads are answered once this cycle's insertion attempt had its share (its verdict, or "to follow").
         self.answer_goal_batches();
         let t2 = Instant::now();
-        let next = if self.abort.is_none() {
+        let next = if self.abort.is_none() && self.paused.is_none() {
             self.act(vehicle, now)
         } else {
             None

@@ -126,6 +126,10 @@ pub struct Executive {
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
     /// `resources[].reported`.
     pub(crate) last_reported: Vec<Option<(Time, f64)>>,
+    /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
+    pub(crate) paused: Option<String>,
+    /// Where the vehicle may go: goals at places outside are refused at intake.
+    pub(crate) limits: Option<mavtempo_vehicle::limits::Limits>,
     /// Uploaded goals held in the plan: their ground station is told how each ends.
     pub(crate) watches: BTreeMap<GoalId, GoalWatch>,
 }
@@ -188,8 +192,17 @@ impl Executive {
             replannings: Vec::new(),
             insertion_stale: false,
             last_reported,
+            paused: None,
+            limits: None,
             watches: BTreeMap::new(),
         }
+    }
+
+    /// Where the vehicle may go (`[limits]`, the autopilot's fence): a goal at a place outside is
+    /// rejected when it arrives, with the distance and the limit.
+    pub fn with_limits(mut self, limits: Option<mavtempo_vehicle::limits::Limits>) -> Self {
+        self.limits = limits.filter(|l| !l.is_empty());
+        self
     }
 
     /// The vehicle configuration's `[mapping]`, resolved against this plan's domain

@@ -60,6 +60,12 @@ impl Executive {
         self.next_batch += 1;
         let requests = batch.goals.clone();
         for (i, g) in requests.iter().enumerate() {
+            if let Some(why) = self.beyond_limits(g) {
+                let reason = FateReason::BeyondLimits { why };
+                batch.decide(i, GoalVerdict::Rejected(reason.to_string()));
+                self.refuse(&g.name, reason);
+                continue;
+            }
             match self.goal_from_request(g) {
                 Ok(goal) => {
                     self.trace(TraceEvent::GoalReceived {

@@ -31,6 +31,7 @@
 
 pub mod abstraction;
 pub mod act;
+pub mod authority;
 pub mod cancel;
 pub mod capacity;
 pub mod config;

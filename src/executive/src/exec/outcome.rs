@@ -55,6 +55,12 @@ pub enum AbortReason {
     /// A complete replanning asked for with no abort recorded.
     #[error("execution aborted")]
     Unstated,
+    /// The operator handed control back: the plan is made again from where the vehicle is.
+    #[error("control handed back ({how})")]
+    ControlReturned { how: String },
+    /// The vehicle is not where the plan starts (src/executive/src/exec/authority.rs).
+    #[error("the vehicle is {distance_m:.1} m from where the plan has it")]
+    VehicleElsewhere { distance_m: f64 },
 }
 
 /// `; the last dead end: …` or nothing.
@@ -174,6 +180,12 @@ pub enum FateReason {
     TimeLimit,
     #[error("mission interrupted ({signal})")]
     Interrupted { signal: String },
+    /// Its place is beyond the vehicle's limits (`[limits]`, the autopilot's fence).
+    #[error("{why}")]
+    BeyondLimits { why: String },
+    /// Its window closed while the operator had the vehicle.
+    #[error("its window closed at {:.1} s while the operator had the vehicle ({why})", *closed_ms as f64 / 1000.0)]
+    ClosedWhilePaused { closed_ms: Time, why: String },
     /// Withdrawn by the ground station that uploaded it (src/executive/src/exec/cancel.rs).
     #[error("{by}")]
     Cancelled { by: String },

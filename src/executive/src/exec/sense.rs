@@ -52,6 +52,7 @@ impl Executive {
             VehicleEvent::Goals(batch) => self.receive_goals(batch),
             VehicleEvent::Cancel(cancel) => self.cancel_goals(cancel, now),
             VehicleEvent::Link(status) => tracing::info!(?status, "vehicle link"),
+            VehicleEvent::Authority(e) => self.authority_event(e, now),
         }
     }
 

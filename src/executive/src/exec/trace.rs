@@ -142,6 +142,20 @@ pub enum TraceEvent {
         action: String,
         reason: String,
     },
+    /// The operator took control (a mode the companion did not command, a disarm): nothing is commanded
+    /// until it is handed back.
+    Paused {
+        why: String,
+    },
+    /// Control handed back: the plan is made again from where the vehicle is.
+    Resumed {
+        how: String,
+    },
+    /// The vehicle is not where the plan has it: the plan starts from its position, a new place.
+    Elsewhere {
+        distance_m: f64,
+        place: String,
+    },
 }
 
 /// One cycle: when it started, how long its phases took (µs of the executive's CPU), what happened.
@@ -227,6 +241,14 @@ impl TraceEvent {
             ),
             TraceEvent::LinksBroken { count } => format!("{count} causal links broken"),
             TraceEvent::Interrupt { action, reason } => format!("interrupt {action}: {reason}"),
+            TraceEvent::Paused { why } => {
+                format!("PAUSED: {why}; the operator has the vehicle, nothing is commanded")
+            }
+            TraceEvent::Resumed { how } => format!("RESUMED: {how}"),
+            TraceEvent::Elsewhere { distance_m, place } => format!(
+                "the vehicle is {distance_m:.1} m from where the plan has it: the plan starts from its \
+                 position ({place})"
+            ),
         }
     }
 }
