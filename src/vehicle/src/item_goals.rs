@@ -7,7 +7,7 @@
 
 use std::ops::Range;
 
-use mavlink::dialects::ardupilotmega::{MavCmd, MavMissionResult};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMissionResult};
 
 use super::goals::{KnownLocations, GOAL_ATTRIBUTES_CMD, SAMPLE_GOAL_CMD, SURVEY_GOAL_CMD};
 use super::items::MissionItem;
@@ -99,8 +99,23 @@ fn attributes(item: &MissionItem) -> Result<Attributes, (String, MavMissionResul
     })
 }
 
-/// A position item's latitude, longitude and altitude, or why it has none.
-fn position(item: &MissionItem) -> Result<(f64, f64, f64), (String, MavMissionResult)> {
+/// Frames whose altitude is above home (terrain frames taken as above home: a companion has no terrain model).
+fn altitude_above_home(frame: u8) -> bool {
+    use MavFrame::*;
+    [
+        MAV_FRAME_GLOBAL_RELATIVE_ALT,
+        MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+        MAV_FRAME_GLOBAL_TERRAIN_ALT,
+        MAV_FRAME_GLOBAL_TERRAIN_ALT_INT,
+    ]
+    .iter()
+    .any(|f| *f as u8 == frame)
+}
+
+/// A position item's latitude, longitude and altitude above mean sea level, or why it has none.
+/// `home_alt` turns the relative altitudes ground stations write (frame 3 and kin) into AMSL: taken as
+/// AMSL, a relative 0 m put uploaded places 150 m under a rover's home and sized their moves 4–8× too long.
+fn position(item: &MissionItem, home_alt: f64) -> Result<(f64, f64, f64), (String, MavMissionResult)> {
     let cmd = item.command;
     if !item.has_position() {
         return Err((
@@ -108,7 +123,7 @@ fn position(item: &MissionItem) -> Result<(f64, f64, f64), (String, MavMissionRe
             MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
         ));
     }
-    let alt = widen(item.z);
+    let alt = widen(item.z) + if altitude_above_home(item.frame) { home_alt } else { 0.0 };
     if !(-90.0..=90.0).contains(&item.x) || !(-180.0..=180.0).contains(&item.y) || !alt.is_finite()
     {
         return Err((
@@ -325,7 +340,7 @@ impl Mapper<'_> {
             self.push(kind, None, attrs, first..seq + 1, 0);
             return;
         }
-        let at = match position(item) {
+        let at = match position(item, self.known.home.alt) {
             Ok(at) => at,
             Err((reason, ack)) => {
                 self.skip(seq, reason, ack);
@@ -483,6 +498,25 @@ mod tests {
             ]
         );
         assert_eq!(list.goals[3].request.proposition, "surveyed(g4_loc)");
+    }
+
+    #[test]
+    fn relative_altitudes_are_above_home_and_global_ones_above_sea_level() {
+        let h = Home {
+            alt: 150.0,
+            ..home()
+        };
+        let mut amsl = MissionItem::waypoint(43.5003, 1.4, 150.0);
+        amsl.frame = mavlink::dialects::ardupilotmega::MavFrame::MAV_FRAME_GLOBAL_INT as u8;
+        let items = vec![MissionItem::waypoint(43.5003, 1.4, 0.0), amsl];
+        let list = items_to_goals(&items, &KnownLocations::new(h), 1);
+        assert_eq!(list.goals.len(), 2, "{:?}", list.skipped);
+        for g in &list.goals {
+            let at = g.request.location.as_ref().expect("a place").at;
+            // 0 m above a home 150 m above sea level, and 150 m above sea level: both on the ground.
+            assert!(at.up.abs() < 0.5, "{}: up {}", g.request.name, at.up);
+            assert!((at.north - 33.4).abs() < 0.5, "north {}", at.north);
+        }
     }
 
     fn camera(cmd: u16, p1: f32) -> MissionItem {

@@ -58,6 +58,10 @@ impl AbortReason {
             AbortReason::PlanChurn(c) => c.to_string(),
             AbortReason::Timeout { timepoint } => format!("{timepoint} did not happen in time"),
             AbortReason::Unstated => "execution stopped".to_string(),
+            AbortReason::ControlReturned { how } => format!("control handed back ({how})"),
+            AbortReason::VehicleElsewhere { distance_m } => {
+                format!("the vehicle is {distance_m:.0} m from where the plan has it")
+            }
         }
     }
 }
@@ -123,6 +127,11 @@ impl FateReason {
             FateReason::TimeLimit => "the mission's time limit was reached".to_string(),
             FateReason::Interrupted { signal } => format!("the mission was interrupted ({signal})"),
             FateReason::Cancelled { by } => by.clone(),
+            FateReason::BeyondLimits { why } => why.clone(),
+            FateReason::ClosedWhilePaused { closed_ms, .. } => format!(
+                "its window closed at {} while the operator had the vehicle",
+                secs(*closed_ms)
+            ),
         }
     }
 }
