@@ -174,6 +174,9 @@ pub enum FateReason {
     TimeLimit,
     #[error("mission interrupted ({signal})")]
     Interrupted { signal: String },
+    /// The autopilot fell silent for the link timeout: nothing more can be done with it.
+    #[error("vehicle lost: no heartbeat for {silent_s} s")]
+    VehicleLost { silent_s: u64 },
 }
 
 impl FateReason {
