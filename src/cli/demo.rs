@@ -80,6 +80,10 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
+    if let Err(e) = args.out.check_writable() {
+        eprintln!("mavtempo demo: {e}");
+        return ExitCode::FAILURE;
+    }
     let interrupt = match super::shutdown::listen() {
         Ok(s) => s.interrupt,
         Err(e) => {

@@ -162,6 +162,8 @@ fn mission(
     if !(args.speedup.is_finite() && args.speedup > 0.0) {
         return Err(CliError::Speedup(args.speedup));
     }
+    // Before anything is planned or sent: outputs that cannot be written are found now, not after.
+    args.out.check_writable()?;
     let (cfg, mut exec_cfg) = load_config(&args.config)?;
     exec_cfg.dispatch = args.dispatch.unwrap_or(exec_cfg.dispatch);
     let (domain, problem) = load_problem(args)?;
