@@ -4,12 +4,10 @@
 #[path = "common/child.rs"]
 mod child;
 
-use std::io::{BufRead, BufReader};
 use std::process::Command;
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use child::spawn_piped;
+use child::{lines, spawn_piped};
 
 #[test]
 fn sigterm_prints_the_summary_of_the_missions_done() {
@@ -21,15 +19,7 @@ fn sigterm_prints_the_summary_of_the_missions_done() {
         "9000",
         "--trace",
     ]));
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stdout).lines() {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
+    let rx = lines(stdout);
     let deadline = Instant::now() + Duration::from_secs(180);
     let mut seen = Vec::new();
     // The first mission's summary (`--trace` prints it): a mission is done.

@@ -5,26 +5,11 @@
 #[path = "common/child.rs"]
 mod child;
 
-use std::io::{BufRead, BufReader, Read};
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use child::{spawn_piped, Reap};
-
-/// The lines of a child's pipe, as they come.
-fn lines(pipe: impl Read + Send + 'static) -> mpsc::Receiver<String> {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(pipe).lines() {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
-}
+use child::{lines, spawn_piped, Reap};
 
 /// Waits (at most `within`) for a line containing `needle`; the lines read on the way are kept in `seen`.
 fn wait_line(rx: &mpsc::Receiver<String>, needle: &str, within: Duration, seen: &mut Vec<String>) {

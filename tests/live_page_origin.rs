@@ -1,15 +1,14 @@
 //! The live page refuses a POST from another site (a cross-origin `Origin`) and one whose `Host` is not the
 //! page itself (DNS rebinding), over a real socket; the page's own POST gets through the check.
 
-use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream};
+#[path = "common/http.rs"]
+mod http;
+
+use std::net::SocketAddr;
 use std::time::Duration;
 
 /// POSTs the goal form to `addr` with these `Host` and `Origin` headers: the status and the body.
 fn post(addr: SocketAddr, host: &str, origin: Option<&str>) -> (u16, String) {
-    let mut s = TcpStream::connect(addr).unwrap_or_else(|e| panic!("connect {addr}: {e}"));
-    s.set_read_timeout(Some(Duration::from_secs(30)))
-        .expect("timeout");
     let form = "east=3&north=2&window_end_s=1800&d_achiev_s=60";
     let origin = origin.map_or(String::new(), |o| format!("Origin: {o}\r\n"));
     let req = format!(
@@ -17,16 +16,7 @@ fn post(addr: SocketAddr, host: &str, origin: Option<&str>) -> (u16, String) {
          Content-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\n\r\n{form}",
         form.len()
     );
-    s.write_all(req.as_bytes()).expect("send");
-    let mut text = String::new();
-    s.read_to_string(&mut text).expect("read");
-    let status = text
-        .split(' ')
-        .nth(1)
-        .and_then(|c| c.parse().ok())
-        .unwrap_or(0);
-    let body = text.split_once("\r\n\r\n").map_or("", |b| b.1).to_string();
-    (status, body)
+    http::exchange(addr, &req, Duration::from_secs(30))
 }
 
 #[test]
