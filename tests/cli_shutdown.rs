@@ -6,7 +6,6 @@
 #[path = "common/child.rs"]
 mod child;
 
-use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
@@ -16,7 +15,7 @@ use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage};
 use mavtempo::vehicle::frame::FrameDecoder;
 use mavtempo::vehicle::tlog::read_tlog;
 
-use child::{spawn_piped, Reap};
+use child::{lines, spawn_piped, Reap};
 
 /// ArduPilot Rover's custom modes (config/sitl-rover.toml).
 const HOLD: u32 = 4;
@@ -27,20 +26,6 @@ fn send_signal(child: &Child, signal: i32) {
     // SAFETY: kill(2) with the pid of a child we own and have not reaped yet.
     let r = unsafe { libc::kill(pid, signal) };
     assert_eq!(r, 0, "kill({pid}, {signal})");
-}
-
-/// The lines of a child's pipe, as they come.
-fn lines(pipe: impl Read + Send + 'static) -> mpsc::Receiver<String> {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(pipe).lines() {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
 }
 
 /// Waits (at most `within`) for a line containing `needle`; everything read on the way is kept in `seen`.

@@ -63,3 +63,61 @@ fn time_limit_leaves_goals_pending_with_a_reason() {
         .iter()
         .all(|g| g.fate == Fate::Pending && g.reason == Some(FateReason::TimeLimit)));
 }
+
+/// The vehicle falls silent mid-mission: once silent for the link timeout (mission time goes on: the mock's
+/// manual clock stands for the companion's), the mission ends with the verdict and every goal still
+/// pending is settled with it.
+#[test]
+fn a_vehicle_silent_for_the_link_timeout_is_lost() {
+    let mut ex = shopping_executive();
+    let mut v = shopping::day_vehicle();
+    v.fall_silent_at(10 * 60_000);
+    let opts = MissionOptions {
+        time_limit_ms: 12 * 3_600_000,
+        vehicle_lost_after: Some(std::time::Duration::from_secs(30)),
+        ..MissionOptions::default()
+    };
+    let report = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, _| {},
+    );
+    assert_eq!(report.end, MissionEnd::VehicleLost { silent_s: 30 });
+    assert_eq!(
+        report.end.vehicle_lost().as_deref(),
+        Some("vehicle lost: no heartbeat for 30 s")
+    );
+    // Seen within one timestep (30 s here) of the timeout.
+    assert!(
+        (10 * 60_000 + 30_000..=10 * 60_000 + 60_000).contains(&report.duration_ms),
+        "{}",
+        report.duration_ms
+    );
+    assert!(!report.goals.is_empty());
+    for g in &report.goals {
+        assert_eq!(g.fate, Fate::Pending, "{g:?}");
+        assert_eq!(
+            g.reason,
+            Some(FateReason::VehicleLost { silent_s: 30 }),
+            "{g:?}"
+        );
+    }
+    let json = serde_json::to_value(&report).expect("serialises");
+    assert_eq!(json["end"]["vehicle_lost"]["silent_s"], 30);
+    assert_eq!(
+        json["goals"][0]["reason"],
+        "vehicle lost: no heartbeat for 30 s"
+    );
+}
+
+/// Without a link timeout, a silent vehicle is waited for (the stepped simulator's missions).
+#[test]
+fn without_a_link_timeout_silence_is_no_verdict() {
+    let mut ex = shopping_executive();
+    let mut v = shopping::day_vehicle();
+    v.fall_silent_at(0);
+    let report = mission::run_mock(&mut ex, &mut v, 10 * 60_000);
+    assert_eq!(report.end, MissionEnd::TimeLimit);
+}

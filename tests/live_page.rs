@@ -3,6 +3,9 @@
 //! goal the acceptance test passes is accepted, one whose start window is already over is rejected with
 //! the test's reason. Without `--http-goals` the form is off.
 
+#[path = "common/http.rs"]
+mod http;
+
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::sync::mpsc;
@@ -18,23 +21,12 @@ const DEADLINE: Duration = Duration::from_secs(90);
 
 /// One request, `Connection: close`: the status code and the body.
 fn http(addr: SocketAddr, method: &str, path: &str, form: &str) -> (u16, String) {
-    let mut s = TcpStream::connect(addr).unwrap_or_else(|e| panic!("connect {addr}: {e}"));
-    s.set_read_timeout(Some(DEADLINE)).expect("timeout");
     let req = format!(
         "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\
          Content-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\n\r\n{form}",
         form.len()
     );
-    s.write_all(req.as_bytes()).expect("send");
-    let mut text = String::new();
-    s.read_to_string(&mut text).expect("read");
-    let status = text
-        .split(' ')
-        .nth(1)
-        .and_then(|c| c.parse().ok())
-        .unwrap_or(0);
-    let body = text.split_once("\r\n\r\n").map_or("", |b| b.1).to_string();
-    (status, body)
+    http::exchange(addr, &req, DEADLINE)
 }
 
 /// The `data-now-ms` of each snapshot the event stream delivers, until `n` different ones came.

@@ -80,6 +80,10 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> ExitCode {
+    if let Err(e) = args.out.check_writable() {
+        eprintln!("mavtempo demo: {e}");
+        return ExitCode::FAILURE;
+    }
     let interrupt = match super::shutdown::listen() {
         Ok(s) => s.interrupt,
         Err(e) => {
@@ -431,10 +435,8 @@ pub fn run_demo(
             &mut stepped
         }
         Some(speedup) => {
-            live_pacer = LivePacer {
-                origin_ms: origin,
-                speedup,
-            };
+            // The simulator runs in this process: its clock never goes stale.
+            live_pacer = LivePacer::new(origin, speedup, Duration::MAX);
             &mut live_pacer
         }
     };

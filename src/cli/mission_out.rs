@@ -34,6 +34,15 @@ pub struct MissionOutArgs {
 }
 
 impl MissionOutArgs {
+    /// Fails before the mission when the `--report` or `--html` file cannot be written (a missing or
+    /// read-only directory): found after the whole mission, the mission's record would be lost.
+    pub fn check_writable(&self) -> Result<(), CliError> {
+        for path in self.report.iter().chain(&self.html) {
+            write_atomic(path, None)?;
+        }
+        Ok(())
+    }
+
     /// Writes the `--report` JSON and the `--html` page asked for (`title`: the page's), saying where.
     pub fn write(&self, r: &MissionReport, title: &str) -> Result<(), CliError> {
         if let Some(path) = &self.report {
@@ -174,10 +183,41 @@ pub fn print_summary(r: &MissionReport) {
 
 pub fn write_report(path: &Path, r: &MissionReport) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(r)?;
-    std::fs::write(path, text).map_err(|source| CliError::Write {
+    write_atomic(path, Some(text.as_bytes()))
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory, renamed over `path` once
+/// whole: a full disk or a crash leaves the previous file or none, never a truncated one. With `None`, only
+/// checks that it could (the temporary file is created and removed).
+pub fn write_atomic(path: &Path, bytes: Option<&[u8]>) -> Result<(), CliError> {
+    let failed = |source| CliError::Write {
         path: path.display().to_string(),
         source,
-    })
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| failed(std::io::Error::other("not a file name")))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    let written = (|| {
+        use std::io::Write;
+        let mut f = std::fs::File::create(&tmp)?;
+        if let Some(b) = bytes {
+            f.write_all(b)?;
+            f.sync_all()?;
+        }
+        Ok(())
+    })();
+    let done = written.and_then(|()| match bytes {
+        Some(_) => std::fs::rename(&tmp, path),
+        None => std::fs::remove_file(&tmp),
+    });
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    done.map_err(failed)
 }
 
 /// One line on how the vehicle became ready (`run`, `demo`).

@@ -51,7 +51,8 @@ pub struct RunArgs {
     /// Record every MAVLink frame to this .tlog.
     #[arg(long)]
     pub tlog: Option<PathBuf>,
-    /// Wall seconds to wait for the vehicle's first heartbeat and clock.
+    /// Wall seconds to wait for the vehicle's first heartbeat and clock; during the mission, the vehicle
+    /// silent (no heartbeat) this long is lost: the mission ends with that verdict (exit 1, report written).
     #[arg(long, default_value_t = 30)]
     pub link_timeout: u64,
     /// How fast the vehicle's clock runs (a SITL at N× real time): the executive sleeps 1/N of a wall
@@ -98,6 +99,7 @@ pub fn run(args: RunArgs) -> ExitCode {
                 MissionEnd::Interrupted(_) => {
                     super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
                 }
+                MissionEnd::VehicleLost { .. } => ExitCode::FAILURE,
                 _ => ExitCode::SUCCESS,
             }
         }
@@ -164,6 +166,8 @@ fn mission(
     if !(args.speedup.is_finite() && args.speedup > 0.0) {
         return Err(CliError::Speedup(args.speedup));
     }
+    // Before anything is planned or sent: outputs that cannot be written are found now, not after.
+    args.out.check_writable()?;
     let (cfg, mut exec_cfg) = load_config(&args.config)?;
     exec_cfg.dispatch = args.dispatch.unwrap_or(exec_cfg.dispatch);
     let (domain, problem) = load_problem(args)?;
@@ -196,6 +200,7 @@ fn mission(
     let ready_limit_s = checked.vehicle.ready.timeout_s;
     let start_radius_m = crate::vehicle::authority::start_radius_m(&checked.vehicle);
     let limits = crate::vehicle::limits::Limits::from_config(&checked.vehicle.limits, checked.home);
+    let stale_after = Duration::from_millis(checked.vehicle.link.heartbeat_timeout_ms);
     let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
         signals.before_exit_at_once(flush);
@@ -255,13 +260,14 @@ fn mission(
         initial_goals: goals,
         max_cycles: None,
         interrupt: interrupt.clone(),
+        vehicle_lost_after: Some(Duration::from_secs(args.link_timeout)),
     };
-    let mut pacer = LivePacer {
-        origin_ms: origin,
-        speedup: args.speedup,
-    };
+    let mut pacer = LivePacer::new(origin, args.speedup, stale_after);
     let mut report = run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe);
     report.ready = ready;
+    if let Some(verdict) = report.end.vehicle_lost() {
+        eprintln!("mavtempo run: {verdict}");
+    }
     if matches!(report.end, MissionEnd::Interrupted(_)) {
         report.shutdown =
             Some(vehicle.safe_stop(&mut |_| std::thread::sleep(Duration::from_millis(20))));

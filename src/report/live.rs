@@ -78,6 +78,8 @@ pub struct Snapshot {
 struct AppState {
     snapshot: watch::Sender<Arc<Snapshot>>,
     form: Option<GoalForm>,
+    /// Where the page is bound: the Host a POST must name (besides loopback names).
+    bound: SocketAddr,
 }
 
 /// One cycle as the mission loop hands it over.
@@ -237,7 +239,11 @@ pub fn start(
         charts: first,
         body,
     }));
-    let state = Arc::new(AppState { snapshot, form });
+    let state = Arc::new(AppState {
+        snapshot,
+        form,
+        bound: addr,
+    });
     let (tx, rx) = mpsc::unbounded_channel();
     rt.spawn(fold(rx, state.clone()));
     let app = router(state);
@@ -364,8 +370,18 @@ fn answer(code: StatusCode, accepted: bool, verdict: String) -> Response {
 
 async fn goal(
     State(s): State<Arc<AppState>>,
+    headers: axum::http::HeaderMap,
     Form(fields): Form<BTreeMap<String, String>>,
 ) -> Response {
+    let header = |name: axum::http::HeaderName| headers.get(name).and_then(|v| v.to_str().ok());
+    let from = super::origin::check(
+        header(axum::http::header::HOST),
+        header(axum::http::header::ORIGIN),
+        s.bound,
+    );
+    if let Err(e) = from {
+        return answer(StatusCode::FORBIDDEN, false, e.to_string());
+    }
     let Some(form) = &s.form else {
         return answer(
             StatusCode::FORBIDDEN,

@@ -5,6 +5,7 @@
 pub mod data;
 pub mod html;
 pub mod live;
+pub mod origin;
 pub mod svg;
 
 use std::path::{Path, PathBuf};

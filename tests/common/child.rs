@@ -23,3 +23,18 @@ pub fn spawn_piped(cmd: &mut Command) -> (Reap, ChildStdout) {
     let stdout = child.stdout.take().expect("stdout");
     (Reap(child), stdout)
 }
+
+/// The lines of a child's pipe, as they come.
+pub fn lines(pipe: impl std::io::Read + Send + 'static) -> std::sync::mpsc::Receiver<String> {
+    use std::io::BufRead;
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(pipe).lines() {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}

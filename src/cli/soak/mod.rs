@@ -116,11 +116,24 @@ struct Summary {
     /// achieves (each mission is also run without them).
     #[serde(skip_serializing_if = "Option::is_none")]
     kept_goals: Option<u64>,
+    /// The signal (SIGINT, SIGTERM) that stopped the soak: the figures are those of the missions done
+    /// before it (`missions`), the one it cut is left out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    interrupted: Option<String>,
     wall_s: f64,
 }
 
 pub fn run(args: SoakArgs) -> ExitCode {
     let wall = Instant::now();
+    // SIGINT / SIGTERM stop the mission under way; the summary of those done is still printed.
+    let signals = match super::shutdown::listen() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("mavtempo soak: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let interrupt = signals.interrupt.clone();
     let bar = (!args.trace && !args.show).then(|| {
         let bar = indicatif::ProgressBar::new(args.missions);
         bar.set_style(
@@ -147,17 +160,29 @@ pub fn run(args: SoakArgs) -> ExitCode {
                 m.scenario
             );
         }
-        let outcome =
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(&m, args.trace)))
-                .unwrap_or_else(|p| {
-                    let what = p
-                        .downcast_ref::<String>()
-                        .cloned()
-                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                        .unwrap_or_default();
-                    failed(&m, "no_panic", format!("panicked: {what}"))
-                });
-        tally(&mut sum, &m, &outcome);
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            run_one(&m, args.trace, &interrupt)
+        }))
+        .unwrap_or_else(|p| {
+            let what = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            failed(&m, "no_panic", format!("panicked: {what}"))
+        });
+        let cut = outcome
+            .report
+            .as_ref()
+            .is_some_and(|r| matches!(r.end, crate::exec::mission::MissionEnd::Interrupted(_)));
+        if !cut {
+            tally(&mut sum, &m, &outcome);
+        }
+        if let Some(signal) = interrupt.signal_name() {
+            sum.missions = i + u64::from(!cut);
+            sum.interrupted = Some(signal);
+            break;
+        }
         if let (Some(path), Some(r)) = (&args.report, &outcome.report) {
             if let Err(e) = super::mission_out::write_report(path, r) {
                 eprintln!("mavtempo soak: {e}");
@@ -169,8 +194,9 @@ pub fn run(args: SoakArgs) -> ExitCode {
                 uploads: Vec::new(),
                 ..m.clone()
             };
-            let baseline =
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_one(&without, false)));
+            let baseline = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                run_one(&without, false, &interrupt)
+            }));
             let achieved = |g: &str| {
                 outcome
                     .goals
@@ -212,6 +238,9 @@ pub fn run(args: SoakArgs) -> ExitCode {
         }
     } else {
         print_summary(&sum);
+    }
+    if let Some(code) = super::shutdown::exit_code(&interrupt) {
+        return code;
     }
     if sum.violations.is_empty() {
         ExitCode::SUCCESS
@@ -286,6 +315,9 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
 }
 
 fn print_summary(s: &Summary) {
+    if let Some(signal) = &s.interrupted {
+        outln!("soak interrupted by {signal}: the summary of the missions done before it");
+    }
     outln!(
         "soak: {} missions ({} rover, {} auv) from seed {}, {:.0} s",
         s.missions,
@@ -344,7 +376,7 @@ fn print_summary(s: &Summary) {
 }
 
 /// Runs one mission through the whole stack.
-fn run_one(m: &Mission, trace: bool) -> Outcome {
+fn run_one(m: &Mission, trace: bool, interrupt: &crate::exec::interrupt::Interrupt) -> Outcome {
     let (domain_text, domain_name) = match m.domain {
         SoakDomain::Auv => (AUV, "domains/auv/auv.ixt"),
         _ => (ROVER, "domains/rover/rover.ixt"),
@@ -429,6 +461,7 @@ fn run_one(m: &Mission, trace: bool) -> Outcome {
         time_limit_ms: horizon_ms + END_MARGIN_MS,
         // Ten cycles per second of mission on average is a loop, not a mission (ts is 1.3 s).
         max_cycles: Some((horizon_ms / 100).max(10_000) as usize),
+        interrupt: interrupt.clone(),
         ..MissionOptions::default()
     };
     let mut pacer = session.step_pacer(gate.clone());

@@ -41,6 +41,16 @@ pub trait Vehicle {
     fn position(&self) -> Option<(f64, f64)> {
         None
     }
+    /// How long the autopilot has been silent: time since its last HEARTBEAT (wall time on a live link, the
+    /// manual clock on a mock). `None` until one is heard, or for a vehicle that cannot fall silent.
+    fn silence(&self) -> Option<Duration> {
+        None
+    }
+    /// How long ago [`Vehicle::now_ms`] last moved (wall time): a vehicle that stopped sending its time
+    /// leaves the companion to keep the mission's clock. `None`: the clock cannot go stale (a mock).
+    fn clock_age(&self) -> Option<Duration> {
+        None
+    }
 }
 
 /// Everything a vehicle tells the executive.

@@ -7,7 +7,7 @@
 
 use std::ops::Range;
 
-use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMissionResult};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMissionResult};
 
 use super::goals::{KnownLocations, GOAL_ATTRIBUTES_CMD, SAMPLE_GOAL_CMD, SURVEY_GOAL_CMD};
 use super::items::MissionItem;
@@ -101,21 +101,17 @@ fn attributes(item: &MissionItem) -> Result<Attributes, (String, MavMissionResul
 
 /// Frames whose altitude is above home (terrain frames taken as above home: a companion has no terrain model).
 fn altitude_above_home(frame: u8) -> bool {
-    use MavFrame::*;
-    [
-        MAV_FRAME_GLOBAL_RELATIVE_ALT,
-        MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
-        MAV_FRAME_GLOBAL_TERRAIN_ALT,
-        MAV_FRAME_GLOBAL_TERRAIN_ALT_INT,
-    ]
-    .iter()
-    .any(|f| *f as u8 == frame)
+    // GLOBAL_RELATIVE_ALT (3) and its _INT twin (6), GLOBAL_TERRAIN_ALT (10) and its _INT twin (11).
+    matches!(frame, 3 | 6 | 10 | 11)
 }
 
 /// A position item's latitude, longitude and altitude above mean sea level, or why it has none.
 /// `home_alt` turns the relative altitudes ground stations write (frame 3 and kin) into AMSL: taken as
 /// AMSL, a relative 0 m put uploaded places 150 m under a rover's home and sized their moves 4–8× too long.
-fn position(item: &MissionItem, home_alt: f64) -> Result<(f64, f64, f64), (String, MavMissionResult)> {
+fn position(
+    item: &MissionItem,
+    home_alt: f64,
+) -> Result<(f64, f64, f64), (String, MavMissionResult)> {
     let cmd = item.command;
     if !item.has_position() {
         return Err((
@@ -123,7 +119,12 @@ fn position(item: &MissionItem, home_alt: f64) -> Result<(f64, f64, f64), (Strin
             MavMissionResult::MAV_MISSION_INVALID_PARAM5_X,
         ));
     }
-    let alt = widen(item.z) + if altitude_above_home(item.frame) { home_alt } else { 0.0 };
+    let alt = widen(item.z)
+        + if altitude_above_home(item.frame) {
+            home_alt
+        } else {
+            0.0
+        };
     if !(-90.0..=90.0).contains(&item.x) || !(-180.0..=180.0).contains(&item.y) || !alt.is_finite()
     {
         return Err((
@@ -507,7 +508,7 @@ mod tests {
             ..home()
         };
         let mut amsl = MissionItem::waypoint(43.5003, 1.4, 150.0);
-        amsl.frame = mavlink::dialects::ardupilotmega::MavFrame::MAV_FRAME_GLOBAL_INT as u8;
+        amsl.frame = 0; // MAV_FRAME_GLOBAL: altitude above mean sea level
         let items = vec![MissionItem::waypoint(43.5003, 1.4, 0.0), amsl];
         let list = items_to_goals(&items, &KnownLocations::new(h), 1);
         assert_eq!(list.goals.len(), 2, "{:?}", list.skipped);

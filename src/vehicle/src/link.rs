@@ -104,6 +104,10 @@ struct Shared {
     driver: Mutex<Driver>,
     notify: Notify,
     clock_ms: AtomicU64,
+    /// When (`epoch` ms) `clock_ms` last moved, and when the autopilot's last HEARTBEAT came (`NEVER`: not
+    /// yet): how long the vehicle has been silent, read without the driver's lock.
+    clock_at_ms: AtomicU64,
+    heartbeat_at_ms: AtomicU64,
     /// Frames taken for the autopilot's transport (counted under the driver's lock, see
     /// [`MavlinkVehicle::link_counts`]).
     tx_frames: AtomicU64,
@@ -120,7 +124,16 @@ struct Shared {
     north_bits: AtomicU64,
 }
 
+/// No HEARTBEAT or clock yet.
+const NEVER: u64 = u64::MAX;
+
 impl Shared {
+    /// Wall time since the `epoch` ms stored in `at`, unless it is [`NEVER`].
+    fn age(&self, at: &AtomicU64) -> Option<Duration> {
+        let at = at.load(Ordering::Relaxed);
+        (at != NEVER).then(|| Duration::from_millis(self.clock_now().saturating_sub(at)))
+    }
+
     fn position(&self) -> Option<(f64, f64)> {
         let east = f64::from_bits(self.east_bits.load(Ordering::Relaxed));
         let north = f64::from_bits(self.north_bits.load(Ordering::Relaxed));
@@ -313,8 +326,13 @@ impl Pump {
                                         encoder.system_id = d.system_id;
                                         s.system_id.store(d.system_id, Ordering::Relaxed);
                                         from_autopilot = d.target() == Some((frame.system_id, frame.component_id));
+                                        if from_autopilot && matches!(msg, MavMessage::HEARTBEAT(_)) {
+                                            s.heartbeat_at_ms.store(now, Ordering::Relaxed);
+                                        }
                                         if let Some(t) = d.telemetry().time_boot_ms {
-                                            s.clock_ms.store(t, Ordering::Relaxed);
+                                            if s.clock_ms.swap(t, Ordering::Relaxed) != t {
+                                                s.clock_at_ms.store(now, Ordering::Relaxed);
+                                            }
                                         }
                                         if let Some(p) = d.telemetry().position {
                                             s.east_bits.store(p.east.to_bits(), Ordering::Relaxed);
@@ -583,6 +601,8 @@ impl MavlinkVehicle {
             driver: Mutex::new(Driver::new(cfg)),
             notify: Notify::new(),
             clock_ms: AtomicU64::new(0),
+            clock_at_ms: AtomicU64::new(NEVER),
+            heartbeat_at_ms: AtomicU64::new(NEVER),
             east_bits: AtomicU64::new(f64::NAN.to_bits()),
             north_bits: AtomicU64::new(f64::NAN.to_bits()),
             tx_frames: AtomicU64::new(0),
@@ -835,6 +855,14 @@ impl Vehicle for MavlinkVehicle {
 
     fn position(&self) -> Option<(f64, f64)> {
         self.shared.position()
+    }
+
+    fn silence(&self) -> Option<Duration> {
+        self.shared.age(&self.shared.heartbeat_at_ms)
+    }
+
+    fn clock_age(&self) -> Option<Duration> {
+        self.shared.age(&self.shared.clock_at_ms)
     }
 }
 

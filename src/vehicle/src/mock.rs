@@ -85,6 +85,8 @@ pub struct MockVehicle {
     due: BTreeMap<(u64, u64), Due>,
     ready: VecDeque<VehicleEvent>,
     levels: BTreeMap<String, f64>,
+    /// From this vehicle time on, the autopilot sends no heartbeat (a vanished vehicle).
+    silent_from_ms: Option<u64>,
     /// Every START and END received, for assertions.
     pub log: Vec<String>,
 }
@@ -110,6 +112,12 @@ impl MockVehicle {
 
     pub fn set_level(&mut self, resource: &str, level: f64) -> &mut Self {
         self.levels.insert(resource.into(), level);
+        self
+    }
+
+    /// The autopilot falls silent at vehicle time `at_ms`: no heartbeat from then on ([`Vehicle::silence`]).
+    pub fn fall_silent_at(&mut self, at_ms: u64) -> &mut Self {
+        self.silent_from_ms = Some(at_ms);
         self
     }
 
@@ -289,5 +297,11 @@ impl Vehicle for MockVehicle {
 
     fn now_ms(&self) -> u64 {
         self.now_ms
+    }
+
+    fn silence(&self) -> Option<Duration> {
+        // Heard at every instant of its manual clock until it falls silent.
+        let from = self.silent_from_ms?;
+        Some(Duration::from_millis(self.now_ms.saturating_sub(from)))
     }
 }

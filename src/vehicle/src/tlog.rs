@@ -12,6 +12,9 @@ pub struct TlogWriter {
     out: BufWriter<File>,
     /// The record being assembled (timestamp + frame), reused.
     record: Vec<u8>,
+    /// Writes are failing (a full disk): only the first failure of a run of them is returned, so the
+    /// caller warns once, not once per frame.
+    failing: bool,
 }
 
 impl TlogWriter {
@@ -19,6 +22,7 @@ impl TlogWriter {
         Ok(Self {
             out: BufWriter::new(File::create(path)?),
             record: Vec::with_capacity(8 + 280),
+            failing: false,
         })
     }
 
@@ -31,17 +35,30 @@ impl TlogWriter {
         self.record_at(us, frame)
     }
 
+    /// Records one frame. An error is returned once per run of failing writes (a full disk fails every
+    /// one until space comes back): the records meanwhile may be lost; after a flush that succeeds, the
+    /// next failure is returned again.
     pub fn record_at(&mut self, unix_us: u64, frame: &[u8]) -> io::Result<()> {
         // One write per record: BufWriter flushes before a write that does not fit, never inside it (two
         // writes let a flush fall between a timestamp and its frame).
         self.record.clear();
         self.record.extend_from_slice(&unix_us.to_be_bytes());
         self.record.extend_from_slice(frame);
-        self.out.write_all(&self.record)
+        // A write that only fills the buffer proves nothing about the disk: the failures end at a flush.
+        match self.out.write_all(&self.record) {
+            Ok(()) => Ok(()),
+            Err(_) if self.failing => Ok(()),
+            Err(e) => {
+                self.failing = true;
+                Err(e)
+            }
+        }
     }
 
     pub fn flush(&mut self) -> io::Result<()> {
-        self.out.flush()
+        self.out.flush()?;
+        self.failing = false;
+        Ok(())
     }
 }
 
@@ -105,6 +122,19 @@ mod tests {
             f.resize(12 + len + if signed { 13 } else { 0 }, 0xAA);
             f
         }
+    }
+
+    /// A full disk (`/dev/full` fails every write with ENOSPC): one error for the whole run of failures,
+    /// not one per frame.
+    #[test]
+    fn a_full_disk_fails_once_not_once_per_frame() {
+        let Ok(mut w) = TlogWriter::create(Path::new("/dev/full")) else {
+            return; // no /dev/full on this system
+        };
+        let errors = (0..10_000)
+            .filter(|&i| w.record_at(i as u64, &frame(i)).is_err())
+            .count();
+        assert_eq!(errors, 1);
     }
 
     /// The process dies without flushing (no destructor runs): what reached the file ends on a record

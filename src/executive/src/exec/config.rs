@@ -34,6 +34,15 @@ pub struct ExecConfig {
     /// gets half the steps of the one before, down to a sixteenth: a whole replanning stays within about
     /// twice this (plus a sixteenth per further goal dropped), and so does its memory.
     pub replan_max_steps: u64,
+    /// Wall-time bound of one cycle's plan repair or goal insertion, ms, whatever a step costs (a stepped
+    /// simulator's clock does not move while the executive plans, and a step's cost grows with the plan).
+    pub cycle_max_wall_ms: u64,
+    /// Wall-time bound of a whole complete replanning (its single-goal searches and attempts, each attempt
+    /// at most half of what is left), ms: past it the replanning ends as if its step budget were spent.
+    pub replan_max_wall_ms: u64,
+    /// Memory bound of a replanning attempt: its search stops once its plan holds this many actions (a
+    /// branch that adds action after action costs more with each step and never ends on its own).
+    pub plan_max_actions: usize,
     /// Cycles of plan repair (μ·ts, or μ·n steps, each) a new goal's insertion into the plan may take; past
     /// them the goal is rejected and the plan stays as it was (src/executive/src/exec/goal_insertion.rs).
     pub goal_insertion_cycles: u32,
@@ -59,6 +68,10 @@ impl Default for ExecConfig {
             repair_episode_max_steps: 20_000,
             // An attempt's steps: generous for missions of a few dozen goals, bounded for a stepped simulator.
             replan_max_steps: 100_000,
+            cycle_max_wall_ms: 2_000,
+            replan_max_wall_ms: 20_000,
+            // Ten times the largest shipped mission's plan.
+            plan_max_actions: 500,
             goal_insertion_cycles: 3,
             dispatch: PolicyKind::default(),
             same_failure_limit: 3,
@@ -120,6 +133,9 @@ impl ExecConfig {
             ("repair_cycle_max_steps", self.repair_cycle_max_steps),
             ("repair_episode_max_steps", self.repair_episode_max_steps),
             ("replan_max_steps", self.replan_max_steps),
+            ("cycle_max_wall_ms", self.cycle_max_wall_ms),
+            ("replan_max_wall_ms", self.replan_max_wall_ms),
+            ("plan_max_actions", self.plan_max_actions as u64),
         ];
         if let Some((key, _)) = step_caps.into_iter().find(|&(_, n)| n == 0) {
             return Err(ConfigError::StepCap(key));

@@ -121,6 +121,7 @@ impl Executive {
             return self.next_insertion();
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
+        let wall = self.cycle_wall_deadline();
         let Some(ins) = self.insertions.front_mut() else {
             return RepairOutcome::Idle;
         };
@@ -129,7 +130,10 @@ impl Executive {
         };
         let first = search.steps();
         let outcome = loop {
-            if search.steps() - first >= max_steps || deadline.is_some_and(|d| clock() >= d) {
+            if search.steps() - first >= max_steps
+                || deadline.is_some_and(|d| clock() >= d)
+                || std::time::Instant::now() >= wall
+            {
                 break None;
             }
             match search.step() {

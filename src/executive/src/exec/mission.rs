@@ -57,6 +57,9 @@ pub struct MissionOptions {
     pub max_cycles: Option<usize>,
     /// Stops the mission before its next cycle when requested (a signal): the end is `Interrupted`.
     pub interrupt: Interrupt,
+    /// The vehicle is lost once its autopilot is silent (no HEARTBEAT, [`Vehicle::silence`]) this long: the
+    /// end is `VehicleLost`. `None`: never (a vehicle in process cannot vanish).
+    pub vehicle_lost_after: Option<Duration>,
 }
 
 /// How the mission ended.
@@ -75,6 +78,23 @@ pub enum MissionEnd {
     Error(String),
     /// Stopped from outside (the signal's name, e.g. `SIGTERM`) with goals pending.
     Interrupted(String),
+    /// No HEARTBEAT from the autopilot for `silent_s` seconds (the link timeout): the vehicle is lost.
+    VehicleLost { silent_s: u64 },
+}
+
+impl MissionEnd {
+    /// The verdict for a vanished vehicle, as printed (`None` for the other ends).
+    pub fn vehicle_lost(&self) -> Option<String> {
+        match self {
+            MissionEnd::VehicleLost { silent_s } => Some(
+                FateReason::VehicleLost {
+                    silent_s: *silent_s,
+                }
+                .to_string(),
+            ),
+            _ => None,
+        }
+    }
 }
 
 impl std::fmt::Display for MissionEnd {
@@ -86,6 +106,9 @@ impl std::fmt::Display for MissionEnd {
             MissionEnd::CycleLimit => f.write_str("cycle limit reached"),
             MissionEnd::Error(e) => write!(f, "error: {e}"),
             MissionEnd::Interrupted(s) => write!(f, "interrupted by {s}"),
+            MissionEnd::VehicleLost { silent_s } => {
+                write!(f, "vehicle lost: no heartbeat for {silent_s} s")
+            }
         }
     }
 }
@@ -243,6 +266,12 @@ impl<V: Vehicle> Vehicle for Held<'_, V> {
     fn position(&self) -> Option<(f64, f64)> {
         self.inner.position()
     }
+    fn silence(&self) -> Option<Duration> {
+        self.inner.silence()
+    }
+    fn clock_age(&self) -> Option<Duration> {
+        self.inner.clock_age()
+    }
 }
 
 /// Runs `ex` against `vehicle` until every goal is settled, no goal is left, or the time limit passes.
@@ -268,6 +297,11 @@ pub fn run_mission<V: Vehicle>(
     let end = loop {
         if let Some(signal) = opts.interrupt.requested() {
             break MissionEnd::Interrupted(signal_name(signal));
+        }
+        if let Some(silent) = lost(v.inner, opts) {
+            break MissionEnd::VehicleLost {
+                silent_s: silent.as_secs(),
+            };
         }
         let now = pacer.now(v.inner);
         let outcome = ex.cycle(&mut v, now);
@@ -330,6 +364,12 @@ pub fn run_mission<V: Vehicle>(
         observe(ex, &c);
     }
     log.report(ex, end, duration_ms)
+}
+
+/// The link timeout, once the vehicle has been silent that long (`opts.vehicle_lost_after`).
+fn lost<V: Vehicle>(v: &V, opts: &MissionOptions) -> Option<Duration> {
+    let limit = opts.vehicle_lost_after?;
+    v.silence().filter(|s| *s >= limit).map(|_| limit)
 }
 
 /// §3.6: complete replanning at the current time; S_t refreshed from the vehicle between attempts (the
@@ -499,6 +539,11 @@ impl Log {
                 g.reason = Some(FateReason::Interrupted {
                     signal: signal.to_string(),
                 });
+            }
+        }
+        if let MissionEnd::VehicleLost { silent_s } = end {
+            for g in goals.iter_mut().filter(|g| g.fate == Fate::Pending) {
+                g.reason = Some(FateReason::VehicleLost { silent_s });
             }
         }
         MissionReport {

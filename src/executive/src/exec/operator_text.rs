@@ -128,6 +128,9 @@ impl FateReason {
             FateReason::Interrupted { signal } => format!("the mission was interrupted ({signal})"),
             FateReason::Cancelled { by } => by.clone(),
             FateReason::BeyondLimits { why } => why.clone(),
+            FateReason::VehicleLost { silent_s } => {
+                format!("the vehicle was lost: no heartbeat for {silent_s} s")
+            }
             FateReason::ClosedWhilePaused { closed_ms, .. } => format!(
                 "its window closed at {} while the operator had the vehicle",
                 secs(*closed_ms)

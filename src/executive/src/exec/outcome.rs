@@ -189,6 +189,9 @@ pub enum FateReason {
     /// Withdrawn by the ground station that uploaded it (src/executive/src/exec/cancel.rs).
     #[error("{by}")]
     Cancelled { by: String },
+    /// The autopilot fell silent for the link timeout: nothing more can be done with it.
+    #[error("vehicle lost: no heartbeat for {silent_s} s")]
+    VehicleLost { silent_s: u64 },
 }
 
 impl FateReason {

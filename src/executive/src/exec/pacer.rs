@@ -40,11 +40,39 @@ impl Pacer<MockVehicle> for MockPacer {
 
 /// A live vehicle: the executive's time is the vehicle's clock (SYSTEM_TIME / time_boot_ms), the wait a
 /// blocking receive. `speedup` converts the vehicle's ms into wall ms (a SITL at 100× needs 10 ms of wall
-/// time for a second).
+/// time for a second). A vehicle that stops sending its time (silent, vanished) does not stop the mission's
+/// clock: once the vehicle's clock has not moved for `stale_after` of wall time, mission time runs on the
+/// companion's wall clock (times `speedup`) from the vehicle's last time, and never goes back when the
+/// vehicle's clock comes back behind it.
 #[derive(Debug)]
 pub struct LivePacer {
     pub origin_ms: u64,
     pub speedup: f64,
+    pub stale_after: Duration,
+    /// The latest mission time given: the clock never goes back.
+    last: std::cell::Cell<Time>,
+}
+
+impl LivePacer {
+    pub fn new(origin_ms: u64, speedup: f64, stale_after: Duration) -> Self {
+        LivePacer {
+            origin_ms,
+            speedup,
+            stale_after,
+            last: std::cell::Cell::new(0),
+        }
+    }
+
+    /// The vehicle's time, or the companion's estimate of it while the vehicle's clock is stale.
+    fn vehicle_ms<V: Vehicle>(&self, v: &V) -> u64 {
+        let ms = v.now_ms();
+        match v.clock_age() {
+            Some(age) if age > self.stale_after => {
+                ms.saturating_add((age.as_secs_f64() * 1000.0 * self.speedup.max(1e-3)) as u64)
+            }
+            _ => ms,
+        }
+    }
 }
 
 impl<V: Vehicle> Pacer<V> for LivePacer {
@@ -52,7 +80,9 @@ impl<V: Vehicle> Pacer<V> for LivePacer {
         self.origin_ms
     }
     fn now(&self, v: &V) -> Time {
-        since(v.now_ms(), self.origin_ms)
+        let t = since(self.vehicle_ms(v), self.origin_ms).max(self.last.get());
+        self.last.set(t);
+        t
     }
 
     fn wait(&mut self, v: &mut V, until: Time) -> Option<VehicleEvent> {
@@ -85,8 +115,7 @@ const INTERRUPT_POLL: Duration = Duration::from_millis(50);
 impl LivePacer {
     /// The wall time until mission time `until`.
     fn wall_left<V: Vehicle>(&self, v: &V, until: Time) -> Duration {
-        let left =
-            (until - since(v.now_ms(), self.origin_ms)).max(1) as f64 / self.speedup.max(1e-3);
+        let left = (until - Pacer::now(self, v)).max(1) as f64 / self.speedup.max(1e-3);
         Duration::from_micros((left * 1000.0).ceil() as u64)
     }
 }
@@ -125,5 +154,60 @@ impl StepGate {
 
     pub fn promised(&self) -> u64 {
         self.promised.load(Ordering::Acquire)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mavtempo_vehicle::{ActionId, ActionStart, VehicleError};
+
+    /// A vehicle whose clock stopped at `ms`, `age` ago.
+    struct Stopped {
+        ms: u64,
+        age: Duration,
+    }
+
+    impl Vehicle for Stopped {
+        fn start(&mut self, _: ActionStart) -> Result<(), VehicleError> {
+            Ok(())
+        }
+        fn stop(&mut self, _: ActionId) -> Result<(), VehicleError> {
+            Ok(())
+        }
+        fn try_event(&mut self) -> Option<VehicleEvent> {
+            None
+        }
+        fn wait_event(&mut self, _: Duration) -> Option<VehicleEvent> {
+            None
+        }
+        fn now_ms(&self) -> u64 {
+            self.ms
+        }
+        fn clock_age(&self) -> Option<Duration> {
+            Some(self.age)
+        }
+    }
+
+    #[test]
+    fn a_stale_vehicle_clock_is_carried_on_by_the_companion_and_never_goes_back() {
+        let p = LivePacer::new(1_000, 10.0, Duration::from_secs(3));
+        let mut v = Stopped {
+            ms: 121_000,
+            age: Duration::from_secs(1),
+        };
+        // Fresh enough: the vehicle's own time.
+        assert_eq!(p.now(&v), 120_000);
+        // Stale: its last time plus the wall time since, at the speed-up.
+        v.age = Duration::from_secs(4);
+        assert_eq!(p.now(&v), 160_000);
+        // The vehicle speaks again with a time behind the estimate: the clock holds, then follows it.
+        v = Stopped {
+            ms: 150_000,
+            age: Duration::ZERO,
+        };
+        assert_eq!(p.now(&v), 160_000);
+        v.ms = 171_000;
+        assert_eq!(p.now(&v), 170_000);
     }
 }

@@ -107,6 +107,11 @@ impl Executive {
         }
     }
 
+    /// This cycle's wall-time bound (`cycle_max_wall_ms` from now), whatever the mission clock does.
+    pub fn cycle_wall_deadline(&self) -> std::time::Instant {
+        std::time::Instant::now() + std::time::Duration::from_millis(self.cfg.cycle_max_wall_ms)
+    }
+
     /// The plan repair part of a cycle at `now`; `clock` is the executive's clock (mission time, ms since
     /// the plan's origin), read to stop at `μ·ts` after the phase starts.
     pub fn repair_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
@@ -138,6 +143,7 @@ impl Executive {
             });
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
+        let wall = self.cycle_wall_deadline();
         // ExecutingPlan is about to change: an insertion rooted at it starts again.
         self.insertion_stale = true;
         let Some(rep) = self.repair.as_mut() else {
@@ -145,7 +151,10 @@ impl Executive {
         };
         let first = rep.search.steps();
         let outcome = loop {
-            if rep.search.steps() - first >= max_steps || deadline.is_some_and(|d| clock() >= d) {
+            if rep.search.steps() - first >= max_steps
+                || deadline.is_some_and(|d| clock() >= d)
+                || std::time::Instant::now() >= wall
+            {
                 break None;
             }
             match rep.search.step() {

@@ -16,6 +16,7 @@
 //! (src/executive/src/exec/goal_insertion.rs): it never competes with the goals held.
 
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
@@ -24,7 +25,7 @@ use super::outcome::{AbortReason, FateReason};
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::{Fact, GoalId, Problem, Time};
 use mavtempo_temporal::plan::{PartialPlan, PlanError, TimeFloor};
-use mavtempo_temporal::planner::reachability::{single_goal_searches, STEPS_PER_GOAL};
+use mavtempo_temporal::planner::reachability::{single_goal_searches_until, STEPS_PER_GOAL};
 use mavtempo_temporal::planner::{Search, StepOutcome};
 use mavtempo_temporal::stn::Timepoint;
 
@@ -137,6 +138,10 @@ pub enum AttemptEnd {
     TimeLimit,
     /// The attempt's hard step cap.
     StepCap,
+    /// The attempt's share of the replanning's wall-time budget (`replan_max_wall_ms`).
+    WallBudget,
+    /// The attempt's plan reached `plan_max_actions` (its memory budget).
+    SizeCap,
 }
 
 impl std::fmt::Display for AttemptEnd {
@@ -146,6 +151,8 @@ impl std::fmt::Display for AttemptEnd {
             AttemptEnd::DeadEnd => "dead end",
             AttemptEnd::TimeLimit => "time limit l reached",
             AttemptEnd::StepCap => "step cap reached",
+            AttemptEnd::WallBudget => "wall-time budget spent",
+            AttemptEnd::SizeCap => "plan size cap reached",
         })
     }
 }
@@ -225,10 +232,41 @@ pub fn plan_until_limit(
     max_steps: u64,
     now: &dyn Fn() -> Time,
 ) -> AttemptEnd {
+    let bounds = AttemptBounds {
+        max_steps,
+        wall: None,
+        max_actions: usize::MAX,
+    };
+    plan_within(search, t_end, slack, bounds, now)
+}
+
+/// What bounds a replanning attempt besides the time limit l: steps, wall time, and the plan's size (its
+/// memory), whatever a step costs.
+#[derive(Clone, Copy, Debug)]
+pub struct AttemptBounds {
+    pub max_steps: u64,
+    pub wall: Option<Instant>,
+    pub max_actions: usize,
+}
+
+/// [`plan_until_limit`] within `bounds`.
+pub fn plan_within(
+    search: &mut Search,
+    t_end: Timepoint,
+    slack: Time,
+    bounds: AttemptBounds,
+    now: &dyn Fn() -> Time,
+) -> AttemptEnd {
     let limit = |s: &Search| s.plan().latest(t_end).saturating_sub(slack);
     loop {
-        if search.steps() >= max_steps {
+        if search.steps() >= bounds.max_steps {
             return AttemptEnd::StepCap;
+        }
+        if bounds.wall.is_some_and(|w| Instant::now() >= w) {
+            return AttemptEnd::WallBudget;
+        }
+        if search.plan().num_actions() >= bounds.max_actions {
+            return AttemptEnd::SizeCap;
         }
         let l = limit(search);
         let past = now() >= l;
@@ -373,6 +411,7 @@ impl Executive {
         steps: &mut u64,
     ) -> ReplanResult {
         self.counters.replans += 1;
+        let wall_end = Instant::now() + Duration::from_millis(self.cfg.replan_max_wall_ms);
         let mut dropped: Vec<GoalId> = Vec::new();
         let first_cap = self.replan_step_cap();
         let budget = first_cap.saturating_mul(2);
@@ -412,7 +451,8 @@ impl Executive {
                 );
                 // A goal no plan achieves even alone is rejected at once, with why, rather than costing
                 // every goal after it an attempt; a plan found for a goal alone is kept as a fallback.
-                let singles = single_goal_searches(&ext.plan, STEPS_PER_GOAL, false);
+                let singles =
+                    single_goal_searches_until(&ext.plan, STEPS_PER_GOAL, false, Some(wall_end));
                 *steps += singles.steps;
                 for u in singles.unreachable {
                     let reason = FateReason::Unreachable {
@@ -441,7 +481,14 @@ impl Executive {
             }
             let alone = goals.len() == 1;
             let mut search = Search::new(ext.plan);
-            let end = plan_until_limit(&mut search, t_end, slack, max_steps, now);
+            // Half of the wall time left (the last goal gets all of it): later attempts keep some.
+            let left = wall_end.saturating_duration_since(Instant::now());
+            let bounds = AttemptBounds {
+                max_steps,
+                wall: Some(Instant::now() + if alone { left } else { left / 2 }),
+                max_actions: self.cfg.plan_max_actions,
+            };
+            let end = plan_within(&mut search, t_end, slack, bounds, now);
             *steps += search.steps();
             let mut record = AttemptRecord {
                 attempt: attempt as u32,

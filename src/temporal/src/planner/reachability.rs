@@ -44,6 +44,16 @@ pub fn unreachable_goals(root: &PartialPlan, steps_each: u64) -> Vec<Unreachable
 /// Plans each active goal of `root` alone within `steps_each` steps. With one active goal, the whole
 /// search is the single-goal search: it is run only when `lone` asks for it.
 pub fn single_goal_searches(root: &PartialPlan, steps_each: u64, lone: bool) -> SingleGoalSearches {
+    single_goal_searches_until(root, steps_each, lone, None)
+}
+
+/// [`single_goal_searches`] that also stop at `deadline` (wall time): a search cut by it proves nothing.
+pub fn single_goal_searches_until(
+    root: &PartialPlan,
+    steps_each: u64,
+    lone: bool,
+    deadline: Option<std::time::Instant>,
+) -> SingleGoalSearches {
     let active: Vec<GoalId> = root
         .goals
         .iter()
@@ -60,7 +70,10 @@ pub fn single_goal_searches(root: &PartialPlan, steps_each: u64, lone: bool) -> 
             alone.remove_goal(other);
         }
         let mut search = Search::new(alone);
-        let outcome = search.run(Budget::steps(steps_each));
+        let outcome = search.run(Budget {
+            max_steps: Some(steps_each),
+            deadline,
+        });
         out.steps += search.steps();
         let reason = match outcome {
             StepOutcome::Solved => {

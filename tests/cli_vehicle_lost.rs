@@ -1,0 +1,136 @@
+//! The vehicle vanishes mid-mission (`kill -9` of `mavtempo sim`, over a socket): `mavtempo run` ends within
+//! its link timeout and a margin with the verdict "vehicle lost", the pending goals settled with it, the
+//! report written, and a non-zero exit; mission time went on on the companion's clock meanwhile.
+
+#[path = "common/child.rs"]
+mod child;
+
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use child::{lines, spawn_piped, Reap};
+
+/// Waits (at most `within`) for a line containing `needle`; the lines read on the way are kept in `seen`.
+fn wait_line(rx: &mpsc::Receiver<String>, needle: &str, within: Duration, seen: &mut Vec<String>) {
+    let deadline = Instant::now() + within;
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(
+            !left.is_zero(),
+            "no line with {needle:?} within {within:?}:\n{}",
+            seen.join("\n")
+        );
+        match rx.recv_timeout(left.min(Duration::from_millis(50))) {
+            Ok(line) => {
+                let found = line.contains(needle);
+                seen.push(line);
+                if found {
+                    return;
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                panic!("the process ended:\n{}", seen.join("\n"))
+            }
+        }
+    }
+}
+
+#[test]
+fn run_ends_with_a_verdict_when_the_vehicle_vanishes() {
+    let dir = tempfile::TempDir::new().expect("temp dir");
+    let (mut sim, stdout) = spawn_piped(
+        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+            .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", "10"])
+            .args(["--scenario", "sitl/scenarios/fig2.toml"]),
+    );
+    let sim_out = lines(stdout);
+    let mut seen = Vec::new();
+    wait_line(
+        &sim_out,
+        "sitl listening on",
+        Duration::from_secs(30),
+        &mut seen,
+    );
+    let port: u16 = seen
+        .last()
+        .and_then(|l| l.split_whitespace().nth(3))
+        .and_then(|a| a.rsplit(':').next())
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {seen:?}"));
+    let report_path = dir.path().join("run.json");
+    let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+        .args([
+            "run",
+            "--config",
+            "config/sitl-rover.toml",
+            "--speedup",
+            "10",
+        ])
+        .args(["--vehicle", &format!("tcpout:127.0.0.1:{port}")])
+        .args(["--link-timeout", "4"])
+        .arg("--report")
+        .arg(&report_path)
+        .args([
+            "domains/rover/rover.ixt",
+            "tests/fixtures/exec/rover_two.ixt",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map(Reap)
+        .expect("spawn mavtempo run");
+    let out = lines(run.0.stdout.take().expect("stdout"));
+    let err = lines(run.0.stderr.take().expect("stderr"));
+    let mut seen = Vec::new();
+    wait_line(&out, "START move(", Duration::from_secs(120), &mut seen);
+    let started_at = seen
+        .iter()
+        .rev()
+        .find_map(|l| l.trim().strip_prefix('['))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|t| t.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no cycle time before the move: {seen:?}"));
+    sim.0.kill().expect("kill -9 the simulator");
+    let killed = Instant::now();
+    let status = loop {
+        if let Some(status) = run.0.try_wait().expect("try_wait") {
+            break status;
+        }
+        // The link timeout (4 s) and a margin for a replanning (its wall budget) and a loaded machine.
+        if killed.elapsed() > Duration::from_secs(60) {
+            let later: Vec<String> = out.try_iter().chain(err.try_iter()).collect();
+            panic!(
+                "run still going {:?} after the vehicle vanished:\n{}",
+                killed.elapsed(),
+                later.join("\n")
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(status.code(), Some(1), "{status:?}");
+    let mut errs = Vec::new();
+    wait_line(
+        &err,
+        "vehicle lost: no heartbeat for 4 s",
+        Duration::from_secs(5),
+        &mut errs,
+    );
+    let text = std::fs::read_to_string(&report_path).expect("report written");
+    let r: serde_json::Value = serde_json::from_str(&text).expect("report is JSON");
+    assert_eq!(r["end"]["vehicle_lost"]["silent_s"], 4, "{}", r["end"]);
+    let goals = r["goals"].as_array().expect("goals");
+    let pending: Vec<&serde_json::Value> =
+        goals.iter().filter(|g| g["fate"] == "pending").collect();
+    assert!(!pending.is_empty(), "{goals:?}");
+    for g in pending {
+        assert_eq!(g["reason"], "vehicle lost: no heartbeat for 4 s", "{g}");
+    }
+    // Mission time went on while the vehicle was silent: 4 s of wall at 10x is 40 s of mission.
+    let end_s = r["duration_ms"].as_f64().expect("duration") / 1000.0;
+    assert!(
+        end_s >= started_at + 30.0,
+        "{end_s} s, move at {started_at} s"
+    );
+}
