@@ -376,7 +376,10 @@ fn pddl_texts(p: &Problem) -> (String, String) {
 /// budget ran out). A plan that fails its checks fails the test.
 fn declared_infeasible(p: &Problem, what: &str) -> Option<String> {
     let (d, pr) = pddl_texts(p);
-    let (ds, ps) = (Src::new("gen-domain.pddl", d.clone()), Src::new("gen-problem.pddl", pr.clone()));
+    let (ds, ps) = (
+        Src::new("gen-domain.pddl", d.clone()),
+        Src::new("gen-problem.pddl", pr.clone()),
+    );
     let dom = pddl::parse_domain(&ds).unwrap_or_else(|e| panic!("{what}: {e}\n{d}"));
     let prob = pddl::parse_problem(&ps).unwrap_or_else(|e| panic!("{what}: {e}\n{pr}"));
     let translated = match pddl::translate(&ds, &dom, &ps, &prob) {

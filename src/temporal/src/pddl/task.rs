@@ -102,9 +102,10 @@ pub(super) fn tasks(
         let fixed: Vec<(usize, ObjectId)> = used.iter().copied().zip(combo).collect();
         // A static function without a value for these arguments (the only way left for the duration to
         // fail, see `check_duration`): the action does not apply to them. Any other error is refused.
-        let defined = a.duration.iter().all(|(_, e, _)| {
-            cx.eval(e, cx.ds, &|x| fixed_arg(cx, a, &fixed, x)).is_ok()
-        });
+        let defined = a
+            .duration
+            .iter()
+            .all(|(_, e, _)| cx.eval(e, cx.ds, &|x| fixed_arg(cx, a, &fixed, x)).is_ok());
         if !defined {
             continue;
         }
@@ -141,7 +142,9 @@ fn fixed_arg(cx: &Cx, a: &ast::Action, fixed: &[(usize, ObjectId)], x: &Arg) -> 
 fn check_duration(cx: &Cx, e: &ast::NExpr) -> Result<(), PddlError> {
     match e {
         ast::NExpr::Num(..) => Ok(()),
-        ast::NExpr::Duration(s) => Err(cx.derr(*s, "`?duration` cannot be used in its own duration")),
+        ast::NExpr::Duration(s) => {
+            Err(cx.derr(*s, "`?duration` cannot be used in its own duration"))
+        }
         ast::NExpr::Neg(x, _) => check_duration(cx, x),
         ast::NExpr::Bin(_, x, y, _) => {
             check_duration(cx, x)?;
