@@ -542,7 +542,7 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), Inapplicable> {
         };
     let e_s = eff(When::Start, t, &mut s_req)?;
     let e_e = eff(When::End, t, &mut e_req)?;
-    let from_or_any = |req: Option<Term>, to: Term, t: &mut Task| -> Result<Term, Inapplicable> {
+    let from_or_any = |req: Option<Term>, t: &mut Task| -> Result<Term, Inapplicable> {
         match req {
             Some(v) => Ok(v),
             // An add or a deletion the action does not require a value for takes any prior value: asking
@@ -553,7 +553,7 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), Inapplicable> {
         }
     };
     if let Some(v) = e_s {
-        let from = from_or_any(s_req, v, t)?;
+        let from = from_or_any(s_req, t)?;
         t.events.push(Event {
             attr: inst.attr,
             args: inst.args.clone(),
@@ -604,7 +604,7 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), Inapplicable> {
         Some(v) => {
             let from = match pre_end.or(m) {
                 Some(x) => x,
-                None => from_or_any(None, v, t)?,
+                None => from_or_any(None, t)?,
             };
             t.events.push(Event {
                 attr: inst.attr,
