@@ -402,14 +402,10 @@ fn types(
         }
         cx.parent.insert(child.name.clone(), parent.name.clone());
     }
-    // A supertype used without being declared (crew planning's `objects`) is a type of its own directly
-    // below the implicit root `object`, as the other PDDL readers take it.
-    for (_, parent) in &d.types {
+    for (child, parent) in &d.types {
         if parent.name != "object" && !cx.parent.contains_key(&parent.name) {
-            cx.parent.insert(parent.name.clone(), "object".into());
+            return Err(cx.derr(parent.span, format!("unknown type `{}`", parent.name)));
         }
-    }
-    for (child, _) in &d.types {
         if cx.root(&child.name) != "object"
             && cx
                 .parent
