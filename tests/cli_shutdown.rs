@@ -15,7 +15,7 @@ use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage};
 use mavtempo::vehicle::frame::FrameDecoder;
 use mavtempo::vehicle::tlog::read_tlog;
 
-use child::{lines, spawn_piped, Reap};
+use child::{lines, spawn_piped, wait_line, wait_line_once, Reap};
 
 /// ArduPilot Rover's custom modes (config/sitl-rover.toml).
 const HOLD: u32 = 4;
@@ -26,46 +26,6 @@ fn send_signal(child: &Child, signal: i32) {
     // SAFETY: kill(2) with the pid of a child we own and have not reaped yet.
     let r = unsafe { libc::kill(pid, signal) };
     assert_eq!(r, 0, "kill({pid}, {signal})");
-}
-
-/// Waits (at most `within`) for a line containing `needle`; everything read on the way is kept in `seen`.
-fn wait_line(rx: &mpsc::Receiver<String>, needle: &str, within: Duration, seen: &mut Vec<String>) {
-    wait_line_once(rx, needle, &mut || true, within, seen);
-}
-
-/// Waits (at most `within`) for a line containing `needle` that comes once `ready` holds.
-fn wait_line_once(
-    rx: &mpsc::Receiver<String>,
-    needle: &str,
-    ready: &mut dyn FnMut() -> bool,
-    within: Duration,
-    seen: &mut Vec<String>,
-) {
-    let deadline = Instant::now() + within;
-    let mut is_ready = ready();
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            panic!(
-                "no line with {needle:?} within {within:?}:\n{}",
-                seen.join("\n")
-            );
-        }
-        match rx.recv_timeout(left.min(Duration::from_millis(20))) {
-            Ok(line) => {
-                let found = is_ready && line.contains(needle);
-                seen.push(line);
-                if found {
-                    return;
-                }
-            }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                panic!("the process ended:\n{}", seen.join("\n"))
-            }
-        }
-        is_ready = is_ready || ready();
-    }
 }
 
 /// Polls the child until it exits, at most `within`.

@@ -6,36 +6,9 @@
 mod child;
 
 use std::process::{Command, Stdio};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use child::{lines, spawn_piped, Reap};
-
-/// Waits (at most `within`) for a line containing `needle`; the lines read on the way are kept in `seen`.
-fn wait_line(rx: &mpsc::Receiver<String>, needle: &str, within: Duration, seen: &mut Vec<String>) {
-    let deadline = Instant::now() + within;
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        assert!(
-            !left.is_zero(),
-            "no line with {needle:?} within {within:?}:\n{}",
-            seen.join("\n")
-        );
-        match rx.recv_timeout(left.min(Duration::from_millis(50))) {
-            Ok(line) => {
-                let found = line.contains(needle);
-                seen.push(line);
-                if found {
-                    return;
-                }
-            }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                panic!("the process ended:\n{}", seen.join("\n"))
-            }
-        }
-    }
-}
+use child::{lines, spawn_piped, wait_line, Reap};
 
 #[test]
 fn run_ends_with_a_verdict_when_the_vehicle_vanishes() {

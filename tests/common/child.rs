@@ -2,6 +2,8 @@
 #![allow(dead_code)]
 
 use std::process::{Child, ChildStdout, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
 
 /// Kills the child process even when an assertion fails.
 pub struct Reap(pub Child);
@@ -37,4 +39,49 @@ pub fn lines(pipe: impl std::io::Read + Send + 'static) -> std::sync::mpsc::Rece
         }
     });
     rx
+}
+
+/// Waits (at most `within`) for a line containing `needle`; everything read on the way is kept in `seen`.
+pub fn wait_line(
+    rx: &mpsc::Receiver<String>,
+    needle: &str,
+    within: Duration,
+    seen: &mut Vec<String>,
+) {
+    wait_line_once(rx, needle, &mut || true, within, seen);
+}
+
+/// Waits (at most `within`) for a line containing `needle` that comes once `ready` holds.
+pub fn wait_line_once(
+    rx: &mpsc::Receiver<String>,
+    needle: &str,
+    ready: &mut dyn FnMut() -> bool,
+    within: Duration,
+    seen: &mut Vec<String>,
+) {
+    let deadline = Instant::now() + within;
+    let mut is_ready = ready();
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            panic!(
+                "no line with {needle:?} within {within:?}:\n{}",
+                seen.join("\n")
+            );
+        }
+        match rx.recv_timeout(left.min(Duration::from_millis(20))) {
+            Ok(line) => {
+                let found = is_ready && line.contains(needle);
+                seen.push(line);
+                if found {
+                    return;
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                panic!("the process ended:\n{}", seen.join("\n"))
+            }
+        }
+        is_ready = is_ready || ready();
+    }
 }
