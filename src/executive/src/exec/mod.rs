@@ -42,6 +42,7 @@ pub mod executive;
 pub mod failures;
 pub mod goal_insertion;
 pub mod goal_request;
+pub mod goal_support;
 pub mod instantiate;
 pub mod interrupt;
 pub mod mission;
