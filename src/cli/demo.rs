@@ -244,6 +244,8 @@ pub struct DemoRun {
     pub timed_upload: Option<String>,
     /// How the vehicle became ready before the mission (`None`: `[ready] timeout_s = 0`).
     pub ready: Option<crate::vehicle::readiness::ReadyReport>,
+    /// What the autopilot's fence, read at readiness, added to the vehicle's limits.
+    pub fence: Option<String>,
     /// The live page and the session it runs on, kept after the mission (`--http`).
     pub(crate) hold: Option<LiveHold>,
 }
@@ -341,6 +343,10 @@ pub fn run_demo(
             super::mission_out::ready_line(r)
         ));
     }
+    if let Some(f) = &session.fence {
+        say(f);
+    }
+    let fence = session.fence.clone();
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
     say(&format!(
         "SITL vehicle at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
@@ -482,6 +488,7 @@ pub fn run_demo(
         upload,
         timed_upload,
         ready,
+        fence,
         hold,
     })
 }

@@ -41,6 +41,8 @@ pub struct SitlSession {
     pub start_radius_m: f64,
     /// Where the vehicle may go (`[limits]`).
     pub limits: Option<crate::vehicle::limits::Limits>,
+    /// What the autopilot's fence, read at readiness, added to them (`None`: not read).
+    pub fence: Option<String>,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -97,7 +99,7 @@ impl SitlSession {
             }
         };
         let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
-        let limits = crate::vehicle::limits::Limits::from_config(&cfg.limits, home);
+        let limits_cfg = cfg.limits.clone();
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
@@ -135,6 +137,10 @@ impl SitlSession {
         let stepped = spec.speedup.is_none();
         link_up(&rt, &sim, &vehicle, stepped)?;
         let ready = wait_ready(&rt, &sim, &vehicle, spec.speedup, ready_limit_s)?;
+        // `[limits]` and the autopilot's fence, read at readiness.
+        let fence = vehicle.autopilot_fence();
+        let (limits, said) =
+            crate::vehicle::fence::limits_for(&limits_cfg, home, fence.as_ref());
         let origin_ms = if stepped {
             sim.now_ms()
         } else {
@@ -150,6 +156,7 @@ impl SitlSession {
             origin_ms,
             start_radius_m,
             limits,
+            fence: said,
             rt,
         })
     }

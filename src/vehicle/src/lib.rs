@@ -32,6 +32,7 @@ pub mod held;
 pub mod intake;
 pub mod item_goals;
 pub mod items;
+pub mod fence;
 pub mod limits;
 pub mod link;
 pub mod mapping;

@@ -200,8 +200,34 @@ impl Executive {
 
     /// Where the vehicle may go (`[limits]`, the autopilot's fence): a goal at a place outside is
     /// rejected when it arrives, with the distance and the limit.
+    ///
+    /// The planner keeps to them too: they become the problem's [`mavtempo_temporal::model::Legs`], so a
+    /// move whose straight leg leaves them gets no distance and is no resolver, in plan repair, goal
+    /// insertion and complete replanning alike (the one place move durations come from).
     pub fn with_limits(mut self, limits: Option<mavtempo_vehicle::limits::Limits>) -> Self {
         self.limits = limits.filter(|l| !l.is_empty());
+        if let Some(l) = &self.limits {
+            let mut problem = (**self.plan.problem()).clone();
+            problem.legs = mavtempo_temporal::model::Legs(Some(std::sync::Arc::new(l.clone())));
+            self.plan.set_problem(std::sync::Arc::new(problem));
+            // A plan made before the limits were known (the autopilot's fence is read at readiness) may
+            // hold a move that leaves them: it is made again, complete replanning, before any launch.
+            let outside = self
+                .plan
+                .live_actions()
+                .filter(|&a| !self.plan.action(a).num_cons.is_empty())
+                .collect::<Vec<_>>()
+                .into_iter()
+                .find(|&a| self.plan.repropagate_action(a).is_err());
+            if let Some(a) = outside {
+                let error = format!("{} leaves the vehicle's limits", self.action_text(a));
+                tracing::warn!("{error}: the plan is made again");
+                self.abort.get_or_insert(super::outcome::AbortReason::NotExecutable {
+                    now_ms: 0,
+                    error,
+                });
+            }
+        }
         self
     }
 
