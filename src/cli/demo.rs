@@ -14,7 +14,7 @@ use clap::Args;
 
 use super::error::CliError;
 use super::mission_out::{initial_plan, print_summary, MissionOutArgs, TracePrinter};
-use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use super::sitl_session::{SessionSpec, SitlSession};
 use crate::cli::out::outln;
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
@@ -278,7 +278,10 @@ fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), 
 }
 
 /// The session's configuration and scenario from the setup (see [`DemoArgs::scenario`]).
-fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, String), CliError> {
+fn session_spec(
+    setup: &DemoSetup,
+    problem: &Problem,
+) -> Result<(SessionSpec, String, ExecConfig), CliError> {
     let (scenario, scenario_name) = match (&setup.scenario, &setup.problem) {
         (Some(p), _) => (read(p)?, p.display().to_string()),
         (None, None) => (SCENARIO.to_string(), "sitl/scenarios/fig2.toml".to_string()),
@@ -295,19 +298,22 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
         }
     };
     let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
+    let mut exec = exec_config();
     if let Some(p) = &setup.config {
-        // The whole file is checked, its `[exec]` table too, though the demo's executive keeps its own.
-        spec.config =
-            crate::exec::config::MissionConfig::parse(&read(p)?, &p.display().to_string())?.vehicle;
+        // The whole file is checked; the keys its `[exec]` table writes replace the demo's own.
+        let (text, origin) = (read(p)?, p.display().to_string());
+        spec.config = crate::exec::config::MissionConfig::parse(&text, &origin)?.vehicle;
+        exec = ExecConfig::over(&exec, &text, &origin)?;
     }
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;
     spec.seed = setup.seed;
     spec.vehicle_offset_m = setup.vehicle_offset_m;
     spec.first_goal_number = problem.goals.len() as u32 + 1;
-    Ok((spec, scenario_name))
+    Ok((spec, scenario_name, exec))
 }
 
+/// The demo's executive parameters where the configuration's `[exec]` table says nothing.
 pub fn exec_config() -> ExecConfig {
     ExecConfig {
         // Seed 1 §4: ts = 1.3 s; μ = 0.6. Budgets in planning steps keep the run deterministic.
@@ -334,7 +340,7 @@ pub fn run_demo(
     ));
     let plan = initial_plan(domain.clone(), problem.clone(), setup.max_steps)?;
     say(&format!("initial plan: {} actions", plan.num_actions()));
-    let (spec, scenario_name) = session_spec(setup, &problem)?;
+    let (spec, scenario_name, exec) = session_spec(setup, &problem)?;
     say(&format!("SITL scenario: {scenario_name}"));
     let mut session = SitlSession::start(&domain, &problem, spec)?;
     if let Some(r) = &session.ready {
@@ -352,10 +358,10 @@ pub fn run_demo(
         "SITL vehicle at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         session.sim.client_address()
     ));
-    let mut ex = Executive::new(plan, exec_config())
+    let mut ex = Executive::new(plan, exec)
         .with_policy(setup.dispatch)
         .with_mapping(session.mapping.clone())
-        .with_level_tolerance(LEVEL_TOLERANCE)
+        .with_resource_levels(&session.resources)
         .with_limits(session.limits.clone());
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = crate::vehicle::Vehicle::position(&session.vehicle) {

@@ -18,9 +18,6 @@ use crate::vehicle::{MavlinkVehicle, Vehicle};
 
 const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
-/// The executive's `level_tolerance` against this SITL: it reports the battery in whole percents, and the
-/// rover stops within its acceptance radius (1.5 m, 0.75 % of battery short of the planned distance).
-pub const LEVEL_TOLERANCE: f64 = 2.0;
 
 /// A running SITL and the vehicle linked to it. Field order is drop order: the link closes before the
 /// simulator and the runtime go.
@@ -43,6 +40,8 @@ pub struct SitlSession {
     pub limits: Option<crate::vehicle::limits::Limits>,
     /// What the autopilot's fence, read at readiness, added to them (`None`: not read).
     pub fence: Option<String>,
+    /// The configuration's `[resources]`: the levels reported, their resolution and tolerance.
+    pub resources: crate::vehicle::config::ResourceNames,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -100,6 +99,7 @@ impl SitlSession {
         };
         let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
         let limits_cfg = cfg.limits.clone();
+        let resources = cfg.resources.clone();
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
@@ -157,6 +157,7 @@ impl SitlSession {
             start_radius_m,
             limits,
             fence: said,
+            resources,
             rt,
         })
     }

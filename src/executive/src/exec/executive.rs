@@ -101,9 +101,9 @@ pub struct Executive {
     /// Something changed since the repair tree was last developed (message or timepoint executed): the
     /// repair search restarts (§3.2).
     pub(crate) changed: bool,
-    /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
-    /// resolution).
-    pub(crate) level_tolerance: f64,
+    /// Per resource: reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the
+    /// vehicle's resolution and tolerance, `[resources]`).
+    pub(crate) level_tolerances: Vec<f64>,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
     pub(crate) failures: FailureMemory,
     /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
@@ -181,7 +181,7 @@ impl Executive {
             counters: Counters::default(),
             pending_trace: Vec::new(),
             changed: false,
-            level_tolerance: super::resource_report::EPS,
+            level_tolerances: vec![super::resource_report::EPS; last_reported.len()],
             failures,
             repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
@@ -439,9 +439,18 @@ impl Executive {
         !self.goal_batches.is_empty()
     }
 
-    /// Reported levels within `tolerance` of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's resolution).
-    pub fn with_level_tolerance(mut self, tolerance: f64) -> Self {
-        self.level_tolerance = tolerance;
+    /// Reported levels within their resource's `resolution + tolerance` (`[resources]` of the vehicle
+    /// configuration, [`mavtempo_vehicle::config::ResourceNames::level_tolerance`]: the one rule of
+    /// `demo`, `soak` and `run`) of `[RscL_lb, RscL_ub]` are in bounds: noise, not news.
+    pub fn with_resource_levels(mut self, r: &mavtempo_vehicle::config::ResourceNames) -> Self {
+        let eps = super::resource_report::EPS;
+        self.level_tolerances = self
+            .plan
+            .domain()
+            .resources
+            .iter()
+            .map(|res| r.level_tolerance(&res.name).unwrap_or(eps).max(eps))
+            .collect();
         self
     }
 
