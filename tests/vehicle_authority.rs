@@ -30,6 +30,11 @@ struct Rig {
 
 impl Rig {
     fn new(config: &str, scenario: &str) -> Rig {
+        Self::with(config, scenario, |_| {})
+    }
+
+    /// [`Rig::new`] with the loaded configuration changed by `edit`.
+    fn with(config: &str, scenario: &str, edit: impl FnOnce(&mut VehicleConfig)) -> Rig {
         let rt = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
             .enable_all()
@@ -44,6 +49,7 @@ impl Rig {
         let mut cfg = VehicleConfig::load(&root(config)).expect("config");
         cfg.link.address = sim.client_address().to_string();
         cfg.link.heartbeat_timeout_ms = 60_000;
+        edit(&mut cfg);
         let v = rt
             .block_on(MavlinkVehicle::connect(cfg, LinkOptions::default()))
             .expect("link");
@@ -178,4 +184,37 @@ fn on_the_ardupilot_profile_the_operator_arms_and_the_companion_yields_to_a_hold
         0,
         "never an ARM from the companion"
     );
+}
+
+/// `[authority] at_end`: the default leaves the rover in HOLD and disarmed when the mission ends; `hold`
+/// leaves it armed in HOLD; `none` leaves it as it is (GUIDED, armed).
+#[test]
+fn at_the_end_of_a_mission_the_default_holds_and_disarms() {
+    use mavtempo::vehicle::authority::AtEnd;
+    for (at_end, mode, armed) in [
+        (None, 4, false),
+        (Some(AtEnd::Hold), 4, true),
+        (Some(AtEnd::None), 15, true),
+    ] {
+        let mut rig = Rig::with("config/sitl-rover.toml", "sitl/scenarios/fig2.toml", |c| {
+            if let Some(a) = at_end {
+                c.authority.at_end = a;
+            }
+        });
+        assert!(rig.ready().ready);
+        rig.move_to(1, 10.0);
+        rig.step(2_000);
+        let moving = rig.snapshot();
+        assert!(moving.armed && moving.custom_mode == 15, "{moving:?}");
+        rig.v.end_of_mission();
+        rig.step(3_000);
+        let end = rig.snapshot();
+        assert_eq!(
+            (end.custom_mode, end.armed),
+            (mode, armed),
+            "at_end {at_end:?}: {} {:?}",
+            end.mode,
+            end.statustexts
+        );
+    }
 }
