@@ -2,7 +2,8 @@
 //! station's HOLD in the middle of a move gets no command from the companion for as long as it lasts (the
 //! simulator counts every command that reaches it), the companion resumes when GUIDED is restored; with
 //! `arm = "operator"` (config/ardupilot-rover.toml on the SITL's ArduPilot profile) the companion never
-//! sends ARM and waits until someone else arms the vehicle.
+//! sends ARM and waits until someone else arms the vehicle. Also over the same sockets: `[authority]
+//! at_end`, and a move started to end still (the next action needs the vehicle still) ends stopped.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -217,4 +218,44 @@ fn at_the_end_of_a_mission_the_default_holds_and_disarms() {
             end.statustexts
         );
     }
+}
+
+/// The rover's ground speed when a move's nominal report arrives, started with `start` or `start_still`.
+fn speed_at_report(still: bool) -> f64 {
+    let mut rig = Rig::new("config/sitl-rover.toml", "sitl/scenarios/fig2.toml");
+    assert!(rig.ready().ready);
+    let start = ActionStart {
+        id: 7,
+        task: "move".into(),
+        args: vec![
+            ("from".into(), Arg::Symbol("here".into())),
+            ("to".into(), Arg::location("there", Enu::new(12.0, 0.0, 0.0))),
+        ],
+    };
+    let started = if still {
+        rig.v.start_still(start)
+    } else {
+        rig.v.start(start)
+    };
+    started.expect("started");
+    for _ in 0..600 {
+        rig.step(100);
+        let done = rig.events.iter().any(|e| {
+            matches!(e, VehicleEvent::Report(r) if r.id == 7 && r.status == ReportStatus::Nominal)
+        });
+        if done {
+            return rig.snapshot().speed_mps;
+        }
+    }
+    panic!("no nominal report within 60 s: {:?}", rig.events);
+}
+
+/// On the built-in SITL (0.45 m/s, 1.5 m acceptance radius): a move reports as it enters the radius,
+/// still rolling; started to end still, it reports once the rover is below `[state] still_below_m_s`.
+#[test]
+fn a_move_started_to_end_still_reports_once_the_rover_has_stopped() {
+    let rolling = speed_at_report(false);
+    assert!(rolling > 0.3, "enters the radius at cruise speed: {rolling}");
+    let still = speed_at_report(true);
+    assert!(still <= 0.2, "stopped: {still}");
 }

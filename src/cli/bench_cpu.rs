@@ -71,7 +71,8 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, CliError> {
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
     let mut ex = Executive::new(plan, cfg)
         .with_mapping(session.mapping.clone())
-        .with_resource_levels(&session.resources);
+        .with_resource_levels(&session.resources)
+        .with_still_state(session.moving.as_ref());
     let opts = MissionOptions {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),
         ..MissionOptions::default()

@@ -362,6 +362,7 @@ pub fn run_demo(
         .with_policy(setup.dispatch)
         .with_mapping(session.mapping.clone())
         .with_resource_levels(&session.resources)
+        .with_still_state(session.moving.as_ref())
         .with_limits(session.limits.clone());
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = crate::vehicle::Vehicle::position(&session.vehicle) {

@@ -201,6 +201,12 @@ fn mission(
     let start_radius_m = crate::vehicle::authority::start_radius_m(&checked.vehicle);
     let limits_cfg = checked.vehicle.limits.clone();
     let resources = checked.vehicle.resources.clone();
+    let moving = checked
+        .vehicle
+        .state
+        .moving
+        .clone()
+        .filter(|_| checked.vehicle.state.end_still);
     let stale_after = Duration::from_millis(checked.vehicle.link.heartbeat_timeout_ms);
     let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
@@ -243,6 +249,7 @@ fn mission(
     let mut ex = Executive::new(plan, exec_cfg)
         .with_mapping(checked.mapping)
         .with_resource_levels(&resources)
+        .with_still_state(moving.as_ref())
         .with_limits(limits);
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = vehicle.position() {

@@ -42,6 +42,8 @@ pub struct SitlSession {
     pub fence: Option<String>,
     /// The configuration's `[resources]`: the levels reported, their resolution and tolerance.
     pub resources: crate::vehicle::config::ResourceNames,
+    /// `[state] moving`: the attribute a motion's end makes still (src/executive/src/exec/still.rs).
+    pub moving: Option<crate::vehicle::observed::Flag>,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -100,6 +102,7 @@ impl SitlSession {
         let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
         let limits_cfg = cfg.limits.clone();
         let resources = cfg.resources.clone();
+        let moving = cfg.state.moving.clone().filter(|_| cfg.state.end_still);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
@@ -158,6 +161,7 @@ impl SitlSession {
             limits,
             fence: said,
             resources,
+            moving,
             rt,
         })
     }

@@ -423,7 +423,8 @@ fn run_one(m: &Mission, trace: bool, interrupt: &crate::exec::interrupt::Interru
     };
     let mut ex = Executive::new(plan, exec_config())
         .with_mapping(session.mapping.clone())
-        .with_resource_levels(&session.resources);
+        .with_resource_levels(&session.resources)
+        .with_still_state(session.moving.as_ref());
     let (home, gcs) = (session.home, session.gcs.clone());
     let rt = session.rt.handle().clone();
     let mut pending: Vec<&Upload> = m.uploads.iter().collect();

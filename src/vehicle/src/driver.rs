@@ -352,6 +352,17 @@ impl Driver {
         Ok(())
     }
 
+    /// [`Self::start`] of a motion that ends only once the vehicle is still, too (the next action needs it
+    /// still: [`super::api::Vehicle::start_still`]).
+    pub fn start_still(&mut self, action: ActionStart, now: u64) -> Result<(), VehicleError> {
+        let id = action.id;
+        self.start(action, now)?;
+        if let Some(run) = self.runs.get_mut(&id) {
+            run.end_still = true;
+        }
+        Ok(())
+    }
+
     /// `END i_a`.
     pub fn stop(&mut self, id: ActionId, now: u64) -> Result<(), VehicleError> {
         if !self.runs.contains_key(&id) {

@@ -848,6 +848,10 @@ impl Vehicle for MavlinkVehicle {
         self.drive(|d, now| d.start(action, now))
     }
 
+    fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        self.drive(|d, now| d.start_still(action, now))
+    }
+
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
         self.drive(|d, now| d.stop(id, now))
     }

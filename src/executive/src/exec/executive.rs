@@ -132,6 +132,12 @@ pub struct Executive {
     pub(crate) limits: Option<mavtempo_vehicle::limits::Limits>,
     /// Uploaded goals held in the plan: their ground station is told how each ends.
     pub(crate) watches: BTreeMap<GoalId, GoalWatch>,
+    /// The observed moving/still attribute and its still value (`[state] moving`): a motion whose end a
+    /// later action holds still ends once the vehicle is still (src/executive/src/exec/still.rs).
+    pub(crate) still: Option<(
+        mavtempo_temporal::model::AttrId,
+        mavtempo_temporal::model::ObjectId,
+    )>,
 }
 
 impl Executive {
@@ -195,6 +201,7 @@ impl Executive {
             paused: None,
             limits: None,
             watches: BTreeMap::new(),
+            still: None,
         }
     }
 

@@ -58,6 +58,7 @@ pub mod sense;
 pub mod settle;
 pub mod squeeze;
 pub mod state_update;
+pub mod still;
 pub mod t_exec;
 pub mod trace;
 
