@@ -61,5 +61,6 @@ pub mod state_update;
 pub mod still;
 pub mod t_exec;
 pub mod trace;
+pub mod trip_needs;
 
 pub use mavtempo_vehicle::mapping::DomainMapping;
