@@ -58,12 +58,21 @@ fn run(still: Option<&Flag>) -> Vec<(String, bool)> {
     v.script("move", Outcome::nominal(25_000).with_level("BATTERY", 84.6));
     v.script("move", Outcome::nominal(55_000).with_level("BATTERY", 72.3));
     v.script("move_ptu", Outcome::nominal(3_000));
-    v.script("take_picture", Outcome::nominal(8_000).with_level("STORAGE", 2.1));
+    v.script(
+        "take_picture",
+        Outcome::nominal(8_000).with_level("STORAGE", 2.1),
+    );
     let opts = MissionOptions {
         time_limit_ms: 30 * 60_000,
         ..MissionOptions::default()
     };
-    let r = run_mission(&mut ex, &mut v, &mut MockPacer::default(), &opts, &mut |_, _| {});
+    let r = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, _| {},
+    );
     r.cycles
         .iter()
         .flat_map(|c| &c.events)

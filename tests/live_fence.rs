@@ -50,7 +50,9 @@ fn the_autopilots_fence_is_read_at_readiness_and_kept_at_intake_and_by_every_mov
     );
     // The initial plan's move(p1, p4) crosses the exclusion circle: the plan is made again before any launch.
     assert!(
-        events.iter().any(|e| matches!(e, TraceEvent::Abort { reason }
+        events
+            .iter()
+            .any(|e| matches!(e, TraceEvent::Abort { reason }
             if reason.to_string().contains("move(p1, p4) leaves the vehicle's limits"))),
         "{events:?}"
     );
@@ -61,7 +63,10 @@ fn the_autopilots_fence_is_read_at_readiness_and_kept_at_intake_and_by_every_mov
             _ => None,
         })
         .collect();
-    assert!(launched.iter().any(|a| a.starts_with("move(")), "{launched:?}");
+    assert!(
+        launched.iter().any(|a| a.starts_with("move(")),
+        "{launched:?}"
+    );
     for crossing in ["move(p1, p4)", "move(p4, p1)"] {
         assert!(
             !launched.contains(&crossing),
@@ -69,6 +74,11 @@ fn the_autopilots_fence_is_read_at_readiness_and_kept_at_intake_and_by_every_mov
         );
     }
     // Fig. 2's picture of p4 (g4) is still achieved, by another way there.
-    let g4 = run.report.goals.iter().find(|g| g.name == "g4").expect("g4");
+    let g4 = run
+        .report
+        .goals
+        .iter()
+        .find(|g| g.name == "g4")
+        .expect("g4");
     assert_eq!(g4.fate, Fate::Achieved, "{:?}", run.report.goals);
 }

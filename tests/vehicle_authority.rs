@@ -229,7 +229,10 @@ fn speed_at_report(still: bool) -> f64 {
         task: "move".into(),
         args: vec![
             ("from".into(), Arg::Symbol("here".into())),
-            ("to".into(), Arg::location("there", Enu::new(12.0, 0.0, 0.0))),
+            (
+                "to".into(),
+                Arg::location("there", Enu::new(12.0, 0.0, 0.0)),
+            ),
         ],
     };
     let started = if still {
@@ -255,7 +258,10 @@ fn speed_at_report(still: bool) -> f64 {
 #[test]
 fn a_move_started_to_end_still_reports_once_the_rover_has_stopped() {
     let rolling = speed_at_report(false);
-    assert!(rolling > 0.3, "enters the radius at cruise speed: {rolling}");
+    assert!(
+        rolling > 0.3,
+        "enters the radius at cruise speed: {rolling}"
+    );
     let still = speed_at_report(true);
     assert!(still <= 0.2, "stopped: {still}");
 }

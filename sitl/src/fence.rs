@@ -61,7 +61,7 @@ fn yes() -> bool {
 impl FenceParams {
     /// The first problem: the key and why.
     pub(crate) fn check(&self) -> Result<(), (String, &'static str)> {
-        if !(self.radius_m > 0.0) {
+        if !(self.radius_m.is_finite() && self.radius_m > 0.0) {
             return Err(("fence.radius_m".into(), "must be > 0"));
         }
         for (i, p) in self.polygons.iter().enumerate() {
@@ -73,7 +73,7 @@ impl FenceParams {
             }
         }
         for (i, c) in self.circles.iter().enumerate() {
-            if !(c.radius_m > 0.0) {
+            if !(c.radius_m.is_finite() && c.radius_m > 0.0) {
                 return Err((format!("fence.circles.{i}.radius_m"), "must be > 0"));
             }
         }

@@ -34,6 +34,19 @@ async fn mission_ack(gcs: &mut Gcs) -> MavMissionResult {
     expect_msg!(gcs, MISSION_ACK).await.mavtype
 }
 
+/// MISSION_REQUEST_LIST of `mission_type`; the MISSION_COUNT that answers.
+async fn list_count(gcs: &mut Gcs, mission_type: MavMissionType) -> MISSION_COUNT_DATA {
+    gcs.send(MavMessage::MISSION_REQUEST_LIST(
+        MISSION_REQUEST_LIST_DATA {
+            target_system: 1,
+            target_component: 1,
+            mission_type,
+        },
+    ))
+    .await;
+    expect_msg!(gcs, MISSION_COUNT).await
+}
+
 /// MISSION_CLEAR_ALL; the MISSION_ACK's result.
 async fn clear_all(gcs: &mut Gcs) -> MavMissionResult {
     gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
@@ -347,13 +360,7 @@ async fn a_fence_is_uploaded_downloaded_and_its_parameters_read() {
         (MavMissionResult::MAV_MISSION_ACCEPTED, fence)
     );
     // Downloaded back whole, with no home item in front.
-    gcs.send(MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
-        target_system: 1,
-        target_component: 1,
-        mission_type: fence,
-    }))
-    .await;
-    let c = expect_msg!(gcs, MISSION_COUNT).await;
+    let c = list_count(&mut gcs, fence).await;
     assert_eq!((c.count, c.mission_type), (n, fence));
     for seq in 0..n {
         gcs.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
@@ -371,13 +378,12 @@ async fn a_fence_is_uploaded_downloaded_and_its_parameters_read() {
         );
     }
     // The mission list still holds only home.
-    gcs.send(MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
-        target_system: 1,
-        target_component: 1,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
-    }))
-    .await;
-    assert_eq!(expect_msg!(gcs, MISSION_COUNT).await.count, 1);
+    assert_eq!(
+        list_count(&mut gcs, MavMissionType::MAV_MISSION_TYPE_MISSION)
+            .await
+            .count,
+        1
+    );
     // FENCE_ENABLE is 0 by default, as on ArduPilot; a PARAM_SET is answered with the new value.
     let read = |name: &str| {
         MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
@@ -389,7 +395,10 @@ async fn a_fence_is_uploaded_downloaded_and_its_parameters_read() {
     };
     gcs.send(read("FENCE_ENABLE")).await;
     let v = expect_msg!(gcs, PARAM_VALUE).await;
-    assert_eq!((v.param_id.to_str(), v.param_value), (Ok("FENCE_ENABLE"), 0.0));
+    assert_eq!(
+        (v.param_id.to_str(), v.param_value),
+        (Ok("FENCE_ENABLE"), 0.0)
+    );
     gcs.send(MavMessage::PARAM_SET(PARAM_SET_DATA {
         param_value: 1.0,
         target_system: 1,
@@ -409,13 +418,12 @@ async fn a_scenario_fence_is_held_from_boot() {
         "[fence]\nenable = 1\nradius_m = 120\n[[fence.polygons]]\ninclusion = false\ncorners_m = [[0, 0], [0, 10], [10, 0]]\n",
     )
     .await;
-    gcs.send(MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
-        target_system: 1,
-        target_component: 1,
-        mission_type: MavMissionType::MAV_MISSION_TYPE_FENCE,
-    }))
-    .await;
-    assert_eq!(expect_msg!(gcs, MISSION_COUNT).await.count, 3);
+    assert_eq!(
+        list_count(&mut gcs, MavMissionType::MAV_MISSION_TYPE_FENCE)
+            .await
+            .count,
+        3
+    );
     gcs.send(MavMessage::PARAM_REQUEST_LIST(PARAM_REQUEST_LIST_DATA {
         target_system: 1,
         target_component: 1,
@@ -427,5 +435,8 @@ async fn a_scenario_fence_is_held_from_boot() {
         seen.push((v.param_id.to_str().map(str::to_string), v.param_value));
     }
     assert!(seen.contains(&(Ok("FENCE_ENABLE".into()), 1.0)), "{seen:?}");
-    assert!(seen.contains(&(Ok("FENCE_RADIUS".into()), 120.0)), "{seen:?}");
+    assert!(
+        seen.contains(&(Ok("FENCE_RADIUS".into()), 120.0)),
+        "{seen:?}"
+    );
 }

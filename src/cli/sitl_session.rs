@@ -18,7 +18,6 @@ use crate::vehicle::{MavlinkVehicle, Vehicle};
 
 const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
-
 /// A running SITL and the vehicle linked to it. Field order is drop order: the link closes before the
 /// simulator and the runtime go.
 pub struct SitlSession {
@@ -142,8 +141,7 @@ impl SitlSession {
         let ready = wait_ready(&rt, &sim, &vehicle, spec.speedup, ready_limit_s)?;
         // `[limits]` and the autopilot's fence, read at readiness.
         let fence = vehicle.autopilot_fence();
-        let (limits, said) =
-            crate::vehicle::fence::limits_for(&limits_cfg, home, fence.as_ref());
+        let (limits, said) = crate::vehicle::fence::limits_for(&limits_cfg, home, fence.as_ref());
         let origin_ms = if stepped {
             sim.now_ms()
         } else {

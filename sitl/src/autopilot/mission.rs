@@ -184,7 +184,11 @@ impl Autopilot {
     pub(super) fn on_mission_count(&mut self, from: Sender, m: &MISSION_COUNT_DATA) {
         let fence = m.mission_type == MavMissionType::MAV_MISSION_TYPE_FENCE;
         if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION && !fence {
-            self.mission_ack_of(from, MavMissionResult::MAV_MISSION_UNSUPPORTED, m.mission_type);
+            self.mission_ack_of(
+                from,
+                MavMissionResult::MAV_MISSION_UNSUPPORTED,
+                m.mission_type,
+            );
             return;
         }
         // One uploader at a time.
@@ -451,7 +455,9 @@ impl Autopilot {
             target_system: from.sysid,
             target_component: from.compid,
             frame: it.frame,
-            current: u8::from(mt == MavMissionType::MAV_MISSION_TYPE_MISSION && seq == self.exec.current),
+            current: u8::from(
+                mt == MavMissionType::MAV_MISSION_TYPE_MISSION && seq == self.exec.current,
+            ),
             autocontinue: it.autocontinue,
             mission_type: mt,
         };

@@ -471,7 +471,12 @@ impl Driver {
     }
 
     /// A mission transfer ended: the fence list's, or an action's.
-    fn mission_outcome(&mut self, token: Token, outcome: super::mission_client::MissionOutcome, now: u64) {
+    fn mission_outcome(
+        &mut self,
+        token: Token,
+        outcome: super::mission_client::MissionOutcome,
+        now: u64,
+    ) {
         use super::mission_client::MissionOutcome;
         if token == FENCE_TOKEN {
             if let Some((read, _)) = &mut self.fence_read {

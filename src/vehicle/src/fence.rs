@@ -127,7 +127,8 @@ pub fn limits_for(
 #[derive(Debug, Clone)]
 pub struct FenceRead {
     fence: AutopilotFence,
-    /// Per parameter: answered, or the requests made and when the last went out (vehicle ms).
+    /// Per parameter: answered (or given up on: no answer a retry period after the last request), the
+    /// requests made and when the last went out (vehicle ms).
     asked: [(bool, u32, u64); 3],
     list_done: bool,
 }
@@ -149,7 +150,7 @@ impl FenceRead {
 
     /// Every parameter answered or given up on, and the list read (or failed).
     pub fn done(&self) -> bool {
-        self.list_done && self.asked.iter().all(|&(ok, n, _)| ok || n >= TRIES)
+        self.list_done && self.asked.iter().all(|&(settled, _, _)| settled)
     }
 
     pub fn fence(&self) -> &AutopilotFence {
@@ -159,8 +160,13 @@ impl FenceRead {
     /// The parameter requests due at `vnow`.
     pub fn tick(&mut self, vnow: u64, target: (u8, u8), out: &mut Vec<MavMessage>) {
         for (i, a) in self.asked.iter_mut().enumerate() {
-            let (answered, tries, last) = *a;
-            if answered || tries >= TRIES || (tries > 0 && vnow.saturating_sub(last) < RETRY_MS) {
+            let (settled, tries, last) = *a;
+            if settled || (tries > 0 && vnow.saturating_sub(last) < RETRY_MS) {
+                continue;
+            }
+            if tries >= TRIES {
+                // The autopilot has no such parameter (PX4): absent.
+                a.0 = true;
                 continue;
             }
             *a = (false, tries + 1, vnow);
@@ -183,6 +189,7 @@ impl FenceRead {
             return;
         };
         self.asked[i].0 = true;
+        // (A late answer after giving up still counts.)
         let slot = match i {
             0 => &mut self.fence.enable,
             1 => &mut self.fence.fence_type,
@@ -204,15 +211,9 @@ impl FenceRead {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geo::Home;
+    use crate::limits::tests::HOME;
     use crate::types::Enu;
     use mavlink::dialects::ardupilotmega::{MavParamType, PARAM_VALUE_DATA};
-
-    const HOME: Home = Home {
-        lat: 43.5616,
-        lon: 1.4847,
-        alt: 0.0,
-    };
 
     fn vertex(command: u16, n: f32, e: f64, north: f64) -> MissionItem {
         let (lat, lon, _) = HOME.to_global(Enu::new(e, north, 0.0));
@@ -255,7 +256,11 @@ mod tests {
     #[test]
     fn an_enabled_fence_adds_its_circle_polygons_and_exclusions() {
         let mut r = FenceRead::new();
-        for (n, v) in [("FENCE_ENABLE", 1.0), ("FENCE_TYPE", 6.0), ("FENCE_RADIUS", 100.0)] {
+        for (n, v) in [
+            ("FENCE_ENABLE", 1.0),
+            ("FENCE_TYPE", 6.0),
+            ("FENCE_RADIUS", 100.0),
+        ] {
             r.on_message(&value(n, v));
         }
         r.on_list(Ok(vec![

@@ -219,8 +219,8 @@ impl Limits {
         let (p, q) = ((a.east, a.north), (b.east, b.north));
         for area in &self.areas {
             let n = area.corners.len();
-            let crosses = (0..n)
-                .any(|i| segments_cross(p, q, area.corners[i], area.corners[(i + 1) % n]));
+            let crosses =
+                (0..n).any(|i| segments_cross(p, q, area.corners[i], area.corners[(i + 1) % n]));
             if crosses {
                 return Err(LimitViolation::Crosses { what: area.what });
             }
@@ -287,10 +287,11 @@ fn inside(poly: &[(f64, f64)], (x, y): (f64, f64)) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    const HOME: Home = Home {
+    /// A home for the tests of limits and fences.
+    pub(crate) const HOME: Home = Home {
         lat: 43.5616,
         lon: 1.4847,
         alt: 0.0,
@@ -383,9 +384,12 @@ mod tests {
         // An exclusion circle on the way south.
         let (lat, lon, _) = HOME.to_global(Enu::new(0.0, -30.0, 0.0));
         l.add_disc(AUTOPILOT_FENCE, false, lat, lon, 5.0);
-        assert!(l.check_leg(Enu::new(-30.0, -30.0, 0.0), Enu::new(30.0, -30.0, 0.0)).is_err());
+        assert!(l
+            .check_leg(Enu::new(-30.0, -30.0, 0.0), Enu::new(30.0, -30.0, 0.0))
+            .is_err());
         assert_eq!(
-            l.check_local(Enu::new(1.0, -30.0, 0.0)).map_err(|e| e.to_string()),
+            l.check_local(Enu::new(1.0, -30.0, 0.0))
+                .map_err(|e| e.to_string()),
             Err("inside an exclusion zone of the autopilot's fence (30 m from home)".into())
         );
         assert_eq!(

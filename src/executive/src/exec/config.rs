@@ -214,12 +214,11 @@ impl ExecConfig {
             let mut table = toml::Table::try_from(base).map_err(|e| e.to_string())?;
             table.extend(written);
             let cfg: ExecConfig = table.try_into().map_err(|e| e.to_string())?;
-            cfg.validate().map_err(|e| format!("exec.{}: {e}", e.key()))?;
+            cfg.validate()
+                .map_err(|e| format!("exec.{}: {e}", e.key()))?;
             Ok(cfg)
         };
-        merge().map_err(|reason| {
-            at(srctext::toml_file::at_key(origin, text, "exec", reason))
-        })
+        merge().map_err(|reason| at(srctext::toml_file::at_key(origin, text, "exec", reason)))
     }
 }
 
@@ -238,7 +237,11 @@ mod tests {
         assert_eq!(none, base);
         let cfg = ExecConfig::over(&base, "[exec]\ntimestep_ms = 900\n", "t").expect("over");
         assert_eq!(cfg.timestep_ms, 900);
-        assert_eq!(cfg.repair_max_steps, Some(300), "the base's own default kept");
+        assert_eq!(
+            cfg.repair_max_steps,
+            Some(300),
+            "the base's own default kept"
+        );
         assert!(ExecConfig::over(&base, "[exec]\nrepair_share = 2.0\n", "t").is_err());
     }
 

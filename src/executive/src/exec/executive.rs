@@ -229,10 +229,8 @@ impl Executive {
             if let Some(a) = outside {
                 let error = format!("{} leaves the vehicle's limits", self.action_text(a));
                 tracing::warn!("{error}: the plan is made again");
-                self.abort.get_or_insert(super::outcome::AbortReason::NotExecutable {
-                    now_ms: 0,
-                    error,
-                });
+                self.abort
+                    .get_or_insert(super::outcome::AbortReason::NotExecutable { now_ms: 0, error });
             }
         }
         self

@@ -8,7 +8,7 @@
 //! the battery", rather than after seconds of search with a planner's dead end.
 
 use super::executive::Executive;
-use mavtempo_temporal::model::{Goal, NumConstraint, ObjectId, Term, TaskId, Value};
+use mavtempo_temporal::model::{Goal, NumConstraint, ObjectId, TaskId, Term, Value};
 use mavtempo_temporal::plan::{PartialPlan, UsageKind};
 
 impl Executive {
