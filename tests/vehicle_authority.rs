@@ -207,8 +207,17 @@ fn at_the_end_of_a_mission_the_default_holds_and_disarms() {
         rig.step(2_000);
         let moving = rig.snapshot();
         assert!(moving.armed && moving.custom_mode == 15, "{moving:?}");
+        let before = rig.events.len();
         rig.v.end_of_mission();
         rig.step(3_000);
+        // Its own HOLD and disarm are no operator taking control: no pause after the mission.
+        assert!(
+            !rig.events[before..]
+                .iter()
+                .any(|e| matches!(e, VehicleEvent::Authority(AuthorityEvent::Paused { .. }))),
+            "{:?}",
+            &rig.events[before..]
+        );
         let end = rig.snapshot();
         assert_eq!(
             (end.custom_mode, end.armed),
