@@ -440,12 +440,15 @@ impl Driver {
         self.readiness.as_ref()
     }
 
-    /// The autopilot's fence once read (`None` while reading, or when not read at all).
-    pub fn autopilot_fence(&self) -> Option<&AutopilotFence> {
+    /// The autopilot's fence once read, with its home (`None` while reading, or when not read at all).
+    pub fn autopilot_fence(&self) -> Option<AutopilotFence> {
         self.fence_read
             .as_ref()
             .filter(|(f, _)| f.done())
-            .map(|(f, _)| f.fence())
+            .map(|(f, _)| AutopilotFence {
+                home: self.tel.home_position,
+                ..f.fence().clone()
+            })
     }
 
     /// Whether the fence reading started at readiness is over (true when there is none).

@@ -33,6 +33,9 @@ pub struct AutopilotFence {
     pub items: Vec<MissionItem>,
     /// Why the list could not be read, if it could not.
     pub download_error: Option<String>,
+    /// The autopilot's home (HOME_POSITION), the centre of its FENCE_RADIUS circle; else the
+    /// configuration's.
+    pub home: Option<(f64, f64)>,
 }
 
 impl AutopilotFence {
@@ -46,7 +49,8 @@ impl AutopilotFence {
         if let (Some(b), Some(r)) = (bits, self.radius_m) {
             if b & TYPE_CIRCLE != 0 && r > 0.0 {
                 let h = limits.home();
-                limits.add_disc(AUTOPILOT_FENCE, true, h.lat, h.lon, f64::from(r));
+                let (lat, lon) = self.home.unwrap_or((h.lat, h.lon));
+                limits.add_disc(AUTOPILOT_FENCE, true, lat, lon, f64::from(r));
                 taken.push(format!("a {r:.0} m circle around home"));
             }
         }
@@ -280,6 +284,17 @@ mod tests {
         assert!(l.check_local(Enu::new(13.0, 13.0, 0.0)).is_err());
         assert!(l.check_local(Enu::new(-21.0, 0.0, 0.0)).is_err());
         assert_eq!(l.check_local(Enu::new(40.0, 40.0, 0.0)), Ok(()));
+        // The circle is around the autopilot's own home when it told it (HOME_POSITION).
+        let (lat, lon, _) = HOME.to_global(Enu::new(0.0, 150.0, 0.0));
+        let moved = AutopilotFence {
+            home: Some((lat, lon)),
+            items: Vec::new(),
+            ..r.fence().clone()
+        };
+        let mut l = Limits::none(HOME);
+        moved.apply(&mut l);
+        assert_eq!(l.check_local(Enu::new(0.0, 200.0, 0.0)), Ok(()));
+        assert!(l.check_local(Enu::new(0.0, 0.0, 0.0)).is_err());
         // Disabled: nothing is taken.
         r.on_message(&value("FENCE_ENABLE", 0.0));
         let mut l = Limits::none(HOME);

@@ -821,7 +821,7 @@ impl MavlinkVehicle {
             .driver
             .lock()
             .ok()
-            .and_then(|d| d.autopilot_fence().cloned())
+            .and_then(|d| d.autopilot_fence())
     }
 
     /// Writes buffered `.tlog` records to disk.
