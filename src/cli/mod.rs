@@ -11,6 +11,7 @@ pub mod error;
 mod experiment;
 mod fuzz;
 mod goal;
+mod groups;
 pub mod http_arg;
 mod json_out;
 mod mission_out;
@@ -27,7 +28,7 @@ mod soak;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -42,33 +43,37 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Measure performance; prints one JSON object per line with --json.
-    Bench(bench::BenchArgs),
-    /// Check domain and problem files; exit non-zero with file:line:col diagnostics on errors.
-    Check(check::CheckArgs),
-    /// Plan a problem: print the flexible plan (--json, --dot), checked by the independent checker.
+    /// Plan a mission and carry it out live on a MAVLink vehicle, repairing the plan as it runs.
+    Run(run::RunArgs),
+    /// Run the built-in simulated vehicle (behaves like ArduPilot Rover, or an AUV) on a socket.
+    Sim(sim::SimArgs),
+    /// Plan a problem and print the flexible plan (--json, --dot), checked by the independent checker.
     Plan(plan::PlanArgs),
-    /// The Fig. 2 story of seed 1: the rover mission executed against the built-in SITL, with its faults.
-    Demo(demo::DemoArgs),
-    /// Experiments: `experiment dispatch` compares the dispatch policies under random goal arrivals.
-    Experiment(experiment::ExperimentArgs),
-    /// Fuzz the parsers and the goal intake with seeded mutations of the shipped files; failing inputs saved.
-    Fuzz(fuzz::FuzzArgs),
+    /// Check domain, problem and vehicle configuration files; errors as file:line:col, warnings for likely mistakes.
+    Check(check::CheckArgs),
     /// Goal lists for a companion: send a .plan / .waypoints file, or serve goal uploads.
     Goal(goal::GoalArgs),
     /// Pictures of a mission report: Gantt chart, resources against their bounds, track map, HTML page.
     Report(report::ReportArgs),
-    /// Plan a problem and execute it live on a MAVLink vehicle (plan repair, replanning, goal uploads).
-    Run(run::RunArgs),
-    /// Run the built-in simulated vehicle (ArduPilot Rover-like SITL) on a socket.
-    Sim(sim::SimArgs),
-    /// Random missions with random faults through the whole stack on the built-in SITL; invariants checked.
+    /// A shipped mission (by default the rover mission of seed 1's Fig. 2, with its faults) on the built-in simulated vehicle.
+    Demo(demo::DemoArgs),
+    /// Measure performance; prints one JSON object per line with --json.
+    Bench(bench::BenchArgs),
+    /// Random missions with random faults on the built-in simulated vehicle; invariants checked.
     Soak(soak::SoakArgs),
+    /// Fuzz the parsers and the goal intake with seeded mutations of the shipped files; failing inputs saved.
+    Fuzz(fuzz::FuzzArgs),
+    /// Experiments: `experiment dispatch` compares the dispatch policies under random goal arrivals.
+    Experiment(experiment::ExperimentArgs),
 }
 
 /// Entry point of the binary: parses arguments, sets up logging, runs the subcommand.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let matches = groups::grouped(Cli::command()).get_matches();
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(c) => c,
+        Err(e) => e.exit(),
+    };
     init_tracing();
     out::on_closed(match cli.command {
         // These drive or serve a vehicle: a closed stdout must not end them.
