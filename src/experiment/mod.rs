@@ -250,6 +250,14 @@ fn reason_class(reason: Option<&FateReason>) -> String {
         Some(FateReason::Acceptance(Rejection::Window { .. })) => "window",
         Some(FateReason::Acceptance(Rejection::Running { .. })) => "running",
         Some(FateReason::ReplanBudgetSpent { .. } | FateReason::Abandoned { .. }) => "replanning",
+        Some(FateReason::InsertionFailed { .. }) => "insertion-failed",
+        Some(FateReason::InsertionTimedOut { .. }) => "insertion-timeout",
+        Some(FateReason::Unreachable { .. }) => "unreachable",
+        Some(FateReason::PlanChurn(_)) => "plan-change-bound",
+        Some(FateReason::InstanceBanned { .. } | FateReason::NeedsBanned { .. }) => {
+            "repeated-failure"
+        }
+        Some(FateReason::HorizonPassed) => "horizon",
         Some(_) => "other",
     };
     class.into()
