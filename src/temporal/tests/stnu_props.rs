@@ -72,3 +72,26 @@ proptest! {
     }
 }
 
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 1000,
+        rng_seed: RngSeed::Fixed(20260528),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    /// On a DC network the best-effort dispatch is the check's, with no conflict.
+    #[test]
+    fn best_effort_is_the_check_on_dc_networks(net in net()) {
+        let s = build(&net);
+        let (d, conflict) = s.dispatch_best_effort();
+        match s.check_dc() {
+            Ok(full) => {
+                prop_assert!(conflict.is_none());
+                prop_assert_eq!(d.waits, full.waits);
+            }
+            Err(e) => prop_assert_eq!(conflict, Some(e)),
+        }
+    }
+}

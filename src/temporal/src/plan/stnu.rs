@@ -155,6 +155,15 @@ impl PartialPlan {
         }
     }
 
+    /// The dispatchable network the executive follows: on a DC plan, [`Self::check_dc`]'s; otherwise the
+    /// waits of every part the check gets through, with why the plan is not DC.
+    pub fn dispatch_network(&self) -> (DcPlan, Option<NotControllable>) {
+        let network = self.stnu();
+        let (dispatch, conflict) = network.stnu.dispatch_best_effort();
+        let why = conflict.map(|e| self.not_controllable(&network, &e));
+        (DcPlan { network, dispatch }, why)
+    }
+
     fn not_controllable(&self, network: &PlanStnu, e: &NotDc) -> NotControllable {
         let actions: Vec<ActionId> = e.links.iter().map(|&k| network.links[k].action).collect();
         let durations: Vec<String> = e

@@ -98,6 +98,29 @@ pub fn check(stnu: &Stnu) -> Result<Dispatchable, NotDc> {
     Ok(c.dispatchable())
 }
 
+/// The waits and edges every back-propagation that succeeds derives, going on past the ones that find a
+/// semi-reducible negative cycle; with the first such conflict. On a DC network, [`check`]'s result.
+pub fn best_effort(stnu: &Stnu) -> (Dispatchable, Option<NotDc>) {
+    let mut c = Checker::new(stnu);
+    let mut first = None;
+    for v in 0..c.incoming.len() {
+        if c.negative[v] {
+            if let Err(f) = c.backprop(v) {
+                // The failed chain was left unprocessed: later sources may retry its nodes.
+                for s in c.status.iter_mut() {
+                    if *s == Status::Ancestor {
+                        *s = Status::Fresh;
+                    }
+                }
+                if first.is_none() {
+                    first = Some(c.explain(&f.edges));
+                }
+            }
+        }
+    }
+    (c.dispatchable(), first)
+}
+
 impl<'a> Checker<'a> {
     fn new(stnu: &'a Stnu) -> Self {
         let n = stnu.num_nodes();

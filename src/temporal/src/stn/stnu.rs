@@ -196,4 +196,10 @@ impl Stnu {
     pub fn check_dc(&self) -> Result<Dispatchable, NotDc> {
         super::dc::check(self)
     }
+
+    /// The waits (and derived edges) of every part of the network the check gets through, and the first
+    /// conflict if it is not DC: what an executive can still honour when the world may break the plan.
+    pub fn dispatch_best_effort(&self) -> (Dispatchable, Option<NotDc>) {
+        super::dc::best_effort(self)
+    }
 }

@@ -133,3 +133,20 @@ fn bad_links_are_refused_with_their_reason() {
         Err(StnuError::TwiceContingent { node: 1 })
     );
 }
+
+/// Past a conflict, the waits of the rest of the network are still derived (what the executive honours
+/// when the world may break the plan): the squeeze case of the first test, next to a link whose lower
+/// bound a requirement cuts.
+#[test]
+fn best_effort_keeps_the_waits_beside_a_conflict() {
+    let mut s = link(5, 2, 5);
+    s.add_requirement(2, 1, -INF, 2).unwrap();
+    s.add_requirement(0, 2, 0, INF).unwrap();
+    s.add_contingent(3, 4, 1, 10).unwrap();
+    s.add_requirement(3, 4, 5, INF).unwrap();
+    let (d, conflict) = s.dispatch_best_effort();
+    let conflict = conflict.expect("the second link is not DC");
+    assert_eq!(conflict.links, vec![1]);
+    assert!(d.waits_on(2).any(|w| w.link == 0 && w.delay == 3), "{:?}", d.waits);
+    assert!(s.check_dc().is_err());
+}
