@@ -93,7 +93,9 @@ fn the_relay_waits_on_the_drive_in_the_dispatchable_network() {
     );
     // Launched with the drive, then with the drive running: the relay waits for the drive's end, or
     // until the drive's longest duration (100 s) minus the 25 s the relay may open before the picture.
-    let dc = plan.check_dc().expect("DC: the relay can wait for the drive");
+    let dc = plan
+        .check_dc()
+        .expect("DC: the relay can wait for the drive");
     let w = pending_wait(&plan, &dc, &[drive], relay_st, t0).expect("a wait on the drive");
     assert_eq!(w.action, drive);
     assert!(w.until >= t0 + 75_000, "{w:?}");
@@ -114,7 +116,9 @@ fn the_relay_waits_on_the_drive_in_the_dispatchable_network() {
 fn without_the_marker_nothing_waits_on_the_drive() {
     let plan = planned(&DOMAIN.replace("contingent ", ""));
     let relay_st = plan.action(action_named(&plan, "relay")).start;
-    let dc = plan.check_dc().expect("no contingent link: an STN, consistent");
+    let dc = plan
+        .check_dc()
+        .expect("no contingent link: an STN, consistent");
     assert!(dc.network.links.is_empty());
     assert_eq!(dc.waits_on(relay_st).count(), 0);
 }

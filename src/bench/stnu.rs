@@ -33,7 +33,8 @@ pub fn plan_like_stnu(n: usize, seed: u64) -> Stnu {
             s.add_requirement(2 * j + 2, st, gap.min(5), bounded).ok();
         }
         horizon += d + delta + 60;
-        s.add_requirement(0, et, 0, horizon + rng.gen_range(0..200)).ok();
+        s.add_requirement(0, et, 0, horizon + rng.gen_range(0..200))
+            .ok();
     }
     s
 }

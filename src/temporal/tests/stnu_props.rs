@@ -16,7 +16,13 @@ struct Net {
 fn net() -> impl Strategy<Value = Net> {
     (3usize..=7).prop_flat_map(|n| {
         let link = (0..n, 0..n, 0i64..6, 0i64..8);
-        let req = (0..n, 0..n, -8i64..12, prop_oneof![0i64..12, Just(INF)], any::<bool>());
+        let req = (
+            0..n,
+            0..n,
+            -8i64..12,
+            prop_oneof![0i64..12, Just(INF)],
+            any::<bool>(),
+        );
         (
             Just(n),
             proptest::collection::vec(link, 0..=3),
@@ -71,7 +77,6 @@ proptest! {
         }
     }
 }
-
 
 proptest! {
     #![proptest_config(ProptestConfig {

@@ -14,7 +14,7 @@
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
 //! | §3.5 the dispatch decision (src/dispatch policies; default earliest) | [`dispatch_policy`] |
-//! | §5 (future work, done): contingent durations not squeezed by dispatching | [`squeeze`] |
+//! | §5 (future work): contingent durations not squeezed: waits of the plan's STNU (dynamic controllability, docs/stnu.md) | [`squeeze`] |
 //! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |

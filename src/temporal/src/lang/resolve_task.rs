@@ -566,7 +566,10 @@ fn contingent(ctx: &mut Ctx<'_>, s: &Scope<'_>, task: &mut Task, inner: &Stmt, s
     };
     if !ok {
         let (st, et) = (task.timepoints.first(), task.timepoints.last());
-        let (st, et) = (st.map_or("st", |t| t.as_str()), et.map_or("et", |t| t.as_str()));
+        let (st, et) = (
+            st.map_or("st", |t| t.as_str()),
+            et.map_or("et", |t| t.as_str()),
+        );
         ctx.err(
             span,
             format!(

@@ -67,7 +67,11 @@ impl PartialPlan {
         let act = self.action(a);
         let task = self.domain.task(act.task);
         let mut stn = Stn::new();
-        let tps: Vec<Timepoint> = task.timepoints.iter().map(|_| stn.add_timepoint()).collect();
+        let tps: Vec<Timepoint> = task
+            .timepoints
+            .iter()
+            .map(|_| stn.add_timepoint())
+            .collect();
         for c in &task.temporal {
             let (lo, hi) = stn_bounds(&c.interval);
             stn.add_constraint(tps[c.from.index()], tps[c.to.index()], lo, hi)
@@ -95,10 +99,7 @@ impl PartialPlan {
         let mut contingent_pairs = Vec::new();
         for (i, act) in self.actions.iter().enumerate() {
             let a = ActionId(i as u32);
-            if act.removed
-                || !self.domain.task(act.task).contingent
-                || stn.is_executed(act.end)
-            {
+            if act.removed || !self.domain.task(act.task).contingent || stn.is_executed(act.end) {
                 continue;
             }
             let Some((mut lower, mut upper)) = self.natural_duration(a) else {
@@ -194,7 +195,12 @@ impl PartialPlan {
                 )
             })
             .collect();
-        let mut shown = cons.iter().take(SHOWN).cloned().collect::<Vec<_>>().join("; ");
+        let mut shown = cons
+            .iter()
+            .take(SHOWN)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join("; ");
         if cons.len() > SHOWN {
             shown += &format!("; and {} more", cons.len() - SHOWN);
         }

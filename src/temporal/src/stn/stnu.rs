@@ -47,7 +47,9 @@ pub enum StnuError {
     NoSuchNode { node: usize, n: usize },
     #[error("a contingent link needs finite bounds 0 <= lower <= upper, found [{lower}, {upper}]")]
     BadBounds { lower: Time, upper: Time },
-    #[error("node {node} is already the contingent end of a link: the world cannot decide it twice")]
+    #[error(
+        "node {node} is already the contingent end of a link: the world cannot decide it twice"
+    )]
     TwiceContingent { node: usize },
     #[error("a contingent link cannot start and end at node {node}")]
     SelfLink { node: usize },

@@ -13,7 +13,11 @@ fn link(n: usize, lower: Time, upper: Time) -> Stnu {
 
 fn both(s: &Stnu) -> Result<Dispatchable, NotDc> {
     let got = s.check_dc();
-    assert_eq!(got.is_ok(), is_dc(s), "Morris 2014 and the reference disagree");
+    assert_eq!(
+        got.is_ok(),
+        is_dc(s),
+        "Morris 2014 and the reference disagree"
+    );
     got
 }
 
@@ -64,7 +68,10 @@ fn a_requirement_cutting_the_contingent_duration_is_not_dc() {
     let mut s = link(2, 1, 10);
     let r = s.add_requirement(0, 1, 5, INF).unwrap();
     let e = both(&s).expect_err("not DC");
-    assert_eq!((e.links.clone(), e.requirements.clone()), (vec![0], vec![r]));
+    assert_eq!(
+        (e.links.clone(), e.requirements.clone()),
+        (vec![0], vec![r])
+    );
     assert!(e.to_string().contains("contingent link"), "{e}");
 }
 
@@ -147,6 +154,10 @@ fn best_effort_keeps_the_waits_beside_a_conflict() {
     let (d, conflict) = s.dispatch_best_effort();
     let conflict = conflict.expect("the second link is not DC");
     assert_eq!(conflict.links, vec![1]);
-    assert!(d.waits_on(2).any(|w| w.link == 0 && w.delay == 3), "{:?}", d.waits);
+    assert!(
+        d.waits_on(2).any(|w| w.link == 0 && w.delay == 3),
+        "{:?}",
+        d.waits
+    );
     assert!(s.check_dc().is_err());
 }
