@@ -52,18 +52,7 @@ pub fn is_dc(stnu: &Stnu) -> bool {
     for _ in 0..cutoff {
         let mut changed = false;
         // No-case, to closure.
-        for b in 0..n {
-            for a in 0..n {
-                let ab = ord[a * n + b];
-                if ab >= INF {
-                    continue;
-                }
-                for d in 0..n {
-                    let w = sat_add(ab, ord[b * n + d]);
-                    changed |= tighten(&mut ord, a * n + d, w);
-                }
-            }
-        }
+        changed |= close(n, &mut ord);
         for (k, l) in links.iter().enumerate() {
             // Upper-case.
             for x in 0..n {
@@ -115,6 +104,13 @@ fn all_max_consistent(n: usize, ord: &[Time], upper: &[Vec<Time>], stnu: &Stnu) 
             m[i] = m[i].min(upper[k][x]);
         }
     }
+    close(n, &mut m);
+    (0..n).all(|i| m[i * n + i] >= 0)
+}
+
+/// Floyd–Warshall closure of the `n × n` matrix `m` (the no-case rule to a fixpoint); whether it changed.
+fn close(n: usize, m: &mut [Time]) -> bool {
+    let mut changed = false;
     for b in 0..n {
         for a in 0..n {
             let ab = m[a * n + b];
@@ -125,9 +121,10 @@ fn all_max_consistent(n: usize, ord: &[Time], upper: &[Vec<Time>], stnu: &Stnu) 
                 let w = sat_add(ab, m[b * n + d]);
                 if w < m[a * n + d] {
                     m[a * n + d] = w;
+                    changed = true;
                 }
             }
         }
     }
-    (0..n).all(|i| m[i * n + i] >= 0)
+    changed
 }
