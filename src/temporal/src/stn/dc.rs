@@ -278,9 +278,8 @@ impl<'a> Checker<'a> {
     fn record_waits(&mut self, k: usize, source: usize, dist: &[Vec<Time>; 2]) {
         let (_, at) = self.as_original(source);
         let link = self.stnu.links()[k];
-        for v in 0..dist[UPPER].len() {
-            let d = dist[UPPER][v];
-            if d >= 0 || dist[ORD][v] <= d || v == link.contingent || v == source {
+        for (v, (&d, &ord)) in dist[UPPER].iter().zip(&dist[ORD]).enumerate() {
+            if d >= 0 || ord <= d || v == link.contingent || v == source {
                 continue;
             }
             let (node, off) = self.as_original(v);

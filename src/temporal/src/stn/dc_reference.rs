@@ -69,17 +69,16 @@ pub fn is_dc(stnu: &Stnu) -> bool {
                 }
             }
             // Cross-case: this link's lower-case edge before another link's upper-case edge.
-            for j in 0..links.len() {
-                let v = upper[j][l.contingent];
+            for (j, up) in upper.iter_mut().enumerate() {
+                let v = up[l.contingent];
                 if j != k && v < 0 {
-                    changed |= tighten(&mut upper[j], l.activation, l.lower + v);
+                    changed |= tighten(up, l.activation, l.lower + v);
                 }
             }
         }
         // Label removal.
-        for (k, l) in links.iter().enumerate() {
-            for x in 0..n {
-                let v = upper[k][x];
+        for (l, up) in links.iter().zip(&upper) {
+            for (x, &v) in up.iter().enumerate() {
                 if v < INF && v >= -l.lower {
                     changed |= tighten(&mut ord, x * n + l.activation, v);
                 }
@@ -98,10 +97,10 @@ pub fn is_dc(stnu: &Stnu) -> bool {
 /// The AllMax projection (ordinary edges and upper-case edges taken as ordinary) has no negative cycle.
 fn all_max_consistent(n: usize, ord: &[Time], upper: &[Vec<Time>], stnu: &Stnu) -> bool {
     let mut m = ord.to_vec();
-    for (k, l) in stnu.links().iter().enumerate() {
-        for x in 0..n {
+    for (l, up) in stnu.links().iter().zip(upper) {
+        for (x, &v) in up.iter().enumerate() {
             let i = x * n + l.activation;
-            m[i] = m[i].min(upper[k][x]);
+            m[i] = m[i].min(v);
         }
     }
     close(n, &mut m);
