@@ -1,9 +1,10 @@
-//! Contingent durations are not squeezed (src/executive/src/exec/squeeze.rs): a start that could go now but would shorten
-//! the upper bound of a running action's end waits until that action ends (while it keeps flexibility),
+//! Contingent durations are not squeezed (src/executive/src/exec/squeeze.rs, docs/stnu.md): a start that
+//! could go now but would shorten a running contingent duration has a wait in the plan's dispatchable
+//! network (dynamic controllability); it waits until that action ends (while it keeps flexibility),
 //! instead of forcing the running action to be stopped short or to time out.
 //!
-//! The relay domain: the rover drives to b (late-preemptive, 10–100 s); a picture at b needs the radio
-//! relay open (20–30 s, non-preemptive), so the relay may open up to 25 s before the picture. Dispatched at
+//! The relay domain: the rover drives to b (late-preemptive, 10–100 s, contingent); a picture at b needs the radio
+//! relay open (20–30 s, non-preemptive, contingent), so the relay may open up to 25 s before the picture. Dispatched at
 //! its earliest, the relay would open at 0 s and the drive would have to end by 25 s; the drive takes 60 s.
 
 #[path = "common/mission.rs"]
@@ -14,7 +15,7 @@ use std::sync::Arc;
 use mavtempo::exec::config::ExecConfig;
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::mission::MissionEnd;
-use mavtempo::exec::squeeze::squeezed_running_end;
+use mavtempo::exec::squeeze::pending_wait;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::{parse_domain, parse_problem};
 use mavtempo::plan::PartialPlan;
@@ -33,14 +34,14 @@ task drive(?from: place, ?to: place) (st, et) {
     event(AT(): (?from, +oo), st);
     hold(AT(): +oo, (st, et));
     event(AT(): (+oo, ?to), et);
-    (et - st) in [10s, 100s];
+    contingent (et - st) in [10s, 100s];
 } latePreemptive
 
 task relay() (st, et) {
     event(LINK(): (false, true), st);
     hold(LINK(): true, (st, et));
     event(LINK(): (true, false), et);
-    (et - st) in [20s, 30s];
+    contingent (et - st) in [20s, 30s];
 } nonPreemptive
 
 task snap(?p: place) (st, et) {
@@ -63,8 +64,8 @@ initial {
 goal shot_b priority 1 { hold(SHOT(b): true, (st, et)); }
 ";
 
-fn planned() -> PartialPlan {
-    let d = parse_domain("relay.ixt", DOMAIN).expect("domain parses");
+fn planned(domain: &str) -> PartialPlan {
+    let d = parse_domain("relay.ixt", domain).expect("domain parses");
     let p = parse_problem("shot.ixt", PROBLEM, &d).expect("problem parses");
     let root = PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan");
     let mut search = Search::new(root);
@@ -79,41 +80,53 @@ fn action_named(plan: &PartialPlan, task: &str) -> mavtempo::plan::ActionId {
 }
 
 #[test]
-fn the_relay_would_squeeze_the_running_drive() {
-    let mut plan = planned();
+fn the_relay_waits_on_the_drive_in_the_dispatchable_network() {
+    let mut plan = planned(DOMAIN);
     let drive = action_named(&plan, "drive");
     let relay = action_named(&plan, "relay");
     let (drive_st, drive_et) = (plan.action(drive).start, plan.action(drive).end);
-    let natural_ub = plan.temporal_network().ub(drive_et);
     let relay_st = plan.action(relay).start;
     let t0 = plan.temporal_network().lb(drive_st);
     assert!(
         plan.temporal_network().lb(relay_st) <= t0,
         "the relay could open with the drive"
     );
-    // Weighed against the drive launched at the same time, then against the drive running.
-    let (a, ub) = squeezed_running_end(&plan, &[drive], relay_st, t0)
-        .expect("opening with the drive squeezes it");
-    assert_eq!(a, drive);
-    assert!(ub <= t0 + 25_000 && ub < natural_ub, "{ub} vs {natural_ub}");
+    // Launched with the drive, then with the drive running: the relay waits for the drive's end, or
+    // until the drive's longest duration (100 s) minus the 25 s the relay may open before the picture.
+    let dc = plan
+        .check_dc()
+        .expect("DC: the relay can wait for the drive");
+    let w = pending_wait(&plan, &dc, &[drive], relay_st, t0).expect("a wait on the drive");
+    assert_eq!(w.action, drive);
+    assert!(w.until >= t0 + 75_000, "{w:?}");
     plan.execute_at(drive_st, t0).expect("the drive starts");
-    let (a, ub) = squeezed_running_end(&plan, &[drive], relay_st, t0)
-        .expect("opening now squeezes the running drive");
-    assert_eq!(a, drive);
-    assert!(ub <= t0 + 25_000, "{ub}");
-    // Once the drive has ended, nothing is squeezed.
+    let dc = plan.check_dc().expect("still DC");
+    let w = pending_wait(&plan, &dc, &[], relay_st, t0 + 1_000).expect("still waiting");
+    assert_eq!(w.action, drive);
+    // The drive's end is observed at 60 s: the wait is over (reactive), nothing else holds the relay.
     plan.execute_at(drive_et, 60_000)
         .expect("drive ends at 60 s");
-    assert_eq!(
-        squeezed_running_end(&plan, &[drive], relay_st, 60_000),
-        None
-    );
+    let dc = plan.check_dc().expect("still DC");
+    assert_eq!(pending_wait(&plan, &dc, &[], relay_st, 60_000), None);
+}
+
+/// Only durations the domain marks `contingent` are protected: an unmarked drive is the executive's to
+/// cut, and nothing waits on it.
+#[test]
+fn without_the_marker_nothing_waits_on_the_drive() {
+    let plan = planned(&DOMAIN.replace("contingent ", ""));
+    let relay_st = plan.action(action_named(&plan, "relay")).start;
+    let dc = plan
+        .check_dc()
+        .expect("no contingent link: an STN, consistent");
+    assert!(dc.network.links.is_empty());
+    assert_eq!(dc.waits_on(relay_st).count(), 0);
 }
 
 #[test]
 fn the_relay_waits_for_the_drive_instead_of_cutting_it_short() {
     let mut ex = Executive::new(
-        planned(),
+        planned(DOMAIN),
         ExecConfig {
             timestep_ms: 1_000,
             ..ExecConfig::default()

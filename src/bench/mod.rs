@@ -7,5 +7,6 @@ pub mod exec;
 pub mod plan;
 pub mod repair;
 pub mod stn;
+pub mod stnu;
 pub mod suite;
 pub mod vehicle;

@@ -12,7 +12,7 @@ use crate::cli::out::{out, outln};
 use crate::lang;
 use crate::plan::solution::{Consumer, Establisher, PlanTerm, Solution};
 use crate::plan::validate::validate;
-use crate::planner::{solve, Budget};
+use crate::planner::{solve_dc, Budget, DcMode};
 
 #[derive(Args, Debug)]
 pub struct PlanArgs {
@@ -29,6 +29,10 @@ pub struct PlanArgs {
     /// Maximum number of planning steps.
     #[arg(long, default_value_t = 200_000)]
     pub max_steps: u64,
+    /// Only a dynamically controllable plan (the durations the domain marks `contingent` decided by the
+    /// world; docs/stnu.md): without it, a plan that is not DC is printed with the reason.
+    #[arg(long)]
+    pub require_dc: bool,
     /// PDDL problems: also write the plan in the IPC format to FILE (`-`: stdout).
     #[arg(long, value_name = "FILE")]
     pub pddl_out: Option<PathBuf>,
@@ -56,10 +60,16 @@ pub fn run(args: PlanArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let planned = match solve(
+    let dc = if args.require_dc {
+        DcMode::Require
+    } else {
+        DcMode::Report
+    };
+    let planned = match solve_dc(
         domain.clone(),
         problem.clone(),
         Budget::steps(args.max_steps),
+        dc,
     ) {
         Ok(p) => p,
         Err(e) => {
@@ -85,6 +95,10 @@ pub fn run(args: PlanArgs) -> ExitCode {
             planned.steps,
             planned.backtracks
         );
+        match &planned.not_controllable {
+            None => outln!("dynamically controllable"),
+            Some(why) => outln!("{why}"),
+        }
     }
     match checked {
         Ok(_) => {

@@ -32,6 +32,7 @@ fn task(name: &str, sym_vars: Vec<SymVar>, n_params: usize) -> Task {
         bindings: vec![],
         numeric: vec![],
         preemption: Preemption::NonPreemptive,
+        contingent: false,
         line: None,
     }
 }

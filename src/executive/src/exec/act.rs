@@ -4,8 +4,9 @@
 //! timepoint executes at its `t_exec`, not up to `ts` early (docs/departures.md); starts of executable
 //! actions launch them (`START`), ends of preemptive actions stop them (`END`, their time is set by the
 //! report), goal timepoints are executed when the goal is achievable; non-executable actions and
-//! non-achievable goals are postponed while flexibility remains, and so are those that would squeeze a
-//! running action's duration ([`super::squeeze`]); timeouts when a timepoint's upper bound
+//! non-achievable goals are postponed while flexibility remains, and so are those that a wait of the plan's
+//! dispatchable network holds until a contingent end is observed ([`super::squeeze`]: dynamic
+//! controllability, so that no running action's duration is squeezed); timeouts when a timepoint's upper bound
 //! passes unexecuted.
 
 use super::dispatch_policy::Candidate;
@@ -17,7 +18,7 @@ use super::squeeze::should_wait;
 use super::t_exec::{t_exec, TpKind};
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::{Preemption, Time};
-use mavtempo_temporal::plan::{ActionId, Owner};
+use mavtempo_temporal::plan::{ActionId, DcPlan, Owner, PartialPlan};
 use mavtempo_vehicle::Vehicle;
 
 impl Executive {
@@ -61,10 +62,12 @@ impl Executive {
                     postponed.push(a);
                 }
             }
-            let weighed: Vec<ActionId> = running.iter().chain(&due).copied().collect();
+            // The dispatchable network of the plan as it is in this pass (only when something is due).
+            let mut dc: Option<DcPlan> = None;
             for &a in &due {
                 let st = self.plan.action(a).start;
-                if should_wait(&self.plan, &weighed, st, now, ts) {
+                let net = dc.get_or_insert_with(|| dispatch_network(&self.plan));
+                if should_wait(&self.plan, net, &due, st, now, ts) {
                     if !postponed.contains(&a) {
                         postponed.push(a);
                     }
@@ -103,7 +106,14 @@ impl Executive {
                         continue;
                     }
                     if !goal_achievable(&self.plan, pg.goal, now)
-                        || should_wait(&self.plan, &weighed, pg.st, now, ts)
+                        || should_wait(
+                            &self.plan,
+                            dc.get_or_insert_with(|| dispatch_network(&self.plan)),
+                            &due,
+                            pg.st,
+                            now,
+                            ts,
+                        )
                     {
                         continue;
                     }
@@ -282,4 +292,13 @@ impl Executive {
             self.abort = Some(AbortReason::Timeout { timepoint });
         }
     }
+}
+
+/// The plan's dispatchable network; why a plan is not DC goes to the debug log (its waits still apply).
+fn dispatch_network(plan: &PartialPlan) -> DcPlan {
+    let (dc, why) = plan.dispatch_network();
+    if let Some(why) = why {
+        tracing::debug!(%why, "plan not dynamically controllable");
+    }
+    dc
 }

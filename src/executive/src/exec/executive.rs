@@ -279,13 +279,7 @@ impl Executive {
 
     /// [`Self::action_text`] of an action of another plan (e.g. a replanning's).
     pub fn action_text_in(&self, plan: &PartialPlan, a: ActionId) -> String {
-        let act = plan.action(a);
-        let task = plan.domain().task(act.task);
-        let args: Vec<String> = act.vars[..task.n_params]
-            .iter()
-            .map(|&v| plan.term_name(mavtempo_temporal::plan::STerm::Var(v)))
-            .collect();
-        format!("{}({})", task.name, args.join(", "))
+        plan.action_text(a)
     }
 
     /// `START a p_a i_a`: the task name and its grounded parameters in vehicle terms.

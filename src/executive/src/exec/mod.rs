@@ -17,7 +17,7 @@
 //! | §3.5 the dispatch decision (src/dispatch policies) | [`dispatch_policy`] |
 //! | seed 2's latest start, kept for the longest durations | [`deferral`] |
 //! | seed 2: what an action is for (causal links and reservoirs; dispatch and the failure bounds) | [`goal_support`] |
-//! | §5 (future work; a heuristic, not dynamic controllability): starts postponed rather than squeeze a running action's duration | [`squeeze`] |
+//! | §5 (future work): contingent durations not squeezed: waits of the plan's STNU (dynamic controllability, docs/stnu.md) | [`squeeze`] |
 //! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |

@@ -126,6 +126,9 @@ pub enum Stmt {
     },
     /// `achieve 30s;` (goals only)
     Achieve(Expr, Span),
+    /// `contingent (et - st) in [a, b];`, `contingent ?d = et - st;`: the task's duration is decided by
+    /// the world (tasks only).
+    Contingent(Box<Stmt>, Span),
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -346,6 +346,19 @@ impl<'a> Parser<'a> {
 
     fn stmt(&mut self) -> PResult<Stmt> {
         let start = self.span();
+        if self.eat_kw("contingent") {
+            let inner =
+                match self.peek() {
+                    Tok::LParen | Tok::Var(_) => self.constraint()?,
+                    _ => return self.err(
+                        "a duration after `contingent`: `(et - st) in [a, b];` or `?d = et - st;`",
+                    ),
+                };
+            return Ok(Stmt::Contingent(
+                Box::new(inner),
+                start.to(self.prev_span()),
+            ));
+        }
         let secondary = self.eat_kw("secondary");
         let saturating = self.eat_kw("saturating");
         let kw = match self.peek() {

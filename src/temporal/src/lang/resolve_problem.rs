@@ -548,6 +548,10 @@ pub fn goal(ctx: &mut Ctx<'_>, domain: &Domain, p: &Problem, g: &GoalAst) -> Opt
                 };
                 ctx.err(*span, format!("a goal contains `hold(...)`, `st in [..]`, `(et - st) in [..]` and `achieve ..;`{hint}"));
             }
+            Stmt::Contingent(_, span) => ctx.err(
+                *span,
+                "`contingent` marks a task's duration (the world decides it), not a goal's",
+            ),
             Stmt::Variables(vs) => {
                 if let Some((v, _)) = vs.first() {
                     ctx.err(v.span, "goals are ground: no variables");

@@ -381,6 +381,10 @@ fn statement(ctx: &mut Ctx<'_>, s: &mut Scope<'_>, task: &mut Task, stn: &mut Ta
         }
         Stmt::Rel { lhs, op, rhs, span } => relation(ctx, s, task, lhs, *op, rhs, *span),
         Stmt::Achieve(_, span) => ctx.err(*span, "`achieve` belongs in goals, not in tasks"),
+        Stmt::Contingent(inner, span) => {
+            statement(ctx, s, task, stn, inner);
+            contingent(ctx, s, task, inner, *span);
+        }
     }
 }
 
@@ -546,6 +550,36 @@ fn constrain_in(
             e.span,
             "expected a `?variable` or a duration `(t2 - t1)` of two timepoints before `in`",
         ),
+    }
+}
+
+/// `contingent` before the task's whole duration (`(et - st) in [..]` or `?d = et - st`) marks it
+/// decided by the world; any other statement is refused.
+fn contingent(ctx: &mut Ctx<'_>, s: &Scope<'_>, task: &mut Task, inner: &Stmt, span: Span) {
+    let whole = Some((task.start, task.end));
+    let ok = match inner {
+        Stmt::In { lhs, .. } => lhs.len() == 1 && s.tp_diff(&lhs[0]) == whole,
+        Stmt::Rel {
+            op: RelOp::Eq, rhs, ..
+        } => s.tp_diff(rhs) == whole,
+        _ => false,
+    };
+    if !ok {
+        let (st, et) = (task.timepoints.first(), task.timepoints.last());
+        let (st, et) = (
+            st.map_or("st", |t| t.as_str()),
+            et.map_or("et", |t| t.as_str()),
+        );
+        ctx.err(
+            span,
+            format!(
+                "only the task's whole duration can be contingent: `contingent ({et} - {st}) in [a, b];` or `contingent ?d = {et} - {st};`"
+            ),
+        );
+    } else if task.contingent {
+        ctx.err(span, "the task's duration is already marked contingent");
+    } else {
+        task.contingent = true;
     }
 }
 

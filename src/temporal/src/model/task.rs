@@ -169,6 +169,9 @@ pub struct Task {
     pub bindings: Vec<Binding>,
     pub numeric: Vec<NumConstraint>,
     pub preemption: Preemption,
+    /// Its duration (`end − start`) is decided by the world, not by the executive (`contingent (et - st)
+    /// in [a, b];` or `contingent ?d = et - st;`): the plan keeps it as a contingent link of an STNU.
+    pub contingent: bool,
     /// Where it is declared in its domain file (1-based), for messages about it; `None` when built in code.
     pub line: Option<usize>,
 }
@@ -199,6 +202,7 @@ impl Task {
             bindings: Vec::new(),
             numeric: Vec::new(),
             preemption: Preemption::NonPreemptive,
+            contingent: false,
             line,
         }
     }

@@ -7,18 +7,66 @@ use std::sync::Arc;
 use super::changes::ChangeLog;
 use super::{
     Action, ActionId, CausalLink, CondId, CondKind, Condition, EventId, EventRec, LinkId, NTerm,
-    NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm, TimeFloor, Usage, UsageId,
-    UsageKind,
+    NVar, NumCons, Owner, PartialPlan, PlanChange, PlanError, PlanGoal, STerm, TimeFloor, Usage,
+    UsageId, UsageKind, VarId,
 };
 use crate::model::{
-    Binding, Domain, GoalId, NumConstraint, NumTerm, Problem, ResourceKind, TaskId, Term,
+    Binding, Domain, GoalId, NumConstraint, NumTerm, Problem, ResourceKind, Task, TaskId, Term,
     TimeInterval,
 };
-use crate::stn::{Timepoint, INF};
+use crate::stn::{Inconsistent, Stn, Timepoint, INF};
 
 /// STN bounds of a model interval (open bounds one unit inside, infinities explicit).
 pub(crate) fn stn_bounds(i: &TimeInterval) -> (i64, i64) {
     (i.min_ms().unwrap_or(-INF), i.max_ms().unwrap_or(INF))
+}
+
+/// The numeric constraints of `task` over an instance's variables (`vars`, `nums`) and timepoints
+/// (`tps`); each duration `?d = t2 − t1` adds its constraint to `stn` (unbounded: the propagation narrows
+/// it).
+pub(crate) fn numeric_constraints(
+    task: &Task,
+    vars: &[VarId],
+    nums: &[NVar],
+    tps: &[Timepoint],
+    stn: &mut Stn,
+) -> Result<Vec<NumCons>, Inconsistent> {
+    let sterm = |x: &Term| match *x {
+        Term::Var(v) => STerm::Var(vars[v.index()]),
+        Term::Obj(o) => STerm::Obj(o),
+        Term::Unknown => STerm::Unknown,
+    };
+    let nterm = |x: &NumTerm| match *x {
+        NumTerm::Var(v) => NTerm::Var(nums[v.index()]),
+        NumTerm::Const(c) => NTerm::Const(c),
+    };
+    let mut num_cons = Vec::with_capacity(task.numeric.len());
+    for c in &task.numeric {
+        num_cons.push(match c {
+            NumConstraint::Distance { var, a, b } => NumCons::Distance {
+                var: nums[var.index()],
+                a: sterm(a),
+                b: sterm(b),
+            },
+            NumConstraint::Duration { var, from, to } => NumCons::Duration {
+                var: nums[var.index()],
+                c: stn.add_constraint(tps[from.index()], tps[to.index()], -INF, INF)?,
+            },
+            NumConstraint::Product { var, a, b } => NumCons::Product {
+                var: nums[var.index()],
+                a: nterm(a),
+                b: nterm(b),
+            },
+            NumConstraint::Sum { var, a, b } => NumCons::Sum {
+                var: nums[var.index()],
+                a: nterm(a),
+                b: nterm(b),
+            },
+            NumConstraint::Le(a, b) => NumCons::Le(nterm(a), nterm(b)),
+            NumConstraint::Equal(a, b) => NumCons::Equal(nterm(a), nterm(b)),
+        });
+    }
+    Ok(num_cons)
 }
 
 impl PartialPlan {
@@ -328,37 +376,7 @@ impl PartialPlan {
                 Binding::In(v, objs) => self.bindings.restrict_var(vars[v.index()], objs)?,
             }
         }
-        let mut num_cons = Vec::with_capacity(t.numeric.len());
-        for c in &t.numeric {
-            num_cons.push(match c {
-                NumConstraint::Distance { var, a, b } => NumCons::Distance {
-                    var: nums[var.index()],
-                    a: sterm(a),
-                    b: sterm(b),
-                },
-                NumConstraint::Duration { var, from, to } => {
-                    let c =
-                        self.stn
-                            .add_constraint(tps[from.index()], tps[to.index()], -INF, INF)?;
-                    NumCons::Duration {
-                        var: nums[var.index()],
-                        c,
-                    }
-                }
-                NumConstraint::Product { var, a, b } => NumCons::Product {
-                    var: nums[var.index()],
-                    a: nterm(a),
-                    b: nterm(b),
-                },
-                NumConstraint::Sum { var, a, b } => NumCons::Sum {
-                    var: nums[var.index()],
-                    a: nterm(a),
-                    b: nterm(b),
-                },
-                NumConstraint::Le(a, b) => NumCons::Le(nterm(a), nterm(b)),
-                NumConstraint::Equal(a, b) => NumCons::Equal(nterm(a), nterm(b)),
-            });
-        }
+        let num_cons = numeric_constraints(t, &vars, &nums, &tps, &mut self.stn)?;
         self.numeric
             .propagate(&num_cons, &self.bindings, &problem, &mut self.stn)?;
         self.bindings.take_changed();

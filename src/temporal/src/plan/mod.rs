@@ -32,6 +32,7 @@ pub mod flaws;
 mod numeric;
 mod order;
 pub mod solution;
+mod stnu;
 pub mod validate;
 mod withdraw;
 
@@ -45,6 +46,7 @@ pub use changes::{ChangeCursor, LinkEnds, PlanChange};
 pub use envelope::{reservoir_conflict, ReservoirConflict};
 pub use flaws::{Flaw, ThreatCheck};
 pub use numeric::{NTerm, NVar, NumConflict, NumCons, Numeric};
+pub use stnu::{DcPlan, NotControllable, PlanLink, PlanStnu};
 
 use crate::model::{AttrId, Domain, GoalId, Problem, ResourceId, TaskId, Time};
 use crate::stn::{ConstraintId, Inconsistent, Stn, Timepoint};

@@ -8,6 +8,7 @@
 //! tree across cycles when nothing changed. The root of a search is whatever plan it is given: a problem's
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
+mod controllability;
 pub mod hierarchy;
 pub mod reachability;
 pub mod resolvers;
@@ -16,6 +17,7 @@ pub mod select;
 use std::time::Instant;
 
 use crate::plan::{ActionId, Flaw, PartialPlan, PlanLevel};
+pub use controllability::DcMode;
 pub use resolvers::Resolver;
 
 /// Why the search stopped without a plan.
@@ -30,6 +32,10 @@ pub enum FailReason {
     /// The budget (time or steps) ran out; the search can be resumed.
     #[error("deadline reached after {steps} steps")]
     Deadline { steps: u64 },
+    /// Every branch was explored and the plans found were not dynamically controllable
+    /// ([`DcMode::Require`]); `reason` is the last one's.
+    #[error("no dynamically controllable plan after {steps} steps; the last plan found: {reason}")]
+    NotControllable { steps: u64, reason: String },
 }
 
 /// What a planning step achieved.
@@ -104,6 +110,10 @@ pub struct Search {
     resume: bool,
     /// The order of the open conditions ([`select::Order`]).
     order: select::Order,
+    /// What a solution's dynamic controllability decides ([`DcMode`]).
+    dc: DcMode,
+    /// Why the last plan found was not dynamically controllable (`None`: it was, or none found yet).
+    not_dc: Option<crate::plan::NotControllable>,
 }
 
 /// Resolvers a planning step may try and see rejected before it returns, its backtracking resumed by the
@@ -129,6 +139,8 @@ impl Search {
             last_rejection: None,
             resume: false,
             order: select::Order::default(),
+            dc: DcMode::default(),
+            not_dc: None,
         }
     }
 
@@ -244,7 +256,7 @@ impl Search {
         if self.status == Status::Solved {
             return true;
         }
-        !self.resume && self.peek() && matches!(self.peeked, Some(None))
+        !self.resume && self.peek() && matches!(self.peeked, Some(None)) && self.solution_admitted()
     }
 
     /// Makes the next step's selection once (kept in `peeked`); false when the search is over or the
@@ -286,7 +298,8 @@ impl Search {
         }
         self.steps += 1;
         if std::mem::take(&mut self.resume) {
-            return self.advance();
+            let out = self.advance();
+            return self.no_dc_plan(out);
         }
         let picked = match self.peeked.take() {
             Some(p) => p,
@@ -296,6 +309,10 @@ impl Search {
             },
         };
         match picked {
+            None if !self.admit_solution() => {
+                let out = self.advance();
+                self.no_dc_plan(out)
+            }
             None => {
                 self.status = Status::Solved;
                 tracing::debug!(steps = self.steps, "plan found");
@@ -313,7 +330,8 @@ impl Search {
                     applied_any: false,
                     discrepancies,
                 });
-                self.advance()
+                let out = self.advance();
+                self.no_dc_plan(out)
             }
         }
     }
@@ -422,6 +440,8 @@ pub struct Planned {
     pub plan: PartialPlan,
     pub steps: u64,
     pub backtracks: u64,
+    /// Why the plan is not dynamically controllable (`None`: it is; docs/stnu.md).
+    pub not_controllable: Option<crate::plan::NotControllable>,
 }
 
 /// Why [`solve`] found no plan.
@@ -444,8 +464,19 @@ pub fn solve(
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
+    solve_dc(domain, problem, budget, DcMode::default())
+}
+
+/// [`solve`] with what a solution's dynamic controllability decides ([`DcMode`]).
+pub fn solve_dc(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+    budget: Budget,
+    dc: DcMode,
+) -> Result<Planned, PlanFailure> {
     let root = checked_root(domain, problem)?;
     let mut search = Search::new(root);
+    search.set_dc_mode(dc);
     finish(search.run(budget), search)
 }
 
@@ -469,6 +500,7 @@ fn finish(outcome: StepOutcome, search: Search) -> Result<Planned, PlanFailure> 
         StepOutcome::Solved => Ok(Planned {
             steps: search.steps(),
             backtracks: search.backtracks(),
+            not_controllable: search.not_controllable().cloned(),
             plan: search.into_plan(),
         }),
         StepOutcome::Failed(r) => Err(r.into()),

@@ -16,11 +16,16 @@
 //! - [`Stn::distance`] on demand (no all-pairs matrix);
 //! - execution of timepoints ([`Stn::execute`]) and the timepoints due at a time ([`Stn::due`]).
 //!
+//! [`Stnu`] adds contingent links (durations the world decides) and the dynamic-controllability check
+//! (Morris 2014; [`dc_reference`] the classic fixpoint, its oracle); see docs/stnu.md.
+//!
 //! [`floyd_warshall`] solves the same network by the all-pairs method of IxTeT (test oracle, bench baseline).
 //!
 //! Identifiers ([`Timepoint`], [`ConstraintId`]) created after a [`Level`] are invalidated by restoring it and
 //! are reused by later additions, as in any trail-based solver.
 
+mod dc;
+pub mod dc_reference;
 mod distance;
 mod error;
 pub mod floyd_warshall;
@@ -29,10 +34,14 @@ mod network;
 mod propagate;
 mod relax;
 mod settle;
+mod stnu;
 mod trail;
 
 pub use error::{CycleEdge, EdgeSource, Inconsistent};
 pub use network::Stn;
+pub use stnu::{
+    ContingentLink, DerivedEdge, Dispatchable, NotDc, Requirement, Stnu, StnuError, Wait,
+};
 
 /// A time or a duration, in integer units (milliseconds in the product).
 pub type Time = i64;
@@ -126,5 +135,7 @@ pub(crate) fn norm_ub(x: Time) -> Time {
     }
 }
 
+#[cfg(test)]
+mod stnu_tests;
 #[cfg(test)]
 mod tests;
