@@ -384,6 +384,13 @@ impl Search {
                     tracing::debug!(limit = self.discrepancy_limit, "discrepancy iteration");
                     return StepOutcome::Progress;
                 }
+                if self.stack.is_empty() && self.plan.regress.cut.replace(false) {
+                    // Exhausted within the regression bound only: again, from the root, deeper.
+                    self.plan.regress.limit = self.plan.regress.limit.saturating_mul(2);
+                    self.peeked = None;
+                    tracing::debug!(limit = self.plan.regress.limit, "regression bound deepened");
+                    return StepOutcome::Progress;
+                }
                 if self.stack.is_empty() {
                     let r = if top.applied_any {
                         FailReason::Exhausted { steps: self.steps }
