@@ -109,7 +109,7 @@ fn malformed_domains_are_located_at_file_line_col() {
         ),
         (
             "(= ?duration 2)",
-            "(= ?duration two)",
+            "(= ?duration ?two)",
             "d.pddl:7:28:",
             "expected a number",
         ),
@@ -408,7 +408,7 @@ fn an_undeclared_supertype_sits_below_object() {
     .err()
     .unwrap_or_default();
     assert!(
-        e.contains("p.pddl:1:45:") && e.contains("unknown type `cook`"),
+        e.contains("p.pddl:1:48:") && e.contains("unknown type `cook`"),
         "{e}"
     );
 }

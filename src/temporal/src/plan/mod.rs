@@ -557,6 +557,21 @@ impl PartialPlan {
         &self.conds[c.index()]
     }
 
+    /// Whether `c` is the `from` condition of an action's event that takes whatever value precedes it
+    /// ([`crate::model::Task::free_from`]): any establisher before it will do.
+    pub fn cond_takes_any(&self, c: CondId) -> bool {
+        let cond = &self.conds[c.index()];
+        let (CondKind::Before(e), Owner::Action(a)) = (cond.kind, cond.owner) else {
+            return false;
+        };
+        let act = &self.actions[a.index()];
+        act.events.iter().position(|&x| x == e).is_some_and(|k| {
+            self.domain
+                .task(act.task)
+                .free_from(k, self.domain.attrs[cond.attr.index()].value_type)
+        })
+    }
+
     pub fn link(&self, l: LinkId) -> &CausalLink {
         &self.links[l.index()]
     }

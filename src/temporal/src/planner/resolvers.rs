@@ -190,7 +190,15 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
     // New tasks first (no ordering query), then the existing events: those the bounds decide, then
     // those that need a search — stopping as soon as `limit` resolvers are certain.
     let mut inserts: Vec<Resolver> = Vec::new();
-    for task in plan.domain.tasks_establishing(cond.attr) {
+    // A condition that takes any value (a PDDL add's prior value) is linked to whatever event precedes
+    // it: an action inserted only for it could be left out of the plan. It is selected after every other
+    // open condition ([`super::select`]), when a plan's actions are all in, so no plan is lost.
+    let establishers = if plan.cond_takes_any(c) {
+        Vec::new()
+    } else {
+        plan.domain.tasks_establishing(cond.attr)
+    };
+    for task in establishers {
         // A `from` condition that no existing event can support would otherwise be "supported" by
         // inserting another instance whose own `from` condition is just as open, without end until the
         // horizon runs out: the chain is bounded, and the search deepens the bound when it was hit.
