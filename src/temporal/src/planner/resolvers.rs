@@ -193,7 +193,8 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
     // A condition that takes any value (a PDDL add's prior value) is linked to whatever event precedes
     // it: an action inserted only for it could be left out of the plan. It is selected after every other
     // open condition ([`super::select`]), when a plan's actions are all in, so no plan is lost.
-    let establishers = if plan.cond_takes_any(c) {
+    let establishers_skipped = plan.cond_takes_any(c);
+    let establishers = if establishers_skipped {
         Vec::new()
     } else {
         plan.domain.tasks_establishing(cond.attr)
@@ -254,6 +255,11 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
         }
     }
     existing.sort();
+    if establishers_skipped {
+        // A value that takes anything is best linked to the event just before it: the latest first (the
+        // earliest, the initial value, leaves every later change of the atom a threat to order).
+        existing.reverse();
+    }
     let mut out: Vec<Resolver> = existing
         .into_iter()
         .map(|(_, e)| Resolver::Link {
