@@ -67,6 +67,9 @@ def main():
             armed = bool(msg.base_mode & mavutil.mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
         elif t == "VFR_HUD":
             speed = msg.groundspeed
+        elif t == "CAMERA_FEEDBACK":
+            # The picture's evidence: how fast the rover went when the camera fired (the domain wants STILL).
+            say(f"t={boot_s:.1f}s capture {msg.img_idx} at {speed:.2f} m/s")
         elif t == "STATUSTEXT" and msg.severity <= 4:
             say(f"t={boot_s:.1f}s autopilot:", msg.text)
         if not a.no_arm and not armed and not held and boot_s - last_arm >= 5.0 and boot_s > 0:

@@ -109,7 +109,7 @@ fn malformed_domains_are_located_at_file_line_col() {
         ),
         (
             "(= ?duration 2)",
-            "(= ?duration two)",
+            "(= ?duration ?two)",
             "d.pddl:7:28:",
             "expected a number",
         ),
@@ -375,4 +375,105 @@ fn mutated_pddl_never_panics_and_errors_stay_located() {
             );
         }
     }
+}
+
+/// Translates a domain and a problem text: the translation, or the error text.
+fn translate_texts(domain: &str, problem: &str) -> Result<pddl::Translated, String> {
+    let (ds, ps) = (Src::new("d.pddl", domain), Src::new("p.pddl", problem));
+    let d = pddl::parse_domain(&ds).map_err(|e| e.to_string())?;
+    let p = pddl::parse_problem(&ps).map_err(|e| e.to_string())?;
+    pddl::translate(&ds, &d, &ps, &p).map_err(|e| e.to_string())
+}
+
+#[test]
+fn an_undeclared_supertype_sits_below_object() {
+    // Crew planning declares `... RPCM - objects` without declaring `objects`.
+    let domain = "(define (domain d) (:requirements :typing :durative-actions)
+  (:types crew rpcm - objects)
+  (:predicates (done ?c - crew) (ready ?r - rpcm))
+  (:durative-action work :parameters (?c - crew ?r - rpcm) :duration (= ?duration 3)
+    :condition (at start (ready ?r)) :effect (at end (done ?c))))";
+    let problem = "(define (problem p) (:domain d) (:objects c1 - crew r1 - rpcm)
+  (:init (ready r1)) (:goal (done c1)))";
+    let t = translate_texts(domain, problem).unwrap_or_else(|e| panic!("{e}"));
+    // One model type for the `objects` family, the subtypes as bindings.
+    let names: Vec<&str> = t.domain.types.iter().map(|ty| ty.name.as_str()).collect();
+    assert!(names.contains(&"objects"), "{names:?}");
+    assert!(!names.contains(&"crew"), "{names:?}");
+    // An unknown type of an object is still refused at its place.
+    let e = translate_texts(
+        domain,
+        "(define (problem p) (:domain d) (:objects c1 - cook) (:init) (:goal (done c1)))",
+    )
+    .err()
+    .unwrap_or_default();
+    assert!(
+        e.contains("p.pddl:1:48:") && e.contains("unknown type `cook`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_zero_ary_function_reads_with_or_without_parentheses() {
+    let domain = |f: &str| {
+        format!(
+            "(define (domain d) (:requirements :durative-actions :fluents)
+  (:predicates (p)) (:functions (total-used))
+  (:durative-action a :parameters () :duration (= ?duration 1)
+    :condition (at start (p)) :effect (at end (increase {f} 2))))"
+        )
+    };
+    for (f, init) in [
+        ("(total-used)", "(= (total-used) 0)"),
+        ("total-used", "(= total-used 0)"),
+    ] {
+        let ds = Src::new("d.pddl", domain(f));
+        let d = pddl::parse_domain(&ds).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let effect_on = d.actions[0].effects.iter().find_map(|(_, e)| match e {
+            ast::Effect::Num(_, g, _, _) => Some((g.pred.name.clone(), g.args.len())),
+            _ => None,
+        });
+        assert_eq!(effect_on, Some(("total-used".to_string(), 0)), "{f}");
+        let ps = Src::new(
+            "p.pddl",
+            format!("(define (problem p) (:domain d) (:init (p) {init}) (:goal (p)))"),
+        );
+        pddl::parse_problem(&ps).unwrap_or_else(|e| panic!("{init}: {e}"));
+    }
+}
+
+#[test]
+fn an_unsupported_feature_refuses_the_file_and_never_drops_the_action() {
+    // ZenoTravel Time's `fly`: a duration from static functions of the parameters and a numeric effect.
+    // Before, every grounding failed on the effect, the action was dropped with a note and the goal
+    // declared unreachable; now the effect is refused at its place.
+    let domain = "(define (domain d) (:requirements :typing :durative-actions :fluents)
+  (:types city plane)
+  (:predicates (at ?p - plane ?c - city))
+  (:functions (distance ?a ?b - city) (fuel ?p - plane))
+  (:durative-action fly :parameters (?p - plane ?a ?b - city)
+    :duration (= ?duration (distance ?a ?b))
+    :condition (at start (at ?p ?a))
+    :effect (and (at start (not (at ?p ?a))) (at end (at ?p ?b))
+                 (at end (decrease (fuel ?p) (distance ?a ?b))))))";
+    let problem = "(define (problem p) (:domain d) (:objects p1 - plane c1 c2 - city)
+  (:init (at p1 c1) (= (distance c1 c2) 5) (= (distance c2 c1) 5) (= (fuel p1) 100))
+  (:goal (at p1 c2)))";
+    let e = translate_texts(domain, problem).err().unwrap_or_default();
+    assert!(
+        e.starts_with("d.pddl:9:") && e.contains("numeric effects are not supported"),
+        "{e}"
+    );
+    // A duration on a fluent that actions change is refused too, at the duration.
+    let stateful = domain.replace(
+        "(distance ?a ?b))\n    :condition",
+        "(fuel ?p))\n    :condition",
+    );
+    let e = translate_texts(&stateful, problem)
+        .err()
+        .unwrap_or_default();
+    assert!(
+        e.starts_with("d.pddl:6:") && e.contains("state-dependent duration"),
+        "{e}"
+    );
 }

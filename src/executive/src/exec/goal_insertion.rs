@@ -229,9 +229,9 @@ impl Executive {
         // later ones with limited discrepancy search, so that one early wrong choice (e.g. where a download
         // for a fourth picture goes) does not use up the attempt's cycles.
         ins.search = Some(if ins.cycles == 0 {
-            Search::depth_first(root)
+            Search::depth_first(root).bounded_regress()
         } else {
-            Search::new(root)
+            Search::new(root).bounded_regress()
         });
         Ok(())
     }

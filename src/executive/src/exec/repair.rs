@@ -138,7 +138,7 @@ impl Executive {
             // redo the tree from its root every cycle. A repair that thrashes is cut off by its episode
             // budget and replaced by a complete replanning, which searches by discrepancies.
             self.repair = Some(Repair {
-                search: Search::depth_first(root),
+                search: Search::depth_first(root).bounded_regress(),
                 labelled: None,
             });
         }

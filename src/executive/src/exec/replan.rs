@@ -497,7 +497,7 @@ impl Executive {
                 return self.fall_back(&solo, &mut dropped, t_end, reason, now, ext.plan);
             }
             let alone = goals.len() == 1;
-            let mut search = Search::new(ext.plan);
+            let mut search = Search::new(ext.plan).bounded_regress();
             // Half of the wall time left (the last goal gets all of it): later attempts keep some.
             let left = wall_end.saturating_duration_since(Instant::now());
             let bounds = AttemptBounds {

@@ -236,6 +236,39 @@ impl Task {
             .map(TpId::from_index)
     }
 
+    /// Whether event `k`'s `from` is a variable of the attribute's value type that occurs nowhere else
+    /// in the task: the event takes whatever value precedes it (a PDDL add or deletion whose prior value
+    /// the action does not require). Its condition never needs an action inserted for it (the planner
+    /// links it to an event already in the plan, see `planner::resolvers`).
+    pub fn free_from(&self, k: usize, value_type: TypeId) -> bool {
+        let Some(Term::Var(v)) = self.events.get(k).map(|e| e.from) else {
+            return false;
+        };
+        if self.sym_vars.get(v.index()).map(|s| s.ty) != Some(value_type) {
+            return false;
+        }
+        let is_v = |t: &Term| *t == Term::Var(v);
+        let in_events = self
+            .events
+            .iter()
+            .flat_map(|e| e.args.iter().chain([&e.from, &e.to]))
+            .filter(|t| is_v(t))
+            .count();
+        in_events == 1
+            && !self
+                .holds
+                .iter()
+                .any(|h| h.args.iter().chain([&h.value]).any(is_v))
+            && !self.bindings.iter().any(|b| match b {
+                Binding::Eq(x, y) | Binding::Ne(x, y) => is_v(x) || is_v(y),
+                Binding::In(x, _) => *x == v,
+            })
+            && !self.numeric.iter().any(|n| match n {
+                NumConstraint::Distance { a, b, .. } => is_v(a) || is_v(b),
+                _ => false,
+            })
+    }
+
     /// The *main attributes* of the task: attributes of its primary events, deduplicated, in order
     /// (seed 1 §3.3; the executive builds the abstraction hierarchy from them).
     pub fn main_attributes(&self) -> Vec<AttrId> {

@@ -140,6 +140,19 @@ impl P<'_> {
         })
     }
 
+    /// A function term: `(f args...)`, or a 0-ary function written without parentheses (`total-fuel-used`,
+    /// which PDDL 2.1 allows).
+    fn fluent(&self, sx: &Sx) -> R<Atom> {
+        match sx.atom() {
+            Some(a) if !a.starts_with('?') && a.parse::<f64>().is_err() => Ok(Atom {
+                pred: self.name(sx, "a function name")?,
+                args: Vec::new(),
+                span: sx.span,
+            }),
+            _ => self.atom(sx),
+        }
+    }
+
     fn nexpr(&self, sx: &Sx) -> R<NExpr> {
         if let Some(a) = sx.atom() {
             if a == "?duration" {
@@ -147,6 +160,7 @@ impl P<'_> {
             }
             return match a.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(NExpr::Num(v, sx.span)),
+                Err(_) if !a.starts_with('?') => Ok(NExpr::Fluent(self.fluent(sx)?)),
                 _ => self.err(
                     sx.span,
                     format!("expected a number or a numeric expression, found `{a}`"),
@@ -315,7 +329,7 @@ impl P<'_> {
                 };
                 out.push((
                     when,
-                    Effect::Num(op, self.atom(f)?, self.nexpr(e)?, sx.span),
+                    Effect::Num(op, self.fluent(f)?, self.nexpr(e)?, sx.span),
                 ));
                 Ok(())
             }
@@ -619,12 +633,12 @@ fn init(p: &P, x: &Sx) -> R<Init> {
                 Ok(Init::Atom(p.atom(lit)?, Some(at)))
             }
         }
-        [h, f, v] if h.atom() == Some("=") && f.list().is_some() => {
+        [h, f, v] if h.atom() == Some("=") => {
             let val = match v.atom().map(str::parse::<f64>) {
                 Some(Ok(v)) if v.is_finite() => v,
                 _ => return p.err(v.span, "expected a number"),
             };
-            Ok(Init::Value(p.atom(f)?, val))
+            Ok(Init::Value(p.fluent(f)?, val))
         }
         _ if x.head() == Some("not") => p.err(
             x.span,

@@ -7,9 +7,8 @@
 //! the atom an `at start` effect deletes), the `at start` effect, the value `over all`, the value required
 //! at `et`, the `at end` effect. Where the action changes the instance at one end and reads or changes it
 //! at the other, the value in between is held over `[st, et]` (a persistence PDDL leaves to other actions:
-//! a stronger, sound requirement). A boolean add whose prior value the action does not require needs the
-//! atom false before (also a sound strengthening: such a plan never re-adds a true atom); a boolean
-//! deletion of an atom the action does not require gets a fresh `from` variable (any prior value).
+//! a stronger, sound requirement). A boolean add or deletion of an atom whose prior value the action does
+//! not require gets a fresh `from` variable (any prior value).
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
 use super::translate::{Cx, PredRep};
@@ -68,6 +67,7 @@ pub(super) fn tasks(
 ) -> Result<Result<Vec<Task>, Inapplicable>, PddlError> {
     let mut used: Vec<usize> = Vec::new();
     for (_, e, _) in &a.duration {
+        check_duration(cx, e)?;
         duration_params(e, a, &mut used);
     }
     used.sort_unstable();
@@ -100,11 +100,18 @@ pub(super) fn tasks(
     let mut last_why = Inapplicable::NoDuration;
     for combo in combos {
         let fixed: Vec<(usize, ObjectId)> = used.iter().copied().zip(combo).collect();
-        match task(cx, a, &fixed) {
-            Ok(Ok(t)) => out.push(t),
-            Ok(Err(why)) => last_why = why,
-            // An undefined function value: the action does not apply to these arguments.
-            Err(_) => {}
+        // A static function without a value for these arguments (the only way left for the duration to
+        // fail, see `check_duration`): the action does not apply to them. Any other error is refused.
+        let defined = a
+            .duration
+            .iter()
+            .all(|(_, e, _)| cx.eval(e, cx.ds, &|x| fixed_arg(cx, a, &fixed, x)).is_ok());
+        if !defined {
+            continue;
+        }
+        match task(cx, a, &fixed)? {
+            Ok(t) => out.push(t),
+            Err(why) => last_why = why,
         }
     }
     Ok(if out.is_empty() {
@@ -112,6 +119,52 @@ pub(super) fn tasks(
     } else {
         Ok(out)
     })
+}
+
+/// The object of a duration's argument: a constant, or a parameter fixed for this task.
+fn fixed_arg(cx: &Cx, a: &ast::Action, fixed: &[(usize, ObjectId)], x: &Arg) -> Option<ObjectId> {
+    match x {
+        Arg::Const(n) => cx.objs.get(&n.name).copied(),
+        Arg::Var(n) => a
+            .params
+            .iter()
+            .position(|p| p.name.name == n.name)
+            .and_then(|i| fixed.iter().find(|f| f.0 == i))
+            .map(|f| f.1),
+    }
+}
+
+/// Refuses, at its place, what a duration expression may not use: `?duration`, `total-time`, an unknown
+/// function or one with the wrong number of arguments, a numeric fluent that actions change (a
+/// state-dependent duration). What is left can only fail for a combination of parameters where a static
+/// function has no value (the action does not apply there), so no action is ever dropped for a feature the
+/// translation does not support.
+fn check_duration(cx: &Cx, e: &ast::NExpr) -> Result<(), PddlError> {
+    match e {
+        ast::NExpr::Num(..) => Ok(()),
+        ast::NExpr::Duration(s) => {
+            Err(cx.derr(*s, "`?duration` cannot be used in its own duration"))
+        }
+        ast::NExpr::Neg(x, _) => check_duration(cx, x),
+        ast::NExpr::Bin(_, x, y, _) => {
+            check_duration(cx, x)?;
+            check_duration(cx, y)
+        }
+        ast::NExpr::Fluent(f) => {
+            let name = &f.pred.name;
+            if name == "total-time" {
+                return Err(cx.derr(f.span, "`total-time` is only meaningful in the metric"));
+            }
+            match cx.functions.get(name) {
+                None => Err(cx.derr(f.span, format!("unknown function `{name}`"))),
+                Some(&n) if n != f.args.len() => {
+                    Err(cx.derr(f.span, format!("`{name}` takes {n} arguments")))
+                }
+                _ if cx.fluent_functions.contains(name) => Err(cx.derr(f.span, format!("a duration that depends on `{name}`, a numeric fluent actions change (a state-dependent duration), is not supported by the translation"))),
+                _ => Ok(()),
+            }
+        }
+    }
 }
 
 /// Parameters (by position) that the static functions of a duration expression take.
@@ -193,15 +246,7 @@ fn task(
     let (mut lb, mut ub): (Time, Option<Time>) = (0, None);
     if a.durative {
         for (c, e, _) in &a.duration {
-            let v = cx.eval(e, src, &|x| match x {
-                Arg::Const(n) => cx.objs.get(&n.name).copied(),
-                Arg::Var(n) => a
-                    .params
-                    .iter()
-                    .position(|p| p.name.name == n.name)
-                    .and_then(|i| fixed.iter().find(|f| f.0 == i))
-                    .map(|f| f.1),
-            })?;
+            let v = cx.eval(e, src, &|x| fixed_arg(cx, a, fixed, x))?;
             let ms = (v * MS_PER_S as f64).round() as Time;
             match c {
                 Cmp::Eq => {
@@ -497,18 +542,18 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), Inapplicable> {
         };
     let e_s = eff(When::Start, t, &mut s_req)?;
     let e_e = eff(When::End, t, &mut e_req)?;
-    let from_or_any = |req: Option<Term>, to: Term, t: &mut Task| -> Result<Term, Inapplicable> {
+    let from_or_any = |req: Option<Term>, t: &mut Task| -> Result<Term, Inapplicable> {
         match req {
             Some(v) => Ok(v),
-            // An add needs the atom false before (re-adding a true atom is never useful to a plan, and the
-            // fixed `from` spares the search an establisher choice); a deletion takes any prior value.
-            None if inst.boolean && to == Term::Obj(Domain::TRUE) => Ok(Term::Obj(Domain::FALSE)),
+            // An add or a deletion the action does not require a value for takes any prior value: asking
+            // an add for a false atom would forbid the plans where the atom is already true (and no action
+            // deletes it), a false "no plan" (issue 32).
             None if inst.boolean => Ok(any_bool(t)),
             None => Err(Inapplicable::NoReplacedValue),
         }
     };
     if let Some(v) = e_s {
-        let from = from_or_any(s_req, v, t)?;
+        let from = from_or_any(s_req, t)?;
         t.events.push(Event {
             attr: inst.attr,
             args: inst.args.clone(),
@@ -559,7 +604,7 @@ fn emit(_cx: &Cx, t: &mut Task, inst: Instance) -> Result<(), Inapplicable> {
         Some(v) => {
             let from = match pre_end.or(m) {
                 Some(x) => x,
-                None => from_or_any(None, v, t)?,
+                None => from_or_any(None, t)?,
             };
             t.events.push(Event {
                 attr: inst.attr,

@@ -402,10 +402,14 @@ fn types(
         }
         cx.parent.insert(child.name.clone(), parent.name.clone());
     }
-    for (child, parent) in &d.types {
+    // A supertype used without being declared (crew planning's `objects`) is a type of its own directly
+    // below the implicit root `object`, as the other PDDL readers take it.
+    for (_, parent) in &d.types {
         if parent.name != "object" && !cx.parent.contains_key(&parent.name) {
-            return Err(cx.derr(parent.span, format!("unknown type `{}`", parent.name)));
+            cx.parent.insert(parent.name.clone(), "object".into());
         }
+    }
+    for (child, _) in &d.types {
         if cx.root(&child.name) != "object"
             && cx
                 .parent

@@ -94,6 +94,7 @@ impl PartialPlan {
             reservoir_dirty: vec![true; n_res],
             trail: Default::default(),
             changes: ChangeLog::default(),
+            regress: Default::default(),
             domain,
             problem,
         };

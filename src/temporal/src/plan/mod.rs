@@ -320,6 +320,28 @@ pub struct PartialPlan {
     pub(crate) reservoir_dirty: Vec<bool>,
     trail: Trail<Entry>,
     changes: changes::ChangeLog,
+    /// The planner's bound on same-task regressions (see [`RegressBound`]); not on the trail.
+    pub(crate) regress: RegressBound,
+}
+
+/// How deep a chain of same-task insertions made for `from` conditions (move ← move ← move ...) may
+/// grow before the resolvers leave the next one out, and whether they left one out since the search last
+/// looked. A search that exhausts its tree with such a cut has proved nothing: it starts again with a
+/// deeper bound (iterative deepening), so a bound never turns into a false "no plan".
+#[derive(Clone, Debug)]
+pub(crate) struct RegressBound {
+    pub limit: u32,
+    pub cut: std::cell::Cell<bool>,
+}
+
+impl Default for RegressBound {
+    /// Three hops cover the detours of the shipped domains (the AUV's surface → vent1 → vent2).
+    fn default() -> Self {
+        RegressBound {
+            limit: 3,
+            cut: std::cell::Cell::new(false),
+        }
+    }
 }
 
 impl PartialPlan {
@@ -535,6 +557,21 @@ impl PartialPlan {
 
     pub fn cond(&self, c: CondId) -> &Condition {
         &self.conds[c.index()]
+    }
+
+    /// Whether `c` is the `from` condition of an action's event that takes whatever value precedes it
+    /// ([`crate::model::Task::free_from`]): any establisher before it will do.
+    pub fn cond_takes_any(&self, c: CondId) -> bool {
+        let cond = &self.conds[c.index()];
+        let (CondKind::Before(e), Owner::Action(a)) = (cond.kind, cond.owner) else {
+            return false;
+        };
+        let act = &self.actions[a.index()];
+        act.events.iter().position(|&x| x == e).is_some_and(|k| {
+            self.domain
+                .task(act.task)
+                .free_from(k, self.domain.attrs[cond.attr.index()].value_type)
+        })
     }
 
     pub fn link(&self, l: LinkId) -> &CausalLink {

@@ -29,6 +29,10 @@ pub enum FailReason {
     /// Every branch was explored.
     #[error("search exhausted after {steps} steps")]
     Exhausted { steps: u64 },
+    /// Every branch within the bound on same-task regressions failed, and the search was built not to
+    /// deepen it ([`Search::bounded_regress`]): not a proof that no plan exists.
+    #[error("every way within {limit} repeated insertions fails ({steps} steps)")]
+    Bounded { steps: u64, limit: u32 },
     /// The budget (time or steps) ran out; the search can be resumed.
     #[error("deadline reached after {steps} steps")]
     Deadline { steps: u64 },
@@ -114,6 +118,10 @@ pub struct Search {
     dc: DcMode,
     /// Why the last plan found was not dynamically controllable (`None`: it was, or none found yet).
     not_dc: Option<crate::plan::NotControllable>,
+    /// Whether a tree exhausted against the regression bound is searched again with a deeper bound
+    /// (complete), or ends in [`FailReason::Bounded`] (the executive's repairs, whose budgets are counted
+    /// in steps and cycles: deepening there turns a quick failure into a search to the step cap).
+    deepen_regress: bool,
 }
 
 /// Resolvers a planning step may try and see rejected before it returns, its backtracking resumed by the
@@ -141,7 +149,15 @@ impl Search {
             order: select::Order::default(),
             dc: DcMode::default(),
             not_dc: None,
+            deepen_regress: true,
         }
+    }
+
+    /// This search does not deepen the regression bound: a tree exhausted against it fails with
+    /// [`FailReason::Bounded`] instead of starting again.
+    pub fn bounded_regress(mut self) -> Self {
+        self.deepen_regress = false;
+        self
     }
 
     /// A search whose root is `plan` that takes the open conditions in `order`.
@@ -400,6 +416,21 @@ impl Search {
                     self.discrepancy_limit = self.discrepancy_limit.saturating_add(1);
                     self.peeked = None;
                     tracing::debug!(limit = self.discrepancy_limit, "discrepancy iteration");
+                    return StepOutcome::Progress;
+                }
+                if self.stack.is_empty() && self.plan.regress.cut.replace(false) {
+                    if !self.deepen_regress {
+                        let r = FailReason::Bounded {
+                            steps: self.steps,
+                            limit: self.plan.regress.limit,
+                        };
+                        self.status = Status::Failed(r.clone());
+                        return StepOutcome::Failed(r);
+                    }
+                    // Exhausted within the regression bound only: again, from the root, deeper.
+                    self.plan.regress.limit = self.plan.regress.limit.saturating_mul(2);
+                    self.peeked = None;
+                    tracing::debug!(limit = self.plan.regress.limit, "regression bound deepened");
                     return StepOutcome::Progress;
                 }
                 if self.stack.is_empty() {

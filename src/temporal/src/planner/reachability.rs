@@ -69,7 +69,8 @@ pub fn single_goal_searches_until(
         for &other in active.iter().filter(|&&o| o != g) {
             alone.remove_goal(other);
         }
-        let mut search = Search::new(alone);
+        // As the executive's own searches (the explanation must match what they can find).
+        let mut search = Search::new(alone).bounded_regress();
         let outcome = search.run(Budget {
             max_steps: Some(steps_each),
             deadline,
@@ -85,6 +86,12 @@ pub fn single_goal_searches_until(
                 search
                     .last_rejection()
                     .map_or(String::new(), |r| format!(" (last rejected: {r})"))
+            ),
+            StepOutcome::Failed(r @ FailReason::Bounded { .. }) => format!(
+                "{r}{}",
+                search
+                    .last_rejection()
+                    .map_or(String::new(), |r| format!("; the last dead end: {r}"))
             ),
             StepOutcome::Failed(FailReason::Exhausted { steps }) => format!(
                 "every way fails ({steps} steps){}",

@@ -168,13 +168,6 @@ fn value_compatible(plan: &PartialPlan, to: &Term, value: STerm) -> bool {
     }
 }
 
-/// The longest chain of same-task insertions made for `from` conditions (move ← move ← move ...). A
-/// `from` condition that no existing event can support would otherwise be "supported" by inserting
-/// another instance whose own `from` condition is just as open, without end until the horizon runs out
-/// (e.g. after the vehicle stopped at a place no variable's domain names). Three hops cover the detours
-/// of the shipped domains (the AUV's surface → vent1 → vent2).
-const MAX_REGRESS: u32 = 3;
-
 /// The regression depth an instance of `task` inserted for `c` would have.
 fn regress_depth(plan: &PartialPlan, c: CondId, task: TaskId) -> u32 {
     let cond = plan.cond(c);
@@ -197,8 +190,21 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
     // New tasks first (no ordering query), then the existing events: those the bounds decide, then
     // those that need a search — stopping as soon as `limit` resolvers are certain.
     let mut inserts: Vec<Resolver> = Vec::new();
-    for task in plan.domain.tasks_establishing(cond.attr) {
-        if regress_depth(plan, c, task) > MAX_REGRESS {
+    // A condition that takes any value (a PDDL add's prior value) is linked to whatever event precedes
+    // it: an action inserted only for it could be left out of the plan. It is selected after every other
+    // open condition ([`super::select`]), when a plan's actions are all in, so no plan is lost.
+    let establishers_skipped = plan.cond_takes_any(c);
+    let establishers = if establishers_skipped {
+        Vec::new()
+    } else {
+        plan.domain.tasks_establishing(cond.attr)
+    };
+    for task in establishers {
+        // A `from` condition that no existing event can support would otherwise be "supported" by
+        // inserting another instance whose own `from` condition is just as open, without end until the
+        // horizon runs out: the chain is bounded, and the search deepens the bound when it was hit.
+        if regress_depth(plan, c, task) > plan.regress.limit {
+            plan.regress.cut.set(true);
             continue;
         }
         for (k, ev) in plan.domain.task(task).events.iter().enumerate() {
@@ -249,6 +255,11 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
         }
     }
     existing.sort();
+    if establishers_skipped {
+        // A value that takes anything is best linked to the event just before it: the latest first (the
+        // earliest, the initial value, leaves every later change of the atom a threat to order).
+        existing.reverse();
+    }
     let mut out: Vec<Resolver> = existing
         .into_iter()
         .map(|(_, e)| Resolver::Link {
