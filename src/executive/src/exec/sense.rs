@@ -11,7 +11,7 @@ use super::p_t::{classify, remove_past};
 use super::report_timing::{integrate, timing};
 use super::resource_bounds::{fold_removed, level_bounds};
 use super::resource_report::{integrate_level, LevelVerdict};
-use super::state_update::integrate_state;
+use super::state_update::{integrate_late_state, integrate_state};
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::{Goal, GoalKind, Time, TimeInterval, Value};
 use mavtempo_vehicle::mapping::{GoalShape, MappingError};
@@ -90,6 +90,7 @@ impl Executive {
         match integrate(&mut self.plan, a, t) {
             Ok(true) => {}
             Ok(false) => {
+                integrate_late_state(self, a, &r, t);
                 self.abort = Some(AbortReason::ReportTooLate { action: name });
                 return;
             }
