@@ -3,12 +3,14 @@
 //! `latest`; `goal-driven`, seed 2's Algorithm 1 with Algorithm 2 or the marking of Algorithms 3–8); ends
 //! and goal timepoints keep seed 1's execution times ([`super::t_exec`]), whatever the policy.
 
+use std::collections::HashSet;
+
 use super::t_exec::{t_exec, TpKind};
 use crate::dispatch::{
     DispatchPolicy, GoalSearch, PlanMarking, PlanView, PolicyKind, StartWindow, SupportForm,
 };
 use mavtempo_temporal::model::Time;
-use mavtempo_temporal::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::plan::{ActionId, Owner, PartialPlan};
 use mavtempo_temporal::stn::Timepoint;
 
 /// What the executive sees of one timepoint it may execute.
@@ -67,9 +69,30 @@ impl PlanDispatch {
         }
     }
 
-    /// Whether `a` supports an external goal: Algorithm 2 on the plan, or the marking read from the plan's
-    /// change log (if the log does not fit, a bug, Algorithm 2 answers instead).
+    /// Whether `a` supports an external goal ([`super::goal_support`]'s rule): forward through causal links
+    /// (Algorithm 2 on the plan, or the marking read from the plan's change log, which answers at once for
+    /// every action it marks) and through the reservoirs the actions on the way produce.
     pub fn supports(&mut self, plan: &PartialPlan, a: ActionId) -> bool {
+        let mut seen = HashSet::from([a]);
+        let mut todo = vec![a];
+        while let Some(x) = todo.pop() {
+            if self.supports_causally(plan, x) {
+                return true;
+            }
+            let mut next = Vec::new();
+            super::goal_support::supported_by(plan, x, &mut |owner| {
+                if let Owner::Action(b) = owner {
+                    next.push(b);
+                }
+            });
+            todo.extend(next.into_iter().filter(|&b| seen.insert(b)));
+        }
+        false
+    }
+
+    /// Seed 2's support through causal links only: Algorithm 2, or the marking (if the log does not fit,
+    /// a bug, Algorithm 2 answers instead).
+    fn supports_causally(&mut self, plan: &PartialPlan, a: ActionId) -> bool {
         let view = PlanView(plan);
         if self.kind == PolicyKind::GoalDriven(SupportForm::Marking) {
             match self.marking.sync(plan) {
