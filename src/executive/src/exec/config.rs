@@ -54,6 +54,9 @@ pub struct ExecConfig {
     /// Plan repairs plus complete replannings allowed within any minute of mission time; past it a goal is
     /// rejected with the count as the reason.
     pub max_plan_changes_per_min: u32,
+    /// The resolution of the vehicle's reported levels, in the resources' units (a battery reported in
+    /// whole percents: 1): a reading within it of the plan's bounds is in them — no repair, no plan change.
+    pub level_tolerance: f64,
 }
 
 impl Default for ExecConfig {
@@ -76,6 +79,7 @@ impl Default for ExecConfig {
             dispatch: PolicyKind::default(),
             same_failure_limit: 3,
             max_plan_changes_per_min: 12,
+            level_tolerance: super::resource_report::EPS,
         }
     }
 }
@@ -93,6 +97,8 @@ pub enum ConfigError {
     Positive(&'static str),
     #[error("exec.{0} must be positive")]
     StepCap(&'static str),
+    #[error("exec.level_tolerance must be a finite number ≥ 0, got {0}")]
+    Tolerance(f64),
 }
 
 const HOUR_MS: Time = 3_600_000;
@@ -105,6 +111,7 @@ impl ConfigError {
             ConfigError::Share(_) => "repair_share",
             ConfigError::Slack(_) => "replan_slack_ms",
             ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
+            ConfigError::Tolerance(_) => "level_tolerance",
         }
     }
 }
@@ -120,6 +127,9 @@ impl ExecConfig {
         }
         if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
             return Err(ConfigError::Slack(self.replan_slack_ms));
+        }
+        if !(self.level_tolerance.is_finite() && self.level_tolerance >= 0.0) {
+            return Err(ConfigError::Tolerance(self.level_tolerance));
         }
         let counts = [
             ("same_failure_limit", self.same_failure_limit),
@@ -214,6 +224,16 @@ mod tests {
             cfg.validate(),
             Err(ConfigError::StepCap("replan_max_steps"))
         );
+    }
+
+    #[test]
+    fn level_tolerance_is_the_readings_resolution_and_must_be_finite_and_not_negative() {
+        let cfg: ExecConfig = toml::from_str("").expect("parses");
+        assert_eq!(cfg.level_tolerance, super::super::resource_report::EPS);
+        let cfg: ExecConfig = toml::from_str("level_tolerance = 2.0").expect("parses");
+        assert_eq!((cfg.level_tolerance, cfg.validate()), (2.0, Ok(())));
+        let cfg: ExecConfig = toml::from_str("level_tolerance = -1.0").expect("parses");
+        assert_eq!(cfg.validate(), Err(ConfigError::Tolerance(-1.0)));
     }
 
     #[test]

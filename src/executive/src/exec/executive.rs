@@ -160,6 +160,7 @@ impl Executive {
         let hierarchy = Hierarchy::new(plan.domain());
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
+        let level_tolerance = cfg.level_tolerance;
         Executive {
             plan,
             cfg,
@@ -181,7 +182,7 @@ impl Executive {
             counters: Counters::default(),
             pending_trace: Vec::new(),
             changed: false,
-            level_tolerance: super::resource_report::EPS,
+            level_tolerance,
             failures,
             repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
