@@ -54,11 +54,22 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
     );
     let sim_out = lines(stdout);
     let mut seen = Vec::new();
-    wait_line(&sim_out, "sitl listening on", Duration::from_secs(30), &mut seen);
+    wait_line(
+        &sim_out,
+        "sitl listening on",
+        Duration::from_secs(30),
+        &mut seen,
+    );
     let sim_addr = address_after(&seen, "sitl listening on");
     let report_path = dir.path().join("run.json");
     let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["run", "--config", "config/sitl-rover.toml", "--speedup", SPEEDUP])
+        .args([
+            "run",
+            "--config",
+            "config/sitl-rover.toml",
+            "--speedup",
+            SPEEDUP,
+        ])
         .args(["--vehicle", &format!("tcpout:{sim_addr}")])
         .args(["--gcs", "udpin:127.0.0.1:0"])
         .arg("--report")
@@ -71,7 +82,12 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
         .expect("spawn mavtempo run");
     let out = lines(run.0.stdout.take().expect("stdout"));
     let mut seen = Vec::new();
-    wait_line(&out, "goal intake listening on", Duration::from_secs(60), &mut seen);
+    wait_line(
+        &out,
+        "goal intake listening on",
+        Duration::from_secs(60),
+        &mut seen,
+    );
     let gcs = address_after(&seen, "goal intake listening on");
     // The upload at ≈ 100 s of mission time (the first cycle at or after it).
     let deadline = Instant::now() + Duration::from_secs(60);
@@ -103,7 +119,11 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
             break status;
         }
         seen.extend(out.try_iter());
-        assert!(Instant::now() < deadline, "run still going: {}", seen.join("\n"));
+        assert!(
+            Instant::now() < deadline,
+            "run still going: {}",
+            seen.join("\n")
+        );
         std::thread::sleep(Duration::from_millis(50));
     };
     seen.extend(out.try_iter());

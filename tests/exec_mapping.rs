@@ -197,7 +197,12 @@ fn auv_goals_and_positions_follow_the_auv_mapping() {
         } else {
             route(from, to)
         };
-        assert_eq!(route(new, to), expected, "{go_from} -> {}", p.object_name(to));
+        assert_eq!(
+            route(new, to),
+            expected,
+            "{go_from} -> {}",
+            p.object_name(to)
+        );
         routes += usize::from(route(new, to) == Some(Value::Obj(Domain::TRUE)));
     }
     assert!(routes >= 1, "the new place has a route on");

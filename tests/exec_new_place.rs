@@ -221,8 +221,10 @@ fn an_auv_whose_survey_fails_away_from_the_vent_goes_on_from_there_and_comes_bac
     let mut v = auv(300_000);
     v.script(
         "survey",
-        Outcome::failed(100_000, "Navigation failed")
-            .with_state("position", StateValue::Position(Enu::new(east + 40.0, north, up))),
+        Outcome::failed(100_000, "Navigation failed").with_state(
+            "position",
+            StateValue::Position(Enu::new(east + 40.0, north, up)),
+        ),
     );
     v.script("survey", Outcome::nominal(600_000));
     let r = run_auv(&mut ex, &mut v);
@@ -247,8 +249,10 @@ fn an_auv_stopped_on_its_way_is_brought_back_to_the_surface_from_there() {
     let mut v = auv(300_000);
     v.script(
         "go",
-        Outcome::failed(150_000, "Navigation failed")
-            .with_state("position", StateValue::Position(Enu::new(60.0, 50.0, -60.0))),
+        Outcome::failed(150_000, "Navigation failed").with_state(
+            "position",
+            StateValue::Position(Enu::new(60.0, 50.0, -60.0)),
+        ),
     );
     v.script("go", Outcome::nominal(120_000));
     let r = run_auv(&mut ex, &mut v);

@@ -163,13 +163,13 @@ fn section_3_3_levels_in_bounds_over_consumption_over_production() {
     assert!(u.check_executable && u.repair);
     assert!((u.past.0 - l_r).abs() < 1e-9, "{u:?}");
     // As sense.rs posts it: the usages the bounds still count are taken back out of the aggregate.
-    let agg = (
-        u.past.0 - (b.past_lb - 3.0),
-        u.past.1 - (b.past_ub - 3.0),
-    );
+    let agg = (u.past.0 - (b.past_lb - 3.0), u.past.1 - (b.past_ub - 3.0));
     let after = level_bounds(&plan, r, 10_000, &[q], agg);
     assert!((after.ub - l_r).abs() < 1e-9, "{after:?}");
-    assert!((after.lb - (l_r - (b.past_lb - b.lb))).abs() < 1e-9, "{after:?}");
+    assert!(
+        (after.lb - (l_r - (b.past_lb - b.lb))).abs() < 1e-9,
+        "{after:?}"
+    );
 }
 
 #[test]

@@ -305,8 +305,10 @@ impl Vehicle for MockVehicle {
         };
         self.running.insert(id, (task, outcome));
         self.order += 1;
-        self.due
-            .insert((self.now_ms + self.stop_delay_ms, self.order), Due::Report(id));
+        self.due.insert(
+            (self.now_ms + self.stop_delay_ms, self.order),
+            Due::Report(id),
+        );
         Ok(())
     }
 

@@ -55,9 +55,11 @@ impl Executive {
             return;
         }
         let actions = self.plan.live_actions().count();
-        let Some(i) = self.parked.iter().position(|p| {
-            actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS
-        }) else {
+        let Some(i) = self
+            .parked
+            .iter()
+            .position(|p| actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS)
+        else {
             return;
         };
         let p = self.parked.remove(i);

@@ -432,9 +432,8 @@ fn collect_stop_reports<V: Vehicle>(
     let until = pacer
         .now(v.inner)
         .saturating_add(STOP_REPORT_WAIT.as_millis() as Time);
-    let waiting = |pacer: &dyn Pacer<V>, v: &V| {
-        std::time::Instant::now() < deadline && pacer.now(v) < until
-    };
+    let waiting =
+        |pacer: &dyn Pacer<V>, v: &V| std::time::Instant::now() < deadline && pacer.now(v) < until;
     let mut kept = VecDeque::new();
     let outstanding = |ex: &Executive| {
         ex.stop_sent

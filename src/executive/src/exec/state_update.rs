@@ -89,7 +89,12 @@ pub fn location_object(
 /// A place `new` the vehicle reached from `from` is linked back to it: a static relation `R(new, from)`
 /// holds when `R(from, x)` holds for some place (a route graph: the vehicle can go back the way it came;
 /// copying `from`'s relations gives `R(new, from)` the value of `R(from, from)`, none).
-fn way_back(problem: &mut mavtempo_temporal::model::Problem, statics: &[AttrId], new: ObjectId, from: ObjectId) {
+fn way_back(
+    problem: &mut mavtempo_temporal::model::Problem,
+    statics: &[AttrId],
+    new: ObjectId,
+    from: ObjectId,
+) {
     let t = Value::Obj(mavtempo_temporal::model::Domain::TRUE);
     for &r in statics {
         let linked = problem
@@ -288,7 +293,10 @@ pub fn integrate_late_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t
         let Some((attr, args, before)) = before_value(ex, e) else {
             continue;
         };
-        if reported.iter().any(|(ra, rargs, _)| *ra == attr && *rargs == args) {
+        if reported
+            .iter()
+            .any(|(ra, rargs, _)| *ra == attr && *rargs == args)
+        {
             continue;
         }
         let after = ex.plan.bindings().value(ex.plan.event(e).to);
