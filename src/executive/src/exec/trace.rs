@@ -327,6 +327,7 @@ mod tests {
                 reason: AbortReason::PlanChurn(PlanChurn {
                     changes: 4,
                     failing: Some(("buy(apple)".into(), 2)),
+                    how: "failed".into(),
                 }),
             },
             TraceEvent::Replan(AttemptRecord {
