@@ -57,6 +57,9 @@ pub struct ExecConfig {
     /// The resolution of the vehicle's reported levels, in the resources' units (a battery reported in
     /// whole percents: 1): a reading within it of the plan's bounds is in them — no repair, no plan change.
     pub level_tolerance: f64,
+    /// `[exec.reserve]`: per resource, the largest fault (drop) the mission must absorb, e.g. `BATTERY =
+    /// 20.0`. A plan that may leave less is said so (a warning in the trace) when it is adopted.
+    pub reserve: std::collections::BTreeMap<String, f64>,
 }
 
 impl Default for ExecConfig {
@@ -80,6 +83,7 @@ impl Default for ExecConfig {
             same_failure_limit: 3,
             max_plan_changes_per_min: 12,
             level_tolerance: super::resource_report::EPS,
+            reserve: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -99,6 +103,8 @@ pub enum ConfigError {
     StepCap(&'static str),
     #[error("exec.level_tolerance must be a finite number ≥ 0, got {0}")]
     Tolerance(f64),
+    #[error("exec.reserve: each resource's fault size must be a finite number ≥ 0, got {0}")]
+    Reserve(f64),
 }
 
 const HOUR_MS: Time = 3_600_000;
@@ -112,6 +118,7 @@ impl ConfigError {
             ConfigError::Slack(_) => "replan_slack_ms",
             ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
             ConfigError::Tolerance(_) => "level_tolerance",
+            ConfigError::Reserve(_) => "reserve",
         }
     }
 }
@@ -130,6 +137,13 @@ impl ExecConfig {
         }
         if !(self.level_tolerance.is_finite() && self.level_tolerance >= 0.0) {
             return Err(ConfigError::Tolerance(self.level_tolerance));
+        }
+        if let Some((_, &v)) = self
+            .reserve
+            .iter()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(ConfigError::Reserve(v));
         }
         let counts = [
             ("same_failure_limit", self.same_failure_limit),

@@ -282,6 +282,7 @@ impl Executive {
             goal: ins.goal.name.clone(),
         });
         self.decide_goal(ins.reply, GoalVerdict::Accepted);
+        self.check_reserves();
     }
 
     /// The attempt in progress failed: the goal is rejected, *ExecutingPlan* was never touched.

@@ -57,6 +57,7 @@ pub mod pacer;
 pub mod repair;
 pub mod replan;
 pub mod report_timing;
+pub mod reserve;
 pub mod resource_bounds;
 pub mod resource_report;
 pub mod sense;
