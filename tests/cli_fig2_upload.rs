@@ -11,7 +11,7 @@ mod child;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use child::{lines, spawn_piped, wait_line, Reap};
+use child::{fig2_sim, lines, wait_line, Reap};
 
 const SPEEDUP: &str = "10";
 
@@ -47,20 +47,7 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
     let dir = tempfile::TempDir::new().expect("temp dir");
     let plan_file = dir.path().join("picture22.plan");
     std::fs::write(&plan_file, PICTURE_22M).expect("write the goal file");
-    let (_sim, stdout) = spawn_piped(
-        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-            .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", SPEEDUP])
-            .args(["--scenario", "sitl/scenarios/fig2.toml"]),
-    );
-    let sim_out = lines(stdout);
-    let mut seen = Vec::new();
-    wait_line(
-        &sim_out,
-        "sitl listening on",
-        Duration::from_secs(30),
-        &mut seen,
-    );
-    let sim_addr = address_after(&seen, "sitl listening on");
+    let (_sim, port) = fig2_sim(SPEEDUP);
     let report_path = dir.path().join("run.json");
     let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
         .args([
@@ -70,7 +57,7 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
             "--speedup",
             SPEEDUP,
         ])
-        .args(["--vehicle", &format!("tcpout:{sim_addr}")])
+        .args(["--vehicle", &format!("tcpout:127.0.0.1:{port}")])
         .args(["--gcs", "udpin:127.0.0.1:0"])
         .arg("--report")
         .arg(&report_path)
