@@ -236,9 +236,10 @@ impl fmt::Display for PolicyKind {
 }
 
 impl Default for PolicyKind {
-    /// IxTeT-eXeC's rule.
+    /// The product's behaviour: seed 2's goal-driven dispatch, its support kept by the incremental marking
+    /// (`earliest`, IxTeT-eXeC's own rule, and `latest` remain options).
     fn default() -> Self {
-        PolicyKind::Earliest
+        PolicyKind::GoalDriven(SupportForm::Marking)
     }
 }
 

@@ -29,6 +29,8 @@ pub struct PlanDispatch {
     policy: Box<dyn DispatchPolicy>,
     marking: PlanMarking,
     search: GoalSearch,
+    /// [`super::deferral::latest_at_longest`] for the network it was computed on (its fingerprint).
+    longest: Option<(u64, Option<Vec<Time>>)>,
 }
 
 impl PlanDispatch {
@@ -38,6 +40,7 @@ impl PlanDispatch {
             policy: kind.policy(),
             marking: PlanMarking::new(),
             search: GoalSearch::new(),
+            longest: None,
         }
     }
 
@@ -62,7 +65,10 @@ impl PlanDispatch {
         match (c.kind, action) {
             (TpKind::Start, Some(a)) => {
                 let supports = self.policy.needs_goal_support() && self.supports(plan, a);
-                let window = StartWindow { lb: c.lb, ub: c.ub };
+                let window = StartWindow {
+                    lb: c.lb,
+                    ub: self.deferred_ub(plan, c, supports),
+                };
                 self.policy.t_exec(window, ts, supports)
             }
             _ => Some(t_exec(c.kind, c.lb, c.ub, ts)),
@@ -104,6 +110,30 @@ impl PlanDispatch {
             .supports_external_goal(&view, crate::dispatch::ActionKey(a.0))
     }
 
+    /// The upper bound a start may be deferred to: for a start the policy defers (not served as early as
+    /// possible), the latest start with every duration after it at its longest ([`super::deferral`]),
+    /// never below its lower bound; otherwise the STN's.
+    fn deferred_ub(&mut self, plan: &PartialPlan, c: &Candidate, supports: bool) -> Time {
+        let defers = match self.kind {
+            PolicyKind::Earliest => false,
+            PolicyKind::Latest => true,
+            PolicyKind::GoalDriven(_) => !supports,
+        };
+        if !defers {
+            return c.ub;
+        }
+        let key = fingerprint(plan);
+        if self.longest.as_ref().map(|(k, _)| *k) != Some(key) {
+            self.longest = Some((key, super::deferral::latest_at_longest(plan)));
+        }
+        match &self.longest {
+            Some((_, Some(latest))) => latest
+                .get(c.tp.index())
+                .map_or(c.ub, |&l| l.min(c.ub).max(c.lb)),
+            _ => c.ub,
+        }
+    }
+
     /// The marking as last read (for tests and traces).
     pub fn marking(&self) -> &PlanMarking {
         &self.marking
@@ -114,4 +144,18 @@ impl Default for PlanDispatch {
     fn default() -> Self {
         PlanDispatch::new(PolicyKind::Earliest)
     }
+}
+
+/// A fingerprint of the plan's temporal network (its constraints and which actions are live), to reuse
+/// the longest-duration bounds while nothing changed.
+fn fingerprint(plan: &PartialPlan) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for (c, k) in plan.temporal_network().constraints() {
+        (c.index(), k.from.index(), k.to.index(), k.lb, k.ub).hash(&mut h);
+    }
+    for a in plan.live_actions() {
+        (a.index(), plan.is_executed(plan.action(a).end)).hash(&mut h);
+    }
+    h.finish()
 }

@@ -16,6 +16,7 @@
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
 //! | §3.5 the dispatch decision (src/dispatch policies) | [`dispatch_policy`] |
+//! | seed 2's latest start, kept for the longest durations | [`deferral`] |
 //! | seed 2: what an action is for (causal links and reservoirs; dispatch and the failure bounds) | [`goal_support`] |
 //! | §5 (future work; a heuristic, not dynamic controllability): starts postponed rather than squeeze a running action's duration | [`squeeze`] |
 //! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
@@ -39,6 +40,7 @@ pub mod cancel;
 pub mod capacity;
 pub mod config;
 pub mod cycle;
+pub mod deferral;
 pub mod dispatch_policy;
 pub mod executable;
 pub mod executive;
