@@ -3,14 +3,14 @@
 
 use std::path::Path;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::dispatch::PolicyKind;
 use mavtempo_temporal::model::Time;
 use mavtempo_vehicle::config::{ConfigError as VehicleConfigError, VehicleConfig};
 
 /// A key left out takes its value from [`ExecConfig::default`], the one place the defaults are written.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExecConfig {
     /// ts: the maximum duration of a cycle, ms (seed 1 §4: 1.3 s; §5: 2 s).
@@ -54,9 +54,6 @@ pub struct ExecConfig {
     /// Plan repairs plus complete replannings allowed within any minute of mission time; past it a goal is
     /// rejected with the count as the reason.
     pub max_plan_changes_per_min: u32,
-    /// The resolution of the vehicle's reported levels, in the resources' units (a battery reported in
-    /// whole percents: 1): a reading within it of the plan's bounds is in them — no repair, no plan change.
-    pub level_tolerance: f64,
     /// `[exec.reserve]`: per resource, the largest fault (drop) the mission must absorb, e.g. `BATTERY =
     /// 20.0`. A plan that may leave less is said so (a warning in the trace) when it is adopted.
     pub reserve: std::collections::BTreeMap<String, f64>,
@@ -82,7 +79,6 @@ impl Default for ExecConfig {
             dispatch: PolicyKind::default(),
             same_failure_limit: 3,
             max_plan_changes_per_min: 12,
-            level_tolerance: super::resource_report::EPS,
             reserve: std::collections::BTreeMap::new(),
         }
     }
@@ -101,8 +97,6 @@ pub enum ConfigError {
     Positive(&'static str),
     #[error("exec.{0} must be positive")]
     StepCap(&'static str),
-    #[error("exec.level_tolerance must be a finite number ≥ 0, got {0}")]
-    Tolerance(f64),
     #[error("exec.reserve: each resource's fault size must be a finite number ≥ 0, got {0}")]
     Reserve(f64),
 }
@@ -117,7 +111,6 @@ impl ConfigError {
             ConfigError::Share(_) => "repair_share",
             ConfigError::Slack(_) => "replan_slack_ms",
             ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
-            ConfigError::Tolerance(_) => "level_tolerance",
             ConfigError::Reserve(_) => "reserve",
         }
     }
@@ -134,9 +127,6 @@ impl ExecConfig {
         }
         if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
             return Err(ConfigError::Slack(self.replan_slack_ms));
-        }
-        if !(self.level_tolerance.is_finite() && self.level_tolerance >= 0.0) {
-            return Err(ConfigError::Tolerance(self.level_tolerance));
         }
         if let Some((_, &v)) = self
             .reserve
@@ -219,11 +209,55 @@ impl ExecConfig {
         })?;
         Ok(exec)
     }
+
+    /// `base` with the keys the configuration's `[exec]` table writes (validated as
+    /// [`Self::parse_section`] does): how `demo` and `soak` keep their own defaults (seed 1's ts and μ,
+    /// deterministic step budgets) and still honour a configuration's `[exec]`.
+    pub fn over(base: &ExecConfig, text: &str, origin: &str) -> Result<Self, VehicleConfigError> {
+        #[derive(Deserialize)]
+        struct Raw {
+            exec: Option<toml::Table>,
+        }
+        Self::parse_section(text, origin)?;
+        let at = |e| VehicleConfigError::At(Box::new(e));
+        let raw: Raw = srctext::toml_file::parse(origin, text).map_err(at)?;
+        let Some(written) = raw.exec else {
+            return Ok(base.clone());
+        };
+        let merge = || -> Result<ExecConfig, String> {
+            let mut table = toml::Table::try_from(base).map_err(|e| e.to_string())?;
+            table.extend(written);
+            let cfg: ExecConfig = table.try_into().map_err(|e| e.to_string())?;
+            cfg.validate()
+                .map_err(|e| format!("exec.{}: {e}", e.key()))?;
+            Ok(cfg)
+        };
+        merge().map_err(|reason| at(srctext::toml_file::at_key(origin, text, "exec", reason)))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_exec_table_is_written_over_a_commands_own_defaults() {
+        let base = ExecConfig {
+            timestep_ms: 1_300,
+            repair_max_steps: Some(300),
+            ..ExecConfig::default()
+        };
+        let none = ExecConfig::over(&base, "[link]\naddress = \"x\"\n", "t").expect("no table");
+        assert_eq!(none, base);
+        let cfg = ExecConfig::over(&base, "[exec]\ntimestep_ms = 900\n", "t").expect("over");
+        assert_eq!(cfg.timestep_ms, 900);
+        assert_eq!(
+            cfg.repair_max_steps,
+            Some(300),
+            "the base's own default kept"
+        );
+        assert!(ExecConfig::over(&base, "[exec]\nrepair_share = 2.0\n", "t").is_err());
+    }
 
     #[test]
     fn step_caps_have_defaults_and_must_be_positive() {
@@ -238,16 +272,6 @@ mod tests {
             cfg.validate(),
             Err(ConfigError::StepCap("replan_max_steps"))
         );
-    }
-
-    #[test]
-    fn level_tolerance_is_the_readings_resolution_and_must_be_finite_and_not_negative() {
-        let cfg: ExecConfig = toml::from_str("").expect("parses");
-        assert_eq!(cfg.level_tolerance, super::super::resource_report::EPS);
-        let cfg: ExecConfig = toml::from_str("level_tolerance = 2.0").expect("parses");
-        assert_eq!((cfg.level_tolerance, cfg.validate()), (2.0, Ok(())));
-        let cfg: ExecConfig = toml::from_str("level_tolerance = -1.0").expect("parses");
-        assert_eq!(cfg.validate(), Err(ConfigError::Tolerance(-1.0)));
     }
 
     #[test]
