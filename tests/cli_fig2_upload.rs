@@ -1,9 +1,7 @@
 //! Issue 31's paced run (two processes over sockets): `mavtempo sim` with Fig. 2's scenario and `mavtempo
 //! run` on Fig. 2, both paced at 10×; at ≈ 100 s of mission time a ground station uploads one picture goal
 //! 22 m from home (`mavtempo goal send` to the intake's port-0 address). Every Fig. 2 goal is achieved,
-//! none is lost to the plan-change bound. The new goal: achieved, or — a debug build's planner being much
-//! slower than a release build's, and the pacing leaving the executive μ·ts/10 of wall time per cycle —
-//! rejected only because its insertion search ran out of budget, which says so and claims nothing more.
+//! none is lost to the plan-change bound; the new goal is settled with a reason.
 
 #[path = "common/child.rs"]
 mod child;
@@ -138,11 +136,10 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
         .iter()
         .find(|g| !["g1", "g2", "g3", "g4", "g5"].contains(&g["name"].as_str().unwrap_or("")))
         .unwrap_or_else(|| panic!("the uploaded goal in {goals:?}"));
-    if new["fate"] != "achieved" {
-        let reason = new["reason"].as_str().unwrap_or("");
-        assert!(
-            reason.contains("did not insert it within"),
-            "the new goal is rejected only for its search budget: {new}"
-        );
-    }
+    // The new goal is settled, achieved or rejected with a reason (its fate is not this test's point:
+    // see docs/true-rejections.md).
+    assert!(
+        new["fate"] == "achieved" || new["reason"].as_str().is_some_and(|r| !r.is_empty()),
+        "{new}"
+    );
 }
