@@ -15,7 +15,7 @@ use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage};
 use mavtempo::vehicle::frame::FrameDecoder;
 use mavtempo::vehicle::tlog::read_tlog;
 
-use child::{lines, spawn_piped, wait_line, wait_line_once, Reap};
+use child::{fig2_sim, lines, spawn_piped, wait_line, wait_line_once, Reap};
 
 /// ArduPilot Rover's custom modes (config/sitl-rover.toml).
 const HOLD: u32 = 4;
@@ -43,30 +43,6 @@ fn wait_exit(child: &mut Child, within: Duration) -> ExitStatus {
 /// The `.tlog` has passed its writer's 8 KiB buffer on disk (where the issue found it cut mid-frame).
 fn past_8_kib(path: &Path) -> bool {
     std::fs::metadata(path).is_ok_and(|m| m.len() >= 8192)
-}
-
-/// `mavtempo sim` paced at `speedup` on a free port: the process and its port.
-fn sim(speedup: &str) -> (Reap, u16) {
-    let (reap, stdout) = spawn_piped(
-        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-            .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", speedup])
-            .args(["--scenario", "sitl/scenarios/fig2.toml"]),
-    );
-    let mut first = Vec::new();
-    let rx = lines(stdout);
-    wait_line(
-        &rx,
-        "sitl listening on",
-        Duration::from_secs(30),
-        &mut first,
-    );
-    let port = first
-        .last()
-        .and_then(|l| l.split_whitespace().nth(3))
-        .and_then(|a| a.rsplit(':').next())
-        .and_then(|p| p.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {first:?}"));
-    (reap, port)
 }
 
 /// `mavtempo run` of the two-goal rover problem against the SITL at `port`, with a `.tlog` and a report
@@ -173,7 +149,7 @@ struct Moving {
 }
 
 fn moving(dir: &Path) -> Moving {
-    let (sim, port) = sim("5");
+    let (sim, port) = fig2_sim("5");
     let (run, out, err) = run(port, "5", dir);
     let mut seen = Vec::new();
     let tlog = dir.join("run.tlog");

@@ -8,30 +8,12 @@ mod child;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use child::{lines, spawn_piped, wait_line, Reap};
+use child::{fig2_sim, lines, wait_line, Reap};
 
 #[test]
 fn run_ends_with_a_verdict_when_the_vehicle_vanishes() {
     let dir = tempfile::TempDir::new().expect("temp dir");
-    let (mut sim, stdout) = spawn_piped(
-        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-            .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", "10"])
-            .args(["--scenario", "sitl/scenarios/fig2.toml"]),
-    );
-    let sim_out = lines(stdout);
-    let mut seen = Vec::new();
-    wait_line(
-        &sim_out,
-        "sitl listening on",
-        Duration::from_secs(30),
-        &mut seen,
-    );
-    let port: u16 = seen
-        .last()
-        .and_then(|l| l.split_whitespace().nth(3))
-        .and_then(|a| a.rsplit(':').next())
-        .and_then(|p| p.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {seen:?}"));
+    let (mut sim, port) = fig2_sim("10");
     let report_path = dir.path().join("run.json");
     let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
         .args([

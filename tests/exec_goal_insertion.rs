@@ -258,3 +258,45 @@ fn new_goals_are_inserted_highest_priority_first_each_on_its_own() {
         .collect();
     assert_eq!(decided, ["g7", "g8", "g6"]);
 }
+
+/// A goal whose insertion was cut by its cycles (which proves nothing) is tried again once the situation
+/// changed — here a minute later — with twice the cycles, and accepted; its rejection is withdrawn.
+#[test]
+fn a_goal_cut_by_its_insertion_budget_is_tried_again_and_accepted() {
+    let one_cycle = ExecConfig {
+        // 12 steps a cycle: short of what the first, depth-first, attempt needs.
+        repair_max_steps: Some(20),
+        goal_insertion_cycles: 1,
+        ..rover_mock::rover_config()
+    };
+    let mut ex = executive_with(one_cycle);
+    let (batch, mut rx) = GoalBatch::new(vec![picture("g6", 24.0, 6.0, 1)]);
+    ex.integrate(VehicleEvent::Goals(batch), 0);
+    insertion_cycles(&mut ex, 0, 1);
+    assert!(matches!(
+        rx.try_recv().expect("answered").as_slice(),
+        [GoalVerdict::Rejected(_)]
+    ));
+    let fate = |ex: &Executive| {
+        ex.goal_fates()
+            .into_iter()
+            .filter(|f| f.name == "g6")
+            .map(|f| f.fate)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(fate(&ex), [Fate::Rejected]);
+    assert_eq!(ex.parked_goals().collect::<Vec<_>>(), ["g6"]);
+    // Nothing changed yet: it waits.
+    ex.repair_phase(1_000, &|| 1_000);
+    assert!(ex.insertion_queue().is_empty());
+    // A minute later it is tried again, with more cycles, and accepted.
+    let cycles = insertion_cycles(&mut ex, 61_000, 10);
+    assert!(cycles >= 2, "{cycles}");
+    assert_eq!(fate(&ex), [Fate::Pending]);
+    assert!(ex.parked_goals().next().is_none());
+    let (actions, _, _) = plan_text(&ex);
+    assert!(
+        actions.iter().any(|a| a == "take_picture(p3)"),
+        "{actions:?}"
+    );
+}

@@ -207,7 +207,15 @@ fn the_replanning_that_ends_a_mission_reaches_the_observer_and_the_report() {
             .replannings
             .iter()
             .any(|r| r.rejected.iter().any(|x| x.goal == g.name));
-        assert!(by_a_replanning, "{} in {rejected_here:?}", g.name);
+        // Or by the failure ban: the rover stands where navigation failed (a new place, issue 31), the
+        // move from there fails three times in a row and is not tried again.
+        let by_the_ban = matches!(g.reason, Some(FateReason::InstanceBanned { .. }));
+        assert!(
+            by_a_replanning || by_the_ban,
+            "{} in {rejected_here:?}: {:?}",
+            g.name,
+            g.reason
+        );
     }
 }
 

@@ -132,6 +132,9 @@ pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, BenchError> {
         repair_share: 0.6,
         replan_slack_ms: 1_000,
         repair_max_steps: Some(100),
+        // The chain serves no external goal: goal-driven dispatch (the default since issue 33) would defer
+        // every step to its latest start; the cycle figures are of a chain run as early as it can.
+        dispatch: crate::dispatch::PolicyKind::Earliest,
         ..ExecConfig::default()
     };
     let mut ex = Executive::new(plan, cfg);

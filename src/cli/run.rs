@@ -245,6 +245,10 @@ fn mission(
     }
     let origin = vehicle.now_ms();
     outln!("vehicle ready; mission starts at vehicle time {origin} ms");
+    if let Some(a) = vehicle.gcs_addr() {
+        // The bound address (with `--gcs udpin:…:0`, the port the system chose).
+        outln!("goal intake listening on {a}");
+    }
     let home = checked.home;
     let mut ex = Executive::new(plan, exec_cfg)
         .with_mapping(checked.mapping)

@@ -85,3 +85,27 @@ pub fn wait_line_once(
         is_ready = is_ready || ready();
     }
 }
+
+/// `mavtempo sim` with Fig. 2's scenario paced at `speedup` on a free port: the process and its port.
+pub fn fig2_sim(speedup: &str) -> (Reap, u16) {
+    let (reap, stdout) = spawn_piped(
+        Command::new(env!("CARGO_BIN_EXE_mavtempo"))
+            .args(["sim", "--listen", "tcpin:127.0.0.1:0", "--speedup", speedup])
+            .args(["--scenario", "sitl/scenarios/fig2.toml"]),
+    );
+    let mut first = Vec::new();
+    let rx = lines(stdout);
+    wait_line(
+        &rx,
+        "sitl listening on",
+        Duration::from_secs(30),
+        &mut first,
+    );
+    let port = first
+        .last()
+        .and_then(|l| l.split_whitespace().nth(3))
+        .and_then(|a| a.rsplit(':').next())
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {first:?}"));
+    (reap, port)
+}

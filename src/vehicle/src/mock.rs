@@ -82,6 +82,8 @@ pub struct MockVehicle {
     /// State values reported when an action of the task is stopped (e.g. the reached position).
     on_stop: HashMap<String, Vec<(String, StateValue)>>,
     running: BTreeMap<ActionId, (String, Outcome)>,
+    /// How long a stopped action takes to report (an autopilot that takes time to stop), ms.
+    stop_delay_ms: u64,
     due: BTreeMap<(u64, u64), Due>,
     ready: VecDeque<VehicleEvent>,
     levels: BTreeMap<String, f64>,
@@ -109,6 +111,12 @@ impl MockVehicle {
 
     pub fn on_stop(&mut self, task: &str, state: Vec<(String, StateValue)>) -> &mut Self {
         self.on_stop.insert(task.into(), state);
+        self
+    }
+
+    /// A stopped action reports `ms` after its END instead of at once.
+    pub fn stops_after(&mut self, ms: u64) -> &mut Self {
+        self.stop_delay_ms = ms;
         self
     }
 
@@ -292,7 +300,25 @@ impl Vehicle for MockVehicle {
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
         let (task, _) = self.running.get(&id).ok_or(VehicleError::NotRunning(id))?;
         let state = self.on_stop.get(task).cloned().unwrap_or_default();
-        self.stop_with(id, state)
+        if self.stop_delay_ms == 0 {
+            return self.stop_with(id, state);
+        }
+        // The report of the stop replaces the scripted one, `stop_delay_ms` later.
+        self.log.push(format!("{} END {id}", self.now_ms));
+        let task = task.clone();
+        let outcome = Outcome {
+            status: ReportStatus::Interrupted,
+            state,
+            reason: Some("stopped (END)".into()),
+            ..Outcome::nominal(0)
+        };
+        self.running.insert(id, (task, outcome));
+        self.order += 1;
+        self.due.insert(
+            (self.now_ms + self.stop_delay_ms, self.order),
+            Due::Report(id),
+        );
+        Ok(())
     }
 
     fn try_event(&mut self) -> Option<VehicleEvent> {

@@ -202,6 +202,8 @@ impl Executive {
         self.started.insert(a, vid);
         self.by_vid.insert(vid, a);
         self.counters.launches += 1;
+        let inst = super::failures::Instance::of(&self.plan, a);
+        self.failures.launched(inst, now);
         let end = self.plan.action(a).end;
         let (lb, ub) = (self.plan.earliest(end), self.plan.latest(end));
         let planned_end_ms = Some((lb, (ub < mavtempo_temporal::stn::INF).then_some(ub)));

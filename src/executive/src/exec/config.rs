@@ -54,6 +54,9 @@ pub struct ExecConfig {
     /// Plan repairs plus complete replannings allowed within any minute of mission time; past it a goal is
     /// rejected with the count as the reason.
     pub max_plan_changes_per_min: u32,
+    /// `[exec.reserve]`: per resource, the largest fault (drop) the mission must absorb, e.g. `BATTERY =
+    /// 20.0`. A plan that may leave less is said so (a warning in the trace) when it is adopted.
+    pub reserve: std::collections::BTreeMap<String, f64>,
 }
 
 impl Default for ExecConfig {
@@ -76,6 +79,7 @@ impl Default for ExecConfig {
             dispatch: PolicyKind::default(),
             same_failure_limit: 3,
             max_plan_changes_per_min: 12,
+            reserve: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -93,6 +97,8 @@ pub enum ConfigError {
     Positive(&'static str),
     #[error("exec.{0} must be positive")]
     StepCap(&'static str),
+    #[error("exec.reserve: each resource's fault size must be a finite number ≥ 0, got {0}")]
+    Reserve(f64),
 }
 
 const HOUR_MS: Time = 3_600_000;
@@ -105,6 +111,7 @@ impl ConfigError {
             ConfigError::Share(_) => "repair_share",
             ConfigError::Slack(_) => "replan_slack_ms",
             ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
+            ConfigError::Reserve(_) => "reserve",
         }
     }
 }
@@ -120,6 +127,13 @@ impl ExecConfig {
         }
         if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
             return Err(ConfigError::Slack(self.replan_slack_ms));
+        }
+        if let Some((_, &v)) = self
+            .reserve
+            .iter()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(ConfigError::Reserve(v));
         }
         let counts = [
             ("same_failure_limit", self.same_failure_limit),

@@ -113,6 +113,8 @@ pub struct Executive {
     pub(crate) mapping: mavtempo_vehicle::mapping::DomainMapping,
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
     pub(crate) insertions: VecDeque<Insertion>,
+    /// New goals rejected for a reason that may stop holding, waiting to be tried again.
+    pub(crate) parked: Vec<super::goal_retry::Parked>,
     /// Uploads not answered yet, or with goals still being inserted, by number.
     pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
     pub(crate) next_batch: u64,
@@ -192,6 +194,7 @@ impl Executive {
             repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
             insertions: VecDeque::new(),
+            parked: Vec::new(),
             goal_batches: BTreeMap::new(),
             next_batch: 0,
             refused: Vec::new(),

@@ -103,6 +103,9 @@ pub struct FailureMemory {
     changes: VecDeque<(Time, PlanChangeKind)>,
     /// Failures in the current window, per instance (to name the culprit when the rate bound is hit).
     recent_failures: VecDeque<(Time, Instance)>,
+    /// Launches in the current window, per instance: with no failure, the instance launched again and
+    /// again is the one that churns.
+    recent_launches: VecDeque<(Time, Instance)>,
 }
 
 const MINUTE: Time = 60_000;
@@ -116,7 +119,20 @@ impl FailureMemory {
             banned: BTreeMap::new(),
             changes: VecDeque::new(),
             recent_failures: VecDeque::new(),
+            recent_launches: VecDeque::new(),
         }
+    }
+
+    /// A launch of `inst` at `t`.
+    pub fn launched(&mut self, inst: Instance, t: Time) {
+        while self
+            .recent_launches
+            .front()
+            .is_some_and(|(c, _)| *c <= t - MINUTE)
+        {
+            self.recent_launches.pop_front();
+        }
+        self.recent_launches.push_back((t, inst));
     }
 
     /// A failure of `inst` at `t`, described by `what` (e.g. "failed: camera busy"). Returns the ban's
@@ -197,15 +213,32 @@ impl FailureMemory {
 
     /// The instance that failed most within the last minute.
     pub fn most_failing(&self) -> Option<(Instance, usize)> {
-        let mut count: BTreeMap<&Instance, usize> = BTreeMap::new();
-        for (_, i) in &self.recent_failures {
-            *count.entry(i).or_default() += 1;
-        }
-        count
-            .into_iter()
-            .max_by_key(|&(i, n)| (n, std::cmp::Reverse(i.clone())))
-            .map(|(i, n)| (i.clone(), n))
+        most(&self.recent_failures)
     }
+
+    /// The instance launched most within the last minute of `t`, when launched more than once: relaunched
+    /// by plan change after plan change, it is what churns.
+    pub fn most_relaunched(&self, t: Time) -> Option<(Instance, usize)> {
+        let recent: VecDeque<(Time, Instance)> = self
+            .recent_launches
+            .iter()
+            .filter(|(c, _)| *c > t - MINUTE)
+            .cloned()
+            .collect();
+        most(&recent).filter(|&(_, n)| n > 1)
+    }
+}
+
+/// The instance that occurs most in `events` (ties: the smallest).
+fn most(events: &VecDeque<(Time, Instance)>) -> Option<(Instance, usize)> {
+    let mut count: BTreeMap<&Instance, usize> = BTreeMap::new();
+    for (_, i) in events {
+        *count.entry(i).or_default() += 1;
+    }
+    count
+        .into_iter()
+        .max_by_key(|&(i, n)| (n, std::cmp::Reverse(i.clone())))
+        .map(|(i, n)| (i.clone(), n))
 }
 
 /// The goals that depend on action `a` in `plan`: reached forward from `a` by
@@ -244,6 +277,23 @@ mod tests {
             task: t.into(),
             args: a.iter().map(|s| s.to_string()).collect(),
         }
+    }
+
+    #[test]
+    fn the_instance_relaunched_most_within_the_minute_is_the_one_that_churns() {
+        let mut m = FailureMemory::new(3, 12);
+        m.launched(inst("move", &["base", "p1"]), 0);
+        m.launched(inst("take_picture", &["p1"]), 10_000);
+        assert_eq!(m.most_relaunched(10_000), None, "each launched once");
+        for t in [20_000, 22_000, 24_000] {
+            m.launched(inst("download_images", &["W1"]), t);
+        }
+        assert_eq!(
+            m.most_relaunched(25_000),
+            Some((inst("download_images", &["W1"]), 3))
+        );
+        // A minute later those launches are forgotten.
+        assert_eq!(m.most_relaunched(85_000), None);
     }
 
     #[test]

@@ -44,11 +44,24 @@ pub struct Insertion {
     id: Option<GoalId>,
     /// Where its end is told once accepted.
     watch: Option<mavtempo_vehicle::goals::GoalWatch>,
+    /// Insertion attempts so far, this one included (src/executive/src/exec/goal_retry.rs).
+    pub tries: u32,
 }
 
 impl Insertion {
     fn started(&self) -> bool {
         self.search.is_some() || self.cycles > 0
+    }
+
+    /// The same goal, request and watch, for a new attempt from scratch.
+    pub(crate) fn again(self) -> Insertion {
+        Insertion {
+            search: None,
+            steps: 0,
+            cycles: 0,
+            id: None,
+            ..self
+        }
     }
 }
 
@@ -87,6 +100,7 @@ impl Executive {
                         cycles: 0,
                         id: None,
                         watch: batch.watch(i),
+                        tries: 1,
                     });
                 }
                 Err(e) => {
@@ -121,11 +135,12 @@ impl Executive {
     /// The repair part of a cycle with nothing else to repair: the insertion attempt in progress, for this
     /// cycle's repair budget.
     pub fn insertion_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
+        self.unpark(now);
         if self.insertions.is_empty() {
             return RepairOutcome::Idle;
         }
         if let Err(reason) = self.root_insertion(now) {
-            self.reject_insertion(reason);
+            self.reject_insertion(reason, now);
             return self.next_insertion();
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
@@ -153,6 +168,8 @@ impl Executive {
         ins.steps += steps;
         ins.cycles += 1;
         let (total, cycles) = (ins.steps, ins.cycles);
+        // A goal tried again gets as many more cycles as it had (src/executive/src/exec/goal_retry.rs).
+        let allowed = self.cfg.goal_insertion_cycles.saturating_mul(ins.tries);
         // What the search last ran into: the reason a rejection gives beside the budget.
         let dead_end = search.last_rejection().map(str::to_string);
         self.counters.repair_steps += steps;
@@ -163,24 +180,30 @@ impl Executive {
                 RepairOutcome::Solved
             }
             Some(StepOutcome::Failed(r)) if !matches!(r, FailReason::Deadline { .. }) => {
-                self.reject_insertion(FateReason::InsertionFailed {
-                    failure: r.to_string(),
-                    dead_end,
-                });
+                self.reject_insertion(
+                    FateReason::InsertionFailed {
+                        failure: r.to_string(),
+                        dead_end,
+                    },
+                    now,
+                );
                 self.next_insertion()
             }
-            _ if cycles >= self.cfg.goal_insertion_cycles => {
-                self.reject_insertion(FateReason::InsertionTimedOut {
-                    cycles,
-                    steps: total,
-                    dead_end,
-                });
+            _ if cycles >= allowed => {
+                self.reject_insertion(
+                    FateReason::InsertionTimedOut {
+                        cycles,
+                        steps: total,
+                        dead_end,
+                    },
+                    now,
+                );
                 self.next_insertion()
             }
             _ => {
                 if cycles == 1 {
                     // Re-rooted next cycle with limited discrepancy search (see `root_insertion`).
-                    if let Some(ins) = self.insertions.front_mut() {
+                    if let Some(ins) = self.insertions.front_mut().filter(|i| i.tries == 1) {
                         ins.search = None;
                     }
                 }
@@ -228,7 +251,8 @@ impl Executive {
         // The first cycle searches as plan repair does (chronological depth-first: local, usually quick);
         // later ones with limited discrepancy search, so that one early wrong choice (e.g. where a download
         // for a fourth picture goes) does not use up the attempt's cycles.
-        ins.search = Some(if ins.cycles == 0 {
+        // A goal tried again starts with limited discrepancy search: depth-first had its chance.
+        ins.search = Some(if ins.cycles == 0 && ins.tries == 1 {
             Search::depth_first(root).bounded_regress()
         } else {
             Search::new(root).bounded_regress()
@@ -265,17 +289,19 @@ impl Executive {
             goal: ins.goal.name.clone(),
         });
         self.decide_goal(ins.reply, GoalVerdict::Accepted);
+        self.check_reserves();
     }
 
     /// The attempt in progress failed: the goal is rejected, *ExecutingPlan* was never touched.
-    fn reject_insertion(&mut self, reason: FateReason) {
+    fn reject_insertion(&mut self, reason: FateReason, now: Time) {
         let Some(ins) = self.insertions.pop_front() else {
             return;
         };
         self.insertion_stale = true;
         tracing::info!(goal = %ins.goal.name, steps = ins.steps, "new goal rejected: {reason}");
         self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.operator_text()));
-        self.refuse(&ins.goal.name, reason);
+        self.refuse(&ins.goal.name, reason.clone());
+        self.park(ins, &reason, now);
     }
 
     /// A requested goal that does not enter the plan: its fate and the trace say why.

@@ -430,7 +430,13 @@ fn collect_stop_reports<V: Vehicle>(
     v: &mut Held<'_, V>,
     pacer: &mut dyn Pacer<V>,
 ) {
+    // Bounded in mission time (the pacer lets it pass, a stepped simulator's too) and in wall time.
     let deadline = std::time::Instant::now() + STOP_REPORT_WAIT;
+    let until = pacer
+        .now(v.inner)
+        .saturating_add(STOP_REPORT_WAIT.as_millis() as Time);
+    let waiting =
+        |pacer: &dyn Pacer<V>, v: &V| std::time::Instant::now() < deadline && pacer.now(v) < until;
     let mut kept = VecDeque::new();
     let outstanding = |ex: &Executive| {
         ex.stop_sent
@@ -441,13 +447,11 @@ fn collect_stop_reports<V: Vehicle>(
     loop {
         let next = match held.pop_front() {
             Some(e) => Some(e),
-            None if outstanding(ex) && std::time::Instant::now() < deadline => {
-                v.inner.wait_event(Duration::from_millis(20))
-            }
+            None if outstanding(ex) && waiting(pacer, v.inner) => pacer.wait(v.inner, until),
             None => v.inner.try_event(),
         };
         let Some(e) = next else {
-            if !outstanding(ex) || std::time::Instant::now() >= deadline {
+            if !outstanding(ex) || !waiting(pacer, v.inner) {
                 break;
             }
             continue;

@@ -11,6 +11,7 @@
 //! | §3.3 resource level: over-consumption / over-production | [`resource_report`] |
 //! | §3.3 goal request acceptance test | [`goal_request`] |
 //! | (not in the papers) a new goal's bounded insertion attempt beside the plan: rejected first, plan kept | [`goal_insertion`] |
+//! | (not in the papers) a goal whose insertion was cut by its budget is tried again | [`goal_retry`] |
 //! | §3.3 capacity alteration | [`capacity`] |
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
@@ -46,6 +47,7 @@ pub mod executive;
 pub mod failures;
 pub mod goal_insertion;
 pub mod goal_request;
+pub mod goal_retry;
 pub mod goal_support;
 pub mod instantiate;
 pub mod interrupt;
@@ -57,6 +59,7 @@ pub mod pacer;
 pub mod repair;
 pub mod replan;
 pub mod report_timing;
+pub mod reserve;
 pub mod resource_bounds;
 pub mod resource_report;
 pub mod sense;

@@ -25,6 +25,16 @@ fn what_ran_out(detail: &str) -> &'static str {
     }
 }
 
+/// What a search cut by its budget last ran into, without claiming it is what makes the goal impossible.
+fn obstacle(detail: &str) -> &'static str {
+    match what_ran_out(detail) {
+        "not enough battery to get there and back to the goals held" => "the battery",
+        "no time to get there within its window while keeping the goals held" => "a time window",
+        "no room left for its pictures" => "the storage",
+        _ => "the goals held",
+    }
+}
+
 impl AbortReason {
     /// Why execution stopped, in the operator's words.
     pub fn operator_text(&self) -> String {
@@ -88,11 +98,12 @@ impl FateReason {
             FateReason::InsertionFailed { failure, dead_end } => {
                 what_ran_out(&format!("{failure} {}", dead_end.as_deref().unwrap_or(""))).to_string()
             }
+            // Cut by its budget, the search proved nothing: no claim that the goal cannot be achieved.
             FateReason::InsertionTimedOut {
                 cycles, dead_end, ..
             } => format!(
-                "no plan found for it within {cycles} cycles ({})",
-                what_ran_out(dead_end.as_deref().unwrap_or(""))
+                "no plan found for it within {cycles} cycles of search, which does not prove there is none (the search last ran into {})",
+                obstacle(dead_end.as_deref().unwrap_or(""))
             ),
             FateReason::HorizonPassed => "the mission's end has passed".to_string(),
             FateReason::WindowPassed {
@@ -164,6 +175,16 @@ mod tests {
         assert_eq!(
             w.operator_text(),
             "its window [0 s, 300 s] closed before the vehicle could get there (it needs 60 s from 400 s)"
+        );
+        // A search cut by its budget is said to be so, not that the goal cannot be achieved.
+        let cut = FateReason::InsertionTimedOut {
+            cycles: 8,
+            steps: 400,
+            dead_end: Some("move: inconsistent numeric constraints".into()),
+        };
+        assert_eq!(
+            cut.operator_text(),
+            "no plan found for it within 8 cycles of search, which does not prove there is none (the search last ran into the battery)"
         );
         let t = FateReason::Acceptance(Rejection::Window {
             error: "negative cycle of 2 edges, total -128280".into(),

@@ -73,8 +73,15 @@ fn last_dead_end(d: &Option<String>) -> String {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlanChurn {
     pub changes: usize,
-    /// The instance that failed most meanwhile and how many times.
+    /// The instance that failed (else was launched) most meanwhile and how many times.
     pub failing: Option<(String, usize)>,
+    /// `failed` or `launched`: what `failing` did that many times.
+    #[serde(default = "failed")]
+    pub how: String,
+}
+
+fn failed() -> String {
+    "failed".to_string()
 }
 
 impl std::fmt::Display for PlanChurn {
@@ -85,7 +92,7 @@ impl std::fmt::Display for PlanChurn {
             self.changes
         )?;
         if let Some((inst, k)) = &self.failing {
-            write!(f, "; {inst} failed {k} times meanwhile")?;
+            write!(f, "; {inst} {} {k} times meanwhile", self.how)?;
         }
         Ok(())
     }

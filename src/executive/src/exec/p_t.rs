@@ -5,10 +5,10 @@
 //! ones out of the plan while keeping their effects in S_t, and computes S_t's logical part `LgcS_t` (the
 //! last executed event of each attribute instance, footnote 4) and the goals G_t (`et^g_ub ≥ t`, footnote 5).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use mavtempo_temporal::model::{AttrId, GoalId, ObjectId, Time, Value};
-use mavtempo_temporal::plan::{ActionId, PartialPlan};
+use mavtempo_temporal::plan::{ActionId, EventRec, Owner, PartialPlan};
 
 /// Where an action stands at time t (Definition 1).
 #[derive(Copy, Clone, Eq, PartialEq, Debug)]
@@ -78,19 +78,31 @@ pub type AttrInstance = (AttrId, Vec<ObjectId>);
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct State {
     pub values: BTreeMap<AttrInstance, (Time, Value)>,
+    /// The instances whose value in `values` was reported ([`State::set`]), not set by an event.
+    reported: BTreeSet<AttrInstance>,
 }
 
 impl State {
     /// Recomputes LgcS_t from the plan's executed events (events of the initial state at the origin and of
     /// executed timepoints), keeping reported values that are more recent.
     pub fn refresh(&mut self, plan: &PartialPlan, t: Time) {
-        for e in plan.events() {
-            let Some(at) = plan.executed_at(e.at) else {
-                continue;
-            };
-            if at > t {
-                continue;
-            }
+        // Executed events in time order; at one instant an action's end events come after its start
+        // events (a move reported done the instant it started — it was within its waypoint radius — leaves
+        // the robot at its target, not `+oo` in transit).
+        let mut executed: Vec<(Time, bool, &EventRec)> = plan
+            .events()
+            .iter()
+            .filter_map(|e| {
+                let at = plan.executed_at(e.at)?;
+                let at_end = match e.owner {
+                    Owner::Action(a) => plan.action(a).end == e.at,
+                    _ => false,
+                };
+                (at <= t).then_some((at, at_end, e))
+            })
+            .collect();
+        executed.sort_by_key(|&(at, at_end, _)| (at, at_end));
+        for (at, at_end, e) in executed {
             let args: Option<Vec<ObjectId>> = e
                 .args
                 .iter()
@@ -103,17 +115,24 @@ impl State {
                 continue;
             };
             let key = (e.attr, args);
-            match self.values.get(&key) {
-                Some(&(old, _)) if old >= at => {}
-                _ => {
-                    self.values.insert(key, (at, value));
+            let keep = match self.values.get(&key) {
+                // A reported value wins over an event executed at the same time; an action's end event
+                // follows another event of the same instant.
+                Some(&(old, _)) => {
+                    old > at || (old == at && (!at_end || self.reported.contains(&key)))
                 }
+                None => false,
+            };
+            if !keep {
+                self.reported.remove(&key);
+                self.values.insert(key, (at, value));
             }
         }
     }
 
     /// A value reported by the controlled system at t (a non-nominal report, §3.3 "State variables").
     pub fn set(&mut self, key: AttrInstance, t: Time, value: Value) {
+        self.reported.insert(key.clone());
         self.values.insert(key, (t, value));
     }
 

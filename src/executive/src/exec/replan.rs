@@ -621,5 +621,6 @@ impl Executive {
         // A new goal's insertion attempt starts again from the new plan.
         self.insertion_stale = true;
         self.hierarchy = super::abstraction::Hierarchy::new(self.plan.domain());
+        self.check_reserves();
     }
 }

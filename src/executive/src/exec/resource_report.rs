@@ -2,7 +2,10 @@
 //!
 //! - in bounds: consistent; in case (1) the level becomes exact, `RscL_t(r) = l_r`;
 //! - `l_r < RscL_lb`, over-consumption: a consumption `c = RscL_lb − l_r` is added; case (1):
-//!   `RscL_t(r) = RscL_lb` (so the new level is `l_r`); case (2): `L_t^past(r) = lev_lb^past` (worst case);
+//!   `RscL_t(r) = RscL_lb` (so the new level is `l_r`); case (2): seed 1 says `L_t^past(r) = lev_lb^past`
+//!   (worst case); here the past level is `l_r` less the running actions' productions, so that their
+//!   consumption still to come is not taken as spent (a vehicle drains while it moves; see
+//!   docs/departures.md);
 //! - `l_r > RscL_ub`, over-production: a production `p = l_r − RscL_ub`; case (1): `RscL_t(r) = RscL_ub`
 //!   (new level `l_r`); case (2): `L_t^past(r) = lev_ub^past`.
 //!
@@ -55,8 +58,13 @@ pub fn integrate_level(b: &LevelBounds, l_r: f64, kind: ResourceKind, tol: f64) 
     let exact = b.case == LevelCase::Exact;
     if l_r < b.lb - tol {
         let c = b.lb - l_r;
-        // Case (1): RscL_t = RscL_lb then minus c, i.e. l_r. Case (2): L^past = lev_lb^past, minus c.
-        let lvl = if exact { l_r } else { b.past_lb - c };
+        // Case (1): RscL_t = RscL_lb then minus c, i.e. l_r. Case (2): the running actions' usages are
+        // counted at their start, but a vehicle drains as it goes: none of what they still use may be in
+        // the reading, so the past level is l_r less their productions (new bounds [l_r − used, l_r]),
+        // not seed 1's lev_lb^past − c, which takes it all as spent and meets every later reading of the
+        // same drain as one more over-consumption (one repair per battery percent).
+        let max = b.ub - b.past_ub;
+        let lvl = if exact { l_r } else { l_r - max.max(0.0) };
         LevelUpdate {
             verdict: LevelVerdict::OverConsumption { c },
             past: (lvl, lvl),

@@ -11,7 +11,7 @@ use super::p_t::{classify, remove_past};
 use super::report_timing::{integrate, timing};
 use super::resource_bounds::{fold_removed, level_bounds};
 use super::resource_report::{integrate_level, LevelVerdict};
-use super::state_update::integrate_state;
+use super::state_update::{integrate_late_state, integrate_state};
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::{Goal, GoalKind, Time, TimeInterval, Value};
 use mavtempo_vehicle::mapping::{GoalShape, MappingError};
@@ -65,6 +65,12 @@ impl Executive {
         // The report carries the vehicle time of the completion (a stopped action ended when the END was
         // obeyed, usually a cycle before the report is integrated).
         let t = (r.time_ms.saturating_sub(self.vehicle_origin_ms) as Time).clamp(0, now);
+        // Nor before it started: a move already within its waypoint radius is reported done with the time
+        // of the telemetry that showed it there, which may predate the START.
+        let t = match self.plan.executed_at(self.plan.action(a).start) {
+            Some(st) if st <= now => t.max(st),
+            _ => t,
+        };
         let when = timing(&self.plan, a, t);
         let name = self.action_text(a);
         self.trace(TraceEvent::Report {
@@ -84,6 +90,7 @@ impl Executive {
         match integrate(&mut self.plan, a, t) {
             Ok(true) => {}
             Ok(false) => {
+                integrate_late_state(self, a, &r, t);
                 self.abort = Some(AbortReason::ReportTooLate { action: name });
                 return;
             }

@@ -66,10 +66,23 @@ impl Executive {
         let mut churn = PlanChurn {
             changes: n,
             failing: None,
+            how: "failed".to_string(),
         };
         let mut goals = Vec::new();
-        if let Some((inst, k)) = self.failures.most_failing() {
+        // The instance that churns: the one failing most, else the one relaunched most; only its goals
+        // are rejected.
+        let culprit = self
+            .failures
+            .most_failing()
+            .map(|(i, k)| (i, k, "failed"))
+            .or_else(|| {
+                self.failures
+                    .most_relaunched(now)
+                    .map(|(i, k)| (i, k, "launched"))
+            });
+        if let Some((inst, k, how)) = culprit {
             churn.failing = Some((inst.to_string(), k));
+            churn.how = how.to_string();
             for a in self.plan.live_actions().collect::<Vec<_>>() {
                 if inst.possibly(&self.plan, a) {
                     goals.extend(dependent_goals(&self.plan, a));

@@ -79,8 +79,72 @@ pub fn location_object(
         },
         from.map(|f| (f, statics.as_slice())),
     );
+    if let Some(f) = from {
+        way_back(&mut problem, &statics, id, f);
+    }
     ex.plan.set_problem(Arc::new(problem));
     Ok(id)
+}
+
+/// A place `new` the vehicle reached from `from` is linked back to it: a static relation `R(new, from)`
+/// holds when `R(from, x)` holds for some place (a route graph: the vehicle can go back the way it came;
+/// copying `from`'s relations gives `R(new, from)` the value of `R(from, from)`, none).
+fn way_back(
+    problem: &mut mavtempo_temporal::model::Problem,
+    statics: &[AttrId],
+    new: ObjectId,
+    from: ObjectId,
+) {
+    let t = Value::Obj(mavtempo_temporal::model::Domain::TRUE);
+    for &r in statics {
+        let linked = problem
+            .initial
+            .iter()
+            .any(|f| f.attr == r && f.args.len() == 2 && f.args[0] == from && f.value == t);
+        if !linked {
+            continue;
+        }
+        match problem
+            .initial
+            .iter_mut()
+            .find(|f| f.attr == r && f.args == [new, from])
+        {
+            Some(f) => f.value = t,
+            None => problem.initial.push(mavtempo_temporal::model::Fact {
+                attr: r,
+                args: vec![new, from],
+                value: t,
+            }),
+        }
+    }
+}
+
+/// The place action `a` started from: the value its start event on the position attribute `attr` changed
+/// (a move), else the place it held (a survey, a picture: `hold(AUV_AT(): ?l)`), else the place S_t gives.
+fn started_at(ex: &Executive, a: ActionId, attr: AttrId) -> Option<ObjectId> {
+    let act = ex.plan.action(a);
+    let obj = |v: Value| match v {
+        Value::Obj(o) => Some(o),
+        _ => None,
+    };
+    let moved = act
+        .events
+        .iter()
+        .find(|&&e| ex.plan.event(e).attr == attr && ex.plan.event(e).at == act.start)
+        .and_then(|&e| before_value(ex, e))
+        .and_then(|(_, _, v)| obj(v));
+    let held = || {
+        act.conds.iter().find_map(|&c| {
+            let k = ex.plan.cond(c);
+            (k.attr == attr && matches!(k.kind, CondKind::Hold { .. }))
+                .then(|| ex.plan.bindings().value(k.value))
+                .flatten()
+                .and_then(obj)
+        })
+    };
+    moved
+        .or_else(held)
+        .or_else(|| ex.state.get(&(attr, vec![])).and_then(obj))
 }
 
 /// The attribute instance and value a report's state variable stands for, or why it has none.
@@ -97,17 +161,7 @@ fn reported_value(
                 .position
                 .ok_or(MappingError::NoPositionAttribute)?;
             let name = format!("L{}", ex.plan.problem().objects.len());
-            // Where the action started from: the value its start event on the position changed.
-            let act = ex.plan.action(a);
-            let from = act
-                .events
-                .iter()
-                .find(|&&e| ex.plan.event(e).attr == attr && ex.plan.event(e).at == act.start)
-                .and_then(|&e| before_value(ex, e))
-                .and_then(|(_, _, v)| match v {
-                    Value::Obj(o) => Some(o),
-                    _ => None,
-                });
+            let from = started_at(ex, a, attr);
             let o = location_object(ex, &name, *p, from)?;
             Ok((attr, vec![], Value::Obj(o)))
         }
@@ -208,6 +262,53 @@ fn restored_value(
     let value = b.value(ev.to)?;
     let (attr, args, _) = before_value(ex, e)?;
     Some((attr, args, value))
+}
+
+/// S_t after a report that came too late to be integrated into the plan (its end timepoint past its upper
+/// bound: execution is aborted, the end is never executed): the state the report says the action left —
+/// its reported values (a stopped move's position, a new place if need be), its end effects that happened
+/// (all of them when nominal, the unreported ones of an interrupted preemptive action), and the values
+/// before the others. Without it S_ti would keep the action's start values (`+oo`: in transit), from
+/// which no plan starts (§3.6: S_ti = S_ts).
+pub fn integrate_late_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Time) {
+    let reported: Vec<(AttrId, Vec<ObjectId>, Value)> = r
+        .state
+        .iter()
+        .filter(|_| r.status != mavtempo_vehicle::ReportStatus::Nominal)
+        .filter_map(|(var, v)| reported_value(ex, var, v, a).ok())
+        .collect();
+    let et = ex.plan.action(a).end;
+    let preemptive =
+        ex.plan.domain().task(ex.plan.action(a).task).preemption != Preemption::NonPreemptive;
+    let happened = match r.status {
+        mavtempo_vehicle::ReportStatus::Nominal => true,
+        mavtempo_vehicle::ReportStatus::Interrupted => preemptive,
+        mavtempo_vehicle::ReportStatus::Failed => false,
+    };
+    let mut values = Vec::new();
+    for &e in &ex.plan.action(a).events.clone() {
+        if ex.plan.event(e).at != et {
+            continue;
+        }
+        let Some((attr, args, before)) = before_value(ex, e) else {
+            continue;
+        };
+        if reported
+            .iter()
+            .any(|(ra, rargs, _)| *ra == attr && *rargs == args)
+        {
+            continue;
+        }
+        let after = ex.plan.bindings().value(ex.plan.event(e).to);
+        let value = match (happened, after) {
+            (true, Some(v)) => v,
+            _ => restored_value(ex, a, e).map_or(before, |(_, _, v)| v),
+        };
+        values.push((attr, args, value));
+    }
+    for (attr, args, value) in reported.into_iter().chain(values) {
+        ex.state.set((attr, args), t, value);
+    }
 }
 
 pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Time) {

@@ -90,6 +90,14 @@ pub enum TraceEvent {
     GoalAccepted {
         goal: String,
     },
+    /// The plan leaves less of a resource than the fault the configuration declares it must absorb
+    /// (`[exec.reserve]`): a fault that size would exhaust it (src/executive/src/exec/reserve.rs).
+    ReserveShort {
+        resource: String,
+        /// The lowest level the plan may reach.
+        lowest: f64,
+        reserve: f64,
+    },
     GoalRejected {
         goal: String,
         reason: FateReason,
@@ -195,6 +203,13 @@ impl TraceEvent {
                 format!("goal {goal} received: inserting it into the plan")
             }
             TraceEvent::GoalAccepted { goal } => format!("goal {goal} accepted"),
+            TraceEvent::ReserveShort {
+                resource,
+                lowest,
+                reserve,
+            } => format!(
+                "warning: the plan may leave {resource} at {lowest:.1}, less than the declared fault size {reserve:.1}: a fault that size would exhaust it"
+            ),
             TraceEvent::GoalRejected { goal, reason } => format!("goal {goal} rejected: {reason}"),
             TraceEvent::GoalCancelled { goal, reason } => {
                 format!("goal {goal} cancelled: {reason}")
@@ -327,6 +342,7 @@ mod tests {
                 reason: AbortReason::PlanChurn(PlanChurn {
                     changes: 4,
                     failing: Some(("buy(apple)".into(), 2)),
+                    how: "failed".into(),
                 }),
             },
             TraceEvent::Replan(AttemptRecord {

@@ -1,0 +1,82 @@
+//! A new goal rejected for a reason that may stop holding is tried again (issue 31, "rejections are
+//! true"): its insertion attempt was cut by its budget (the cycles' repair share was spent, which proves
+//! nothing about the goal) or could not be rooted because the plan was not executable at that instant.
+//! Such a goal is parked; it is inserted again once the situation changed — an action of the plan ended,
+//! or the plan has none left (the vehicle would sit idle with the goal rejected), or a minute of mission
+//! time passed — at most
+//! [`MAX_TRIES`] times, the k-th attempt with k times the cycles of the first. Its first rejection stays in
+//! the trace; its fate is the last attempt's.
+
+use super::executive::Executive;
+use super::goal_insertion::Insertion;
+use super::outcome::FateReason;
+use super::trace::TraceEvent;
+use mavtempo_temporal::model::Time;
+
+/// Insertion attempts of one goal, the first one included.
+pub const MAX_TRIES: u32 = 3;
+
+/// Mission time after which a parked goal is tried again even while actions run, ms.
+pub const RETRY_AFTER_MS: Time = 60_000;
+
+/// A rejected goal waiting to be tried again.
+pub struct Parked {
+    pub insertion: Insertion,
+    /// When it was rejected, ms since origin.
+    pub at: Time,
+    /// The plan's actions then.
+    actions: usize,
+}
+
+/// Whether a rejection says only that the attempt ran out, not that the goal cannot be had.
+pub fn may_stop_holding(reason: &FateReason) -> bool {
+    matches!(
+        reason,
+        FateReason::InsertionTimedOut { .. } | FateReason::NotExecutable { .. }
+    )
+}
+
+impl Executive {
+    /// Parks a goal whose insertion was rejected for `reason`, when trying again may succeed.
+    pub(crate) fn park(&mut self, insertion: Insertion, reason: &FateReason, now: Time) {
+        if may_stop_holding(reason) && insertion.tries < MAX_TRIES {
+            let actions = self.plan.live_actions().count();
+            self.parked.push(Parked {
+                insertion,
+                at: now,
+                actions,
+            });
+        }
+    }
+
+    /// With no insertion in progress: the first parked goal whose situation changed is queued again.
+    pub(crate) fn unpark(&mut self, now: Time) {
+        if !self.insertions.is_empty() || self.parked.is_empty() || self.paused.is_some() {
+            return;
+        }
+        let actions = self.plan.live_actions().count();
+        let Some(i) = self
+            .parked
+            .iter()
+            .position(|p| actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS)
+        else {
+            return;
+        };
+        let p = self.parked.remove(i);
+        let mut ins = p.insertion.again();
+        ins.tries += 1;
+        let name = ins.goal.name.clone();
+        // Its refusal is withdrawn: the goal is pending again until this attempt's verdict.
+        if let Some(k) = self.refused.iter().rposition(|f| f.name == name) {
+            self.refused.remove(k);
+        }
+        tracing::info!(goal = %name, tries = ins.tries, "rejected goal tried again");
+        self.trace(TraceEvent::GoalReceived { goal: name });
+        self.insertions.push_back(ins);
+    }
+
+    /// Goals parked for another attempt.
+    pub fn parked_goals(&self) -> impl Iterator<Item = &str> {
+        self.parked.iter().map(|p| p.insertion.goal.name.as_str())
+    }
+}
