@@ -116,6 +116,15 @@ fn poll_until(what: &str, mut done: impl FnMut() -> bool) {
 #[test]
 fn the_live_page_updates_and_its_form_goes_through_the_intake() {
     let (addr, interrupt, demo) = start(true);
+    // Issue 31: a hundred clients that never finish a request (more than the page's connections) block
+    // neither the page nor the mission: everything below still happens.
+    let _slow: Vec<TcpStream> = (0..100)
+        .map(|_| {
+            let mut s = TcpStream::connect(addr).expect("connect");
+            s.write_all(b"GET / HTTP/1.1\r\nX-Slow: ").expect("send");
+            s
+        })
+        .collect();
     let (status, page) = http(addr, "GET", "/", "");
     assert_eq!(status, 200);
     assert!(page.contains("id=\"goal-form\"") && page.contains("EventSource"));

@@ -372,8 +372,8 @@ pub fn run_demo(
             say(&format!("http listening on http://{}/", server.addr));
             let probe = session.vehicle.position_probe();
             Some(crate::report::live::LiveServer {
-                addr: server.addr,
                 feed: server.feed.with_position(probe),
+                ..server
             })
         }
         None => None,

@@ -321,8 +321,8 @@ fn start_live(
         })?;
     outln!("http listening on http://{}/", server.addr);
     let server = crate::report::live::LiveServer {
-        addr: server.addr,
         feed: server.feed.with_position(vehicle.position_probe()),
+        ..server
     };
     Ok((server, rt))
 }

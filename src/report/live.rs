@@ -26,6 +26,7 @@ use axum::routing::{get, post};
 use axum::Router;
 use tokio::sync::{mpsc, watch};
 
+use super::guard::{GuardedListener, PageLimits, Slots};
 use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
 use super::html;
 use crate::exec::executive::Executive;
@@ -80,6 +81,8 @@ struct AppState {
     form: Option<GoalForm>,
     /// Where the page is bound: the Host a POST must name (besides loopback names).
     bound: SocketAddr,
+    /// How often an event stream with nothing new says it is alive (well within the idle timeout).
+    keep_alive: Duration,
 }
 
 /// One cycle as the mission loop hands it over.
@@ -223,16 +226,31 @@ fn planned_bars(ex: &Executive) -> Vec<PlannedBar> {
 pub struct LiveServer {
     pub addr: SocketAddr,
     pub feed: LiveFeed,
+    /// Its connections (how many are open, refused, evicted).
+    pub slots: Arc<Slots>,
 }
 
-/// Binds `addr` and serves the live page on `rt`. `form`: the goal form, enabled.
+/// Binds `addr` and serves the live page on `rt` within the default [`PageLimits`]. `form`: the goal
+/// form, enabled.
 pub fn start(
     rt: &tokio::runtime::Handle,
     addr: SocketAddr,
     form: Option<GoalForm>,
 ) -> std::io::Result<LiveServer> {
+    start_with(rt, addr, form, PageLimits::default())
+}
+
+/// [`start`] within `limits`.
+pub fn start_with(
+    rt: &tokio::runtime::Handle,
+    addr: SocketAddr,
+    form: Option<GoalForm>,
+    limits: PageLimits,
+) -> std::io::Result<LiveServer> {
     let listener = rt.block_on(tokio::net::TcpListener::bind(addr))?;
     let addr = listener.local_addr()?;
+    let listener = GuardedListener::new(listener, limits);
+    let slots = listener.slots();
     let first = Charts::default();
     let body = html::body(&first, true).unwrap_or_default();
     let (snapshot, _) = watch::channel(Arc::new(Snapshot {
@@ -243,6 +261,7 @@ pub fn start(
         snapshot,
         form,
         bound: addr,
+        keep_alive: (limits.idle_timeout / 3).clamp(Duration::from_millis(100), Duration::from_secs(15)),
     });
     let (tx, rx) = mpsc::unbounded_channel();
     rt.spawn(fold(rx, state.clone()));
@@ -260,6 +279,7 @@ pub fn start(
             position: None,
             last_position: None,
         },
+        slots,
     })
 }
 
@@ -353,7 +373,7 @@ async fn events(
         let body = rx.borrow_and_update().body.clone();
         Some((Ok(Event::default().data(body)), (rx, false)))
     });
-    Sse::new(stream).keep_alive(KeepAlive::default())
+    Sse::new(stream).keep_alive(KeepAlive::new().interval(s.keep_alive))
 }
 
 /// The answer to a goal submitted with the form.
