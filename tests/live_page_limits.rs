@@ -101,7 +101,10 @@ fn hundreds_of_slow_clients_hold_at_most_the_cap_and_a_normal_client_is_served()
     // Wait until the server has seen them all (each one taken in, evicting an older one).
     let deadline = Instant::now() + DEADLINE;
     while server.slots.evictions() + server.slots.refused() < 192 {
-        assert!(Instant::now() < deadline, "the server did not take the clients in");
+        assert!(
+            Instant::now() < deadline,
+            "the server did not take the clients in"
+        );
         std::thread::sleep(Duration::from_millis(20));
         assert!(server.slots.open() <= limits.max_connections + 1);
     }

@@ -360,7 +360,8 @@ pub fn run_demo(
     let mut live = match &setup.http {
         Some(h) => {
             let form = h.goals.then(|| {
-                super::http_arg::goal_form(home, format!("tcpout:{gcs}"), Some(gate.clone()))
+                // The built-in simulator does not sign: neither does the demo's companion, nor its form.
+                super::http_arg::goal_form(home, format!("tcpout:{gcs}"), Some(gate.clone()), None)
             });
             let server =
                 crate::report::live::start(rt.handle(), h.addr, form).map_err(|source| {

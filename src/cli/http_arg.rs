@@ -12,7 +12,7 @@ use crate::exec::interrupt::Interrupt;
 use crate::exec::pacer::StepGate;
 use crate::report::live::{GoalForm, PictureGoal};
 use crate::vehicle::geo::Home;
-use crate::vehicle::goal_client::send_goals;
+use crate::vehicle::goal_client::{send_goals_signed, GCS_SYSTEM_ID};
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct HttpArg {
@@ -48,7 +48,13 @@ const UPLOAD_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// The goal form: a picture goal uploaded over MAVLink to `gcs` (a client address such as
 /// `tcpout:127.0.0.1:5760`). `gate`: a stepped simulator waits for the batch (as for the demo's uploads).
-pub fn goal_form(home: Home, gcs: String, gate: Option<Arc<StepGate>>) -> GoalForm {
+/// `signing`: the companion's MAVLink2 signing key and link id, when its config has one.
+pub fn goal_form(
+    home: Home,
+    gcs: String,
+    gate: Option<Arc<StepGate>>,
+    signing: Option<([u8; 32], u8)>,
+) -> GoalForm {
     GoalForm {
         items: Arc::new(move |g: &PictureGoal| {
             super::demo::picture_goal(home, g.east, g.north, g.window_end_s, g.d_achiev_s).to_vec()
@@ -60,7 +66,8 @@ pub fn goal_form(home: Home, gcs: String, gate: Option<Arc<StepGate>>) -> GoalFo
                 if let Some(g) = &gate {
                     g.expect_goal_batch();
                 }
-                let r = send_goals(&gcs, items, UPLOAD_TIMEOUT).await;
+                let r =
+                    send_goals_signed(GCS_SYSTEM_ID, signing, &gcs, items, UPLOAD_TIMEOUT).await;
                 // An upload that failed or was refused (MISSION_ACK not accepted) never reached the
                 // executive: the stepped simulator stops waiting for it.
                 let reached = matches!(&r, Ok(report) if report.failure.is_none());

@@ -201,6 +201,8 @@ fn mission(
     let start_radius_m = crate::vehicle::authority::start_radius_m(&checked.vehicle);
     let limits = crate::vehicle::limits::Limits::from_config(&checked.vehicle.limits, checked.home);
     let stale_after = Duration::from_millis(checked.vehicle.link.heartbeat_timeout_ms);
+    // The page's goal form signs its uploads as the companion requires (issue 31).
+    let signing = crate::vehicle::link::signing_key(&checked.vehicle)?;
     let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
         signals.before_exit_at_once(flush);
@@ -244,7 +246,7 @@ fn mission(
     let mut printer = TracePrinter::default();
     let quiet = args.out.quiet;
     let mut live = match args.http.spec() {
-        Some(h) => Some(start_live(&h, args, &vehicle, home)?),
+        Some(h) => Some(start_live(&h, args, &vehicle, home, signing)?),
         None => None,
     };
     let mut observe = |ex: &Executive, c: &CycleRecord| {
@@ -293,6 +295,7 @@ fn start_live(
     args: &RunArgs,
     vehicle: &MavlinkVehicle,
     home: Home,
+    signing: Option<([u8; 32], u8)>,
 ) -> Result<(crate::report::live::LiveServer, tokio::runtime::Runtime), CliError> {
     let rt = super::runtime::multi_thread(Some(1), "live page runtime")?;
     let form = if h.goals {
@@ -310,7 +313,7 @@ fn start_live(
             addr.ip()
         };
         let client = format!("{transport}:{}", std::net::SocketAddr::new(ip, addr.port()));
-        Some(super::http_arg::goal_form(home, client, None))
+        Some(super::http_arg::goal_form(home, client, None, signing))
     } else {
         None
     };

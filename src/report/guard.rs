@@ -243,10 +243,12 @@ pub struct Guarded {
 
 impl Guarded {
     fn closed(&self) -> Option<io::Error> {
-        self.state
-            .evicted
-            .load(Ordering::Acquire)
-            .then(|| io::Error::new(io::ErrorKind::ConnectionAborted, "evicted: the page is full"))
+        self.state.evicted.load(Ordering::Acquire).then(|| {
+            io::Error::new(
+                io::ErrorKind::ConnectionAborted,
+                "evicted: the page is full",
+            )
+        })
     }
 
     fn touch(&self) {

@@ -26,8 +26,8 @@ use axum::routing::{get, post};
 use axum::Router;
 use tokio::sync::{mpsc, watch};
 
-use super::guard::{GuardedListener, PageLimits, Slots};
 use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
+use super::guard::{GuardedListener, PageLimits, Slots};
 use super::html;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, MissionReport};
@@ -261,7 +261,8 @@ pub fn start_with(
         snapshot,
         form,
         bound: addr,
-        keep_alive: (limits.idle_timeout / 3).clamp(Duration::from_millis(100), Duration::from_secs(15)),
+        keep_alive: (limits.idle_timeout / 3)
+            .clamp(Duration::from_millis(100), Duration::from_secs(15)),
     });
     let (tx, rx) = mpsc::unbounded_channel();
     rt.spawn(fold(rx, state.clone()));

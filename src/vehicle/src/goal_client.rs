@@ -9,7 +9,7 @@ use mavlink::dialects::ardupilotmega::{
 
 use super::driver::COMPANION_COMPONENT;
 use super::endpoint::{Address, Transport};
-use super::frame::{Encoder, FrameDecoder};
+use super::frame::{Encoder, FrameDecoder, Signer};
 use super::goals::{is_final_verdict_text, summary_finals, GOAL_ATTRIBUTES_CMD, INSERTING};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
@@ -113,6 +113,18 @@ pub async fn send_goals_as(
     items: Vec<MissionItem>,
     timeout: Duration,
 ) -> Result<GoalSendReport, GoalSendError> {
+    send_goals_signed(system_id, None, address, items, timeout).await
+}
+
+/// [`send_goals_as`] signing every frame with `signing` (key, link id; MAVLink2 signing) when given: a
+/// companion whose config has a signing key ignores unsigned stations.
+pub async fn send_goals_signed(
+    system_id: u8,
+    signing: Option<([u8; 32], u8)>,
+    address: &str,
+    items: Vec<MissionItem>,
+    timeout: Duration,
+) -> Result<GoalSendReport, GoalSendError> {
     // Refused before any traffic: a count that wrapped would upload a prefix and look accepted.
     if items.len() > MAX_ITEMS {
         return Err(GoalSendError::TooManyItems(items.len()));
@@ -124,7 +136,7 @@ pub async fn send_goals_as(
     let mut transport =
         Transport::bind(Address::parse(address).map_err(GoalSendError::Address)?).await?;
     let mut ep = transport.open().await?;
-    let mut enc = Encoder::new(system_id, 190, None);
+    let mut enc = Encoder::new(system_id, 190, signing.map(|(k, l)| Signer::new(k, l)));
     let mut dec = FrameDecoder::default();
     let mut texts = TextAssembler::default();
     let start = Instant::now();

@@ -525,7 +525,8 @@ fn to_companion(msg: &mut MavMessage) {
     }
 }
 
-fn signing_key(cfg: &VehicleConfig) -> Result<Option<([u8; 32], u8)>, LinkError> {
+/// The MAVLink2 signing key and link id of `cfg`'s link, when it has a key.
+pub fn signing_key(cfg: &VehicleConfig) -> Result<Option<([u8; 32], u8)>, LinkError> {
     cfg.link
         .signing_key
         .as_deref()
@@ -929,6 +930,19 @@ impl GoalServer {
         decider: Decider,
         tlog: Option<PathBuf>,
     ) -> Result<Self, LinkError> {
+        Self::start_signed(addr, system_id, known, decider, tlog, None).await
+    }
+
+    /// [`GoalServer::start`] that signs its frames and takes only frames signed with `signing` (key, link
+    /// id), as a companion whose config has a `link.signing_key` does.
+    pub async fn start_signed(
+        addr: &str,
+        system_id: u8,
+        known: KnownLocations,
+        decider: Decider,
+        tlog: Option<PathBuf>,
+        signing: Option<([u8; 32], u8)>,
+    ) -> Result<Self, LinkError> {
         let transport = bind(addr).await?;
         let local_addr = transport.local_addr();
         let tlog = tlog.as_deref().map(open_tlog).transpose()?;
@@ -944,7 +958,7 @@ impl GoalServer {
                     Arc::new(Mutex::new(decider)),
                 )),
                 own_system: system_id,
-                signer_key: None,
+                signer_key: signing,
                 tlog,
                 events: tx,
                 stats: stats.clone(),
