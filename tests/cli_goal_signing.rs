@@ -117,7 +117,7 @@ fn the_goal_form_signs_with_the_companions_key() {
     let server = signed_server(&rt);
     let gcs = format!("udpout:{}", server.local_addr.expect("bound"));
     let key = mavtempo::vehicle::frame::parse_key(KEY).expect("key");
-    let form = goal_form(HOME, gcs, None, Some((key, 0)));
+    let form = goal_form(HOME, gcs, None, Some((key, 0)), None);
     let page = mavtempo::report::live::start(
         rt.handle(),
         SocketAddr::from(([127, 0, 0, 1], 0)),

@@ -361,7 +361,13 @@ pub fn run_demo(
         Some(h) => {
             let form = h.goals.then(|| {
                 // The built-in simulator does not sign: neither does the demo's companion, nor its form.
-                super::http_arg::goal_form(home, format!("tcpout:{gcs}"), Some(gate.clone()), None)
+                super::http_arg::goal_form(
+                    home,
+                    format!("tcpout:{gcs}"),
+                    Some(gate.clone()),
+                    None,
+                    Some(session.vehicle.goal_intake()),
+                )
             });
             let server =
                 crate::report::live::start(rt.handle(), h.addr, form).map_err(|source| {
@@ -373,7 +379,10 @@ pub fn run_demo(
             say(&format!("http listening on http://{}/", server.addr));
             let probe = session.vehicle.position_probe();
             Some(crate::report::live::LiveServer {
-                feed: server.feed.with_position(probe),
+                feed: server.feed.with_position(probe).with_vehicle(
+                    session.vehicle.status_probe(),
+                    session.vehicle.goal_intake(),
+                ),
                 ..server
             })
         }

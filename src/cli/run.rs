@@ -313,7 +313,13 @@ fn start_live(
             addr.ip()
         };
         let client = format!("{transport}:{}", std::net::SocketAddr::new(ip, addr.port()));
-        Some(super::http_arg::goal_form(home, client, None, signing))
+        Some(super::http_arg::goal_form(
+            home,
+            client,
+            None,
+            signing,
+            Some(vehicle.goal_intake()),
+        ))
     } else {
         None
     };
@@ -324,7 +330,10 @@ fn start_live(
         })?;
     outln!("http listening on http://{}/", server.addr);
     let server = crate::report::live::LiveServer {
-        feed: server.feed.with_position(vehicle.position_probe()),
+        feed: server
+            .feed
+            .with_position(vehicle.position_probe())
+            .with_vehicle(vehicle.status_probe(), vehicle.goal_intake()),
         ..server
     };
     Ok((server, rt))

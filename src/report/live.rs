@@ -15,7 +15,7 @@ use std::convert::Infallible;
 use std::future::Future;
 use std::net::SocketAddr;
 use std::pin::Pin;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use axum::extract::{Form, State};
@@ -27,6 +27,7 @@ use axum::Router;
 use tokio::sync::{mpsc, watch};
 
 use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
+use super::goal_rows::{goal_rows, Sources};
 use super::guard::{GuardedListener, PageLimits, Slots};
 use super::html;
 use crate::exec::executive::Executive;
@@ -34,8 +35,10 @@ use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, M
 use crate::exec::trace::CycleRecord;
 use crate::vehicle::goal_client::{GoalSendError, GoalSendReport};
 use crate::vehicle::goals::is_final_verdict_text;
+use crate::vehicle::intake::GoalIntake;
 use crate::vehicle::items::MissionItem;
 use crate::vehicle::link::PositionProbe;
+use crate::vehicle::status::{StatusProbe, VehicleStatus};
 
 /// How often at most the page is rendered again.
 pub const RENDER_EVERY: Duration = Duration::from_millis(250);
@@ -62,11 +65,29 @@ pub struct PictureGoal {
     pub d_achiev_s: f64,
 }
 
-/// What the goal form needs: how to build the upload and how to send it.
+/// Withdraws a goal a ground station holds, by the mission protocol (that station's list uploaded again
+/// without it), and returns the ground station's account.
+pub type GoalCancelFn = Arc<
+    dyn Fn(String) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, CancelError>> + Send>>
+        + Send
+        + Sync,
+>;
+
+/// Why a goal could not be withdrawn.
+#[derive(Debug, thiserror::Error)]
+pub enum CancelError {
+    #[error(transparent)]
+    NotHeld(#[from] crate::vehicle::held::WithdrawError),
+    #[error("upload failed: {0}")]
+    Send(#[from] GoalSendError),
+}
+
+/// What the goal form needs: how to build the upload and how to send it; how to withdraw a held goal.
 #[derive(Clone)]
 pub struct GoalForm {
     pub items: GoalItems,
     pub submit: GoalSubmit,
+    pub cancel: Option<GoalCancelFn>,
 }
 
 /// What the live page shows at one time.
@@ -95,6 +116,7 @@ enum Update {
         places: Option<Vec<PlaceView>>,
         track: Option<PointView>,
         goals: Vec<GoalView>,
+        vehicle: Option<VehicleStatus>,
         counters: BTreeMap<String, serde_json::Value>,
     },
     End(Box<Charts>),
@@ -106,12 +128,25 @@ pub struct LiveFeed {
     last_reported: Vec<Option<(crate::model::Time, f64)>>,
     position: Option<PositionProbe>,
     last_position: Option<(f64, f64)>,
+    status: Option<StatusProbe>,
+    intake: Option<Arc<Mutex<GoalIntake>>>,
+    sources: Sources,
+    /// The page withdraws held goals (its form is on, with a cancel path).
+    cancel: bool,
 }
 
 impl LiveFeed {
     /// The track is drawn from `probe`'s positions (a point when the vehicle moved 0.5 m or more).
     pub fn with_position(mut self, probe: PositionProbe) -> Self {
         self.position = Some(probe);
+        self
+    }
+
+    /// The vehicle's mode, arming, battery and link from `status`; which ground station holds which goal
+    /// from `intake`.
+    pub fn with_vehicle(mut self, status: StatusProbe, intake: Arc<Mutex<GoalIntake>>) -> Self {
+        self.status = Some(status);
+        self.intake = Some(intake);
         self
     }
 
@@ -149,18 +184,13 @@ impl LiveFeed {
                 })
                 .collect()
         });
-        let goals = ex
-            .goal_fates()
-            .into_iter()
-            .map(|g| GoalView {
-                reason: g.reason_text(),
-                name: g.name,
-                fate: serde_json::to_value(&g.fate)
-                    .ok()
-                    .and_then(|v| v.as_str().map(str::to_string))
-                    .unwrap_or_default(),
-            })
-            .collect();
+        let holders = self
+            .intake
+            .as_ref()
+            .and_then(|i| i.try_lock().ok().map(|i| i.held().holders()))
+            .unwrap_or_default();
+        let goals = goal_rows(ex, &holders, &mut self.sources, self.cancel);
+        let vehicle = self.status.as_ref().map(|s| s());
         let mut counters = counters_of(ex.counters());
         // Who commands the vehicle (issue 30): the page says when the operator has it.
         let control = ex.paused_why().map_or("companion".to_string(), |why| {
@@ -184,6 +214,7 @@ impl LiveFeed {
             places,
             track,
             goals,
+            vehicle,
             counters,
         });
     }
@@ -264,6 +295,7 @@ pub fn start_with(
         keep_alive: (limits.idle_timeout / 3)
             .clamp(Duration::from_millis(100), Duration::from_secs(15)),
     });
+    let cancel = state.form.as_ref().is_some_and(|f| f.cancel.is_some());
     let (tx, rx) = mpsc::unbounded_channel();
     rt.spawn(fold(rx, state.clone()));
     let app = router(state);
@@ -279,6 +311,10 @@ pub fn start_with(
             last_reported: Vec::new(),
             position: None,
             last_position: None,
+            status: None,
+            intake: None,
+            sources: Sources::default(),
+            cancel,
         },
         slots,
     })
@@ -301,7 +337,7 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
     loop {
         tokio::select! {
             u = rx.recv() => match u {
-                Some(Update::Cycle { record, samples, planned, places, track, goals, counters }) => {
+                Some(Update::Cycle { record, samples, planned, places, track, goals, vehicle, counters }) => {
                     match serde_json::to_value(&*record).and_then(serde_json::from_value::<CycleView>) {
                         Ok(view) => charts.push_cycle(&view),
                         Err(e) => tracing::warn!("live page: cycle {}: {e}", record.index),
@@ -317,6 +353,9 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
                     }
                     charts.track.extend(track);
                     charts.goals = goals;
+                    if vehicle.is_some() {
+                        charts.vehicle = vehicle;
+                    }
                     charts.counters = counters;
                     dirty = true;
                 }
@@ -349,6 +388,7 @@ fn router(state: Arc<AppState>) -> Router {
         .route("/events", get(events))
         .route("/snapshot.json", get(snapshot))
         .route("/goal", post(goal))
+        .route("/cancel", post(cancel))
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .with_state(state)
 }
@@ -389,11 +429,11 @@ fn answer(code: StatusCode, accepted: bool, verdict: String) -> Response {
     (code, Json(GoalAnswer { accepted, verdict })).into_response()
 }
 
-async fn goal(
-    State(s): State<Arc<AppState>>,
-    headers: axum::http::HeaderMap,
-    Form(fields): Form<BTreeMap<String, String>>,
-) -> Response {
+/// The form, when this POST may use it: the page's own (Host and Origin) and the form on.
+fn form_for<'a>(
+    s: &'a AppState,
+    headers: &axum::http::HeaderMap,
+) -> Result<&'a GoalForm, Response> {
     let header = |name: axum::http::HeaderName| headers.get(name).and_then(|v| v.to_str().ok());
     let from = super::origin::check(
         header(axum::http::header::HOST),
@@ -401,14 +441,69 @@ async fn goal(
         s.bound,
     );
     if let Err(e) = from {
-        return answer(StatusCode::FORBIDDEN, false, e.to_string());
+        return Err(answer(StatusCode::FORBIDDEN, false, e.to_string()));
     }
-    let Some(form) = &s.form else {
-        return answer(
+    s.form.as_ref().ok_or_else(|| {
+        answer(
             StatusCode::FORBIDDEN,
             false,
             "the goal form is disabled (start with --http-goals)".into(),
+        )
+    })
+}
+
+/// Withdraws the held goal the form field `goal` names; `accepted` says it was cancelled.
+async fn cancel(
+    State(s): State<Arc<AppState>>,
+    headers: axum::http::HeaderMap,
+    Form(fields): Form<BTreeMap<String, String>>,
+) -> Response {
+    let form = match form_for(&s, &headers) {
+        Ok(f) => f,
+        Err(r) => return r,
+    };
+    let Some(cancel) = &form.cancel else {
+        return answer(
+            StatusCode::FORBIDDEN,
+            false,
+            "this page cannot withdraw goals".into(),
         );
+    };
+    let Some(name) = fields.get("goal").map(|g| g.trim().to_string()) else {
+        return answer(StatusCode::BAD_REQUEST, false, "missing field goal".into());
+    };
+    match cancel(name.clone()).await {
+        Ok(report) => {
+            let (done, verdict) = cancel_verdict(&name, &report);
+            answer(StatusCode::OK, done, verdict)
+        }
+        Err(e @ CancelError::NotHeld(_)) => answer(StatusCode::CONFLICT, false, e.to_string()),
+        Err(e) => answer(StatusCode::BAD_GATEWAY, false, e.to_string()),
+    }
+}
+
+/// Cancelled when the companion said so for `name`; the verdict is its texts (or the upload's failure).
+pub fn cancel_verdict(name: &str, r: &GoalSendReport) -> (bool, String) {
+    let prefix = format!("{name} cancelled:");
+    let done = r.failure.is_none() && r.texts.iter().any(|t| t.starts_with(&prefix));
+    let mut text = r.texts.join("; ");
+    if let Some(f) = &r.failure {
+        text = format!("upload refused: {f}; {text}");
+    }
+    if text.is_empty() {
+        text = format!("no answer about {name}");
+    }
+    (done, text)
+}
+
+async fn goal(
+    State(s): State<Arc<AppState>>,
+    headers: axum::http::HeaderMap,
+    Form(fields): Form<BTreeMap<String, String>>,
+) -> Response {
+    let form = match form_for(&s, &headers) {
+        Ok(f) => f,
+        Err(r) => return r,
     };
     let goal = match parse_goal(&fields) {
         Ok(g) => g,

@@ -37,6 +37,17 @@ pub struct Replacement {
     pub dropped: Vec<String>,
 }
 
+/// Why a goal cannot be withdrawn on its own.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WithdrawError {
+    #[error(
+        "{0} is not held by a ground station (achieved, rejected, cancelled, or from the problem)"
+    )]
+    NotHeld(String),
+    #[error("{goal} was made from the same mission items as {with}: withdraw both (upload the list without them)")]
+    SharedItems { goal: String, with: String },
+}
+
 #[derive(Debug, Default)]
 pub struct HeldGoals {
     by_station: BTreeMap<Station, Vec<HeldGoal>>,
@@ -90,6 +101,46 @@ impl HeldGoals {
             .get(&station)
             .map(|v| v.iter().map(|h| h.request.name.clone()).collect())
             .unwrap_or_default()
+    }
+
+    /// Every goal held, with the station that holds it.
+    pub fn holders(&self) -> Vec<(String, Station)> {
+        self.by_station
+            .iter()
+            .flat_map(|(s, v)| v.iter().map(move |h| (h.request.name.clone(), *s)))
+            .collect()
+    }
+
+    /// The list the station holding `name` would upload to withdraw it (the mission protocol's list
+    /// replacement: a goal left out is cancelled), and that station.
+    pub fn list_without(&self, name: &str) -> Result<(Station, Vec<MissionItem>), WithdrawError> {
+        let (station, goals) = self
+            .by_station
+            .iter()
+            .find(|(_, v)| v.iter().any(|h| h.request.name == name))
+            .ok_or_else(|| WithdrawError::NotHeld(name.to_string()))?;
+        let Some(goal) = goals.iter().find(|h| h.request.name == name) else {
+            return Err(WithdrawError::NotHeld(name.to_string()));
+        };
+        // Goals made from the same items (the pictures of one trigger distance) leave together or not at all.
+        if let Some(twin) = goals
+            .iter()
+            .find(|h| h.request.name != name && h.items == goal.items)
+        {
+            return Err(WithdrawError::SharedItems {
+                goal: name.to_string(),
+                with: twin.request.name.clone(),
+            });
+        }
+        let mut out: Vec<MissionItem> = Vec::new();
+        let mut last: Option<&[MissionItem]> = None;
+        for h in goals.iter().filter(|h| h.request.name != name) {
+            if last != Some(h.items.as_slice()) {
+                out.extend(h.items.iter().cloned());
+            }
+            last = Some(&h.items);
+        }
+        Ok((*station, out))
     }
 
     /// Goal `name` is no longer held (achieved, rejected, cancelled).

@@ -24,6 +24,7 @@ use super::intake::{GoalIntake, PendingDecision};
 use super::peers::Peers;
 use super::readiness::ReadyReport;
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
+use super::status::{link_state, StatusProbe, VehicleStatus};
 use super::tlog::TlogWriter;
 use super::types::{ActionId, ActionStart};
 
@@ -567,6 +568,8 @@ pub struct MavlinkVehicle {
     stats: Arc<LinkStats>,
     tasks: Vec<tokio::task::JoinHandle<()>>,
     tlog: Option<Arc<Mutex<TlogWriter>>>,
+    /// The goal intake both endpoints serve: what each ground station holds.
+    intake: Arc<Mutex<GoalIntake>>,
     /// Present when the vehicle made its own runtime ([`MavlinkVehicle::connect_blocking`]).
     _runtime: Option<tokio::runtime::Runtime>,
 }
@@ -618,6 +621,7 @@ impl MavlinkVehicle {
             GoalIntake::new(known, opts.first_goal_number).allowing(goal_sysids),
         ));
         let decider = Arc::new(Mutex::new(opts.decider));
+        let intake_view = intake.clone();
         let mut tasks = vec![tokio::spawn(
             Pump {
                 transport,
@@ -662,6 +666,7 @@ impl MavlinkVehicle {
             stats,
             tasks,
             tlog,
+            intake: intake_view,
             _runtime: None,
         })
     }
@@ -875,6 +880,38 @@ impl MavlinkVehicle {
     pub fn position_probe(&self) -> PositionProbe {
         let shared = self.shared.clone();
         Arc::new(move || shared.position())
+    }
+
+    /// Mode, arming, battery and link state for the live page. It never waits for the driver's lock (the
+    /// mission loop must not contend for it): while the pump holds it, the last status is given again.
+    pub fn status_probe(&self) -> StatusProbe {
+        let shared = self.shared.clone();
+        let timeout = self
+            .shared
+            .driver
+            .lock()
+            .map_or(Duration::from_secs(3), |d| {
+                Duration::from_millis(d.config().link.heartbeat_timeout_ms)
+            });
+        let last = Arc::new(Mutex::new(VehicleStatus::default()));
+        Arc::new(move || {
+            let Ok(mut last) = last.lock() else {
+                return VehicleStatus::default();
+            };
+            if let Ok(d) = shared.driver.try_lock() {
+                let t = d.telemetry();
+                last.mode = t.custom_mode.map(super::authority::mode_name);
+                last.armed = t.armed;
+                last.battery_percent = t.battery_percent;
+            }
+            last.link = link_state(shared.age(&shared.heartbeat_at_ms), timeout);
+            last.clone()
+        })
+    }
+
+    /// The goal intake of both endpoints (the goals each ground station holds).
+    pub fn goal_intake(&self) -> Arc<Mutex<GoalIntake>> {
+        self.intake.clone()
     }
 }
 
