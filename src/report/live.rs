@@ -6,89 +6,40 @@
 //! folds those into [`Charts`], renders at most every [`RENDER_EVERY`] and publishes the page body through
 //! a `watch` channel that every event stream reads.
 //!
-//! The goal form (off unless enabled) sends its goal as a MAVLink upload to the companion's own ground
-//! station endpoint: the same intake, acceptance test and insertion as any ground station's upload, and the
-//! same verdict texts back.
+//! The goal form and cancel buttons (off unless enabled) are in [`super::form`]; the connections' bounds in
+//! [`super::guard`].
 
 use std::collections::BTreeMap;
 use std::convert::Infallible;
-use std::future::Future;
 use std::net::SocketAddr;
-use std::pin::Pin;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use axum::extract::{Form, State};
+use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::sse::{Event, KeepAlive, Sse};
-use axum::response::{Html, IntoResponse, Json, Response};
+use axum::response::{Html, Json};
 use axum::routing::{get, post};
 use axum::Router;
 use tokio::sync::{mpsc, watch};
 
 use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
+pub use super::form::{
+    cancel_verdict, parse_goal, verdict_of, CancelError, FormError, GoalAnswer, GoalCancelFn,
+    GoalForm, GoalItems, GoalSubmit, PictureGoal,
+};
 use super::goal_rows::{goal_rows, Sources};
 use super::guard::{GuardedListener, PageLimits, Slots};
 use super::html;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, MissionReport};
 use crate::exec::trace::CycleRecord;
-use crate::vehicle::goal_client::{GoalSendError, GoalSendReport};
-use crate::vehicle::goals::is_final_verdict_text;
 use crate::vehicle::intake::GoalIntake;
-use crate::vehicle::items::MissionItem;
 use crate::vehicle::link::PositionProbe;
 use crate::vehicle::status::{StatusProbe, VehicleStatus};
 
 /// How often at most the page is rendered again.
 pub const RENDER_EVERY: Duration = Duration::from_millis(250);
-
-/// Sends a goal upload through the companion's intake and returns the ground station's account.
-pub type GoalSubmit = Arc<
-    dyn Fn(
-            Vec<MissionItem>,
-        ) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, GoalSendError>> + Send>>
-        + Send
-        + Sync,
->;
-
-/// Turns the form's picture goal (east, north metres from home) into the items of an upload.
-pub type GoalItems = Arc<dyn Fn(&PictureGoal) -> Vec<MissionItem> + Send + Sync>;
-
-/// The goal form's fields.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PictureGoal {
-    pub east: f64,
-    pub north: f64,
-    /// End of the start window, seconds after the mission's origin.
-    pub window_end_s: f64,
-    pub d_achiev_s: f64,
-}
-
-/// Withdraws a goal a ground station holds, by the mission protocol (that station's list uploaded again
-/// without it), and returns the ground station's account.
-pub type GoalCancelFn = Arc<
-    dyn Fn(String) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, CancelError>> + Send>>
-        + Send
-        + Sync,
->;
-
-/// Why a goal could not be withdrawn.
-#[derive(Debug, thiserror::Error)]
-pub enum CancelError {
-    #[error(transparent)]
-    NotHeld(#[from] crate::vehicle::held::WithdrawError),
-    #[error("upload failed: {0}")]
-    Send(#[from] GoalSendError),
-}
-
-/// What the goal form needs: how to build the upload and how to send it; how to withdraw a held goal.
-#[derive(Clone)]
-pub struct GoalForm {
-    pub items: GoalItems,
-    pub submit: GoalSubmit,
-    pub cancel: Option<GoalCancelFn>,
-}
 
 /// What the live page shows at one time.
 #[derive(Clone, Debug, Default)]
@@ -97,11 +48,11 @@ pub struct Snapshot {
     pub body: String,
 }
 
-struct AppState {
+pub(super) struct AppState {
     snapshot: watch::Sender<Arc<Snapshot>>,
-    form: Option<GoalForm>,
+    pub(super) form: Option<GoalForm>,
     /// Where the page is bound: the Host a POST must name (besides loopback names).
-    bound: SocketAddr,
+    pub(super) bound: SocketAddr,
     /// How often an event stream with nothing new says it is alive (well within the idle timeout).
     keep_alive: Duration,
 }
@@ -116,7 +67,7 @@ enum Update {
         places: Option<Vec<PlaceView>>,
         track: Option<PointView>,
         goals: Vec<GoalView>,
-        vehicle: Option<VehicleStatus>,
+        vehicle: Option<Box<VehicleStatus>>,
         counters: BTreeMap<String, serde_json::Value>,
     },
     End(Box<Charts>),
@@ -190,7 +141,7 @@ impl LiveFeed {
             .and_then(|i| i.try_lock().ok().map(|i| i.held().holders()))
             .unwrap_or_default();
         let goals = goal_rows(ex, &holders, &mut self.sources, self.cancel);
-        let vehicle = self.status.as_ref().map(|s| s());
+        let vehicle = self.status.as_ref().map(|s| Box::new(s()));
         let mut counters = counters_of(ex.counters());
         // Who commands the vehicle (issue 30): the page says when the operator has it.
         let control = ex.paused_why().map_or("companion".to_string(), |why| {
@@ -353,8 +304,8 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
                     }
                     charts.track.extend(track);
                     charts.goals = goals;
-                    if vehicle.is_some() {
-                        charts.vehicle = vehicle;
+                    if let Some(v) = vehicle {
+                        charts.vehicle = Some(*v);
                     }
                     charts.counters = counters;
                     dirty = true;
@@ -387,8 +338,8 @@ fn router(state: Arc<AppState>) -> Router {
         .route("/", get(index))
         .route("/events", get(events))
         .route("/snapshot.json", get(snapshot))
-        .route("/goal", post(goal))
-        .route("/cancel", post(cancel))
+        .route("/goal", post(super::form::goal))
+        .route("/cancel", post(super::form::cancel))
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .with_state(state)
 }
@@ -415,164 +366,4 @@ async fn events(
         Some((Ok(Event::default().data(body)), (rx, false)))
     });
     Sse::new(stream).keep_alive(KeepAlive::new().interval(s.keep_alive))
-}
-
-/// The answer to a goal submitted with the form.
-#[derive(Debug, serde::Serialize, serde::Deserialize, PartialEq)]
-pub struct GoalAnswer {
-    pub accepted: bool,
-    /// The intake's verdict (`g8 accepted: …` / `g8 rejected: <reason>`), or why nothing was sent.
-    pub verdict: String,
-}
-
-fn answer(code: StatusCode, accepted: bool, verdict: String) -> Response {
-    (code, Json(GoalAnswer { accepted, verdict })).into_response()
-}
-
-/// The form, when this POST may use it: the page's own (Host and Origin) and the form on.
-fn form_for<'a>(
-    s: &'a AppState,
-    headers: &axum::http::HeaderMap,
-) -> Result<&'a GoalForm, Response> {
-    let header = |name: axum::http::HeaderName| headers.get(name).and_then(|v| v.to_str().ok());
-    let from = super::origin::check(
-        header(axum::http::header::HOST),
-        header(axum::http::header::ORIGIN),
-        s.bound,
-    );
-    if let Err(e) = from {
-        return Err(answer(StatusCode::FORBIDDEN, false, e.to_string()));
-    }
-    s.form.as_ref().ok_or_else(|| {
-        answer(
-            StatusCode::FORBIDDEN,
-            false,
-            "the goal form is disabled (start with --http-goals)".into(),
-        )
-    })
-}
-
-/// Withdraws the held goal the form field `goal` names; `accepted` says it was cancelled.
-async fn cancel(
-    State(s): State<Arc<AppState>>,
-    headers: axum::http::HeaderMap,
-    Form(fields): Form<BTreeMap<String, String>>,
-) -> Response {
-    let form = match form_for(&s, &headers) {
-        Ok(f) => f,
-        Err(r) => return r,
-    };
-    let Some(cancel) = &form.cancel else {
-        return answer(
-            StatusCode::FORBIDDEN,
-            false,
-            "this page cannot withdraw goals".into(),
-        );
-    };
-    let Some(name) = fields.get("goal").map(|g| g.trim().to_string()) else {
-        return answer(StatusCode::BAD_REQUEST, false, "missing field goal".into());
-    };
-    match cancel(name.clone()).await {
-        Ok(report) => {
-            let (done, verdict) = cancel_verdict(&name, &report);
-            answer(StatusCode::OK, done, verdict)
-        }
-        Err(e @ CancelError::NotHeld(_)) => answer(StatusCode::CONFLICT, false, e.to_string()),
-        Err(e) => answer(StatusCode::BAD_GATEWAY, false, e.to_string()),
-    }
-}
-
-/// Cancelled when the companion said so for `name`; the verdict is its texts (or the upload's failure).
-pub fn cancel_verdict(name: &str, r: &GoalSendReport) -> (bool, String) {
-    let prefix = format!("{name} cancelled:");
-    let done = r.failure.is_none() && r.texts.iter().any(|t| t.starts_with(&prefix));
-    let mut text = r.texts.join("; ");
-    if let Some(f) = &r.failure {
-        text = format!("upload refused: {f}; {text}");
-    }
-    if text.is_empty() {
-        text = format!("no answer about {name}");
-    }
-    (done, text)
-}
-
-async fn goal(
-    State(s): State<Arc<AppState>>,
-    headers: axum::http::HeaderMap,
-    Form(fields): Form<BTreeMap<String, String>>,
-) -> Response {
-    let form = match form_for(&s, &headers) {
-        Ok(f) => f,
-        Err(r) => return r,
-    };
-    let goal = match parse_goal(&fields) {
-        Ok(g) => g,
-        Err(e) => return answer(StatusCode::BAD_REQUEST, false, e.to_string()),
-    };
-    let items = (form.items)(&goal);
-    match (form.submit)(items).await {
-        Ok(report) => {
-            let (accepted, verdict) = verdict_of(&report);
-            answer(StatusCode::OK, accepted, verdict)
-        }
-        Err(e) => answer(
-            StatusCode::BAD_GATEWAY,
-            false,
-            format!("upload failed: {e}"),
-        ),
-    }
-}
-
-/// Why the page's goal form cannot be read.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum FormError {
-    #[error("missing field {field}")]
-    Missing { field: String },
-    #[error("{field}: not a number: {value:?}")]
-    NotANumber { field: String, value: String },
-}
-
-/// The form's fields as numbers; a missing or non-numeric field names itself.
-pub fn parse_goal(fields: &BTreeMap<String, String>) -> Result<PictureGoal, FormError> {
-    let num = |k: &str| -> Result<f64, FormError> {
-        let v = fields.get(k).ok_or_else(|| FormError::Missing {
-            field: k.to_string(),
-        })?;
-        v.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| FormError::NotANumber {
-                field: k.to_string(),
-                value: v.clone(),
-            })
-    };
-    Ok(PictureGoal {
-        east: num("east")?,
-        north: num("north")?,
-        window_end_s: num("window_end_s")?,
-        d_achiev_s: num("d_achiev_s")?,
-    })
-}
-
-/// Accepted when the upload was and every final verdict text says so; the verdict is those texts (or the
-/// upload's failure).
-pub fn verdict_of(r: &GoalSendReport) -> (bool, String) {
-    if let Some(f) = &r.failure {
-        let texts = r.texts.join("; ");
-        return (false, format!("upload refused: {f}; {texts}"));
-    }
-    let finals: Vec<&String> = r
-        .texts
-        .iter()
-        .filter(|t| is_final_verdict_text(t))
-        .collect();
-    let accepted = !finals.is_empty() && finals.iter().all(|t| t.contains(" accepted:"));
-    let shown = if finals.is_empty() {
-        r.texts.iter().collect()
-    } else {
-        finals
-    };
-    let text: Vec<&str> = shown.iter().map(|s| s.as_str()).collect();
-    (accepted, text.join("; "))
 }

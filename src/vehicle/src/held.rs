@@ -165,3 +165,55 @@ impl HeldGoals {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::types::GoalKind;
+    use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame};
+
+    fn held(name: &str, x: f64, ordinal: usize) -> HeldGoal {
+        let mut item = MissionItem::new(MavCmd::MAV_CMD_NAV_WAYPOINT, MavFrame::MAV_FRAME_GLOBAL);
+        item.x = x;
+        HeldGoal {
+            request: GoalRequest {
+                name: name.into(),
+                kind: GoalKind::BeAt,
+                proposition: format!("at({name}_loc)"),
+                location: None,
+                priority: 1,
+                start_window_s: (0.0, 100.0),
+                duration_s: (0.0, 0.0),
+                d_achiev_s: 0.0,
+            },
+            items: vec![item],
+            ordinal,
+        }
+    }
+
+    #[test]
+    fn a_goal_is_withdrawn_by_its_stations_list_without_it() {
+        let mut h = HeldGoals::default();
+        h.set((255, 190), vec![held("g6", 1.0, 0), held("g7", 2.0, 0)]);
+        h.set((255, 230), vec![held("g8", 3.0, 0)]);
+        let (station, items) = h.list_without("g6").expect("held");
+        assert_eq!(station, (255, 190));
+        assert_eq!(items.iter().map(|i| i.x).collect::<Vec<_>>(), [2.0]);
+        let (station, items) = h.list_without("g8").expect("held");
+        assert_eq!((station, items.len()), ((255, 230), 0));
+        assert_eq!(
+            h.list_without("g1"),
+            Err(WithdrawError::NotHeld("g1".into()))
+        );
+        // Two pictures of one trigger distance share their items: not one without the other.
+        h.set((1, 1), vec![held("g9", 4.0, 0), held("g10", 4.0, 1)]);
+        assert!(matches!(
+            h.list_without("g9"),
+            Err(WithdrawError::SharedItems { .. })
+        ));
+        let mut holders = h.holders();
+        holders.sort();
+        assert_eq!(holders.len(), 5);
+        assert!(holders.contains(&("g7".to_string(), (255, 190))));
+    }
+}
