@@ -249,9 +249,13 @@ fn mission(
         Some(h) => Some(start_live(&h, args, &vehicle, home, signing)?),
         None => None,
     };
+    let mut vehicle_trace = super::vehicle_trace::VehicleTrace::new(vehicle.status_probe());
     let mut observe = |ex: &Executive, c: &CycleRecord| {
         if !quiet {
             printer.cycle(c);
+            if let Some(line) = vehicle_trace.line(c.time_ms) {
+                outln!("{line}");
+            }
         }
         if let Some((server, _)) = live.as_mut() {
             server.feed.observe(ex, c);
