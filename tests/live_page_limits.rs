@@ -8,10 +8,12 @@ mod http;
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{SocketAddr, TcpStream};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use mavtempo::report::guard::PageLimits;
-use mavtempo::report::live::{start_with, LiveServer};
+use mavtempo::report::live::{start_with, GoalForm, LiveServer, PictureGoal};
+use mavtempo::vehicle::goal_client::GoalSendReport;
 
 const DEADLINE: Duration = Duration::from_secs(30);
 
@@ -63,6 +65,13 @@ fn silent_slow_and_idle_clients_are_dropped_after_their_timeouts() {
     let mut silent = TcpStream::connect(addr).expect("connect");
     let mut slow = TcpStream::connect(addr).expect("connect");
     slow.write_all(b"GET / HTTP/1.1\r\nHost: ").expect("send");
+    let mut slow_body = TcpStream::connect(addr).expect("connect");
+    slow_body
+        .write_all(
+            format!("POST /goal HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/x-www-form-urlencoded\r\nContent-Length: 50\r\n\r\neast=")
+                .as_bytes(),
+        )
+        .expect("send");
     let mut idle = TcpStream::connect(addr).expect("connect");
     idle.write_all(format!("GET /favicon.ico HTTP/1.1\r\nHost: {addr}\r\n\r\n").as_bytes())
         .expect("send");
@@ -72,6 +81,9 @@ fn silent_slow_and_idle_clients_are_dropped_after_their_timeouts() {
     assert!(t - opened >= limits.header_timeout, "{:?}", t - opened);
     let t = closed_at(&mut slow);
     assert!(t - opened >= limits.header_timeout, "{:?}", t - opened);
+    // A body that stops coming is idle.
+    let t = closed_at(&mut slow_body);
+    assert!(t - opened >= limits.idle_timeout, "{:?}", t - opened);
     // Answered (204), then kept alive until the idle timeout.
     let t = closed_at(&mut idle);
     assert!(t - opened >= limits.idle_timeout, "{:?}", t - opened);
@@ -118,4 +130,48 @@ fn hundreds_of_slow_clients_hold_at_most_the_cap_and_a_normal_client_is_served()
     // The slow clients beyond the cap were closed by the server: their descriptors are free again.
     let first = slow.first_mut().expect("a client");
     closed_at(first);
+}
+
+/// A request whose answer takes longer than the idle timeout (a goal upload waits for the executive's
+/// verdict) is answered, not cut as idle.
+#[test]
+fn a_slow_answer_is_not_idle() {
+    let rt = tokio::runtime::Runtime::new().expect("runtime");
+    let limits = PageLimits {
+        max_connections: 8,
+        header_timeout: Duration::from_millis(300),
+        idle_timeout: Duration::from_millis(300),
+    };
+    let answer_after = limits.idle_timeout * 3;
+    let form = GoalForm {
+        items: Arc::new(|_: &PictureGoal| Vec::new()),
+        submit: Arc::new(move |_| {
+            Box::pin(async move {
+                // The intake's verdict comes late.
+                tokio::time::sleep(answer_after).await;
+                Ok(GoalSendReport {
+                    failure: None,
+                    texts: vec!["g9 accepted: picture_of(g9_loc)".into()],
+                })
+            })
+        }),
+        cancel: None,
+    };
+    let server = start_with(
+        rt.handle(),
+        SocketAddr::from(([127, 0, 0, 1], 0)),
+        Some(form),
+        limits,
+    )
+    .expect("live page");
+    let addr = server.addr;
+    let fields = "east=30&north=2&window_end_s=1800&d_achiev_s=60";
+    let req = format!(
+        "POST /goal HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\
+         Content-Type: application/x-www-form-urlencoded\r\nContent-Length: {}\r\n\r\n{fields}",
+        fields.len()
+    );
+    let (status, body) = http::exchange(addr, &req, DEADLINE);
+    assert_eq!(status, 200, "{body}");
+    assert!(body.contains("g9 accepted"), "{body}");
 }

@@ -59,6 +59,9 @@ pub fn connection_cap(wanted: usize, fd_soft_limit: Option<u64>) -> usize {
 struct ConnState {
     /// Waiting for (or receiving) a request's head: the first to go when the slots are full.
     in_head: AtomicBool,
+    /// Its request is whole and its answer not begun (a goal upload may take a while): not idle, and not
+    /// evicted for being quiet.
+    answering: AtomicBool,
     evicted: AtomicBool,
     /// When it last read or wrote, ms since the slots' epoch.
     active_ms: AtomicU64,
@@ -121,7 +124,11 @@ impl Slots {
             let victim = candidates()
                 .filter(|c| c.in_head.load(Ordering::Acquire))
                 .min_by_key(|c| c.opened_ms)
-                .or_else(|| candidates().min_by_key(|c| c.active_ms.load(Ordering::Relaxed)))
+                .or_else(|| {
+                    candidates()
+                        .filter(|c| !c.answering.load(Ordering::Acquire))
+                        .min_by_key(|c| c.active_ms.load(Ordering::Relaxed))
+                })
                 .cloned();
             match victim {
                 Some(v) => {
@@ -137,6 +144,7 @@ impl Slots {
         let now = self.now_ms();
         let c = Arc::new(ConnState {
             in_head: AtomicBool::new(true),
+            answering: AtomicBool::new(false),
             evicted: AtomicBool::new(false),
             active_ms: AtomicU64::new(now),
             opened_ms: now,
@@ -210,8 +218,7 @@ impl axum::serve::Listener for GuardedListener {
                         slots: self.slots.clone(),
                         deadline: Box::pin(tokio::time::sleep(self.limits.header_timeout)),
                         limits: self.limits,
-                        tail: [0; 3],
-                        wrote: false,
+                        phase: Phase::Head(Vec::new()),
                     };
                     return (io, addr);
                 }
@@ -235,10 +242,32 @@ pub struct Guarded {
     slots: Arc<Slots>,
     deadline: Pin<Box<Sleep>>,
     limits: PageLimits,
-    /// The last bytes of the head read so far (its end, `\r\n\r\n`, may straddle two reads).
-    tail: [u8; 3],
-    /// Written since the last request head: the next byte read starts a new request.
-    wrote: bool,
+    phase: Phase,
+}
+
+/// Where a connection is in its request / answer exchange.
+enum Phase {
+    /// Reading a request's head (the bytes so far, up to [`MAX_HEAD`]).
+    Head(Vec<u8>),
+    /// Reading its body: bytes left (`Content-Length`).
+    Body(u64),
+    /// The request is whole; the answer has not begun.
+    Answering,
+    /// Answered (or answering a stream): the next byte read starts a new request.
+    Idle,
+}
+
+/// Head bytes kept to find its end and its `Content-Length`; a longer head is left to time out.
+const MAX_HEAD: usize = 64 * 1024;
+
+/// The `Content-Length` of a request head (0 without one).
+fn content_length(head: &[u8]) -> u64 {
+    String::from_utf8_lossy(head)
+        .lines()
+        .filter_map(|l| l.split_once(':'))
+        .find(|(k, _)| k.trim().eq_ignore_ascii_case("content-length"))
+        .and_then(|(_, v)| v.trim().parse().ok())
+        .unwrap_or(0)
 }
 
 impl Guarded {
@@ -269,6 +298,10 @@ impl Guarded {
         if let Some(e) = self.closed() {
             return Poll::Ready(e);
         }
+        // The request is whole: the page is working on its answer (bounded by the handler's own timeouts).
+        if matches!(self.phase, Phase::Answering) {
+            return Poll::Pending;
+        }
         match self.deadline.as_mut().poll(cx) {
             Poll::Ready(()) => {
                 let what = if self.state.in_head.load(Ordering::Acquire) {
@@ -282,27 +315,53 @@ impl Guarded {
         }
     }
 
-    /// Bytes read: a new request's head starts, goes on, or ends (`\r\n\r\n`).
+    fn set_phase(&mut self, phase: Phase) {
+        let (head, answering) = match &phase {
+            Phase::Head(_) => (true, false),
+            Phase::Answering => (false, true),
+            Phase::Body(_) | Phase::Idle => (false, false),
+        };
+        self.state.in_head.store(head, Ordering::Release);
+        self.state.answering.store(answering, Ordering::Release);
+        self.phase = phase;
+    }
+
+    /// Bytes read: a new request's head starts, goes on, or ends (`\r\n\r\n`); its body is counted.
     fn on_read(&mut self, bytes: &[u8]) {
         self.touch();
-        if self.wrote {
-            self.wrote = false;
-            self.tail = [0; 3];
-            self.state.in_head.store(true, Ordering::Release);
+        if matches!(self.phase, Phase::Idle) {
+            self.set_phase(Phase::Head(Vec::new()));
             self.rearm(self.limits.header_timeout);
         }
-        if !self.state.in_head.load(Ordering::Acquire) {
-            self.rearm(self.limits.idle_timeout);
-            return;
+        let next = match &mut self.phase {
+            Phase::Head(head) => {
+                let from = head.len().saturating_sub(3);
+                if head.len() < MAX_HEAD {
+                    head.extend_from_slice(bytes);
+                }
+                let Some(end) = head[from..]
+                    .windows(4)
+                    .position(|w| w == b"\r\n\r\n")
+                    .map(|p| from + p + 4)
+                else {
+                    return;
+                };
+                let read_of_body = (head.len() - end) as u64;
+                match content_length(&head[..end]).saturating_sub(read_of_body) {
+                    0 => Some(Phase::Answering),
+                    left => Some(Phase::Body(left)),
+                }
+            }
+            Phase::Body(left) => {
+                *left = left.saturating_sub(bytes.len() as u64);
+                (*left == 0).then_some(Phase::Answering)
+            }
+            Phase::Answering | Phase::Idle => None,
+        };
+        if let Some(p) = next {
+            self.set_phase(p);
         }
-        let mut window: Vec<u8> = self.tail.to_vec();
-        window.extend_from_slice(bytes);
-        if window.windows(4).any(|w| w == b"\r\n\r\n") {
-            self.state.in_head.store(false, Ordering::Release);
-            self.rearm(self.limits.idle_timeout);
-        }
-        let n = window.len();
-        self.tail.copy_from_slice(&window[n.saturating_sub(3)..]);
+        self.rearm(self.limits.idle_timeout);
     }
 }
 
@@ -348,8 +407,8 @@ impl AsyncWrite for Guarded {
         match Pin::new(&mut self.stream).poll_write(cx, data) {
             Poll::Ready(Ok(n)) => {
                 self.touch();
-                self.wrote = true;
-                if !self.state.in_head.load(Ordering::Acquire) {
+                if !matches!(self.phase, Phase::Head(_)) {
+                    self.set_phase(Phase::Idle);
                     let idle = self.limits.idle_timeout;
                     self.rearm(idle);
                 }
