@@ -67,6 +67,73 @@ impl Run {
     }
 }
 
+/// The latest time of each timepoint with every unfinished action at its longest duration (`None`: they
+/// cannot all fit): the bound a deferred start is held to (src/executive/src/exec/deferral.rs), computed
+/// here independently by plain Bellman–Ford over the network's constraints.
+fn latest_at_longest(plan: &PartialPlan) -> Option<Vec<Time>> {
+    use mavtempo::stn::INF;
+    let stn = plan.temporal_network();
+    let n = stn.num_timepoints();
+    let longest: Vec<_> = plan
+        .live_actions()
+        .map(|a| plan.action(a))
+        .filter(|act| !stn.is_executed(act.end))
+        .map(|act| (act.start, act.end))
+        .collect();
+    let mut edges = Vec::new();
+    for (_, c) in stn.constraints() {
+        let lb = if longest.contains(&(c.from, c.to)) && c.ub < INF {
+            c.lb.max(c.ub)
+        } else {
+            c.lb
+        };
+        if c.ub < INF {
+            edges.push((c.from.index(), c.to.index(), c.ub));
+        }
+        if lb > -INF {
+            edges.push((c.to.index(), c.from.index(), -lb));
+        }
+    }
+    let mut d = vec![INF; n];
+    d[stn.origin().index()] = 0;
+    for round in 0..=n {
+        let mut changed = false;
+        for &(u, v, w) in &edges {
+            if d[u] < INF && d[u] + w < d[v] {
+                d[v] = d[u] + w;
+                changed = true;
+            }
+        }
+        if !changed {
+            return Some(d);
+        }
+        if round == n {
+            return None;
+        }
+    }
+    None
+}
+
+/// The upper bound Algorithm 1 defers a start to: for a start the policy defers, the latest start at the
+/// longest durations (not below its lower bound); the STN's otherwise.
+fn deferral_ub(
+    kind: PolicyKind,
+    supports: bool,
+    lb: Time,
+    ub: Time,
+    longest: Option<Time>,
+) -> Time {
+    let defers = match kind {
+        PolicyKind::Earliest => false,
+        PolicyKind::Latest => true,
+        PolicyKind::GoalDriven(_) => !supports,
+    };
+    match longest {
+        Some(l) if defers => l.min(ub).max(lb),
+        _ => ub,
+    }
+}
+
 /// What Algorithm 1 says about a start at `now`: whether it is due.
 fn due(kind: PolicyKind, supports: bool, lb: Time, ub: Time, now: Time) -> bool {
     let latest_tick = ub < mavtempo::stn::INF && ub - TS <= now;
@@ -132,13 +199,18 @@ fn run(
             }
         }
         check_algorithm_1(&mut ex, kind, t, &events, &ub_before);
+        // Deferred starts are held to the latest start at the longest durations.
+        let longest = latest_at_longest(ex.plan());
         ub_before = classify(ex.plan(), t)
             .future
             .iter()
             .map(|&a| {
+                let st = ex.plan().action(a).start;
+                let stn = ex.plan().temporal_network();
+                let at_longest = longest.as_ref().map(|l| l[st.index()]);
                 (
                     a,
-                    ex.plan().temporal_network().ub(ex.plan().action(a).start),
+                    deferral_ub(kind, false, stn.lb(st), stn.ub(st), at_longest),
                 )
             })
             .collect();
@@ -188,6 +260,8 @@ fn check_algorithm_1(
             ex.plan().temporal_network().ub(st),
         );
         let supports = search_for_goal(&PlanView(ex.plan()), ActionKey(a.0));
+        let longest = latest_at_longest(ex.plan()).map(|l| l[st.index()]);
+        let ub = deferral_ub(kind, supports, lb, ub, longest);
         assert!(
             !due(kind, supports, lb, ub, now),
             "{kind} at {now}: {} is executable and due (supports {supports}, [{lb}, {ub}]) but waits",
@@ -308,7 +382,8 @@ fn shopping_goal_driven_buys_the_apple_at_once_then_waits() {
 
 /// Fig. 5: at 09:00, while the agent waits at the grocery, a shirt is requested (external, sold at the
 /// clothing store): the walk to the clothing store starts at once, the shirt is bought on arrival, and the
-/// walk home waits for the tick of its latest start (19:45), home at 20:00.
+/// walk home waits for the tick of its latest start (19:40 with the longest walk; seed 2's STN bound would say
+/// 19:45, src/executive/src/exec/deferral.rs says why not), home at 20:00.
 #[test]
 fn shopping_goal_driven_serves_the_shirt_request_proactively() {
     let plan = planned("domains/shopping/problems/day.ixt");
@@ -354,8 +429,9 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
         );
         let home = r.launched("go(clothing, home)");
         assert_eq!(home.len(), 1, "{kind}: {:?}", r.launches);
+        // Walks take 15–20 min: at the longest, the latest start home is 19:40, deferred to its tick.
         assert!(
-            (hm(19, 44)..=hm(19, 45)).contains(&home[0]),
+            (hm(19, 39)..=hm(19, 40)).contains(&home[0]),
             "{kind}: {home:?}"
         );
         assert_eq!(r.achieved.get("at_home"), Some(&hm(20, 0)), "{kind}");

@@ -346,3 +346,54 @@ fn an_unreachable_goal_is_rejected_first_with_why_and_the_others_are_kept() {
         }
     }
 }
+
+/// Seed 1 §3.6's order after a failed attempt: P_ti is extracted again; goals whose constraints the time
+/// spent planning made inconsistent are rejected, and only if there are none is one goal abandoned. So
+/// between two attempts either every goal that left was rejected for its window, or exactly one was
+/// abandoned — never one abandoned and another rejected for its window in the same round.
+#[test]
+fn between_two_attempts_either_windows_passed_or_one_goal_is_abandoned() {
+    use mavtempo::exec::outcome::FateReason;
+    let mut ex = fig2();
+    let t = Cell::new(0);
+    let clock = || {
+        let now = t.get();
+        t.set(now + 10_000);
+        now
+    };
+    let _ = ex.replan(&clock, &mut |_| {});
+    let rec = ex.replannings().last().expect("a replanning record");
+    assert!(rec.attempts.len() >= 2, "{:?}", rec.attempts);
+    let fates = ex.goal_fates();
+    let reason = |name: &str| {
+        fates
+            .iter()
+            .find(|f| f.name == name)
+            .and_then(|f| f.reason.clone())
+    };
+    let mut windows_passed = 0;
+    for pair in rec.attempts.windows(2) {
+        let left: Vec<&String> = pair[0]
+            .goals
+            .iter()
+            .filter(|g| !pair[1].goals.contains(g))
+            .collect();
+        let passed = left
+            .iter()
+            .filter(|g| matches!(reason(g), Some(FateReason::WindowPassed { .. })))
+            .count();
+        let abandoned = left
+            .iter()
+            .filter(|g| matches!(reason(g), Some(FateReason::Abandoned { .. })))
+            .count();
+        assert!(
+            (passed == left.len() && abandoned == 0) || (left.len() == 1 && abandoned == 1),
+            "between attempts {} and {}: {left:?} left ({passed} windows passed, {abandoned} abandoned)",
+            pair[0].attempt,
+            pair[1].attempt
+        );
+        windows_passed += passed;
+    }
+    // The moving clock passes g2's window (4 min) during the first attempt: the round drops it for that.
+    assert!(windows_passed >= 1, "{:?}", rec.attempts);
+}

@@ -308,9 +308,9 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
 
 pub fn exec_config() -> ExecConfig {
     ExecConfig {
-        // Seed 1 §4: ts = 1.3 s; μ = 0.6. Budgets in planning steps keep the run deterministic.
+        // Seed 1 §4: ts = 1.3 s; μ = 61 %. Budgets in planning steps keep the run deterministic.
         timestep_ms: 1_300,
-        repair_share: 0.6,
+        repair_share: 0.61,
         replan_slack_ms: 2_000,
         repair_max_steps: Some(300),
         ..ExecConfig::default()

@@ -7,8 +7,9 @@ use crate::dispatch::PolicyKind;
 
 #[derive(Args, Debug, Clone, Copy)]
 pub struct DispatchArg {
-    /// When the executive starts actions: earliest (IxTeT-eXeC), latest, or goal-driven (seed 2; its
-    /// support test by Algorithm 2 search or the incremental marking: goal-driven:search, goal-driven:marking).
-    #[arg(long, default_value = "earliest", value_name = "POLICY")]
+    /// When the executive starts actions: goal-driven (the default: actions serving an operator's goal start
+    /// as early as possible, the others at their latest start; goal-driven:search or goal-driven:marking pick
+    /// how that support is found), earliest (everything as early as possible), or latest.
+    #[arg(long, default_value = "goal-driven", value_name = "POLICY")]
     pub dispatch: PolicyKind,
 }

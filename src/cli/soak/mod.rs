@@ -22,6 +22,8 @@ use super::mission_out::{initial_plan, TracePrinter};
 use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
 use crate::cli::error::CliError;
 use crate::cli::out::outln;
+use crate::dispatch::PolicyKind;
+use crate::exec::config::ExecConfig;
 use crate::exec::executive::{Executive, Fate};
 use crate::exec::mission::{run_mission, MissionOptions, MissionReport};
 use crate::exec::pacer::StepGate;
@@ -59,6 +61,10 @@ pub struct SoakArgs {
     /// `mavtempo report`.
     #[arg(long)]
     pub report: Option<std::path::PathBuf>,
+    /// Run every mission under each of these dispatch policies (comma-separated: goal-driven, earliest,
+    /// latest) and print them side by side: seed 2's experiment, live on the SITL. Default: goal-driven.
+    #[arg(long, value_delimiter = ',', value_name = "POLICY")]
+    pub dispatch: Vec<PolicyKind>,
 }
 
 /// What one mission gave.
@@ -70,6 +76,10 @@ struct Outcome {
     /// The names of the problem's goals (the others were uploaded).
     held: Vec<String>,
     violations: Vec<Violation>,
+    /// Metres driven (the report's track).
+    distance_m: f64,
+    /// Battery spent, in the battery resource's unit (percent for the rover): the sum of its reported drops.
+    battery_used: Option<f64>,
 }
 
 /// Goals achieved among those of missions with a given fault (or none).
@@ -90,6 +100,8 @@ struct Rejection {
 
 #[derive(Debug, Default, Serialize)]
 struct Summary {
+    /// The dispatch policy the missions ran under.
+    policy: String,
     missions: u64,
     first_seed: u64,
     domain: String,
@@ -107,6 +119,10 @@ struct Summary {
     violations: Vec<Violation>,
     repairs: u64,
     replans: u64,
+    /// Kilometres driven over all missions.
+    distance_km: f64,
+    /// Battery spent over all rover missions (percent points; the AUV domain has no battery).
+    battery_used: f64,
     /// Goals of the missions' problems (not uploaded) and how many of them were achieved.
     held_goals: u64,
     held_achieved: u64,
@@ -144,13 +160,22 @@ pub fn run(args: SoakArgs) -> ExitCode {
         );
         bar
     });
-    let mut sum = Summary {
-        missions: args.missions,
-        first_seed: args.seed,
-        domain: format!("{:?}", args.domain).to_lowercase(),
-        ..Summary::default()
+    let policies: Vec<PolicyKind> = if args.dispatch.is_empty() {
+        vec![exec_config().dispatch]
+    } else {
+        args.dispatch.clone()
     };
-    for i in 0..args.missions {
+    let mut sums: Vec<Summary> = policies
+        .iter()
+        .map(|p| Summary {
+            policy: p.to_string(),
+            missions: args.missions,
+            first_seed: args.seed,
+            domain: format!("{:?}", args.domain).to_lowercase(),
+            ..Summary::default()
+        })
+        .collect();
+    'missions: for i in 0..args.missions {
         let m = generate::mission(args.seed + i, args.domain);
         if args.show {
             outln!(
@@ -160,57 +185,50 @@ pub fn run(args: SoakArgs) -> ExitCode {
                 m.scenario
             );
         }
-        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            run_one(&m, args.trace, &interrupt)
-        }))
-        .unwrap_or_else(|p| {
-            let what = p
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            failed(&m, "no_panic", format!("panicked: {what}"))
-        });
-        let cut = outcome
-            .report
-            .as_ref()
-            .is_some_and(|r| matches!(r.end, crate::exec::mission::MissionEnd::Interrupted(_)));
-        if !cut {
-            tally(&mut sum, &m, &outcome);
-        }
-        if let Some(signal) = interrupt.signal_name() {
-            sum.missions = i + u64::from(!cut);
-            sum.interrupted = Some(signal);
-            break;
-        }
-        if let (Some(path), Some(r)) = (&args.report, &outcome.report) {
-            if let Err(e) = super::mission_out::write_report(path, r) {
-                eprintln!("mavtempo soak: {e}");
-                return ExitCode::FAILURE;
+        for (&policy, sum) in policies.iter().zip(sums.iter_mut()) {
+            let outcome = run_guarded(&m, policy, args.trace, &interrupt);
+            let cut = outcome
+                .report
+                .as_ref()
+                .is_some_and(|r| matches!(r.end, crate::exec::mission::MissionEnd::Interrupted(_)));
+            if !cut {
+                tally(sum, &m, &outcome);
+            }
+            if let Some(signal) = interrupt.signal_name() {
+                for s in sums.iter_mut() {
+                    s.missions = i + u64::from(!cut && s.policy == policy.to_string());
+                    s.interrupted = Some(signal.clone());
+                }
+                break 'missions;
+            }
+            if let (Some(path), Some(r)) = (&args.report, &outcome.report) {
+                if let Err(e) = super::mission_out::write_report(path, r) {
+                    eprintln!("mavtempo soak: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+            if m.domain == SoakDomain::Shipped {
+                let without = Mission {
+                    uploads: Vec::new(),
+                    ..m.clone()
+                };
+                let baseline = run_guarded(&without, policy, false, &interrupt);
+                let achieved = |g: &str| {
+                    outcome
+                        .goals
+                        .iter()
+                        .any(|(h, f, _, _)| h == g && *f == Fate::Achieved)
+                };
+                let kept = baseline.violations.is_empty()
+                    && baseline
+                        .goals
+                        .iter()
+                        .all(|(g, fate, _, _)| *fate != Fate::Achieved || achieved(g));
+                *sum.kept_goals.get_or_insert(0) += u64::from(kept);
             }
         }
-        if m.domain == SoakDomain::Shipped {
-            let without = Mission {
-                uploads: Vec::new(),
-                ..m.clone()
-            };
-            let baseline = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                run_one(&without, false, &interrupt)
-            }));
-            let achieved = |g: &str| {
-                outcome
-                    .goals
-                    .iter()
-                    .any(|(h, f, _, _)| h == g && *f == Fate::Achieved)
-            };
-            let kept = baseline.is_ok_and(|b| {
-                b.goals
-                    .iter()
-                    .all(|(g, fate, _, _)| *fate != Fate::Achieved || achieved(g))
-            });
-            *sum.kept_goals.get_or_insert(0) += u64::from(kept);
-        }
         if let Some(bar) = &bar {
+            let sum = &sums[0];
             bar.set_message(format!(
                 "{} of {} goals achieved, {} violations",
                 sum.achieved,
@@ -223,29 +241,92 @@ pub fn run(args: SoakArgs) -> ExitCode {
     if let Some(bar) = bar {
         bar.finish();
     }
-    for s in sum.by_fault.values_mut() {
-        s.share = if s.goals == 0 {
-            1.0
-        } else {
-            s.achieved as f64 / s.goals as f64
-        };
-    }
-    sum.wall_s = wall.elapsed().as_secs_f64();
-    if args.json {
-        let printed = super::json_out::print_json_pretty("mavtempo soak", &sum);
-        if printed != ExitCode::SUCCESS {
-            return printed;
+    let wall_s = wall.elapsed().as_secs_f64();
+    for sum in sums.iter_mut() {
+        for s in sum.by_fault.values_mut() {
+            s.share = if s.goals == 0 {
+                1.0
+            } else {
+                s.achieved as f64 / s.goals as f64
+            };
         }
-    } else {
-        print_summary(&sum);
+        sum.wall_s = wall_s;
+    }
+    let printed = match (args.json, sums.as_slice()) {
+        (true, [one]) => super::json_out::print_json_pretty("mavtempo soak", one),
+        (true, many) => super::json_out::print_json_pretty("mavtempo soak", &many),
+        (false, [one]) => {
+            print_summary(one);
+            ExitCode::SUCCESS
+        }
+        (false, many) => {
+            for s in many {
+                outln!("== dispatch {} ==", s.policy);
+                print_summary(s);
+            }
+            print_side_by_side(many);
+            ExitCode::SUCCESS
+        }
+    };
+    if printed != ExitCode::SUCCESS {
+        return printed;
     }
     if let Some(code) = super::shutdown::exit_code(&interrupt) {
         return code;
     }
-    if sum.violations.is_empty() {
+    if sums.iter().all(|s| s.violations.is_empty()) {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
+    }
+}
+
+/// One mission under `policy`; a panic is a violation of its own.
+fn run_guarded(
+    m: &Mission,
+    policy: PolicyKind,
+    trace: bool,
+    interrupt: &crate::exec::interrupt::Interrupt,
+) -> Outcome {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        run_one(m, policy, trace, interrupt)
+    }))
+    .unwrap_or_else(|p| {
+        let what = p
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default();
+        failed(m, "no_panic", format!("panicked: {what}"))
+    })
+}
+
+/// The policies side by side (seed 2's experiment): one row per policy.
+fn print_side_by_side(sums: &[Summary]) {
+    outln!(
+        "{:<20} {:>9} {:>9} {:>9} {:>9} {:>8} {:>9} {:>9}  rejected by class",
+        "dispatch",
+        "goals",
+        "achieved",
+        "uploaded",
+        "achieved",
+        "km",
+        "battery %",
+        "replans"
+    );
+    for s in sums {
+        outln!(
+            "{:<20} {:>9} {:>9} {:>9} {:>9} {:>8.2} {:>9.0} {:>9}  {:?}",
+            s.policy,
+            s.goals,
+            s.achieved,
+            s.goals - s.held_goals,
+            s.achieved - s.held_achieved,
+            s.distance_km,
+            s.battery_used,
+            s.replans,
+            s.rejected
+        );
     }
 }
 
@@ -259,6 +340,8 @@ fn failed(m: &Mission, invariant: &'static str, detail: String) -> Outcome {
             seed: m.seed,
             detail,
         }],
+        distance_m: 0.0,
+        battery_used: None,
     }
 }
 
@@ -306,6 +389,8 @@ fn tally(sum: &mut Summary, m: &Mission, o: &Outcome) {
         sum.repairs += r.counters.repairs;
         sum.replans += r.counters.replans;
     }
+    sum.distance_km += o.distance_m / 1000.0;
+    sum.battery_used += o.battery_used.unwrap_or(0.0);
     for v in &o.violations {
         *sum.violations_by_invariant
             .entry(v.invariant.into())
@@ -334,9 +419,12 @@ fn print_summary(s: &Summary) {
         s.unplanned
     );
     outln!(
-        "plan repairs {}, complete replannings {}",
+        "dispatch {}: plan repairs {}, complete replannings {}, {:.2} km driven, {:.0} % of battery spent",
+        s.policy,
         s.repairs,
-        s.replans
+        s.replans,
+        s.distance_km,
+        s.battery_used
     );
     outln!(
         "problem goals: {} of {} achieved; missions with every goal rejected: {}",
@@ -376,7 +464,12 @@ fn print_summary(s: &Summary) {
 }
 
 /// Runs one mission through the whole stack.
-fn run_one(m: &Mission, trace: bool, interrupt: &crate::exec::interrupt::Interrupt) -> Outcome {
+fn run_one(
+    m: &Mission,
+    policy: PolicyKind,
+    trace: bool,
+    interrupt: &crate::exec::interrupt::Interrupt,
+) -> Outcome {
     let (domain_text, domain_name) = match m.domain {
         SoakDomain::Auv => (AUV, "domains/auv/auv.ixt"),
         _ => (ROVER, "domains/rover/rover.ixt"),
@@ -410,6 +503,8 @@ fn run_one(m: &Mission, trace: bool, interrupt: &crate::exec::interrupt::Interru
                     .collect(),
                 held: problem.goals.iter().map(|g| g.name.clone()).collect(),
                 violations: Vec::new(),
+                distance_m: 0.0,
+                battery_used: None,
             };
         }
     };
@@ -417,11 +512,16 @@ fn run_one(m: &Mission, trace: bool, interrupt: &crate::exec::interrupt::Interru
         Ok(s) => s,
         Err(e) => return failed(m, "no_error_exit", e.to_string()),
     };
+    let battery = spec.config.resources.battery.clone();
     let mut session = match SitlSession::start(&domain, &problem, spec) {
         Ok(s) => s,
         Err(e) => return failed(m, "no_error_exit", format!("SITL session: {e}")),
     };
-    let mut ex = Executive::new(plan, exec_config())
+    let config = ExecConfig {
+        dispatch: policy,
+        ..exec_config()
+    };
+    let mut ex = Executive::new(plan, config)
         .with_mapping(session.mapping.clone())
         .with_level_tolerance(LEVEL_TOLERANCE);
     let (home, gcs) = (session.home, session.gcs.clone());
@@ -492,11 +592,32 @@ fn run_one(m: &Mission, trace: bool, interrupt: &crate::exec::interrupt::Interru
     let violations = invariants::check(m.seed, &report, horizon_ms);
     drop(session);
     Outcome {
+        distance_m: driven_m(&report),
+        battery_used: battery.map(|b| spent(&report, &b)),
         report: Some(report),
         goals,
         held: problem.goals.iter().map(|g| g.name.clone()).collect(),
         violations,
     }
+}
+
+/// Metres along the report's track.
+fn driven_m(r: &MissionReport) -> f64 {
+    r.track
+        .windows(2)
+        .map(|w| (w[1].east - w[0].east).hypot(w[1].north - w[0].north))
+        .sum()
+}
+
+/// The sum of the drops in `resource`'s reported level (a recharge does not give back what was spent).
+fn spent(r: &MissionReport, resource: &str) -> f64 {
+    let levels: Vec<f64> = r
+        .resources
+        .iter()
+        .filter(|s| s.resource == resource)
+        .filter_map(|s| s.reported)
+        .collect();
+    levels.windows(2).map(|w| (w[0] - w[1]).max(0.0)).sum()
 }
 
 fn session_spec(m: &Mission, first_goal_number: u32) -> Result<SessionSpec, CliError> {

@@ -29,7 +29,8 @@ pub enum VehicleError {
 pub trait Vehicle {
     /// `START a p_a i_a`.
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError>;
-    /// `END i_a`: stop a preemptive action; an `Interrupted` report follows.
+    /// `END i_a`: stop an action (preemptive ones at their end; any running one when execution is aborted);
+    /// an `Interrupted` report follows.
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError>;
     /// The next pending event, without waiting.
     fn try_event(&mut self) -> Option<VehicleEvent>;

@@ -1,8 +1,10 @@
 //! Dispatch policies: when, within its start window `[lb, ub]`, an action is started.
 //!
-//! Each policy gives the start timepoint an execution time `t_exec` and, as in seed 1 §3.5, the start is
-//! executed in the current cycle when `t_exec` falls before the end of the cycle (the tick `[now, end]`,
-//! `end = now + ts`), at `max(now, t_exec)`. Whether the timepoint is executable (Definition 2: its
+//! Each policy gives the start timepoint an execution time `t_exec`. [`DispatchPolicy::decide`] is the tick
+//! form of seed 1 §3.5 and seed 2's Algorithm 1 (executed in the current cycle when `t_exec` falls before the
+//! end of the cycle `[now, now + ts]`, at `max(now, t_exec)`), derived from `t_exec`; the benchmarks'
+//! dispatcher uses it. The executive itself wakes at `t_exec` and executes then (src/executive/src/exec/act.rs,
+//! docs/departures.md). Whether the timepoint is executable (Definition 2: its
 //! predecessors executed, `now ∈ [lb, ub]`) is the executive's question, asked before this one.
 //!
 //! - `earliest`: IxTeT-eXeC's rule for start timepoints, `t_exec = lb`.
@@ -234,9 +236,10 @@ impl fmt::Display for PolicyKind {
 }
 
 impl Default for PolicyKind {
-    /// IxTeT-eXeC's rule.
+    /// The product's behaviour: seed 2's goal-driven dispatch, its support kept by the incremental marking
+    /// (`earliest`, IxTeT-eXeC's own rule, and `latest` remain options).
     fn default() -> Self {
-        PolicyKind::Earliest
+        PolicyKind::GoalDriven(SupportForm::Marking)
     }
 }
 

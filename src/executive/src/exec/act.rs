@@ -1,5 +1,7 @@
-//! Acting (seed 1 §3.5, Figure 1): the timepoints to execute in this cycle (*ExecTPs*: executable, with an
-//! execution time before the end of the cycle), recomputed after each execution; starts of executable
+//! Acting (seed 1 §3.5, Figure 1): the timepoints to execute now (*ExecTPs*: executable, with an execution
+//! time `t_exec ≤ now`), recomputed after each execution. Seed 1 executes those whose `t_exec` falls before
+//! the end of the cycle; this executive wakes at the next `t_exec` instead (the `next` it returns), so a
+//! timepoint executes at its `t_exec`, not up to `ts` early (docs/departures.md); starts of executable
 //! actions launch them (`START`), ends of preemptive actions stop them (`END`, their time is set by the
 //! report), goal timepoints are executed when the goal is achievable; non-executable actions and
 //! non-achievable goals are postponed while flexibility remains, and so are those that would squeeze a

@@ -46,7 +46,7 @@ pub struct ExecConfig {
     /// Cycles of plan repair (μ·ts, or μ·n steps, each) a new goal's insertion into the plan may take; past
     /// them the goal is rejected and the plan stays as it was (src/executive/src/exec/goal_insertion.rs).
     pub goal_insertion_cycles: u32,
-    /// When starts are dispatched: `earliest` (IxTeT-eXeC), `latest`, `goal-driven` (seed 2).
+    /// When starts are dispatched: `goal-driven` (seed 2, the default), `earliest` (IxTeT-eXeC), `latest`.
     pub dispatch: PolicyKind,
     /// k: an action instance failing the same way this many times in a row is banned and the goals that
     /// depend on it are rejected (src/executive/src/exec/failures.rs).

@@ -61,7 +61,9 @@ impl Executive {
         };
         let aborted = self.abort.clone();
         if let Some(reason) = &aborted {
-            // P_ts: running preemptive actions are stopped, none is kept. The abort and its stops are
+            // P_ts keeps no action: every running one is told END, non-preemptive ones too (seed 1 lets
+            // those run to their end; a vehicle must not go on doing what no plan accounts for;
+            // docs/departures.md). The abort and its stops are
             // this cycle's events.
             let running: Vec<_> = self.started.keys().copied().collect();
             for a in running {

@@ -13,7 +13,7 @@
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use mavtempo_temporal::model::{GoalId, Time};
-use mavtempo_temporal::plan::{ActionId, Owner, PartialPlan, STerm, UsageKind};
+use mavtempo_temporal::plan::{ActionId, Owner, PartialPlan, STerm};
 
 /// A grounded action instance: the task's name and its arguments' names (`?` when unbound).
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -208,49 +208,21 @@ impl FailureMemory {
     }
 }
 
-/// The goals that depend on action `a` in `plan`: reached forward from `a` through causal links (an effect
-/// supporting a condition of another action or of a goal), and through the reservoirs `a` produces (the
-/// actions consuming them that are not necessarily before the production).
+/// The goals that depend on action `a` in `plan`: reached forward from `a` by
+/// [`super::goal_support::supported_by`] (causal links and reservoir productions).
 pub fn dependent_goals(plan: &PartialPlan, a: ActionId) -> Vec<GoalId> {
     let mut goals = BTreeSet::new();
     let mut seen = BTreeSet::from([a]);
     let mut todo = vec![a];
     while let Some(x) = todo.pop() {
         let mut next: Vec<ActionId> = Vec::new();
-        for &e in &plan.action(x).events {
-            for &l in plan.links_on(plan.event(e).attr) {
-                let link = plan.link(l);
-                if !link.active || link.event != e {
-                    continue;
-                }
-                match plan.cond(link.cond).owner {
-                    Owner::Goal(g) => {
-                        goals.insert(g);
-                    }
-                    Owner::Action(b) => next.push(b),
-                    _ => {}
-                }
+        super::goal_support::supported_by(plan, x, &mut |owner| match owner {
+            Owner::Goal(g) => {
+                goals.insert(g);
             }
-        }
-        for &u in &plan.action(x).usages {
-            let usage = plan.usage(u);
-            let UsageKind::Produce { at } = usage.kind else {
-                continue;
-            };
-            for &v in plan.usages_of(usage.resource) {
-                let other = plan.usage(v);
-                let when = match other.kind {
-                    UsageKind::Consume { at } => at,
-                    UsageKind::Use { from, .. } => from,
-                    UsageKind::Produce { .. } => continue,
-                };
-                // Necessarily before the production: it cannot have needed it.
-                if plan.latest(when) < plan.earliest(at) {
-                    continue;
-                }
-                next.push(other.action);
-            }
-        }
+            Owner::Action(b) => next.push(b),
+            _ => {}
+        });
         for b in next {
             if !plan.action(b).removed && seen.insert(b) {
                 todo.push(b);

@@ -6,7 +6,8 @@
 //! accepted at once, stops the running move, and costs every goal less flexible than itself.
 //!
 //! Here the insertion is an attempt beside *ExecutingPlan*: plan repair of a copy of it with the new goal
-//! (the acceptance test passed on that copy), ordered depth-first as repair is, given the cycle's repair
+//! (the acceptance test passed on that copy), ordered depth-first as repair is in its first cycle and by
+//! limited discrepancy search from its second (see `root_insertion`), given the cycle's repair
 //! share (μ·ts, or μ·n steps) for at most `goal_insertion_cycles` cycles and started again from
 //! *ExecutingPlan* whenever that changes (§3.2: a message integrated, a timepoint executed). *ExecutingPlan*
 //! runs on untouched meanwhile. A solution becomes *ExecutingPlan* and the goal is accepted; a dead end, or

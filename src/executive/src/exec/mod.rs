@@ -1,5 +1,6 @@
 //! The temporal executive of IxTeT-eXeC (seed 1 §3): the partially executed plan P_t and the rules that
-//! keep it executable while it runs. Each rule of the paper lives in one file named after it:
+//! keep it executable while it runs. Each rule of the paper lives in one file named after it; where the code
+//! departs from a rule, docs/departures.md says how and why:
 //!
 //! | seed 1 | file |
 //! |---|---|
@@ -13,8 +14,10 @@
 //! | §3.3 capacity alteration | [`capacity`] |
 //! | §3.3 causal-link removal via the abstraction hierarchy | [`abstraction`] |
 //! | §3.5 t_exec per timepoint kind | [`t_exec`] |
-//! | §3.5 the dispatch decision (src/dispatch policies; default earliest) | [`dispatch_policy`] |
-//! | §5 (future work, done): contingent durations not squeezed by dispatching | [`squeeze`] |
+//! | §3.5 the dispatch decision (src/dispatch policies) | [`dispatch_policy`] |
+//! | seed 2's latest start, kept for the longest durations | [`deferral`] |
+//! | seed 2: what an action is for (causal links and reservoirs; dispatch and the failure bounds) | [`goal_support`] |
+//! | §5 (future work; a heuristic, not dynamic controllability): starts postponed rather than squeeze a running action's duration | [`squeeze`] |
 //! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
@@ -37,12 +40,14 @@ pub mod capacity;
 pub mod config;
 pub mod cycle;
 pub mod cycle_log;
+pub mod deferral;
 pub mod dispatch_policy;
 pub mod executable;
 pub mod executive;
 pub mod failures;
 pub mod goal_insertion;
 pub mod goal_request;
+pub mod goal_support;
 pub mod instantiate;
 pub mod interrupt;
 pub mod mission;

@@ -417,6 +417,9 @@ impl Executive {
         let budget = first_cap.saturating_mul(2);
         let slack = self.cfg.replan_slack_ms;
         let mut solo = SoloPlans(Vec::new());
+        // Seed 1 §3.6: after a failed attempt P_ti is extracted again; goals made inconsistent with the
+        // current time are rejected, and only if there are none is one goal abandoned.
+        let mut abandon: Option<(AttemptEnd, u64)> = None;
         for attempt in 1.. {
             let t = now();
             if t >= self.plan.horizon() {
@@ -443,6 +446,20 @@ impl Executive {
             }
             dropped.extend(ext.incoherent.iter().copied());
             let mut ext = ext;
+            if let Some((end, steps)) = abandon.take() {
+                if ext.incoherent.is_empty() {
+                    if let Some(g) = goal_to_reject(&ext.plan) {
+                        let reason = FateReason::Abandoned {
+                            abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
+                            end,
+                            steps,
+                        };
+                        self.reject_goal(g, reason);
+                        ext.plan.remove_goal(g);
+                        dropped.push(g);
+                    }
+                }
+            }
             if attempt == 1 {
                 tracing::debug!(
                     state = ?ext.plan.problem().initial.iter().map(|f| ext.plan.problem().fact_string(ext.plan.domain(), f)).collect::<Vec<_>>(),
@@ -537,16 +554,10 @@ impl Executive {
                 };
                 return self.fall_back(&solo, &mut dropped, t_end, reason, now, search.into_plan());
             }
-            let Some(g) = goal_to_reject(search.plan()) else {
+            if goal_to_reject(search.plan()).is_none() {
                 return ReplanResult::NoGoals(search.into_plan());
-            };
-            let reason = FateReason::Abandoned {
-                abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
-                end,
-                steps: search.steps(),
-            };
-            self.reject_goal(g, reason);
-            dropped.push(g);
+            }
+            abandon = Some((end, search.steps()));
             refresh(self);
         }
         ReplanResult::Error("unreachable".into())
