@@ -411,6 +411,9 @@ impl AsyncWrite for Guarded {
                     self.set_phase(Phase::Idle);
                     let idle = self.limits.idle_timeout;
                     self.rearm(idle);
+                    // The server may have polled its read while answering (no timer then) and not poll
+                    // it again before the client speaks: the idle timer must wake this task itself.
+                    let _ = self.deadline.as_mut().poll(cx);
                 }
                 Poll::Ready(Ok(n))
             }
