@@ -66,11 +66,13 @@ fn costs_only_itself(base: &DemoRun, upload: UploadItems, new: &[&str]) {
             .find(|g| g.name == *name)
             .unwrap_or_else(|| panic!("{what}: {name} not reported: {:?}", r.goals));
         assert_eq!(g.fate, Fate::Rejected, "{what}: {g:?}");
+        // By its insertion's search, or at once when its last leg alone needs more than a full battery.
         assert!(
             matches!(
-                g.reason,
+                &g.reason,
                 Some(FateReason::InsertionFailed { .. } | FateReason::InsertionTimedOut { .. })
-            ),
+            ) || matches!(&g.reason, Some(FateReason::BeyondLimits { why })
+                if why.starts_with("getting there needs")),
             "{what}: {g:?}"
         );
         // The ground station got the final verdict.

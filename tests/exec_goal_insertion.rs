@@ -85,9 +85,10 @@ fn a_far_goal_is_rejected_first_and_the_mission_goes_on_as_without_it() {
             .find(|g| g.name == "g6")
             .expect("g6 reported");
         assert_eq!(g6.fate, Fate::Rejected, "{what}");
+        // (Or at once, with the figure, when its last leg alone needs more than a full battery.)
         assert!(
             matches!(
-                g6.reason,
+                &g6.reason,
                 Some(
                     FateReason::InsertionFailed {
                         dead_end: Some(_),
@@ -97,7 +98,8 @@ fn a_far_goal_is_rejected_first_and_the_mission_goes_on_as_without_it() {
                         ..
                     }
                 )
-            ),
+            ) || matches!(&g6.reason, Some(FateReason::BeyondLimits { why })
+                if why.starts_with("getting there needs")),
             "{what}: {:?}",
             g6.reason
         );
@@ -140,7 +142,9 @@ fn a_far_goal_is_rejected_first_and_the_mission_goes_on_as_without_it() {
 fn a_failed_insertion_leaves_the_plan_as_it_was_and_says_why() {
     let mut ex = executive();
     let before = plan_text(&ex);
-    let (batch, mut rx) = GoalBatch::new(vec![picture("g6", 50_000.0, 0.0, 1)]);
+    // 198 m east of p4: its last leg needs 99 % of the battery, less than a full one (so it is searched
+    // for), more than the mission can spare.
+    let (batch, mut rx) = GoalBatch::new(vec![picture("g6", 232.0, 0.0, 1)]);
     ex.integrate(VehicleEvent::Goals(batch), 0);
     insertion_cycles(&mut ex, 0, 3);
     match rx.try_recv().expect("answered").as_slice() {
@@ -225,8 +229,9 @@ fn new_goals_are_inserted_highest_priority_first_each_on_its_own() {
     ];
     let (batch, mut rx, mut later) = GoalBatch::with_later(goals);
     ex.integrate(VehicleEvent::Goals(batch), 0);
+    // g7's last leg alone needs more than a full battery: refused as it arrives, never queued.
     let order: Vec<&str> = ex.insertion_queue();
-    assert_eq!(order, ["g7", "g8", "g6"]);
+    assert_eq!(order, ["g8", "g6"]);
     insertion_cycles(&mut ex, 0, 10);
     // Answered after the first cycle; the verdicts of the goals then still waiting follow.
     let mut verdicts = rx.try_recv().expect("answered");

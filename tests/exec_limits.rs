@@ -16,6 +16,22 @@ fn limited_config() -> std::path::PathBuf {
     path
 }
 
+/// The first goal rejection of the run and the cycle it is in.
+fn first_rejection(
+    run: &mavtempo::cli::demo::DemoRun,
+) -> (&mavtempo::exec::trace::CycleRecord, String) {
+    run.report
+        .cycles
+        .iter()
+        .find_map(|c| {
+            c.events.iter().find_map(|e| match e {
+                TraceEvent::GoalRejected { reason, .. } => Some((c, reason.to_string())),
+                _ => None,
+            })
+        })
+        .expect("the far goal is rejected")
+}
+
 #[test]
 fn a_goal_beyond_the_range_is_rejected_in_the_cycle_it_arrives_with_the_distance() {
     let setup = DemoSetup {
@@ -28,16 +44,7 @@ fn a_goal_beyond_the_range_is_rejected_in_the_cycle_it_arrives_with_the_distance
         ..DemoSetup::default()
     };
     let run = run_demo(&setup, &mut |_| {}, &mut |_| {}).unwrap_or_else(|e| panic!("demo: {e}"));
-    let cycles = &run.report.cycles;
-    let (cycle, reason) = cycles
-        .iter()
-        .find_map(|c| {
-            c.events.iter().find_map(|e| match e {
-                TraceEvent::GoalRejected { reason, .. } => Some((c, reason.to_string())),
-                _ => None,
-            })
-        })
-        .expect("the far goal is rejected");
+    let (cycle, reason) = first_rejection(&run);
     assert_eq!(reason, "2.0 km from home, beyond the 500 m range");
     // The same cycle received the near goal: the far one never reached the planner.
     assert!(
@@ -54,5 +61,31 @@ fn a_goal_beyond_the_range_is_rejected_in_the_cycle_it_arrives_with_the_distance
             .is_some_and(|a| a.contains("beyond the 500 m range")),
         "{:?}",
         run.timed_upload
+    );
+}
+
+/// With no range in the configuration, a goal 3 km away is still rejected when it arrives, with the figure:
+/// the least its last leg alone consumes (from the nearest place, p5, 2,960 m at 0.5 %/m) is more than a
+/// full battery — no search, no planner dead end.
+#[test]
+fn a_goal_no_battery_can_reach_is_rejected_at_once_with_what_it_needs() {
+    let setup = DemoSetup {
+        upload: false,
+        timed_upload: Some(TimedUpload {
+            at_ms: 30_000,
+            items: UploadItems::PicturesAt(vec![(3_000.0, 0.0)]),
+        }),
+        ..DemoSetup::default()
+    };
+    let run = run_demo(&setup, &mut |_| {}, &mut |_| {}).unwrap_or_else(|e| panic!("demo: {e}"));
+    let (cycle, reason) = first_rejection(&run);
+    assert_eq!(reason, "getting there needs 1,480 % of the battery");
+    assert!(
+        !cycle
+            .events
+            .iter()
+            .any(|e| matches!(e, TraceEvent::GoalReceived { .. })),
+        "never inserted: {:?}",
+        cycle.events
     );
 }

@@ -493,3 +493,61 @@ fn saturating_production_is_read_and_refused_elsewhere() {
         "{msg}"
     );
 }
+
+/// The traps a newcomer meets writing a first rover problem each get a warning at `check` (the problem is
+/// still legal), and the shipped problems get none.
+#[test]
+fn modelling_traps_are_warned_and_shipped_problems_are_clean() {
+    let rover = lang::load_domain(&root().join("domains/rover/rover.ixt")).expect("rover domain");
+    let text = "problem mine;
+domain rover;
+horizon 20;
+object base: location at (0, 0);
+object far: location at lat 43.5620 lon 1.4790;
+initial {
+    AT_ROBOT() = base;
+    ROBOT_STATUS() = STILL;
+    PICTURE(*) = false;
+    COMMUNICATED(*) = false;
+    VISIBLE() = NONE;
+}
+resource STORAGE: level 3, capacity 3;
+resource BATTERY: level 90, capacity 100;
+goal g1 { hold(PICTURE(far): true, (st, et)); }
+";
+    let (_, warnings) = lang::parse_problem_warned("mine.ixt", text, &rover).expect("legal");
+    let said: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    let has = |line: usize, what: &str| {
+        said.iter()
+            .any(|w| w.starts_with(&format!("mine.ixt:{line}:")) && w.contains(what))
+    };
+    assert!(has(3, "`horizon 20` has no unit"), "{said:#?}");
+    assert!(
+        has(5, "`far` is placed by latitude and longitude"),
+        "{said:#?}"
+    );
+    for attr in ["PTU_POS", "MVT_INIT", "PTU_INIT"] {
+        assert!(
+            has(1, &format!("`{attr}` has no initial value")),
+            "{said:#?}"
+        );
+    }
+    assert_eq!(said.len(), 5, "{said:#?}");
+    assert!(said.iter().all(|w| w.contains(": warning: ")), "{said:#?}");
+    // Mistyped names get the likely one.
+    let typo = text.replace("= false;\n    COMMUNICATED", "= False;\n    COMMUNICATED");
+    let e = lang::parse_problem("typo.ixt", &typo, &rover).expect_err("False is no object");
+    assert!(e.to_string().contains("did you mean `false`?"), "{e}");
+    let typo = text.replace("hold(PICTURE(far)", "hold(PICTUR(far)");
+    let e = lang::parse_problem("typo.ixt", &typo, &rover).expect_err("no attribute PICTUR");
+    assert!(e.to_string().contains("did you mean `PICTURE`?"), "{e}");
+    for f in shipped_files() {
+        let text = std::fs::read_to_string(&f).unwrap_or_default();
+        let name = f.display().to_string();
+        if let Ok(lang::FileKind::Problem { .. }) = lang::peek_header(&name, &text) {
+            let (d, _) = lang::load_problem_and_domain(&f).unwrap_or_else(|e| panic!("{e}"));
+            let (_, w) = lang::load_problem_warned(&f, &d).unwrap_or_else(|e| panic!("{e}"));
+            assert!(w.is_empty(), "{name}: {w:?}");
+        }
+    }
+}

@@ -21,6 +21,7 @@ pub mod bench;
 mod config;
 mod error;
 mod faults;
+pub mod fence;
 mod geo;
 mod link;
 mod payload;

@@ -24,6 +24,8 @@ pub struct Scenario {
     pub sunlit_zones: Vec<Zone>,
     /// When the downlink can run. Empty: always, at `camera.downlink_mib_per_s`.
     pub visibility_windows: Vec<VisibilityWindow>,
+    /// The autopilot's geofence from boot (FENCE_* and the fence list, src/fence.rs).
+    pub fence: crate::fence::FenceParams,
     pub faults: Vec<FaultSpec>,
 }
 
@@ -513,6 +515,9 @@ impl Scenario {
                     ),
                 ));
             }
+        }
+        if let Err((key, e)) = self.fence.check() {
+            return Err(KeyError::new(key, e));
         }
         for (i, f) in self.faults.iter().enumerate() {
             check_fault(f).map_err(|e| KeyError::new(format!("faults.{i}"), e))?;

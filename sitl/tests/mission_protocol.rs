@@ -34,6 +34,19 @@ async fn mission_ack(gcs: &mut Gcs) -> MavMissionResult {
     expect_msg!(gcs, MISSION_ACK).await.mavtype
 }
 
+/// MISSION_REQUEST_LIST of `mission_type`; the MISSION_COUNT that answers.
+async fn list_count(gcs: &mut Gcs, mission_type: MavMissionType) -> MISSION_COUNT_DATA {
+    gcs.send(MavMessage::MISSION_REQUEST_LIST(
+        MISSION_REQUEST_LIST_DATA {
+            target_system: 1,
+            target_component: 1,
+            mission_type,
+        },
+    ))
+    .await;
+    expect_msg!(gcs, MISSION_COUNT).await
+}
+
 /// MISSION_CLEAR_ALL; the MISSION_ACK's result.
 async fn clear_all(gcs: &mut Gcs) -> MavMissionResult {
     gcs.send(MavMessage::MISSION_CLEAR_ALL(MISSION_CLEAR_ALL_DATA {
@@ -300,4 +313,130 @@ async fn auto_runs_loiter_speed_camera_servo_and_rtl_items() {
     assert_eq!(reached, vec![1, 2, 5, 6]);
     let texts = Gcs::texts(&seen);
     assert!(texts.iter().any(|t| t == "Sampler deployed"), "{texts:?}");
+}
+
+/// The fence list over the mission protocol (mission_type FENCE), as ArduPilot keeps it: a ground station
+/// uploads a polygon and a circle, downloads them back, reads and sets FENCE_* parameters; the mission list
+/// is untouched. A scenario's `[fence]` holds one from boot.
+#[tokio::test]
+async fn a_fence_is_uploaded_downloaded_and_its_parameters_read() {
+    let fence = MavMissionType::MAV_MISSION_TYPE_FENCE;
+    let (_sim, mut gcs) = start("").await;
+    let mut items: Vec<MISSION_ITEM_INT_DATA> = [(0.0, 0.0), (0.0, 50.0), (50.0, 0.0)]
+        .iter()
+        .map(|&(n, e)| MISSION_ITEM_INT_DATA {
+            command: MavCmd::MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION,
+            param1: 3.0,
+            ..waypoint(HOME, n, e)
+        })
+        .collect();
+    items.push(MISSION_ITEM_INT_DATA {
+        command: MavCmd::MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION,
+        param1: 5.0,
+        ..waypoint(HOME, 10.0, 10.0)
+    });
+    let n = items.len() as u16;
+    gcs.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+        count: n,
+        target_system: 1,
+        target_component: 1,
+        mission_type: fence,
+        opaque_id: 0,
+    }))
+    .await;
+    for _ in 0..n {
+        let r = expect_msg!(gcs, MISSION_REQUEST_INT).await;
+        assert_eq!(r.mission_type, fence);
+        let mut it = items[usize::from(r.seq)].clone();
+        it.seq = r.seq;
+        it.target_system = 1;
+        it.target_component = 1;
+        it.mission_type = fence;
+        gcs.send(MavMessage::MISSION_ITEM_INT(it)).await;
+    }
+    let ack = expect_msg!(gcs, MISSION_ACK).await;
+    assert_eq!(
+        (ack.mavtype, ack.mission_type),
+        (MavMissionResult::MAV_MISSION_ACCEPTED, fence)
+    );
+    // Downloaded back whole, with no home item in front.
+    let c = list_count(&mut gcs, fence).await;
+    assert_eq!((c.count, c.mission_type), (n, fence));
+    for seq in 0..n {
+        gcs.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+            seq,
+            target_system: 1,
+            target_component: 1,
+            mission_type: fence,
+        }))
+        .await;
+        let it = expect_msg!(gcs, MISSION_ITEM_INT).await;
+        let sent = &items[usize::from(seq)];
+        assert_eq!(
+            (it.command, it.param1, it.x, it.y),
+            (sent.command, sent.param1, sent.x, sent.y)
+        );
+    }
+    // The mission list still holds only home.
+    assert_eq!(
+        list_count(&mut gcs, MavMissionType::MAV_MISSION_TYPE_MISSION)
+            .await
+            .count,
+        1
+    );
+    // FENCE_ENABLE is 0 by default, as on ArduPilot; a PARAM_SET is answered with the new value.
+    let read = |name: &str| {
+        MavMessage::PARAM_REQUEST_READ(PARAM_REQUEST_READ_DATA {
+            param_index: -1,
+            target_system: 1,
+            target_component: 1,
+            param_id: name.into(),
+        })
+    };
+    gcs.send(read("FENCE_ENABLE")).await;
+    let v = expect_msg!(gcs, PARAM_VALUE).await;
+    assert_eq!(
+        (v.param_id.to_str(), v.param_value),
+        (Ok("FENCE_ENABLE"), 0.0)
+    );
+    gcs.send(MavMessage::PARAM_SET(PARAM_SET_DATA {
+        param_value: 1.0,
+        target_system: 1,
+        target_component: 1,
+        param_id: "FENCE_ENABLE".into(),
+        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+    }))
+    .await;
+    assert_eq!(expect_msg!(gcs, PARAM_VALUE).await.param_value, 1.0);
+    gcs.send(read("FENCE_RADIUS")).await;
+    assert_eq!(expect_msg!(gcs, PARAM_VALUE).await.param_value, 300.0);
+}
+
+#[tokio::test]
+async fn a_scenario_fence_is_held_from_boot() {
+    let (_sim, mut gcs) = start(
+        "[fence]\nenable = 1\nradius_m = 120\n[[fence.polygons]]\ninclusion = false\ncorners_m = [[0, 0], [0, 10], [10, 0]]\n",
+    )
+    .await;
+    assert_eq!(
+        list_count(&mut gcs, MavMissionType::MAV_MISSION_TYPE_FENCE)
+            .await
+            .count,
+        3
+    );
+    gcs.send(MavMessage::PARAM_REQUEST_LIST(PARAM_REQUEST_LIST_DATA {
+        target_system: 1,
+        target_component: 1,
+    }))
+    .await;
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        let v = expect_msg!(gcs, PARAM_VALUE).await;
+        seen.push((v.param_id.to_str().map(str::to_string), v.param_value));
+    }
+    assert!(seen.contains(&(Ok("FENCE_ENABLE".into()), 1.0)), "{seen:?}");
+    assert!(
+        seen.contains(&(Ok("FENCE_RADIUS".into()), 120.0)),
+        "{seen:?}"
+    );
 }

@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::demo::exec_config;
 use super::error::CliError;
 use super::mission_out::initial_plan;
-use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use super::sitl_session::{SessionSpec, SitlSession};
 use crate::cli::out::outln;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{run_mission, MissionOptions};
@@ -71,7 +71,8 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, CliError> {
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
     let mut ex = Executive::new(plan, cfg)
         .with_mapping(session.mapping.clone())
-        .with_level_tolerance(LEVEL_TOLERANCE);
+        .with_resource_levels(&session.resources)
+        .with_still_state(session.moving.as_ref());
     let opts = MissionOptions {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),
         ..MissionOptions::default()

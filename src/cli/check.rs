@@ -101,16 +101,26 @@ pub fn run(args: CheckArgs) -> ExitCode {
             failed = true;
             continue;
         };
-        match lang::load_problem(path, d) {
-            Ok(p) => outln!(
-                "{}: ok (problem {} for {}: {} objects, {} goals, horizon {} s)",
-                path.display(),
-                p.name,
-                p.domain,
-                p.objects.len() - d.objects.len(),
-                p.goals.len(),
-                p.horizon / 1000
-            ),
+        match lang::load_problem_warned(path, d) {
+            Ok((p, warnings)) => {
+                for w in &warnings {
+                    eprintln!("{w}");
+                }
+                outln!(
+                    "{}: ok (problem {} for {}: {} objects, {} goals, horizon {} s){}",
+                    path.display(),
+                    p.name,
+                    p.domain,
+                    p.objects.len() - d.objects.len(),
+                    p.goals.len(),
+                    p.horizon / 1000,
+                    match warnings.len() {
+                        0 => String::new(),
+                        1 => ", 1 warning".to_string(),
+                        n => format!(", {n} warnings"),
+                    }
+                )
+            }
             Err(e) => {
                 eprint!("{e}");
                 failed = true;

@@ -14,7 +14,7 @@ use clap::Args;
 
 use super::error::CliError;
 use super::mission_out::{initial_plan, print_summary, MissionOutArgs, TracePrinter};
-use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use super::sitl_session::{SessionSpec, SitlSession};
 use crate::cli::out::outln;
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
@@ -244,6 +244,8 @@ pub struct DemoRun {
     pub timed_upload: Option<String>,
     /// How the vehicle became ready before the mission (`None`: `[ready] timeout_s = 0`).
     pub ready: Option<crate::vehicle::readiness::ReadyReport>,
+    /// What the autopilot's fence, read at readiness, added to the vehicle's limits.
+    pub fence: Option<String>,
     /// The live page and the session it runs on, kept after the mission (`--http`).
     pub(crate) hold: Option<LiveHold>,
 }
@@ -276,7 +278,10 @@ fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), 
 }
 
 /// The session's configuration and scenario from the setup (see [`DemoArgs::scenario`]).
-fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, String), CliError> {
+fn session_spec(
+    setup: &DemoSetup,
+    problem: &Problem,
+) -> Result<(SessionSpec, String, ExecConfig), CliError> {
     let (scenario, scenario_name) = match (&setup.scenario, &setup.problem) {
         (Some(p), _) => (read(p)?, p.display().to_string()),
         (None, None) => (SCENARIO.to_string(), "sitl/scenarios/fig2.toml".to_string()),
@@ -293,19 +298,22 @@ fn session_spec(setup: &DemoSetup, problem: &Problem) -> Result<(SessionSpec, St
         }
     };
     let mut spec = SessionSpec::demo_rover(&scenario, &scenario_name)?;
+    let mut exec = exec_config();
     if let Some(p) = &setup.config {
-        // The whole file is checked, its `[exec]` table too, though the demo's executive keeps its own.
-        spec.config =
-            crate::exec::config::MissionConfig::parse(&read(p)?, &p.display().to_string())?.vehicle;
+        // The whole file is checked; the keys its `[exec]` table writes replace the demo's own.
+        let (text, origin) = (read(p)?, p.display().to_string());
+        spec.config = crate::exec::config::MissionConfig::parse(&text, &origin)?.vehicle;
+        exec = ExecConfig::over(&exec, &text, &origin)?;
     }
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;
     spec.seed = setup.seed;
     spec.vehicle_offset_m = setup.vehicle_offset_m;
     spec.first_goal_number = problem.goals.len() as u32 + 1;
-    Ok((spec, scenario_name))
+    Ok((spec, scenario_name, exec))
 }
 
+/// The demo's executive parameters where the configuration's `[exec]` table says nothing.
 pub fn exec_config() -> ExecConfig {
     ExecConfig {
         // Seed 1 §4: ts = 1.3 s; μ = 61 %. Budgets in planning steps keep the run deterministic.
@@ -332,7 +340,7 @@ pub fn run_demo(
     ));
     let plan = initial_plan(domain.clone(), problem.clone(), setup.max_steps)?;
     say(&format!("initial plan: {} actions", plan.num_actions()));
-    let (spec, scenario_name) = session_spec(setup, &problem)?;
+    let (spec, scenario_name, exec) = session_spec(setup, &problem)?;
     say(&format!("SITL scenario: {scenario_name}"));
     let mut session = SitlSession::start(&domain, &problem, spec)?;
     if let Some(r) = &session.ready {
@@ -341,15 +349,20 @@ pub fn run_demo(
             super::mission_out::ready_line(r)
         ));
     }
+    if let Some(f) = &session.fence {
+        say(f);
+    }
+    let fence = session.fence.clone();
     let (home, gcs, origin, rt) = (session.home, &session.gcs, session.origin_ms, &session.rt);
     say(&format!(
         "SITL vehicle at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         session.sim.client_address()
     ));
-    let mut ex = Executive::new(plan, exec_config())
+    let mut ex = Executive::new(plan, exec)
         .with_policy(setup.dispatch)
         .with_mapping(session.mapping.clone())
-        .with_level_tolerance(LEVEL_TOLERANCE)
+        .with_resource_levels(&session.resources)
+        .with_still_state(session.moving.as_ref())
         .with_limits(session.limits.clone());
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = crate::vehicle::Vehicle::position(&session.vehicle) {
@@ -492,6 +505,7 @@ pub fn run_demo(
         upload,
         timed_upload,
         ready,
+        fence,
         hold,
     })
 }

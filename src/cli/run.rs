@@ -199,7 +199,14 @@ fn mission(
     };
     let ready_limit_s = checked.vehicle.ready.timeout_s;
     let start_radius_m = crate::vehicle::authority::start_radius_m(&checked.vehicle);
-    let limits = crate::vehicle::limits::Limits::from_config(&checked.vehicle.limits, checked.home);
+    let limits_cfg = checked.vehicle.limits.clone();
+    let resources = checked.vehicle.resources.clone();
+    let moving = checked
+        .vehicle
+        .state
+        .moving
+        .clone()
+        .filter(|_| checked.vehicle.state.end_still);
     let stale_after = Duration::from_millis(checked.vehicle.link.heartbeat_timeout_ms);
     // The page's goal form signs its uploads as the companion requires (issue 31).
     let signing = crate::vehicle::link::signing_key(&checked.vehicle)?;
@@ -231,11 +238,20 @@ fn mission(
         outln!("{}", super::mission_out::ready_line(&report));
         ready = Some(report);
     }
+    // `[limits]` and the autopilot's fence, read at readiness.
+    let fence = vehicle.autopilot_fence();
+    let (limits, said) =
+        crate::vehicle::fence::limits_for(&limits_cfg, checked.home, fence.as_ref());
+    if let Some(said) = said {
+        outln!("{said}");
+    }
     let origin = vehicle.now_ms();
     outln!("vehicle ready; mission starts at vehicle time {origin} ms");
     let home = checked.home;
     let mut ex = Executive::new(plan, exec_cfg)
         .with_mapping(checked.mapping)
+        .with_resource_levels(&resources)
+        .with_still_state(moving.as_ref())
         .with_limits(limits);
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = vehicle.position() {

@@ -18,10 +18,6 @@ use crate::vehicle::{MavlinkVehicle, Vehicle};
 
 const DEMO_CONFIG: &str = include_str!("../../config/demo-rover.toml");
 
-/// The executive's `level_tolerance` against this SITL: it reports the battery in whole percents, and the
-/// rover stops within its acceptance radius (1.5 m, 0.75 % of battery short of the planned distance).
-pub const LEVEL_TOLERANCE: f64 = 2.0;
-
 /// A running SITL and the vehicle linked to it. Field order is drop order: the link closes before the
 /// simulator and the runtime go.
 pub struct SitlSession {
@@ -41,6 +37,12 @@ pub struct SitlSession {
     pub start_radius_m: f64,
     /// Where the vehicle may go (`[limits]`).
     pub limits: Option<crate::vehicle::limits::Limits>,
+    /// What the autopilot's fence, read at readiness, added to them (`None`: not read).
+    pub fence: Option<String>,
+    /// The configuration's `[resources]`: the levels reported, their resolution and tolerance.
+    pub resources: crate::vehicle::config::ResourceNames,
+    /// `[state] moving`: the attribute a motion's end makes still (src/executive/src/exec/still.rs).
+    pub moving: Option<crate::vehicle::observed::Flag>,
     pub rt: tokio::runtime::Runtime,
 }
 
@@ -97,7 +99,9 @@ impl SitlSession {
             }
         };
         let start_radius_m = crate::vehicle::authority::start_radius_m(&cfg);
-        let limits = crate::vehicle::limits::Limits::from_config(&cfg.limits, home);
+        let limits_cfg = cfg.limits.clone();
+        let resources = cfg.resources.clone();
+        let moving = cfg.state.moving.clone().filter(|_| cfg.state.end_still);
         let mut sim_cfg = sitl::SimConfig {
             listen: "tcpin:127.0.0.1:0".into(),
             scenario: spec.scenario,
@@ -135,6 +139,9 @@ impl SitlSession {
         let stepped = spec.speedup.is_none();
         link_up(&rt, &sim, &vehicle, stepped)?;
         let ready = wait_ready(&rt, &sim, &vehicle, spec.speedup, ready_limit_s)?;
+        // `[limits]` and the autopilot's fence, read at readiness.
+        let fence = vehicle.autopilot_fence();
+        let (limits, said) = crate::vehicle::fence::limits_for(&limits_cfg, home, fence.as_ref());
         let origin_ms = if stepped {
             sim.now_ms()
         } else {
@@ -150,6 +157,9 @@ impl SitlSession {
             origin_ms,
             start_radius_m,
             limits,
+            fence: said,
+            resources,
+            moving,
             rt,
         })
     }

@@ -1,6 +1,7 @@
 //! Mission store and the mission protocol as ArduPilot runs it: item 0 is home, one uploader at a
 //! time, re-request after ~1 s, cancel after 8 s, wrong seq answered with INVALID_SEQUENCE while the
-//! upload stays open, legacy MISSION_ITEM / MISSION_REQUEST accepted, clear refused in AUTO.
+//! upload stays open, legacy MISSION_ITEM / MISSION_REQUEST accepted, clear refused in AUTO. The fence
+//! list (`mission_type` = FENCE, src/fence.rs) goes through the same protocol, without a home item.
 
 use std::time::Instant;
 
@@ -121,6 +122,8 @@ pub fn is_global(f: MavFrame) -> bool {
 #[derive(Debug)]
 pub struct Upload {
     pub from: Sender,
+    /// The mission or the fence list.
+    pub mission_type: MavMissionType,
     pub count: u16,
     pub next: u16,
     pub items: Vec<Item>,
@@ -144,39 +147,48 @@ impl Autopilot {
     }
 
     fn mission_ack(&mut self, from: Sender, result: MavMissionResult) {
+        self.mission_ack_of(from, result, MavMissionType::MAV_MISSION_TYPE_MISSION);
+    }
+
+    fn mission_ack_of(&mut self, from: Sender, result: MavMissionResult, mt: MavMissionType) {
         self.send_to(
             from.peer,
             MavMessage::MISSION_ACK(MISSION_ACK_DATA {
                 target_system: from.sysid,
                 target_component: from.compid,
                 mavtype: result,
-                mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+                mission_type: mt,
                 opaque_id: 0,
             }),
         );
     }
 
-    fn send_request(&mut self, from: Sender, seq: u16) {
+    fn send_request(&mut self, from: Sender, seq: u16, mission_type: MavMissionType) {
         let msg = match self.mission_request {
             MissionRequestKind::Int => MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
                 seq,
                 target_system: from.sysid,
                 target_component: from.compid,
-                mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+                mission_type,
             }),
             MissionRequestKind::Legacy => MavMessage::MISSION_REQUEST(MISSION_REQUEST_DATA {
                 seq,
                 target_system: from.sysid,
                 target_component: from.compid,
-                mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+                mission_type,
             }),
         };
         self.send_to(from.peer, msg);
     }
 
     pub(super) fn on_mission_count(&mut self, from: Sender, m: &MISSION_COUNT_DATA) {
-        if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
-            self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
+        let fence = m.mission_type == MavMissionType::MAV_MISSION_TYPE_FENCE;
+        if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION && !fence {
+            self.mission_ack_of(
+                from,
+                MavMissionResult::MAV_MISSION_UNSUPPORTED,
+                m.mission_type,
+            );
             return;
         }
         // One uploader at a time.
@@ -189,19 +201,25 @@ impl Autopilot {
         }
         if m.count == 0 {
             self.upload = None;
-            self.clear_mission(from);
+            if fence {
+                self.fence.clear();
+                self.mission_ack_of(from, MavMissionResult::MAV_MISSION_ACCEPTED, m.mission_type);
+            } else {
+                self.clear_mission(from);
+            }
             return;
         }
         let now = Instant::now();
         self.upload = Some(Upload {
             from,
+            mission_type: m.mission_type,
             count: m.count,
             next: 0,
             items: Vec::with_capacity(usize::from(m.count)),
             last_request: now,
             last_activity: now,
         });
-        self.send_request(from, 0);
+        self.send_request(from, 0, m.mission_type);
     }
 
     pub(super) fn on_mission_item(
@@ -215,11 +233,15 @@ impl Autopilot {
             // ArduPilot ignores items outside an upload (with a warning).
             return;
         };
-        if u.from != from || mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
+        if u.from != from || mission_type != u.mission_type {
             return;
         }
         if seq != u.next {
-            self.mission_ack(from, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
+            self.mission_ack_of(
+                from,
+                MavMissionResult::MAV_MISSION_INVALID_SEQUENCE,
+                mission_type,
+            );
             return;
         }
         let now = Instant::now();
@@ -229,12 +251,17 @@ impl Autopilot {
         if u.next < u.count {
             u.last_request = now;
             let next = u.next;
-            self.send_request(from, next);
+            self.send_request(from, next, mission_type);
             return;
         }
         let Some(mut done) = self.upload.take() else {
             return;
         };
+        if mission_type == MavMissionType::MAV_MISSION_TYPE_FENCE {
+            self.fence = done.items;
+            self.mission_ack_of(from, MavMissionResult::MAV_MISSION_ACCEPTED, mission_type);
+            return;
+        }
         // Item 0 is always home on ArduPilot.
         done.items[0] = self.home_item();
         self.install_mission(done.items);
@@ -265,9 +292,10 @@ impl Autopilot {
 
     /// An item that cannot be a place ends its sender's upload with the error, as ArduPilot does.
     fn refuse_item(&mut self, from: Sender, result: MavMissionResult) {
-        if self.upload.as_ref().is_some_and(|u| u.from == from) {
+        if let Some(u) = self.upload.as_ref().filter(|u| u.from == from) {
+            let mt = u.mission_type;
             self.upload = None;
-            self.mission_ack(from, result);
+            self.mission_ack_of(from, result, mt);
         }
     }
 
@@ -277,14 +305,14 @@ impl Autopilot {
             return;
         };
         if now.duration_since(u.last_activity) >= self.mission_timeout {
-            let from = u.from;
+            let (from, mt) = (u.from, u.mission_type);
             self.upload = None;
-            self.mission_ack(from, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED);
+            self.mission_ack_of(from, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED, mt);
             self.text(MavSeverity::MAV_SEVERITY_WARNING, "Mission upload timeout");
         } else if now.duration_since(u.last_request) >= self.mission_rerequest {
             u.last_request = now;
-            let (from, next) = (u.from, u.next);
-            self.send_request(from, next);
+            let (from, next, mt) = (u.from, u.next, u.mission_type);
+            self.send_request(from, next, mt);
         }
     }
 
@@ -324,6 +352,18 @@ impl Autopilot {
     }
 
     pub(super) fn on_clear_all(&mut self, from: Sender, m: &MISSION_CLEAR_ALL_DATA) {
+        if m.mission_type == MavMissionType::MAV_MISSION_TYPE_FENCE {
+            if self.refused_for_another_upload(from, MavMissionResult::MAV_MISSION_ERROR) {
+                return;
+            }
+            self.upload = None;
+            self.fence.clear();
+            self.mission_ack_of(from, MavMissionResult::MAV_MISSION_ACCEPTED, m.mission_type);
+            return;
+        }
+        if m.mission_type == MavMissionType::MAV_MISSION_TYPE_ALL {
+            self.fence.clear();
+        }
         if !matches!(
             m.mission_type,
             MavMissionType::MAV_MISSION_TYPE_MISSION | MavMissionType::MAV_MISSION_TYPE_ALL
@@ -351,11 +391,16 @@ impl Autopilot {
 
     pub(super) fn on_request_list(&mut self, from: Sender, m: &MISSION_REQUEST_LIST_DATA) {
         if m.mission_type != MavMissionType::MAV_MISSION_TYPE_MISSION {
-            // No fence or rally points: an empty list.
+            // The fence list; no rally points: an empty list.
+            let count = if m.mission_type == MavMissionType::MAV_MISSION_TYPE_FENCE {
+                self.fence.len() as u16
+            } else {
+                0
+            };
             self.send_to(
                 from.peer,
                 MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
-                    count: 0,
+                    count,
                     target_system: from.sysid,
                     target_component: from.compid,
                     mission_type: m.mission_type,
@@ -385,12 +430,16 @@ impl Autopilot {
         legacy: bool,
         mt: MavMissionType,
     ) {
-        if mt != MavMissionType::MAV_MISSION_TYPE_MISSION {
-            self.mission_ack(from, MavMissionResult::MAV_MISSION_UNSUPPORTED);
-            return;
-        }
-        let Some(it) = self.mission.get(usize::from(seq)).cloned() else {
-            self.mission_ack(from, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE);
+        let list = match mt {
+            MavMissionType::MAV_MISSION_TYPE_MISSION => &self.mission,
+            MavMissionType::MAV_MISSION_TYPE_FENCE => &self.fence,
+            _ => {
+                self.mission_ack_of(from, MavMissionResult::MAV_MISSION_UNSUPPORTED, mt);
+                return;
+            }
+        };
+        let Some(it) = list.get(usize::from(seq)).cloned() else {
+            self.mission_ack_of(from, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE, mt);
             return;
         };
         let int = MISSION_ITEM_INT_DATA {
@@ -406,9 +455,11 @@ impl Autopilot {
             target_system: from.sysid,
             target_component: from.compid,
             frame: it.frame,
-            current: u8::from(seq == self.exec.current),
+            current: u8::from(
+                mt == MavMissionType::MAV_MISSION_TYPE_MISSION && seq == self.exec.current,
+            ),
             autocontinue: it.autocontinue,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            mission_type: mt,
         };
         let msg = if legacy {
             MavMessage::MISSION_ITEM(to_float(&int))

@@ -9,6 +9,7 @@ mod command_memory;
 mod commands;
 mod mission;
 mod modes;
+mod params;
 mod payload_ops;
 mod telemetry;
 
@@ -89,6 +90,9 @@ pub struct Autopilot {
     speed_override: Option<f64>,
     rtl_reported: bool,
     upload: Option<Upload>,
+    /// The fence list (mission_type FENCE) and FENCE_* parameters (src/fence.rs).
+    fence: Vec<Item>,
+    fence_params: crate::fence::FenceParams,
     streams: Streams,
     command_failures: Vec<(u16, MavResult, u32)>,
     /// The last command of each kind and its answer: duplicates and re-sent copies answered again.
@@ -152,6 +156,8 @@ impl Autopilot {
             speed_override: None,
             rtl_reported: false,
             upload: None,
+            fence: Vec::new(),
+            fence_params: s.fence.clone(),
             streams: Streams::default(),
             command_failures: Vec::new(),
             cmd_memory: Default::default(),
@@ -170,6 +176,7 @@ impl Autopilot {
             events: Vec::new(),
         };
         ap.mission = vec![ap.home_item()];
+        ap.fence = ap.fence_items(&s.fence);
         ap.mode = Mode::Manual;
         ap
     }
@@ -272,6 +279,9 @@ impl Autopilot {
             }
             MavMessage::SET_POSITION_TARGET_GLOBAL_INT(m) => self.on_set_position_target(m),
             MavMessage::REQUEST_DATA_STREAM(m) => self.on_request_data_stream(m),
+            MavMessage::PARAM_REQUEST_READ(m) => self.on_param_request_read(from, m),
+            MavMessage::PARAM_REQUEST_LIST(_) => self.on_param_request_list(from),
+            MavMessage::PARAM_SET(m) => self.on_param_set(from, m),
             _ => {}
         }
         self.process_events();

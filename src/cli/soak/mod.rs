@@ -19,7 +19,7 @@ use self::generate::{Mission, SoakDomain, Upload};
 use self::invariants::{reason_class, Violation, END_MARGIN_MS};
 use super::demo::exec_config;
 use super::mission_out::{initial_plan, TracePrinter};
-use super::sitl_session::{SessionSpec, SitlSession, LEVEL_TOLERANCE};
+use super::sitl_session::{SessionSpec, SitlSession};
 use crate::cli::error::CliError;
 use crate::cli::out::outln;
 use crate::dispatch::PolicyKind;
@@ -523,7 +523,8 @@ fn run_one(
     };
     let mut ex = Executive::new(plan, config)
         .with_mapping(session.mapping.clone())
-        .with_level_tolerance(LEVEL_TOLERANCE);
+        .with_resource_levels(&session.resources)
+        .with_still_state(session.moving.as_ref());
     let (home, gcs) = (session.home, session.gcs.clone());
     let rt = session.rt.handle().clone();
     let mut pending: Vec<&Upload> = m.uploads.iter().collect();

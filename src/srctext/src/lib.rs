@@ -6,5 +6,5 @@ mod located;
 mod span;
 pub mod toml_file;
 
-pub use located::{decode, locate, read, Located, ReadError};
+pub use located::{decode, locate, read, Located, ReadError, Warning};
 pub use span::Span;

@@ -19,9 +19,26 @@ pub struct Located {
 
 impl fmt::Display for Located {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.write_as(f, "error")
+    }
+}
+
+/// A [`Located`] message that does not stop anything: printed `file:line:col: warning: …`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Warning(pub Located);
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.write_as(f, "warning")
+    }
+}
+
+impl Located {
+    /// `file:line:col: KIND: message`, then the line and a caret under the column.
+    fn write_as(&self, f: &mut fmt::Formatter<'_>, kind: &str) -> fmt::Result {
         write!(
             f,
-            "{}:{}:{}: error: {}",
+            "{}:{}:{}: {kind}: {}",
             self.file, self.line, self.col, self.message
         )?;
         if !self.source_line.is_empty() {

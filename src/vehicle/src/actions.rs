@@ -137,6 +137,9 @@ pub struct Run {
     disarmed_since: Option<u64>,
     /// A picture: the index of the camera's last CAMERA_FEEDBACK before the capture was commanded.
     feedback_before: Option<u16>,
+    /// A motion the next action needs still: it ends within its radius once the vehicle is still
+    /// (`[state] still_below_m_s`), not as it enters the radius.
+    pub end_still: bool,
 }
 
 /// How long (vehicle ms) a run disarmed under it waits for the restart that explains it before failing.
@@ -210,6 +213,7 @@ impl Run {
             feedback_before: None,
             settling: None,
             settled: false,
+            end_still: false,
         };
         let id = start.id;
         match binding {
@@ -717,7 +721,8 @@ impl Run {
             ) => {
                 let (p, g) = (ctx.tel.position?, self.goal?);
                 let vertical_ok = vertical_acceptance_m.is_none_or(|v| (p.up - g.up).abs() <= v);
-                (p.horizontal_distance(&g) <= *acceptance_radius_m && vertical_ok)
+                let still = !self.end_still || ctx.cfg.state.is_moving(ctx.tel) != Some(true);
+                (p.horizontal_distance(&g) <= *acceptance_radius_m && vertical_ok && still)
                     .then(End::nominal)
             }
             (

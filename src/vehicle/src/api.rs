@@ -29,6 +29,12 @@ pub enum VehicleError {
 pub trait Vehicle {
     /// `START a p_a i_a`.
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError>;
+    /// `START` of a motion whose end the next action needs still (a picture): it ends once the vehicle is
+    /// within its acceptance radius and still, not as it enters the radius. A vehicle that cannot tell
+    /// starts it as any other.
+    fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        self.start(action)
+    }
     /// `END i_a`: stop an action (preemptive ones at their end; any running one when execution is aborted);
     /// an `Interrupted` report follows.
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError>;

@@ -118,6 +118,8 @@ pub struct Authority {
     disarmed_since: Option<u64>,
     /// When (vehicle ms) the autopilot last reported an error (STATUSTEXT ERROR or worse).
     error_at: Option<u64>,
+    /// The mission is over: the companion's own end-of-mission HOLD and disarm take no control back.
+    released: bool,
 }
 
 /// A mode change this soon (vehicle ms) after an autopilot error is the autopilot's own reaction (a
@@ -136,6 +138,7 @@ impl Authority {
             armed: false,
             disarmed_since: None,
             error_at: None,
+            released: false,
         }
     }
 
@@ -189,7 +192,7 @@ impl Authority {
             });
         }
         if self.expected.contains(&mode) {
-            self.in_control |= armed;
+            self.in_control |= armed && !self.released;
             return None;
         }
         // A switch into the companion's own mode is a hand-over, never a taking of control.
@@ -264,6 +267,7 @@ impl Authority {
 
     /// The companion releases the vehicle (mission over): a later mode change is nobody's business.
     pub fn release(&mut self) {
+        self.released = true;
         self.in_control = false;
         self.expected.clear();
         self.disarmed_since = None;

@@ -218,6 +218,48 @@ impl Modes {
 pub struct ResourceNames {
     pub battery: Option<String>,
     pub storage: Option<String>,
+    /// How finely each level is reported, in the domain reservoir's units (default: the battery in whole
+    /// percents, as MAVLink's `battery_remaining`; the storage exactly), and how far beyond that a reading
+    /// may stray from the plan and still be noise (default 0), e.g. a move that ends within its acceptance
+    /// radius, short of the planned distance.
+    pub battery_resolution: Option<f64>,
+    pub battery_tolerance: Option<f64>,
+    pub storage_resolution: Option<f64>,
+    pub storage_tolerance: Option<f64>,
+}
+
+/// MAVLink reports the battery in whole percents (`battery_remaining`).
+const BATTERY_RESOLUTION: f64 = 1.0;
+
+impl ResourceNames {
+    /// The one rule for reported levels, in `demo`, `soak` and `run` alike: a level within `resolution +
+    /// tolerance` of the plan's bounds is in them (no repair). `None` when the vehicle reports no level of
+    /// the domain's resource `name`.
+    pub fn level_tolerance(&self, name: &str) -> Option<f64> {
+        if self.battery.as_deref() == Some(name) {
+            Some(
+                self.battery_resolution.unwrap_or(BATTERY_RESOLUTION)
+                    + self.battery_tolerance.unwrap_or(0.0),
+            )
+        } else if self.storage.as_deref() == Some(name) {
+            Some(self.storage_resolution.unwrap_or(0.0) + self.storage_tolerance.unwrap_or(0.0))
+        } else {
+            None
+        }
+    }
+
+    /// The first key that is not a number >= 0.
+    fn invalid(&self) -> Option<&'static str> {
+        [
+            ("resources.battery_resolution", self.battery_resolution),
+            ("resources.battery_tolerance", self.battery_tolerance),
+            ("resources.storage_resolution", self.storage_resolution),
+            ("resources.storage_tolerance", self.storage_tolerance),
+        ]
+        .into_iter()
+        .find(|(_, v)| v.is_some_and(|v| !(v.is_finite() && v >= 0.0)))
+        .map(|(k, _)| k)
+    }
 }
 
 /// `[mapping]`: which of the domain's names the executive gives a vehicle meaning to.
@@ -364,6 +406,9 @@ impl VehicleConfig {
         }
         if let Some((key, reason)) = self.limits.invalid() {
             return Err(invalid(key.into(), &reason));
+        }
+        if let Some(key) = self.resources.invalid() {
+            return Err(invalid(key.into(), "must be a level >= 0"));
         }
         if let Some(ids) = &self.link.goal_sysids {
             if ids.is_empty() || ids.contains(&0) {

@@ -16,6 +16,7 @@ use super::api::VehicleEvent;
 use super::authority::{self, Authority, AuthorityEvent, Change};
 use super::commands::{Command, CommandClient, CommandOutcome, Token};
 use super::config::VehicleConfig;
+use super::fence::{AutopilotFence, FenceRead};
 use super::mission_client::MissionClient;
 use super::readiness::{Readiness, ReadyAction, Seen};
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome};
@@ -46,6 +47,8 @@ pub const COMPANION_COMPONENT: u8 = 191;
 const SAFE_STOP_TOKEN: Token = u64::MAX - 1;
 /// The owner of the readiness wait's ARM commands.
 const READY_TOKEN: Token = u64::MAX - 2;
+/// The owner of the fence list's download at readiness.
+const FENCE_TOKEN: Token = u64::MAX - 3;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Link {
@@ -70,6 +73,8 @@ pub struct Driver {
     last_heartbeat_tx: Option<u64>,
     safe_stop: Option<SafeStop>,
     readiness: Option<Readiness>,
+    /// The autopilot's fence, read at readiness (`[limits] autopilot_fence`); whether its list was asked.
+    fence_read: Option<(FenceRead, bool)>,
     /// Who commands the vehicle: while the operator has it, no command goes out.
     authority: Authority,
     /// Messages before this index in `out` were produced before the pause began.
@@ -114,6 +119,7 @@ impl Driver {
             last_heartbeat_tx: None,
             safe_stop: None,
             readiness: None,
+            fence_read: None,
         }
     }
 
@@ -346,6 +352,17 @@ impl Driver {
         Ok(())
     }
 
+    /// [`Self::start`] of a motion that ends only once the vehicle is still, too (the next action needs it
+    /// still: [`super::api::Vehicle::start_still`]).
+    pub fn start_still(&mut self, action: ActionStart, now: u64) -> Result<(), VehicleError> {
+        let id = action.id;
+        self.start(action, now)?;
+        if let Some(run) = self.runs.get_mut(&id) {
+            run.end_still = true;
+        }
+        Ok(())
+    }
+
     /// `END i_a`.
     pub fn stop(&mut self, id: ActionId, now: u64) -> Result<(), VehicleError> {
         if !self.runs.contains_key(&id) {
@@ -413,6 +430,9 @@ impl Driver {
             authority::Arming::Operator => r.operator_arms(),
             authority::Arming::Companion => r,
         });
+        if self.cfg.limits.autopilot_fence != Some(false) {
+            self.fence_read = Some((FenceRead::new(), false));
+        }
         self.drive_readiness(now);
     }
 
@@ -420,7 +440,62 @@ impl Driver {
         self.readiness.as_ref()
     }
 
+    /// The autopilot's fence once read, with its home (`None` while reading, or when not read at all).
+    pub fn autopilot_fence(&self) -> Option<AutopilotFence> {
+        self.fence_read
+            .as_ref()
+            .filter(|(f, _)| f.done())
+            .map(|(f, _)| AutopilotFence {
+                home: self.tel.home_position,
+                ..f.fence().clone()
+            })
+    }
+
+    /// Whether the fence reading started at readiness is over (true when there is none).
+    pub fn fence_read_done(&self) -> bool {
+        self.fence_read.as_ref().is_none_or(|(f, _)| f.done())
+    }
+
+    /// The fence list asked for once the autopilot is known; its parameters (re-)asked when due.
+    fn drive_fence_read(&mut self, now: u64) {
+        let (Some(target), Some((read, asked))) = (self.target, &mut self.fence_read) else {
+            return;
+        };
+        let vnow = self.tel.time_boot_ms.unwrap_or(now);
+        if !*asked {
+            *asked = self.mission.download_of(
+                mavlink::dialects::ardupilotmega::MavMissionType::MAV_MISSION_TYPE_FENCE,
+                FENCE_TOKEN,
+                now,
+                &mut self.out,
+            );
+        }
+        read.tick(vnow, target, &mut self.out);
+    }
+
+    /// A mission transfer ended: the fence list's, or an action's.
+    fn mission_outcome(
+        &mut self,
+        token: Token,
+        outcome: super::mission_client::MissionOutcome,
+        now: u64,
+    ) {
+        use super::mission_client::MissionOutcome;
+        if token == FENCE_TOKEN {
+            if let Some((read, _)) = &mut self.fence_read {
+                read.on_list(match outcome {
+                    MissionOutcome::Downloaded(items) => Ok(items),
+                    MissionOutcome::Failed(why) => Err(why),
+                    _ => Ok(Vec::new()),
+                });
+            }
+            return;
+        }
+        self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+    }
+
     fn drive_readiness(&mut self, now: u64) {
+        self.drive_fence_read(now);
         let Some(r) = &mut self.readiness else {
             return;
         };
@@ -564,8 +639,11 @@ impl Driver {
                 self.command_outcome(token, cmd, outcome, now);
             }
         }
+        if let Some((read, _)) = &mut self.fence_read {
+            read.on_message(msg);
+        }
         if let Some((token, outcome)) = self.mission.handle(msg, now, &mut self.out) {
-            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+            self.mission_outcome(token, outcome, now);
         }
         self.authority_tick(now);
         let ids: Vec<ActionId> = self.runs.keys().copied().collect();
@@ -594,7 +672,7 @@ impl Driver {
     /// Re-sends the mission message whose answer is overdue; a transfer given up on ends its run.
     fn expire_mission(&mut self, now: u64) {
         if let Some((token, outcome)) = self.mission.tick(now, &mut self.out) {
-            self.with_run(token, now, |run, ctx| run.on_mission(ctx, outcome));
+            self.mission_outcome(token, outcome, now);
         }
     }
 

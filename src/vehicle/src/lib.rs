@@ -22,6 +22,7 @@ pub mod config;
 pub mod config_check;
 pub mod driver;
 pub mod endpoint;
+pub mod fence;
 pub mod frame;
 pub mod geo;
 pub mod goal_answers;

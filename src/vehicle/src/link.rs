@@ -793,13 +793,15 @@ impl MavlinkVehicle {
             let go_on = pass_time(self);
             let state = self.shared.driver.lock().ok().and_then(|d| {
                 let vnow = d.telemetry().time_boot_ms.unwrap_or(0);
-                d.readiness().map(|r| (r.report().clone(), vnow))
+                d.readiness()
+                    .map(|r| (r.report().clone(), vnow, d.fence_read_done()))
             });
-            let Some((report, vnow)) = state else {
+            let Some((report, vnow, fence_read)) = state else {
                 return not_ready();
             };
+            // Ready, and the autopilot's fence read (or given up on): the mission may start.
             if !go_on
-                || report.ready
+                || (report.ready && fence_read)
                 || vnow.saturating_sub(started) >= limit_ms
                 || Instant::now() >= deadline
             {
@@ -817,6 +819,15 @@ impl MavlinkVehicle {
                 let _ = t.flush();
             }
         }))
+    }
+
+    /// The autopilot's fence as read at readiness (`None`: not read, or not yet).
+    pub fn autopilot_fence(&self) -> Option<super::fence::AutopilotFence> {
+        self.shared
+            .driver
+            .lock()
+            .ok()
+            .and_then(|d| d.autopilot_fence())
     }
 
     /// Writes buffered `.tlog` records to disk.
@@ -841,6 +852,10 @@ impl Drop for MavlinkVehicle {
 impl Vehicle for MavlinkVehicle {
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         self.drive(|d, now| d.start(action, now))
+    }
+
+    fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        self.drive(|d, now| d.start_still(action, now))
     }
 
     fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {

@@ -29,6 +29,8 @@ enum Op {
     Download {
         count: Option<u16>,
         items: Vec<MissionItem>,
+        /// The mission or the fence list.
+        mission_type: MavMissionType,
     },
     Clear,
 }
@@ -125,16 +127,28 @@ impl MissionClient {
     }
 
     pub fn download(&mut self, token: Token, now: u64, out: &mut Vec<MavMessage>) -> bool {
+        self.download_of(MavMissionType::MAV_MISSION_TYPE_MISSION, token, now, out)
+    }
+
+    /// Downloads the list of `mission_type` (the mission, the fence).
+    pub fn download_of(
+        &mut self,
+        mission_type: MavMissionType,
+        token: Token,
+        now: u64,
+        out: &mut Vec<MavMessage>,
+    ) -> bool {
         let list = MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
             target_system: self.target.0,
             target_component: self.target.1,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            mission_type,
         });
         self.begin(
             token,
             Op::Download {
                 count: None,
                 items: Vec::new(),
+                mission_type,
             },
             list,
             now,
@@ -165,12 +179,12 @@ impl MissionClient {
         self.running.take().map(|r| (r.token, outcome))
     }
 
-    fn request(&self, seq: u16) -> MavMessage {
+    fn request(&self, seq: u16, mission_type: MavMissionType) -> MavMessage {
         MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
             seq,
             target_system: self.target.0,
             target_component: self.target.1,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            mission_type,
         })
     }
 
@@ -236,13 +250,21 @@ impl MissionClient {
                     )))
                 }
             }
-            (Op::Download { count, items }, MavMessage::MISSION_COUNT(c)) if count.is_none() => {
+            (
+                Op::Download {
+                    count,
+                    items,
+                    mission_type,
+                },
+                MavMessage::MISSION_COUNT(c),
+            ) if count.is_none() && c.mission_type == *mission_type => {
                 *count = Some(c.count);
                 items.clear();
+                let mt = *mission_type;
                 if c.count == 0 {
                     return self.finish_download(now, out);
                 }
-                let req = self.request(0);
+                let req = self.request(0, mt);
                 self.send(req, now, out);
                 None
             }
@@ -250,9 +272,11 @@ impl MissionClient {
                 Op::Download {
                     count: Some(n),
                     items,
+                    mission_type,
                 },
                 MavMessage::MISSION_ITEM_INT(_) | MavMessage::MISSION_ITEM(_),
             ) => {
+                let mt = *mission_type;
                 let item = match msg {
                     MavMessage::MISSION_ITEM_INT(it) => (it.seq, MissionItem::from_int(it)),
                     MavMessage::MISSION_ITEM(it) => (it.seq, MissionItem::from_float(it)),
@@ -265,10 +289,20 @@ impl MissionClient {
                 if got == usize::from(n) {
                     self.finish_download(now, out)
                 } else {
-                    let req = self.request(got as u16);
+                    let req = self.request(got as u16, mt);
                     self.send(req, now, out);
                     None
                 }
+            }
+            // A list the autopilot does not keep (a fence on a firmware without one).
+            (Op::Download { mission_type, .. }, MavMessage::MISSION_ACK(a))
+                if a.mission_type == *mission_type
+                    && a.mavtype != MavMissionResult::MAV_MISSION_ACCEPTED =>
+            {
+                self.finish(MissionOutcome::Failed(format!(
+                    "download refused: {}",
+                    format!("{:?}", a.mavtype).trim_start_matches("MAV_MISSION_")
+                )))
             }
             (Op::Clear, MavMessage::MISSION_ACK(a)) => {
                 if a.mavtype == MavMissionResult::MAV_MISSION_ACCEPTED {
@@ -289,11 +323,15 @@ impl MissionClient {
         _now: u64,
         out: &mut Vec<MavMessage>,
     ) -> Option<(Token, MissionOutcome)> {
+        let mission_type = match &self.running.as_ref()?.op {
+            Op::Download { mission_type, .. } => *mission_type,
+            _ => MavMissionType::MAV_MISSION_TYPE_MISSION,
+        };
         out.push(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
             target_system: self.target.0,
             target_component: self.target.1,
             mavtype: MavMissionResult::MAV_MISSION_ACCEPTED,
-            mission_type: MavMissionType::MAV_MISSION_TYPE_MISSION,
+            mission_type,
             opaque_id: 0,
         }));
         let r = self.running.take()?;

@@ -89,6 +89,8 @@ pub struct MockVehicle {
     silent_from_ms: Option<u64>,
     /// Every START and END received, for assertions.
     pub log: Vec<String>,
+    /// The actions started to end still ([`Vehicle::start_still`]).
+    pub still_starts: Vec<ActionId>,
 }
 
 impl MockVehicle {
@@ -263,6 +265,13 @@ impl MockVehicle {
 }
 
 impl Vehicle for MockVehicle {
+    fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        let id = action.id;
+        self.start(action)?;
+        self.still_starts.push(id);
+        Ok(())
+    }
+
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         if self.running.contains_key(&action.id) {
             return Err(VehicleError::AlreadyRunning(action.id));

@@ -24,6 +24,11 @@ pub struct ObservedState {
     pub settle_ms: u64,
     /// Moving or still (VFR_HUD ground speed, else GLOBAL_POSITION_INT's velocity).
     pub moving: Option<Flag>,
+    /// A motion whose end a later action holds still (the domain: a `hold` on `moving`'s attribute at its
+    /// still value, e.g. a picture) ends once the vehicle is within its radius and still, not as it enters
+    /// the radius (src/executive/src/exec/still.rs). Default true.
+    #[serde(default = "d_end_still")]
+    pub end_still: bool,
     /// Armed or not (HEARTBEAT base_mode).
     pub armed: Option<Flag>,
     /// The flight mode (HEARTBEAT custom_mode, named as in `[modes]`).
@@ -36,6 +41,7 @@ impl Default for ObservedState {
             still_below_m_s: d_still_below(),
             settle_ms: d_settle_ms(),
             moving: None,
+            end_still: d_end_still(),
             armed: None,
             mode: None,
         }
@@ -44,6 +50,9 @@ impl Default for ObservedState {
 
 fn d_still_below() -> f64 {
     0.2
+}
+fn d_end_still() -> bool {
+    true
 }
 fn d_settle_ms() -> u64 {
     5_000

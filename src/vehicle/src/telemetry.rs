@@ -23,6 +23,8 @@ pub struct Telemetry {
     pub mission_current: Option<(u16, u16)>,
     /// The autopilot has a home (HOME_POSITION received): its position estimate is trusted.
     pub home_known: bool,
+    /// The autopilot's home (latitude, longitude, degrees), as HOME_POSITION last gave it.
+    pub home_position: Option<(f64, f64)>,
     /// The estimator trusts its horizontal position (EKF_STATUS_REPORT: absolute position, not in
     /// constant-position mode); `None` until an autopilot that has such a report sends it.
     pub navigation_ok: Option<bool>,
@@ -122,6 +124,10 @@ impl Telemetry {
             }
             MavMessage::HOME_POSITION(h) if h.latitude != 0 || h.longitude != 0 => {
                 self.home_known = true;
+                self.home_position = Some((
+                    geodesy::e7_to_deg(h.latitude),
+                    geodesy::e7_to_deg(h.longitude),
+                ));
             }
             MavMessage::CAMERA_FEEDBACK(f) => self.camera_feedback_index = Some(f.img_idx),
             MavMessage::VFR_HUD(v) if v.groundspeed.is_finite() => {

@@ -169,7 +169,12 @@ impl Executive {
         self.next_vid += 1;
         let cmd = self.start_command(a, vid);
         let action = self.action_text(a);
-        if let Err(e) = vehicle.start(cmd) {
+        let started = if self.must_end_still(a) {
+            vehicle.start_still(cmd)
+        } else {
+            vehicle.start(cmd)
+        };
+        if let Err(e) = started {
             self.action_failed(a, &format!("refused by the vehicle ({e})"), now);
             self.abort.get_or_insert_with(|| AbortReason::StartRefused {
                 action,

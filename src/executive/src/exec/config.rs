@@ -3,14 +3,14 @@
 
 use std::path::Path;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::dispatch::PolicyKind;
 use mavtempo_temporal::model::Time;
 use mavtempo_vehicle::config::{ConfigError as VehicleConfigError, VehicleConfig};
 
 /// A key left out takes its value from [`ExecConfig::default`], the one place the defaults are written.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExecConfig {
     /// ts: the maximum duration of a cycle, ms (seed 1 §4: 1.3 s; §5: 2 s).
@@ -195,11 +195,55 @@ impl ExecConfig {
         })?;
         Ok(exec)
     }
+
+    /// `base` with the keys the configuration's `[exec]` table writes (validated as
+    /// [`Self::parse_section`] does): how `demo` and `soak` keep their own defaults (seed 1's ts and μ,
+    /// deterministic step budgets) and still honour a configuration's `[exec]`.
+    pub fn over(base: &ExecConfig, text: &str, origin: &str) -> Result<Self, VehicleConfigError> {
+        #[derive(Deserialize)]
+        struct Raw {
+            exec: Option<toml::Table>,
+        }
+        Self::parse_section(text, origin)?;
+        let at = |e| VehicleConfigError::At(Box::new(e));
+        let raw: Raw = srctext::toml_file::parse(origin, text).map_err(at)?;
+        let Some(written) = raw.exec else {
+            return Ok(base.clone());
+        };
+        let merge = || -> Result<ExecConfig, String> {
+            let mut table = toml::Table::try_from(base).map_err(|e| e.to_string())?;
+            table.extend(written);
+            let cfg: ExecConfig = table.try_into().map_err(|e| e.to_string())?;
+            cfg.validate()
+                .map_err(|e| format!("exec.{}: {e}", e.key()))?;
+            Ok(cfg)
+        };
+        merge().map_err(|reason| at(srctext::toml_file::at_key(origin, text, "exec", reason)))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_exec_table_is_written_over_a_commands_own_defaults() {
+        let base = ExecConfig {
+            timestep_ms: 1_300,
+            repair_max_steps: Some(300),
+            ..ExecConfig::default()
+        };
+        let none = ExecConfig::over(&base, "[link]\naddress = \"x\"\n", "t").expect("no table");
+        assert_eq!(none, base);
+        let cfg = ExecConfig::over(&base, "[exec]\ntimestep_ms = 900\n", "t").expect("over");
+        assert_eq!(cfg.timestep_ms, 900);
+        assert_eq!(
+            cfg.repair_max_steps,
+            Some(300),
+            "the base's own default kept"
+        );
+        assert!(ExecConfig::over(&base, "[exec]\nrepair_share = 2.0\n", "t").is_err());
+    }
 
     #[test]
     fn step_caps_have_defaults_and_must_be_positive() {

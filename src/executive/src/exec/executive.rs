@@ -102,9 +102,9 @@ pub struct Executive {
     /// Something changed since the repair tree was last developed (message or timepoint executed): the
     /// repair search restarts (§3.2).
     pub(crate) changed: bool,
-    /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
-    /// resolution).
-    pub(crate) level_tolerance: f64,
+    /// Per resource: reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the
+    /// vehicle's resolution and tolerance, `[resources]`).
+    pub(crate) level_tolerances: Vec<f64>,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
     pub(crate) failures: FailureMemory,
     /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
@@ -133,6 +133,12 @@ pub struct Executive {
     pub(crate) limits: Option<mavtempo_vehicle::limits::Limits>,
     /// Uploaded goals held in the plan: their ground station is told how each ends.
     pub(crate) watches: BTreeMap<GoalId, GoalWatch>,
+    /// The observed moving/still attribute and its still value (`[state] moving`): a motion whose end a
+    /// later action holds still ends once the vehicle is still (src/executive/src/exec/still.rs).
+    pub(crate) still: Option<(
+        mavtempo_temporal::model::AttrId,
+        mavtempo_temporal::model::ObjectId,
+    )>,
 }
 
 impl Executive {
@@ -182,7 +188,7 @@ impl Executive {
             counters: Counters::default(),
             pending_trace: Vec::new(),
             changed: false,
-            level_tolerance: super::resource_report::EPS,
+            level_tolerances: vec![super::resource_report::EPS; last_reported.len()],
             failures,
             repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
@@ -196,13 +202,38 @@ impl Executive {
             paused: None,
             limits: None,
             watches: BTreeMap::new(),
+            still: None,
         }
     }
 
     /// Where the vehicle may go (`[limits]`, the autopilot's fence): a goal at a place outside is
     /// rejected when it arrives, with the distance and the limit.
+    ///
+    /// The planner keeps to them too: they become the problem's [`mavtempo_temporal::model::Legs`], so a
+    /// move whose straight leg leaves them gets no distance and is no resolver, in plan repair, goal
+    /// insertion and complete replanning alike (the one place move durations come from).
     pub fn with_limits(mut self, limits: Option<mavtempo_vehicle::limits::Limits>) -> Self {
         self.limits = limits.filter(|l| !l.is_empty());
+        if let Some(l) = &self.limits {
+            let mut problem = (**self.plan.problem()).clone();
+            problem.legs = mavtempo_temporal::model::Legs(Some(std::sync::Arc::new(l.clone())));
+            self.plan.set_problem(std::sync::Arc::new(problem));
+            // A plan made before the limits were known (the autopilot's fence is read at readiness) may
+            // hold a move that leaves them: it is made again, complete replanning, before any launch.
+            let outside = self
+                .plan
+                .live_actions()
+                .filter(|&a| !self.plan.action(a).num_cons.is_empty())
+                .collect::<Vec<_>>()
+                .into_iter()
+                .find(|&a| self.plan.repropagate_action(a).is_err());
+            if let Some(a) = outside {
+                let error = format!("{} leaves the vehicle's limits", self.action_text(a));
+                tracing::warn!("{error}: the plan is made again");
+                self.abort
+                    .get_or_insert(super::outcome::AbortReason::NotExecutable { now_ms: 0, error });
+            }
+        }
         self
     }
 
@@ -412,9 +443,18 @@ impl Executive {
         !self.goal_batches.is_empty()
     }
 
-    /// Reported levels within `tolerance` of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's resolution).
-    pub fn with_level_tolerance(mut self, tolerance: f64) -> Self {
-        self.level_tolerance = tolerance;
+    /// Reported levels within their resource's `resolution + tolerance` (`[resources]` of the vehicle
+    /// configuration, [`mavtempo_vehicle::config::ResourceNames::level_tolerance`]: the one rule of
+    /// `demo`, `soak` and `run`) of `[RscL_lb, RscL_ub]` are in bounds: noise, not news.
+    pub fn with_resource_levels(mut self, r: &mavtempo_vehicle::config::ResourceNames) -> Self {
+        let eps = super::resource_report::EPS;
+        self.level_tolerances = self
+            .plan
+            .domain()
+            .resources
+            .iter()
+            .map(|res| r.level_tolerance(&res.name).unwrap_or(eps).max(eps))
+            .collect();
         self
     }
 

@@ -69,6 +69,13 @@ impl Executive {
             }
             match self.goal_from_request(g) {
                 Ok(goal) => {
+                    // No plan can get there (issue 30: a figure, before any search).
+                    if let Some(why) = self.trip_beyond_capacity(&goal) {
+                        let reason = FateReason::BeyondLimits { why };
+                        batch.decide(i, GoalVerdict::Rejected(reason.to_string()));
+                        self.refuse(&g.name, reason);
+                        continue;
+                    }
                     self.trace(TraceEvent::GoalReceived {
                         goal: g.name.clone(),
                     });

@@ -251,6 +251,9 @@ impl<V: Vehicle> Vehicle for Held<'_, V> {
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         self.inner.start(action)
     }
+    fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
+        self.inner.start_still(action)
+    }
     fn stop(&mut self, id: Vid) -> Result<(), VehicleError> {
         self.inner.stop(id)
     }

@@ -64,7 +64,9 @@ pub mod sense;
 pub mod settle;
 pub mod squeeze;
 pub mod state_update;
+pub mod still;
 pub mod t_exec;
 pub mod trace;
+pub mod trip_needs;
 
 pub use mavtempo_vehicle::mapping::DomainMapping;

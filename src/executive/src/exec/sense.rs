@@ -122,7 +122,13 @@ impl Executive {
         let running = classify(&self.plan, t).running;
         let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
         let kind = self.plan.domain().resource(r).kind;
-        let u = integrate_level(&b, l.level, kind, self.level_tolerance);
+        let tol = self.level_tolerances.get(r.index()).copied();
+        let u = integrate_level(
+            &b,
+            l.level,
+            kind,
+            tol.unwrap_or(super::resource_report::EPS),
+        );
         // The constraint on the level is posted on the past part: every still-counted usage is subtracted
         // back out so that eq. (1) gives the new level.
         let counted = (

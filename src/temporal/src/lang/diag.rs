@@ -7,6 +7,9 @@ pub use srctext::Span;
 /// One error located in a file: `file:line:col: error: message`, the line and a caret.
 pub use srctext::Located as Diagnostic;
 
+/// A diagnostic that does not stop loading: `file:line:col: warning: message`.
+pub use srctext::Warning;
+
 /// One or more diagnostics (what every loader returns on failure).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Diagnostics(pub Vec<Diagnostic>);

@@ -15,6 +15,8 @@ const EMPTY_INTERVAL: &str = "empty interval: its lower bound exceeds its upper 
 pub struct Ctx<'a> {
     pub src: Source<'a>,
     pub diags: Vec<Diagnostic>,
+    /// What is legal but most likely not what the author meant (`check` prints them).
+    pub warnings: Vec<Diagnostic>,
 }
 
 impl<'a> Ctx<'a> {
@@ -22,7 +24,13 @@ impl<'a> Ctx<'a> {
         Ctx {
             src,
             diags: Vec::new(),
+            warnings: Vec::new(),
         }
+    }
+
+    /// Records a warning at `span`.
+    pub fn warn(&mut self, span: Span, msg: impl Into<String>) {
+        self.warnings.push(self.src.error(span, msg));
     }
 
     /// Records an error at `span`.

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use crate::model::{Domain, Goal, Problem};
 
-use super::diag::{decode, Diagnostics, Source};
+use super::diag::{decode, Diagnostics, Source, Warning};
 use super::eval::Ctx;
 use super::parser::Parser;
 use super::{resolve_domain, resolve_problem};
@@ -33,13 +33,27 @@ pub fn parse_domain(file: &str, text: &str) -> Result<Domain, Diagnostics> {
 
 /// Parses and checks a problem against `domain`.
 pub fn parse_problem(file: &str, text: &str, domain: &Domain) -> Result<Problem, Diagnostics> {
+    parse_problem_warned(file, text, domain).map(|(p, _)| p)
+}
+
+/// [`parse_problem`], with the warnings about what is legal but most likely a mistake (a time without a
+/// unit, a place by latitude and longitude without a `home`, an attribute tasks need with no initial value).
+pub fn parse_problem_warned(
+    file: &str,
+    text: &str,
+    domain: &Domain,
+) -> Result<(Problem, Vec<Warning>), Diagnostics> {
     let src = Source::new(file, text);
     let ast = Parser::new(src)
         .and_then(|mut p| p.problem_file())
         .map_err(|d| Diagnostics(vec![d]))?;
     let mut ctx = Ctx::new(src);
     let problem = resolve_problem::resolve(&mut ctx, domain, &ast);
-    finish(ctx, problem)
+    let warnings = std::mem::take(&mut ctx.warnings)
+        .into_iter()
+        .map(Warning)
+        .collect();
+    finish(ctx, problem).map(|p| (p, warnings))
 }
 
 /// Parses one goal declaration (`goal g6 external priority 2 { hold(PICTURE(p6): true, (st, et)); ... }`)
@@ -84,9 +98,17 @@ pub fn load_domain(path: &Path) -> Result<Domain, Diagnostics> {
 
 /// Loads and checks a problem file against `domain`.
 pub fn load_problem(path: &Path, domain: &Domain) -> Result<Problem, Diagnostics> {
+    load_problem_warned(path, domain).map(|(p, _)| p)
+}
+
+/// [`load_problem`] with its warnings ([`parse_problem_warned`]).
+pub fn load_problem_warned(
+    path: &Path,
+    domain: &Domain,
+) -> Result<(Problem, Vec<Warning>), Diagnostics> {
     let name = path.display().to_string();
     let bytes = read(path)?;
-    parse_problem(&name, decode(&name, &bytes)?, domain)
+    parse_problem_warned(&name, decode(&name, &bytes)?, domain)
 }
 
 /// Loads a problem and the domain its `domain NAME;` header names, found by [`domain_path_for`].

@@ -8,14 +8,16 @@ mod diag;
 mod eval;
 pub mod generate;
 mod lexer;
+mod lint;
 mod load;
 mod parser;
 mod resolve_domain;
 mod resolve_problem;
 mod resolve_task;
 
-pub use diag::{decode, Diagnostic, Diagnostics, Span};
+pub use diag::{decode, Diagnostic, Diagnostics, Span, Warning};
 pub use load::{
-    domain_path_for, load_domain, load_problem, load_problem_and_domain, parse_domain, parse_goal,
-    parse_problem, peek_header, FileKind, EXTENSION,
+    domain_path_for, load_domain, load_problem, load_problem_and_domain, load_problem_warned,
+    parse_domain, parse_goal, parse_problem, parse_problem_warned, peek_header, FileKind,
+    EXTENSION,
 };

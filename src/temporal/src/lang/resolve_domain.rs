@@ -77,7 +77,11 @@ pub fn logical_attr(
         let msg = if domain.resource_id(&a.name.name).is_some() {
             format!("`{}` is a resource: {resource_hint}", a.name.name)
         } else {
-            format!("unknown attribute `{}`", a.name.name)
+            let hint = super::lint::did_you_mean(
+                &a.name.name,
+                domain.attrs.iter().map(|x| x.name.as_str()),
+            );
+            format!("unknown attribute `{}`{hint}", a.name.name)
         };
         ctx.err(a.name.span, msg);
         return None;

@@ -67,6 +67,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &ProblemAst) -> Problem 
     for item in &ast.items {
         match item {
             ProblemItem::Horizon(e) => {
+                super::lint::unit_less_time(ctx, e, "horizon");
                 horizon = date(ctx, e, clock);
                 if horizon == Some(0) {
                     ctx.err(e.span, "the horizon must be after the origin");
@@ -90,6 +91,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &ProblemAst) -> Problem 
     p.home = home;
     let mut object_spans: HashMap<ObjectId, Span> = HashMap::new();
     objects(ctx, domain, &mut p, ast, &mut object_spans);
+    geo_without_home(ctx, &p, &object_spans);
     check_positions(ctx, domain, &p, &object_spans);
     for item in &ast.items {
         if let ProblemItem::Resource { name, items } = item {
@@ -97,6 +99,7 @@ pub fn resolve(ctx: &mut Ctx<'_>, domain: &Domain, ast: &ProblemAst) -> Problem 
         }
     }
     initial(ctx, domain, &mut p, ast, clock);
+    super::lint::missing_initial_values(ctx, domain, &p, ast.name.span);
     let mut goal_names = Names::default();
     for item in &ast.items {
         if let ProblemItem::Goal(g) = item {
@@ -148,6 +151,33 @@ fn objects(
                 });
                 spans.insert(id, n.span);
             }
+        }
+    }
+}
+
+/// Places by latitude and longitude beside places in metres need the `home` the metres are from: without
+/// one, a geographic place is taken to be at (0, 0) of the others.
+fn geo_without_home(ctx: &mut Ctx<'_>, p: &Problem, spans: &HashMap<ObjectId, Span>) {
+    use crate::model::Position;
+    if p.home.is_some()
+        || !p
+            .objects
+            .iter()
+            .any(|o| matches!(o.position, Some(Position::Local { .. })))
+    {
+        return;
+    }
+    for (i, o) in p.objects.iter().enumerate() {
+        if let (Some(Position::Geo(_)), Some(span)) =
+            (o.position, spans.get(&ObjectId::from_index(i)))
+        {
+            ctx.warn(
+                *span,
+                format!(
+                    "`{}` is placed by latitude and longitude, the other places in metres, and the problem has no `home`: it is taken to be at (0, 0); add `home lat .. lon ..;`",
+                    o.name
+                ),
+            );
         }
     }
 }
@@ -323,7 +353,8 @@ fn object(
         return None;
     };
     let Some(o) = p.object_id(n) else {
-        ctx.err(e.span, format!("unknown object `{n}`"));
+        let hint = super::lint::did_you_mean(n, p.objects.iter().map(|o| o.name.as_str()));
+        ctx.err(e.span, format!("unknown object `{n}`{hint}"));
         return None;
     };
     let have = p.objects[o.index()].ty;

@@ -30,7 +30,9 @@ pub use geo::{GeoPoint, Position};
 pub use goal::{Goal, GoalKind};
 pub use ids::{AttrId, GoalId, NumVarId, ObjectId, ResourceId, SymVarId, TaskId, TpId, TypeId};
 pub use interval::{show_bounds, Bound, Interval, NumInterval, TimeInterval};
-pub use problem::{combinations, DefaultFact, Fact, Problem, ResourceSetup, TimedFact};
+pub use problem::{
+    combinations, DefaultFact, Fact, LegLimits, Legs, Problem, ResourceSetup, TimedFact,
+};
 pub use task::{
     Binding, Event, Hold, NumConstraint, NumTerm, NumVar, Preemption, ResourceUsage, SymVar, Task,
     TemporalConstraint, Term, UsageKind,

@@ -2,6 +2,7 @@
 //! levels and availability profiles, a horizon and goals.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use serde::Serialize;
 
@@ -82,8 +83,33 @@ pub struct Problem {
     pub goals: Vec<Goal>,
     /// The wildcard statements of `initial`, already expanded into `initial` / `exogenous`.
     pub defaults: Vec<DefaultFact>,
+    /// Where the vehicle may drive (its range, a fence): a straight leg between two places that leaves
+    /// them has no distance, so no action whose duration depends on it can be inserted.
+    #[serde(skip)]
+    pub legs: Legs,
     #[serde(skip)]
     object_index: HashMap<String, ObjectId>,
+}
+
+/// Which straight legs between two places a vehicle may drive (a range from home, a fence, supplied by the
+/// vehicle layer).
+pub trait LegLimits: Send + Sync + std::fmt::Debug {
+    /// Whether the straight leg from `a` to `b` (metres east, north of the problem's home) stays within.
+    fn allows(&self, a: (f64, f64), b: (f64, f64)) -> bool;
+}
+
+/// A problem's [`LegLimits`], none by default; two are equal when they are the same limits.
+#[derive(Clone, Debug, Default)]
+pub struct Legs(pub Option<Arc<dyn LegLimits>>);
+
+impl PartialEq for Legs {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (None, None) => true,
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
 }
 
 impl Problem {
@@ -110,6 +136,7 @@ impl Problem {
             resources,
             goals: Vec::new(),
             defaults: Vec::new(),
+            legs: Legs::default(),
             object_index: HashMap::new(),
         };
         for o in &domain.objects {
@@ -262,6 +289,23 @@ impl Problem {
         let pa = self.object(a)?.position?;
         let pb = self.object(b)?.position?;
         Some(pa.distance(&pb, self.home.as_ref()))
+    }
+
+    /// Whether the vehicle may drive the straight leg between two objects ([`Self::legs`]); true when either
+    /// has no position or no limits are set.
+    pub fn leg_allowed(&self, a: ObjectId, b: ObjectId) -> bool {
+        let Some(limits) = &self.legs.0 else {
+            return true;
+        };
+        let (Some(pa), Some(pb)) = (
+            self.object(a).and_then(|o| o.position),
+            self.object(b).and_then(|o| o.position),
+        ) else {
+            return true;
+        };
+        let (ea, na, _) = pa.to_local(self.home.as_ref());
+        let (eb, nb, _) = pb.to_local(self.home.as_ref());
+        limits.allows((ea, na), (eb, nb))
     }
 
     /// The resource setup of `r`.

@@ -174,7 +174,9 @@ impl Numeric {
     ) -> Result<bool, NumConflict> {
         match *c {
             NumCons::Distance { var, a, b } => match distance_range(a, b, bindings, problem) {
-                Some((lo, hi)) => self.narrow(var, lo, hi),
+                Some(Some((lo, hi))) => self.narrow(var, lo, hi),
+                // Every leg the domains allow leaves the vehicle's limits (Problem::legs).
+                Some(None) => Err(NumConflict),
                 None => Ok(false),
             },
             NumCons::Duration { var, c } => {
@@ -250,13 +252,14 @@ impl Numeric {
 
 backtrack::impl_backtrack!(Numeric, Level);
 
-/// Range of `distance(a, b)` over the current domains (`None` if unknowable or too many pairs to scan).
+/// Range of `distance(a, b)` over the current domains and the legs the vehicle may drive (`None` if
+/// unknowable or too many pairs to scan; `Some(None)` when no pair is a leg it may drive).
 fn distance_range(
     a: STerm,
     b: STerm,
     bindings: &Bindings,
     problem: &Problem,
-) -> Option<(f64, f64)> {
+) -> Option<Option<(f64, f64)>> {
     let dom = |t: STerm| -> Option<Vec<crate::model::ObjectId>> {
         match t {
             STerm::Obj(o) => Some(vec![o]),
@@ -265,18 +268,21 @@ fn distance_range(
         }
     };
     let (da, db) = (dom(a)?, dom(b)?);
-    if da.len() * db.len() > 4096 {
+    if da.is_empty() || db.is_empty() || da.len() * db.len() > 4096 {
         return None;
     }
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &x in &da {
         for &y in &db {
+            if x != y && !problem.leg_allowed(x, y) {
+                continue;
+            }
             let d = if x == y { 0.0 } else { problem.distance(x, y)? };
             lo = lo.min(d);
             hi = hi.max(d);
         }
     }
-    (lo <= hi).then_some((lo, hi))
+    Some((lo <= hi).then_some((lo, hi)))
 }
 
 fn mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
