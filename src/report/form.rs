@@ -98,16 +98,28 @@ fn form_for<'a>(
     })
 }
 
+/// Answers a POST with `then` on the form once [`form_for`] lets it through, else with why not.
+async fn posted<'a, Fut: Future<Output = Response>>(
+    s: &'a AppState,
+    headers: &axum::http::HeaderMap,
+    then: impl FnOnce(&'a GoalForm) -> Fut,
+) -> Response {
+    match form_for(s, headers) {
+        Ok(form) => then(form).await,
+        Err((code, why)) => answer(code, false, why),
+    }
+}
+
 /// Withdraws the held goal the form field `goal` names; `accepted` says it was cancelled.
 pub(super) async fn cancel(
     State(s): State<Arc<AppState>>,
     headers: axum::http::HeaderMap,
     Form(fields): Form<BTreeMap<String, String>>,
 ) -> Response {
-    let form = match form_for(&s, &headers) {
-        Ok(f) => f,
-        Err((code, why)) => return answer(code, false, why),
-    };
+    posted(&s, &headers, |form| cancel_with(form, fields)).await
+}
+
+async fn cancel_with(form: &GoalForm, fields: BTreeMap<String, String>) -> Response {
     let Some(cancel) = &form.cancel else {
         return answer(
             StatusCode::FORBIDDEN,
@@ -142,15 +154,16 @@ pub fn cancel_verdict(name: &str, r: &GoalSendReport) -> (bool, String) {
     (done, text)
 }
 
+/// Uploads the form's goal; `accepted` with the intake's verdict.
 pub(super) async fn goal(
     State(s): State<Arc<AppState>>,
     headers: axum::http::HeaderMap,
     Form(fields): Form<BTreeMap<String, String>>,
 ) -> Response {
-    let form = match form_for(&s, &headers) {
-        Ok(f) => f,
-        Err((code, why)) => return answer(code, false, why),
-    };
+    posted(&s, &headers, |form| goal_with(form, fields)).await
+}
+
+async fn goal_with(form: &GoalForm, fields: BTreeMap<String, String>) -> Response {
     let goal = match parse_goal(&fields) {
         Ok(g) => g,
         Err(e) => return answer(StatusCode::BAD_REQUEST, false, e.to_string()),
