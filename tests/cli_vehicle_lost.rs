@@ -47,6 +47,13 @@ fn run_ends_with_a_verdict_when_the_vehicle_vanishes() {
         .and_then(|l| l.split_whitespace().next())
         .and_then(|t| t.parse::<f64>().ok())
         .unwrap_or_else(|| panic!("no cycle time before the move: {seen:?}"));
+    // Issue 30: the trace tells the vehicle's mode, arming, battery and link.
+    assert!(
+        seen.iter().any(|l| l.contains("] vehicle: mode ")
+            && l.contains(", battery ")
+            && l.ends_with("link up")),
+        "{seen:?}"
+    );
     sim.0.kill().expect("kill -9 the simulator");
     let killed = Instant::now();
     let status = loop {
@@ -65,6 +72,15 @@ fn run_ends_with_a_verdict_when_the_vehicle_vanishes() {
         std::thread::sleep(Duration::from_millis(50));
     };
     assert_eq!(status.code(), Some(1), "{status:?}");
+    // The link's loss is in the trace before the verdict (the link timeout of the config, 3 s, is
+    // shorter than --link-timeout).
+    let mut later = Vec::new();
+    wait_line(
+        &out,
+        "link lost: no heartbeat for",
+        Duration::from_secs(5),
+        &mut later,
+    );
     let mut errs = Vec::new();
     wait_line(
         &err,

@@ -143,6 +143,7 @@ fn run(ex: &mut Executive, v: &mut MockVehicle, until: Time) -> (CycleOutcome, T
 
 fn events(ex: &Executive) -> Vec<(Time, TraceEvent)> {
     ex.cycles()
+        .records()
         .iter()
         .flat_map(|c| c.events.iter().map(move |e| (c.time_ms, e.clone())))
         .collect()

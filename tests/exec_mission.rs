@@ -6,10 +6,12 @@ mod mission;
 #[path = "common/shopping.rs"]
 mod shopping;
 
+use mavtempo::exec::cycle_log::{cycles_of, last_index};
 use mavtempo::exec::executive::{Executive, Fate};
 use mavtempo::exec::mission::{run_mission, MissionEnd, MissionOptions};
 use mavtempo::exec::outcome::FateReason;
 use mavtempo::exec::pacer::MockPacer;
+use mavtempo::exec::trace::CycleRecord;
 
 fn shopping_executive() -> Executive {
     shopping::day_executive(shopping::day_config())
@@ -34,14 +36,18 @@ fn shopping_day_runs_to_the_end_and_reports() {
     assert_eq!(report.end, MissionEnd::Finished, "{:?}", report.goals);
     assert_eq!(report.goals.len(), 2);
     assert!(report.goals.iter().all(|g| g.fate == Fate::Achieved));
-    assert_eq!(seen, report.cycles.len());
-    assert_eq!(report.cycle_times.count, report.cycles.len());
+    assert_eq!(report.cycle_times.count, seen);
     assert!(report.cycle_times.p50_us <= report.cycle_times.p99_us);
-    // No cycle is more than ts after the previous one (the wake-up rule's upper bound).
-    assert!(report
-        .cycles
-        .windows(2)
-        .all(|w| w[1].time_ms - w[0].time_ms <= 30_000));
+    // No cycle is more than ts after the previous one (the wake-up rule's upper bound); within a run of
+    // idle cycles recorded as one, the run's own span is at most ts per cycle.
+    assert!(report.cycles.windows(2).all(|w| {
+        let last = w[0].idle.as_ref().map_or(w[0].time_ms, |r| r.last_time_ms);
+        w[1].time_ms - last <= 30_000
+    }));
+    assert!(report.cycles.iter().all(|c| c
+        .idle
+        .as_ref()
+        .is_none_or(|r| { r.last_time_ms - c.time_ms <= 30_000 * (r.cycles as i64 - 1) })));
     assert!(
         shopping::launches(&report.cycles) >= 3,
         "go, buy, go home at least"
@@ -120,4 +126,86 @@ fn without_a_link_timeout_silence_is_no_verdict() {
     v.fall_silent_at(0);
     let report = mission::run_mock(&mut ex, &mut v, 10 * 60_000);
     assert_eq!(report.end, MissionEnd::TimeLimit);
+}
+
+/// Issue 31: a 12-hour mission that mostly waits (the shopping day waits from mid-morning to its 20:00
+/// goal), one cycle a second on the manual clock: every busy cycle is kept whole in the report, the idle
+/// cycles between them as runs (count, span, longest cycle), so the record grows with what happened, not
+/// with time.
+#[test]
+fn a_long_idle_mission_keeps_its_busy_cycles_and_a_bounded_record() {
+    let cfg = mavtempo::exec::config::ExecConfig {
+        timestep_ms: 1_000,
+        ..shopping::day_config()
+    };
+    let mut ex = shopping::day_executive(cfg);
+    let mut v = shopping::day_vehicle();
+    let opts = MissionOptions {
+        time_limit_ms: 13 * 3_600_000,
+        ..MissionOptions::default()
+    };
+    let mut busy: Vec<CycleRecord> = Vec::new();
+    let mut seen = 0u64;
+    let report = run_mission(
+        &mut ex,
+        &mut v,
+        &mut MockPacer::default(),
+        &opts,
+        &mut |_, c| {
+            seen += 1;
+            if !c.events.is_empty() {
+                busy.push(c.clone());
+            }
+        },
+    );
+    assert_eq!(report.end, MissionEnd::Finished, "{:?}", report.goals);
+    assert!(
+        report.duration_ms >= 11 * 3_600_000,
+        "{}",
+        report.duration_ms
+    );
+    let count = report.cycle_times.count as u64;
+    assert_eq!(count, seen);
+    assert!(count > 40_000, "{count} cycles");
+
+    // Every busy cycle is a record of its own, as it ran.
+    let json = |c: &CycleRecord| serde_json::to_value(c).expect("json");
+    let kept: Vec<&CycleRecord> = report
+        .cycles
+        .iter()
+        .filter(|c| c.idle.is_none() && !c.events.is_empty())
+        .collect();
+    assert_eq!(kept.len(), busy.len());
+    assert!(kept.iter().zip(&busy).all(|(k, b)| json(k) == json(b)));
+    // The records cover every cycle once, in order; the idle runs say what their cycles did.
+    assert_eq!(report.cycles.iter().map(cycles_of).sum::<u64>(), count);
+    assert!(report
+        .cycles
+        .windows(2)
+        .all(|w| w[1].index == last_index(&w[0]) + 1));
+    let runs: Vec<_> = report
+        .cycles
+        .iter()
+        .filter_map(|c| c.idle.as_ref().map(|r| (c, r)))
+        .collect();
+    let longest = runs
+        .iter()
+        .max_by_key(|(_, r)| r.cycles)
+        .expect("an idle run");
+    assert!(longest.1.cycles > 30_000, "{:?}", longest.1);
+    assert!(longest.1.last_time_ms - longest.0.time_ms >= 30_000 * 1_000 - 1_000);
+    assert!(runs
+        .iter()
+        .all(|(_, r)| r.max_us <= report.cycle_times.max_us));
+    // Bounded by what happened: a record per busy cycle and at most one idle run beside each.
+    assert!(
+        report.cycles.len() <= 2 * busy.len() + 1,
+        "{} records",
+        report.cycles.len()
+    );
+    let size = serde_json::to_string(&report.cycles).expect("json").len();
+    assert!(
+        size < 64 * 1024,
+        "{size} bytes of cycle records for {count} cycles"
+    );
 }

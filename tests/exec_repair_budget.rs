@@ -60,7 +60,7 @@ fn cfg() -> ExecConfig {
 /// Repair steps done by the first cycle.
 fn first_cycle_steps(ex: &mut Executive, v: &mut dyn Vehicle) -> u64 {
     let _ = ex.cycle(v, 0);
-    let c = ex.cycles().first().expect("a cycle");
+    let c = ex.cycles().records().first().expect("a cycle");
     let steps = c.events.iter().find_map(|e| match e {
         TraceEvent::RepairStep { steps, .. } => Some(*steps),
         _ => None,

@@ -116,6 +116,15 @@ fn poll_until(what: &str, mut done: impl FnMut() -> bool) {
 #[test]
 fn the_live_page_updates_and_its_form_goes_through_the_intake() {
     let (addr, interrupt, demo) = start(true);
+    // Issue 31: a hundred clients that never finish a request (more than the page's connections) block
+    // neither the page nor the mission: everything below still happens.
+    let _slow: Vec<TcpStream> = (0..100)
+        .map(|_| {
+            let mut s = TcpStream::connect(addr).expect("connect");
+            s.write_all(b"GET / HTTP/1.1\r\nX-Slow: ").expect("send");
+            s
+        })
+        .collect();
     let (status, page) = http(addr, "GET", "/", "");
     assert_eq!(status, 200);
     assert!(page.contains("id=\"goal-form\"") && page.contains("EventSource"));
@@ -157,14 +166,84 @@ fn the_live_page_updates_and_its_form_goes_through_the_intake() {
     assert_eq!(status, 400);
     assert!(bad.verdict.contains("east: not a number"), "{bad:?}");
 
-    // The accepted goal is in the mission's goals (and on the page).
-    poll_until(&format!("{name} on the page"), || {
-        let (_, snap) = http(addr, "GET", "/snapshot.json", "");
-        snap.contains(&format!("\"name\":\"{name}\""))
+    // Issue 30: the accepted goal is on the page as the operator reads it — accepted (not "pending"),
+    // what, where, its window, the station that uploaded it, and a cancel button.
+    poll_until(&format!("{name} accepted on the page"), || {
+        goal_row(addr, &name).is_some_and(|g| g["state"] == "accepted" && g["cancellable"] == true)
+    });
+    let row = goal_row(addr, &name).expect("the row");
+    assert_eq!(row["source"], "ground station 255/190", "{row}");
+    assert!(
+        row["what"]
+            .as_str()
+            .is_some_and(|w| w.starts_with("PICTURE(")),
+        "{row}"
+    );
+    assert!(
+        row["where"]
+            .as_str()
+            .is_some_and(|w| w.contains("30 m E, 2 m N")),
+        "{row}"
+    );
+    assert!(
+        row["window"]
+            .as_str()
+            .is_some_and(|w| w.ends_with("1800s]")),
+        "{row}"
+    );
+    let problem_goal = goal_row(addr, "g1").expect("g1");
+    assert_eq!(problem_goal["source"], "problem", "{problem_goal}");
+    assert!(problem_goal.get("cancellable").is_none(), "{problem_goal}");
+    // The vehicle: its mode, arming, battery and link.
+    let snap: serde_json::Value =
+        serde_json::from_str(&http(addr, "GET", "/snapshot.json", "").1).expect("JSON");
+    let v = &snap["vehicle"];
+    assert_eq!(v["mode"], "GUIDED", "{v}");
+    assert_eq!(v["armed"], true, "{v}");
+    assert!(
+        v["battery_percent"].as_f64().is_some_and(|b| b > 0.0),
+        "{v}"
+    );
+    assert_eq!(v["link"], "up", "{v}");
+
+    // Cancel: a problem goal is held by no station; the uploaded one is withdrawn by its station's list.
+    let (status, no) = post_cancel(addr, "g1");
+    assert_eq!(status, 409, "{no:?}");
+    assert!(!no.accepted && no.verdict.contains("not held"), "{no:?}");
+    let (status, done) = post_cancel(addr, &name);
+    assert_eq!(status, 200, "{done:?}");
+    assert!(
+        done.accepted && done.verdict.contains(&format!("{name} cancelled: ")),
+        "{done:?}"
+    );
+    poll_until(&format!("{name} cancelled on the page"), || {
+        goal_row(addr, &name)
+            .is_some_and(|g| g["state"] == "cancelled" && g.get("cancellable").is_none())
     });
     interrupt.request(15);
     let goals = demo.join().expect("demo thread").expect("demo");
-    assert!(goals.iter().any(|g| g.0 == name), "{goals:?}");
+    assert!(
+        goals.contains(&(name.clone(), Fate::Cancelled)),
+        "{goals:?}"
+    );
+}
+
+/// Goal `name`'s row in the page's snapshot.
+fn goal_row(addr: SocketAddr, name: &str) -> Option<serde_json::Value> {
+    let (_, snap) = http(addr, "GET", "/snapshot.json", "");
+    let snap: serde_json::Value = serde_json::from_str(&snap).ok()?;
+    snap["goals"]
+        .as_array()?
+        .iter()
+        .find(|g| g["name"] == name)
+        .cloned()
+}
+
+/// POSTs the page's cancel of goal `name`: the status and the answer.
+fn post_cancel(addr: SocketAddr, name: &str) -> (u16, GoalAnswer) {
+    let (status, body) = http(addr, "POST", "/cancel", &format!("goal={name}"));
+    let a = serde_json::from_str(&body).unwrap_or_else(|e| panic!("{e}: {body}"));
+    (status, a)
 }
 
 #[test]

@@ -2,8 +2,9 @@
 # Live page in a real browser (issue 18): headless Chromium from Debian's packages, driven by selenium (PyPI)
 # through Debian's chromedriver (no browser download). An accelerated Fig. 2 demo serves its page on a free
 # port; the browser checks that goals, actions and the resource plots appear and update, that a goal
-# submitted through the form is accepted, and that one whose start window is over is rejected with its
-# reason. Runs from the repository root; bounded polling with deadlines, no bare sleeps.
+# submitted through the form is accepted (the table says so, with the station it came from) and that its
+# cancel button withdraws it (`cancelled`), that the vehicle's mode shows, and that a goal whose start
+# window is over is rejected with its reason. Runs from the repository root; bounded polling with deadlines, no bare sleeps.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 . .ci/interop/lib/common.sh

@@ -75,6 +75,27 @@ try:
     assert cls == "accepted" and " accepted: " in text, text
     name = text.split(" ")[0]
     wait(name + " in the goals table", lambda: count(f"#goals tr[data-goal={name}]") == 1)
+    # Issue 30: the operator reads it as accepted (not "pending"), where it came from, and can withdraw it.
+    row = f"#goals tr[data-goal={name}]"
+    wait(name + " accepted", lambda: js(f"document.querySelector('{row}').dataset.state") == "accepted")
+    source = js(f"document.querySelector('{row}').children[5].textContent")
+    assert source == "ground station 255/190", source
+    wait("the vehicle's mode", lambda: js("document.getElementById('vehicle-mode').textContent") == "GUIDED")
+    print("vehicle: mode " + js("document.getElementById('vehicle-mode').textContent")
+          + ", armed " + js("document.getElementById('vehicle-armed').textContent")
+          + ", battery " + js("document.getElementById('vehicle-battery').textContent")
+          + ", link " + js("document.getElementById('vehicle-link').textContent"))
+    result = driver.find_element(By.ID, "goal-result")
+    # The body is replaced a few times a second: find the button and click it in one script.
+    clicked = js(f"(function(){{const b=document.querySelector('{row} button[data-cancel]');"
+                 "if(!b)return false;b.click();return true;})()")
+    assert clicked, "no cancel button for " + name
+    wait("the cancel's verdict", lambda: "cancelled" in result.text, 90)
+    print("cancel: " + result.text)
+    assert result.get_attribute("class") == "cancelled", result.text
+    wait(name + " cancelled in the table",
+         lambda: js(f"document.querySelector('{row}').dataset.state") == "cancelled")
+    assert count(f"{row} button[data-cancel]") == 0
 
     text, cls = submit(30, 2, 1)
     print("goal whose start window is over: " + text)

@@ -150,22 +150,16 @@ pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, BenchError> {
         }
         t += 500;
     }
-    let mut us: Vec<u64> = ex
-        .cycles()
-        .iter()
-        .map(|c| c.sense_us + c.repair_us + c.act_us)
-        .collect();
-    us.sort_unstable();
-    let pick = |q: f64| us[((us.len() as f64 - 1.0) * q).round() as usize];
-    if us.is_empty() {
+    let t = ex.cycles().times();
+    if t.count == 0 {
         return Err(BenchError::NoCycle);
     }
     Ok(CycleFigures {
         actions: n,
-        cycles: us.len(),
-        p50_us: pick(0.5),
-        p99_us: pick(0.99),
-        max_us: us[us.len() - 1],
+        cycles: t.count,
+        p50_us: t.p50_us,
+        p99_us: t.p99_us,
+        max_us: t.max_us,
     })
 }
 

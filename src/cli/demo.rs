@@ -373,7 +373,14 @@ pub fn run_demo(
     let mut live = match &setup.http {
         Some(h) => {
             let form = h.goals.then(|| {
-                super::http_arg::goal_form(home, format!("tcpout:{gcs}"), Some(gate.clone()))
+                // The built-in simulator does not sign: neither does the demo's companion, nor its form.
+                super::http_arg::goal_form(
+                    home,
+                    format!("tcpout:{gcs}"),
+                    Some(gate.clone()),
+                    None,
+                    Some(session.vehicle.goal_intake()),
+                )
             });
             let server =
                 crate::report::live::start(rt.handle(), h.addr, form).map_err(|source| {
@@ -385,8 +392,11 @@ pub fn run_demo(
             say(&format!("http listening on http://{}/", server.addr));
             let probe = session.vehicle.position_probe();
             Some(crate::report::live::LiveServer {
-                addr: server.addr,
-                feed: server.feed.with_position(probe),
+                feed: server.feed.with_position(probe).with_vehicle(
+                    session.vehicle.status_probe(),
+                    session.vehicle.goal_intake(),
+                ),
+                ..server
             })
         }
         None => None,

@@ -8,11 +8,12 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 
 use crate::cli::out::outln;
+use crate::vehicle::config::VehicleConfig;
 use crate::vehicle::geo::Home;
-use crate::vehicle::goal_client::send_goals;
+use crate::vehicle::goal_client::{send_goals_signed, GoalSendError, GCS_SYSTEM_ID};
 use crate::vehicle::goal_files;
 use crate::vehicle::goals::{KnownLocations, SyntacticDecider};
-use crate::vehicle::link::{Decider, GoalServer};
+use crate::vehicle::link::{signing_key, Decider, GoalServer};
 
 #[derive(Args, Debug)]
 pub struct GoalArgs {
@@ -31,6 +32,10 @@ pub enum GoalCommand {
         /// Seconds to wait for the companion's heartbeat.
         #[arg(long, default_value_t = 5)]
         timeout: u64,
+        /// The companion's vehicle configuration: when its `[link]` has a `signing_key`, every frame is
+        /// signed with it (MAVLink2 signing; a companion with a key ignores unsigned stations).
+        #[arg(long)]
+        config: Option<PathBuf>,
     },
     /// Check a goal file and print the goal requests it maps to.
     Check { file: PathBuf },
@@ -47,6 +52,9 @@ pub enum GoalCommand {
         /// Record every frame to this .tlog.
         #[arg(long)]
         tlog: Option<PathBuf>,
+        /// A vehicle configuration: with a `[link] signing_key`, only signed uploads are taken.
+        #[arg(long)]
+        config: Option<PathBuf>,
     },
 }
 
@@ -59,15 +67,40 @@ pub fn run(args: GoalArgs) -> ExitCode {
         }
     };
     match args.command {
-        GoalCommand::Send { file, to, timeout } => rt.block_on(send(file, to, timeout)),
+        GoalCommand::Send {
+            file,
+            to,
+            timeout,
+            config,
+        } => match signing_of(config.as_deref()) {
+            Ok(key) => rt.block_on(send(file, to, timeout, key)),
+            Err(code) => code,
+        },
         GoalCommand::Check { file } => check(file),
         GoalCommand::Serve {
             listen,
             home,
             system_id,
             tlog,
-        } => rt.block_on(serve(listen, home, system_id, tlog)),
+            config,
+        } => match signing_of(config.as_deref()) {
+            Ok(key) => rt.block_on(serve(listen, home, system_id, tlog, key)),
+            Err(code) => code,
+        },
     }
+}
+
+/// The signing key and link id of the configuration at `path` (none without a path or a key); an
+/// unreadable configuration or key is an error, printed.
+fn signing_of(path: Option<&std::path::Path>) -> Result<Option<([u8; 32], u8)>, ExitCode> {
+    let Some(path) = path else { return Ok(None) };
+    let key = VehicleConfig::load(path)
+        .map_err(|e| e.to_string())
+        .and_then(|cfg| signing_key(&cfg).map_err(|e| e.to_string()));
+    key.map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::FAILURE
+    })
 }
 
 fn check(file: PathBuf) -> ExitCode {
@@ -106,7 +139,12 @@ fn check(file: PathBuf) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
+async fn send(
+    file: PathBuf,
+    to: String,
+    timeout: u64,
+    signing: Option<([u8; 32], u8)>,
+) -> ExitCode {
     let parsed = match goal_files::load(&file) {
         Ok(p) => p,
         Err(e) => {
@@ -117,7 +155,8 @@ async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
     for e in &parsed.skipped {
         eprintln!("warning: {e}");
     }
-    match send_goals(&to, parsed.items, Duration::from_secs(timeout)).await {
+    let timeout = Duration::from_secs(timeout);
+    match send_goals_signed(GCS_SYSTEM_ID, signing, &to, parsed.items, timeout).await {
         Ok(report) => {
             for t in &report.texts {
                 outln!("{t}");
@@ -133,6 +172,13 @@ async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
                 }
             }
         }
+        Err(e @ GoalSendError::NoCompanion(_)) if signing.is_none() => {
+            eprintln!(
+                "error: {e} (a companion that requires MAVLink2 signing ignores unsigned stations: \
+                 give its configuration with --config)"
+            );
+            ExitCode::FAILURE
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
@@ -140,7 +186,13 @@ async fn send(file: PathBuf, to: String, timeout: u64) -> ExitCode {
     }
 }
 
-async fn serve(listen: String, home: String, system_id: u8, tlog: Option<PathBuf>) -> ExitCode {
+async fn serve(
+    listen: String,
+    home: String,
+    system_id: u8,
+    tlog: Option<PathBuf>,
+    signing: Option<([u8; 32], u8)>,
+) -> ExitCode {
     let parsed: Option<(f64, f64)> = home
         .split_once(',')
         .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)));
@@ -149,12 +201,13 @@ async fn serve(listen: String, home: String, system_id: u8, tlog: Option<PathBuf
         return ExitCode::FAILURE;
     };
     let known = KnownLocations::new(Home { lat, lon, alt: 0.0 });
-    let server = match GoalServer::start(
+    let server = match GoalServer::start_signed(
         &listen,
         system_id,
         known,
         Decider::Local(Box::new(SyntacticDecider)),
         tlog,
+        signing,
     )
     .await
     {

@@ -123,7 +123,7 @@ pub fn print_summary(r: &MissionReport) {
         "mission ended ({}) at {:.1} s after {} cycles",
         r.end,
         r.duration_ms as f64 / 1000.0,
-        r.cycles.len()
+        r.cycle_times.count
     );
     for g in &r.goals {
         let fate = match g.fate {

@@ -25,6 +25,7 @@ mod shutdown;
 mod sim;
 mod sitl_session;
 mod soak;
+mod vehicle_trace;
 
 use std::process::ExitCode;
 

@@ -208,6 +208,8 @@ fn mission(
         .clone()
         .filter(|_| checked.vehicle.state.end_still);
     let stale_after = Duration::from_millis(checked.vehicle.link.heartbeat_timeout_ms);
+    // The page's goal form signs its uploads as the companion requires (issue 31).
+    let signing = crate::vehicle::link::signing_key(&checked.vehicle)?;
     let mut vehicle = MavlinkVehicle::connect_blocking(checked.vehicle, opts)?;
     if let Some(flush) = vehicle.tlog_flusher() {
         signals.before_exit_at_once(flush);
@@ -264,12 +266,16 @@ fn mission(
     let mut printer = TracePrinter::default();
     let quiet = args.out.quiet;
     let mut live = match args.http.spec() {
-        Some(h) => Some(start_live(&h, args, &vehicle, home)?),
+        Some(h) => Some(start_live(&h, args, &vehicle, home, signing)?),
         None => None,
     };
+    let mut vehicle_trace = super::vehicle_trace::VehicleTrace::new(vehicle.status_probe());
     let mut observe = |ex: &Executive, c: &CycleRecord| {
         if !quiet {
             printer.cycle(c);
+            if let Some(line) = vehicle_trace.line(c.time_ms) {
+                outln!("{line}");
+            }
         }
         if let Some((server, _)) = live.as_mut() {
             server.feed.observe(ex, c);
@@ -313,6 +319,7 @@ fn start_live(
     args: &RunArgs,
     vehicle: &MavlinkVehicle,
     home: Home,
+    signing: Option<([u8; 32], u8)>,
 ) -> Result<(crate::report::live::LiveServer, tokio::runtime::Runtime), CliError> {
     let rt = super::runtime::multi_thread(Some(1), "live page runtime")?;
     let form = if h.goals {
@@ -330,7 +337,13 @@ fn start_live(
             addr.ip()
         };
         let client = format!("{transport}:{}", std::net::SocketAddr::new(ip, addr.port()));
-        Some(super::http_arg::goal_form(home, client, None))
+        Some(super::http_arg::goal_form(
+            home,
+            client,
+            None,
+            signing,
+            Some(vehicle.goal_intake()),
+        ))
     } else {
         None
     };
@@ -341,8 +354,11 @@ fn start_live(
         })?;
     outln!("http listening on http://{}/", server.addr);
     let server = crate::report::live::LiveServer {
-        addr: server.addr,
-        feed: server.feed.with_position(vehicle.position_probe()),
+        feed: server
+            .feed
+            .with_position(vehicle.position_probe())
+            .with_vehicle(vehicle.status_probe(), vehicle.goal_intake()),
+        ..server
     };
     Ok((server, rt))
 }

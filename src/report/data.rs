@@ -39,6 +39,25 @@ pub struct GoalView {
     pub fate: String,
     #[serde(default)]
     pub reason: String,
+    /// The live page's detail (issue 30): the proposition, e.g. `PICTURE(g6_loc) = true`.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub what: String,
+    /// The place it names, with its position from home.
+    #[serde(default, rename = "where", skip_serializing_if = "String::is_empty")]
+    pub place: String,
+    /// Its start window.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub window: String,
+    /// `problem`, `ground station S/C` (the station that holds it), or `upload`.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub source: String,
+    /// The state an operator reads: `accepted` (held in the plan), `inserting`, `achieved`, `rejected`,
+    /// `cancelled`; the fate when empty (a report).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub state: String,
+    /// The page offers to withdraw it (its form is on and a ground station holds it).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cancellable: bool,
 }
 
 /// `[lb, ub]` of a resource at a time, with the level the vehicle reported then, if any.
@@ -137,6 +156,9 @@ pub struct Charts {
     pub track: Vec<PointView>,
     pub places: Vec<PlaceView>,
     pub goals: Vec<GoalView>,
+    /// The vehicle as last heard (the live page).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vehicle: Option<crate::vehicle::status::VehicleStatus>,
     pub counters: BTreeMap<String, serde_json::Value>,
     /// The last trace lines, newest last.
     pub events: Vec<String>,

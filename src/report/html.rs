@@ -40,15 +40,38 @@ pub fn body(c: &Charts, live: bool) -> Result<String, DrawError> {
         "<p id=\"state\" data-now-ms=\"{}\">{state}</p>",
         c.now_ms
     );
+    if let Some(v) = &c.vehicle {
+        vehicle(&mut h, v);
+    }
     h.push_str(
-        "<h2>Goals</h2><table id=\"goals\"><tr><th>goal</th><th>fate</th><th>reason</th></tr>",
+        "<h2>Goals</h2><table id=\"goals\"><tr><th>goal</th><th>state</th><th>what</th><th>where</th>\
+         <th>start window</th><th>source</th><th>reason</th><th></th></tr>",
     );
     for g in &c.goals {
+        let state = if g.state.is_empty() {
+            &g.fate
+        } else {
+            &g.state
+        };
+        let button = if g.cancellable {
+            format!(
+                "<button class=\"cancel\" data-cancel=\"{}\">cancel</button>",
+                esc(&g.name)
+            )
+        } else {
+            String::new()
+        };
         let _ = write!(
             h,
-            "<tr class=\"{fate}\" data-goal=\"{name}\"><td>{name}</td><td>{fate}</td><td>{reason}</td></tr>",
+            "<tr class=\"{fate}\" data-goal=\"{name}\" data-state=\"{state}\"><td>{name}</td><td>{state}</td>\
+             <td>{what}</td><td>{place}</td><td>{window}</td><td>{source}</td><td>{reason}</td><td>{button}</td></tr>",
             name = esc(&g.name),
             fate = esc(&g.fate),
+            state = esc(state),
+            what = esc(&g.what),
+            place = esc(&g.place),
+            window = esc(&g.window),
+            source = esc(&g.source),
             reason = esc(&g.reason)
         );
     }
@@ -92,9 +115,28 @@ pub fn body(c: &Charts, live: bool) -> Result<String, DrawError> {
     Ok(h)
 }
 
+/// The vehicle as last heard: mode, arming, battery, link.
+fn vehicle(h: &mut String, v: &crate::vehicle::status::VehicleStatus) {
+    let battery = v
+        .battery_percent
+        .map_or("unknown".to_string(), |b| format!("{b:.0} %"));
+    let _ = write!(
+        h,
+        "<h2>Vehicle</h2><table id=\"vehicle\"><tr><td>mode</td><td id=\"vehicle-mode\">{}</td></tr>\
+         <tr><td>armed</td><td id=\"vehicle-armed\">{}</td></tr>\
+         <tr><td>battery</td><td id=\"vehicle-battery\">{}</td></tr>\
+         <tr><td>link</td><td id=\"vehicle-link\">{}</td></tr></table>",
+        esc(v.mode.as_deref().unwrap_or("unknown")),
+        if v.armed { "yes" } else { "no" },
+        esc(&battery),
+        esc(&v.link)
+    );
+}
+
 const STYLE: &str = "body{font-family:sans-serif;margin:1em 2em;max-width:1140px}\
 table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:left}\
 tr.achieved td:nth-child(2){color:#147a3c}tr.rejected td:nth-child(2){color:#c05a00}\
+tr.cancelled td:nth-child(2){color:#777}\
 pre{background:#f6f6f6;padding:6px;font-size:12px}svg{max-width:100%;height:auto}\
 form label{margin-right:1em}#goal-result{font-weight:bold}";
 
@@ -126,6 +168,12 @@ const out=document.getElementById('goal-result');out.textContent='submitting...'
 try{const r=await fetch('goal',{method:'POST',body:new URLSearchParams(new FormData(f))});\
 const j=await r.json();out.textContent=j.verdict;out.className=j.accepted?'accepted':'rejected';}\
 catch(err){out.textContent='error: '+err;}});}\
+document.addEventListener('click',async function(ev){const b=ev.target.closest('button[data-cancel]');\
+if(!b)return;const out=document.getElementById('goal-result');const g=b.dataset.cancel;\
+out.textContent='withdrawing '+g+'...';\
+try{const r=await fetch('cancel',{method:'POST',body:new URLSearchParams({goal:g})});\
+const j=await r.json();out.textContent=j.verdict;out.className=j.accepted?'cancelled':'rejected';}\
+catch(err){out.textContent='error: '+err;}});\
 </script>";
 
 /// The live page: the current body, the goal form when enabled, and the script that replaces the body

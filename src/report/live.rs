@@ -6,67 +6,40 @@
 //! folds those into [`Charts`], renders at most every [`RENDER_EVERY`] and publishes the page body through
 //! a `watch` channel that every event stream reads.
 //!
-//! The goal form (off unless enabled) sends its goal as a MAVLink upload to the companion's own ground
-//! station endpoint: the same intake, acceptance test and insertion as any ground station's upload, and the
-//! same verdict texts back.
+//! The goal form and cancel buttons (off unless enabled) are in [`super::form`]; the connections' bounds in
+//! [`super::guard`].
 
 use std::collections::BTreeMap;
 use std::convert::Infallible;
-use std::future::Future;
 use std::net::SocketAddr;
-use std::pin::Pin;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use axum::extract::{Form, State};
+use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::sse::{Event, KeepAlive, Sse};
-use axum::response::{Html, IntoResponse, Json, Response};
+use axum::response::{Html, Json};
 use axum::routing::{get, post};
 use axum::Router;
 use tokio::sync::{mpsc, watch};
 
 use super::data::{Charts, CycleView, GoalView, PlaceView, PlannedBar, PointView, SampleView};
+pub use super::form::{
+    cancel_verdict, parse_goal, verdict_of, CancelError, FormError, GoalAnswer, GoalCancelFn,
+    GoalForm, GoalItems, GoalSubmit, PictureGoal,
+};
+use super::goal_rows::{goal_rows, Sources};
+use super::guard::{GuardedListener, PageLimits, Slots};
 use super::html;
 use crate::exec::executive::Executive;
 use crate::exec::mission::{fresh_level, moved_on, places, resource_bounds_now, MissionReport};
 use crate::exec::trace::CycleRecord;
-use crate::vehicle::goal_client::{GoalSendError, GoalSendReport};
-use crate::vehicle::goals::is_final_verdict_text;
-use crate::vehicle::items::MissionItem;
+use crate::vehicle::intake::GoalIntake;
 use crate::vehicle::link::PositionProbe;
+use crate::vehicle::status::{StatusProbe, VehicleStatus};
 
 /// How often at most the page is rendered again.
 pub const RENDER_EVERY: Duration = Duration::from_millis(250);
-
-/// Sends a goal upload through the companion's intake and returns the ground station's account.
-pub type GoalSubmit = Arc<
-    dyn Fn(
-            Vec<MissionItem>,
-        ) -> Pin<Box<dyn Future<Output = Result<GoalSendReport, GoalSendError>> + Send>>
-        + Send
-        + Sync,
->;
-
-/// Turns the form's picture goal (east, north metres from home) into the items of an upload.
-pub type GoalItems = Arc<dyn Fn(&PictureGoal) -> Vec<MissionItem> + Send + Sync>;
-
-/// The goal form's fields.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PictureGoal {
-    pub east: f64,
-    pub north: f64,
-    /// End of the start window, seconds after the mission's origin.
-    pub window_end_s: f64,
-    pub d_achiev_s: f64,
-}
-
-/// What the goal form needs: how to build the upload and how to send it.
-#[derive(Clone)]
-pub struct GoalForm {
-    pub items: GoalItems,
-    pub submit: GoalSubmit,
-}
 
 /// What the live page shows at one time.
 #[derive(Clone, Debug, Default)]
@@ -75,11 +48,13 @@ pub struct Snapshot {
     pub body: String,
 }
 
-struct AppState {
+pub(super) struct AppState {
     snapshot: watch::Sender<Arc<Snapshot>>,
-    form: Option<GoalForm>,
+    pub(super) form: Option<GoalForm>,
     /// Where the page is bound: the Host a POST must name (besides loopback names).
-    bound: SocketAddr,
+    pub(super) bound: SocketAddr,
+    /// How often an event stream with nothing new says it is alive (well within the idle timeout).
+    keep_alive: Duration,
 }
 
 /// One cycle as the mission loop hands it over.
@@ -92,6 +67,7 @@ enum Update {
         places: Option<Vec<PlaceView>>,
         track: Option<PointView>,
         goals: Vec<GoalView>,
+        vehicle: Option<Box<VehicleStatus>>,
         counters: BTreeMap<String, serde_json::Value>,
     },
     End(Box<Charts>),
@@ -103,12 +79,25 @@ pub struct LiveFeed {
     last_reported: Vec<Option<(crate::model::Time, f64)>>,
     position: Option<PositionProbe>,
     last_position: Option<(f64, f64)>,
+    status: Option<StatusProbe>,
+    intake: Option<Arc<Mutex<GoalIntake>>>,
+    sources: Sources,
+    /// The page withdraws held goals (its form is on, with a cancel path).
+    cancel: bool,
 }
 
 impl LiveFeed {
     /// The track is drawn from `probe`'s positions (a point when the vehicle moved 0.5 m or more).
     pub fn with_position(mut self, probe: PositionProbe) -> Self {
         self.position = Some(probe);
+        self
+    }
+
+    /// The vehicle's mode, arming, battery and link from `status`; which ground station holds which goal
+    /// from `intake`.
+    pub fn with_vehicle(mut self, status: StatusProbe, intake: Arc<Mutex<GoalIntake>>) -> Self {
+        self.status = Some(status);
+        self.intake = Some(intake);
         self
     }
 
@@ -146,18 +135,13 @@ impl LiveFeed {
                 })
                 .collect()
         });
-        let goals = ex
-            .goal_fates()
-            .into_iter()
-            .map(|g| GoalView {
-                reason: g.reason_text(),
-                name: g.name,
-                fate: serde_json::to_value(&g.fate)
-                    .ok()
-                    .and_then(|v| v.as_str().map(str::to_string))
-                    .unwrap_or_default(),
-            })
-            .collect();
+        let holders = self
+            .intake
+            .as_ref()
+            .and_then(|i| i.try_lock().ok().map(|i| i.held().holders()))
+            .unwrap_or_default();
+        let goals = goal_rows(ex, &holders, &mut self.sources, self.cancel);
+        let vehicle = self.status.as_ref().map(|s| Box::new(s()));
         let mut counters = counters_of(ex.counters());
         // Who commands the vehicle (issue 30): the page says when the operator has it.
         let control = ex.paused_why().map_or("companion".to_string(), |why| {
@@ -181,6 +165,7 @@ impl LiveFeed {
             places,
             track,
             goals,
+            vehicle,
             counters,
         });
     }
@@ -223,16 +208,31 @@ fn planned_bars(ex: &Executive) -> Vec<PlannedBar> {
 pub struct LiveServer {
     pub addr: SocketAddr,
     pub feed: LiveFeed,
+    /// Its connections (how many are open, refused, evicted).
+    pub slots: Arc<Slots>,
 }
 
-/// Binds `addr` and serves the live page on `rt`. `form`: the goal form, enabled.
+/// Binds `addr` and serves the live page on `rt` within the default [`PageLimits`]. `form`: the goal
+/// form, enabled.
 pub fn start(
     rt: &tokio::runtime::Handle,
     addr: SocketAddr,
     form: Option<GoalForm>,
 ) -> std::io::Result<LiveServer> {
+    start_with(rt, addr, form, PageLimits::default())
+}
+
+/// [`start`] within `limits`.
+pub fn start_with(
+    rt: &tokio::runtime::Handle,
+    addr: SocketAddr,
+    form: Option<GoalForm>,
+    limits: PageLimits,
+) -> std::io::Result<LiveServer> {
     let listener = rt.block_on(tokio::net::TcpListener::bind(addr))?;
     let addr = listener.local_addr()?;
+    let listener = GuardedListener::new(listener, limits);
+    let slots = listener.slots();
     let first = Charts::default();
     let body = html::body(&first, true).unwrap_or_default();
     let (snapshot, _) = watch::channel(Arc::new(Snapshot {
@@ -243,7 +243,10 @@ pub fn start(
         snapshot,
         form,
         bound: addr,
+        keep_alive: (limits.idle_timeout / 3)
+            .clamp(Duration::from_millis(100), Duration::from_secs(15)),
     });
+    let cancel = state.form.as_ref().is_some_and(|f| f.cancel.is_some());
     let (tx, rx) = mpsc::unbounded_channel();
     rt.spawn(fold(rx, state.clone()));
     let app = router(state);
@@ -259,7 +262,12 @@ pub fn start(
             last_reported: Vec::new(),
             position: None,
             last_position: None,
+            status: None,
+            intake: None,
+            sources: Sources::default(),
+            cancel,
         },
+        slots,
     })
 }
 
@@ -280,7 +288,7 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
     loop {
         tokio::select! {
             u = rx.recv() => match u {
-                Some(Update::Cycle { record, samples, planned, places, track, goals, counters }) => {
+                Some(Update::Cycle { record, samples, planned, places, track, goals, vehicle, counters }) => {
                     match serde_json::to_value(&*record).and_then(serde_json::from_value::<CycleView>) {
                         Ok(view) => charts.push_cycle(&view),
                         Err(e) => tracing::warn!("live page: cycle {}: {e}", record.index),
@@ -296,6 +304,9 @@ async fn fold(mut rx: mpsc::UnboundedReceiver<Update>, state: Arc<AppState>) {
                     }
                     charts.track.extend(track);
                     charts.goals = goals;
+                    if let Some(v) = vehicle {
+                        charts.vehicle = Some(*v);
+                    }
                     charts.counters = counters;
                     dirty = true;
                 }
@@ -327,7 +338,8 @@ fn router(state: Arc<AppState>) -> Router {
         .route("/", get(index))
         .route("/events", get(events))
         .route("/snapshot.json", get(snapshot))
-        .route("/goal", post(goal))
+        .route("/goal", post(super::form::goal))
+        .route("/cancel", post(super::form::cancel))
         .route("/favicon.ico", get(|| async { StatusCode::NO_CONTENT }))
         .with_state(state)
 }
@@ -353,110 +365,5 @@ async fn events(
         let body = rx.borrow_and_update().body.clone();
         Some((Ok(Event::default().data(body)), (rx, false)))
     });
-    Sse::new(stream).keep_alive(KeepAlive::default())
-}
-
-/// The answer to a goal submitted with the form.
-#[derive(Debug, serde::Serialize, serde::Deserialize, PartialEq)]
-pub struct GoalAnswer {
-    pub accepted: bool,
-    /// The intake's verdict (`g8 accepted: …` / `g8 rejected: <reason>`), or why nothing was sent.
-    pub verdict: String,
-}
-
-fn answer(code: StatusCode, accepted: bool, verdict: String) -> Response {
-    (code, Json(GoalAnswer { accepted, verdict })).into_response()
-}
-
-async fn goal(
-    State(s): State<Arc<AppState>>,
-    headers: axum::http::HeaderMap,
-    Form(fields): Form<BTreeMap<String, String>>,
-) -> Response {
-    let header = |name: axum::http::HeaderName| headers.get(name).and_then(|v| v.to_str().ok());
-    let from = super::origin::check(
-        header(axum::http::header::HOST),
-        header(axum::http::header::ORIGIN),
-        s.bound,
-    );
-    if let Err(e) = from {
-        return answer(StatusCode::FORBIDDEN, false, e.to_string());
-    }
-    let Some(form) = &s.form else {
-        return answer(
-            StatusCode::FORBIDDEN,
-            false,
-            "the goal form is disabled (start with --http-goals)".into(),
-        );
-    };
-    let goal = match parse_goal(&fields) {
-        Ok(g) => g,
-        Err(e) => return answer(StatusCode::BAD_REQUEST, false, e.to_string()),
-    };
-    let items = (form.items)(&goal);
-    match (form.submit)(items).await {
-        Ok(report) => {
-            let (accepted, verdict) = verdict_of(&report);
-            answer(StatusCode::OK, accepted, verdict)
-        }
-        Err(e) => answer(
-            StatusCode::BAD_GATEWAY,
-            false,
-            format!("upload failed: {e}"),
-        ),
-    }
-}
-
-/// Why the page's goal form cannot be read.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum FormError {
-    #[error("missing field {field}")]
-    Missing { field: String },
-    #[error("{field}: not a number: {value:?}")]
-    NotANumber { field: String, value: String },
-}
-
-/// The form's fields as numbers; a missing or non-numeric field names itself.
-pub fn parse_goal(fields: &BTreeMap<String, String>) -> Result<PictureGoal, FormError> {
-    let num = |k: &str| -> Result<f64, FormError> {
-        let v = fields.get(k).ok_or_else(|| FormError::Missing {
-            field: k.to_string(),
-        })?;
-        v.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| FormError::NotANumber {
-                field: k.to_string(),
-                value: v.clone(),
-            })
-    };
-    Ok(PictureGoal {
-        east: num("east")?,
-        north: num("north")?,
-        window_end_s: num("window_end_s")?,
-        d_achiev_s: num("d_achiev_s")?,
-    })
-}
-
-/// Accepted when the upload was and every final verdict text says so; the verdict is those texts (or the
-/// upload's failure).
-pub fn verdict_of(r: &GoalSendReport) -> (bool, String) {
-    if let Some(f) = &r.failure {
-        let texts = r.texts.join("; ");
-        return (false, format!("upload refused: {f}; {texts}"));
-    }
-    let finals: Vec<&String> = r
-        .texts
-        .iter()
-        .filter(|t| is_final_verdict_text(t))
-        .collect();
-    let accepted = !finals.is_empty() && finals.iter().all(|t| t.contains(" accepted:"));
-    let shown = if finals.is_empty() {
-        r.texts.iter().collect()
-    } else {
-        finals
-    };
-    let text: Vec<&str> = shown.iter().map(|s| s.as_str()).collect();
-    (accepted, text.join("; "))
+    Sse::new(stream).keep_alive(KeepAlive::new().interval(s.keep_alive))
 }

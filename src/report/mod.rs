@@ -3,6 +3,9 @@
 //! self-contained HTML page holding them, and the live page served while a mission runs.
 
 pub mod data;
+pub mod form;
+pub mod goal_rows;
+pub mod guard;
 pub mod html;
 pub mod live;
 pub mod origin;

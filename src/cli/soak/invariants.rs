@@ -40,7 +40,7 @@ pub fn check(seed: u64, report: &MissionReport, horizon_ms: i64) -> Vec<Violatio
             "cycle_bound",
             format!(
                 "{} cycles by {} s of mission time",
-                report.cycles.len(),
+                report.cycle_times.count,
                 report.duration_ms / 1000
             ),
         );

@@ -9,7 +9,7 @@ use mavlink::dialects::ardupilotmega::{
 
 use super::driver::COMPANION_COMPONENT;
 use super::endpoint::{Address, Transport};
-use super::frame::{Encoder, FrameDecoder};
+use super::frame::{Encoder, FrameDecoder, Signer};
 use super::goals::{is_final_verdict_text, summary_finals, GOAL_ATTRIBUTES_CMD, INSERTING};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
@@ -113,18 +113,77 @@ pub async fn send_goals_as(
     items: Vec<MissionItem>,
     timeout: Duration,
 ) -> Result<GoalSendReport, GoalSendError> {
+    send_goals_signed(system_id, None, address, items, timeout).await
+}
+
+/// [`send_goals_as`] signing every frame with `signing` (key, link id; MAVLink2 signing) when given: a
+/// companion whose config has a signing key ignores unsigned stations.
+pub async fn send_goals_signed(
+    system_id: u8,
+    signing: Option<([u8; 32], u8)>,
+    address: &str,
+    items: Vec<MissionItem>,
+    timeout: Duration,
+) -> Result<GoalSendReport, GoalSendError> {
+    let station = (system_id, GCS_COMPONENT);
+    transfer(station, signing, address, Transfer::Add(items), timeout).await
+}
+
+/// Uploads `items` as the whole list of ground station `station` (system, component): the goals it held
+/// and left out are cancelled (the mission protocol's list replacement). Waits for the ACK and for the
+/// verdict of the goal `withdrawn` names.
+pub async fn replace_goals(
+    station: (u8, u8),
+    signing: Option<([u8; 32], u8)>,
+    address: &str,
+    items: Vec<MissionItem>,
+    timeout: Duration,
+) -> Result<GoalSendReport, GoalSendError> {
+    transfer(station, signing, address, Transfer::Replace(items), timeout).await
+}
+
+/// The component id `goal send` and the page's form use (QGroundControl's).
+pub const GCS_COMPONENT: u8 = 190;
+
+/// What an upload does to the station's list.
+enum Transfer {
+    /// Adds these items to the goals the station holds (read back first).
+    Add(Vec<MissionItem>),
+    /// Replaces its list by these items: one goal left out, its verdict (cancelled) awaited.
+    Replace(Vec<MissionItem>),
+}
+
+async fn transfer(
+    (system_id, component_id): (u8, u8),
+    signing: Option<([u8; 32], u8)>,
+    address: &str,
+    transfer: Transfer,
+    timeout: Duration,
+) -> Result<GoalSendReport, GoalSendError> {
+    let (items, replace) = match transfer {
+        Transfer::Add(items) => (items, false),
+        Transfer::Replace(items) => (items, true),
+    };
     // Refused before any traffic: a count that wrapped would upload a prefix and look accepted.
     if items.len() > MAX_ITEMS {
         return Err(GoalSendError::TooManyItems(items.len()));
     }
-    let expected_texts = items
-        .iter()
-        .filter(|i| i.command != GOAL_ATTRIBUTES_CMD)
-        .count();
+    let expected_texts = if replace {
+        1
+    } else {
+        items
+            .iter()
+            .filter(|i| i.command != GOAL_ATTRIBUTES_CMD)
+            .count()
+    };
     let mut transport =
         Transport::bind(Address::parse(address).map_err(GoalSendError::Address)?).await?;
     let mut ep = transport.open().await?;
-    let mut enc = Encoder::new(system_id, 190, None);
+    let mut enc = Encoder::new(
+        system_id,
+        component_id,
+        signing.map(|(k, l)| Signer::new(k, l)),
+    );
     let mut dec = FrameDecoder::default();
     let mut texts = TextAssembler::default();
     let start = Instant::now();
@@ -200,7 +259,11 @@ pub async fn send_goals_as(
                     // goals, read back the goals it holds first and upload them with the new ones (the
                     // same items: kept, not inserted again).
                     let mut c = MissionClient::new((f.system_id, COMPANION_COMPONENT), 1500, 5);
-                    c.download(0, now(), &mut out);
+                    if replace {
+                        c.upload(1, pending_items.take().unwrap_or_default(), now(), &mut out);
+                    } else {
+                        c.download(0, now(), &mut out);
+                    }
                     client = Some(c);
                 }
                 (MavMessage::STATUSTEXT(s), _) => {

@@ -37,6 +37,17 @@ pub struct Replacement {
     pub dropped: Vec<String>,
 }
 
+/// Why a goal cannot be withdrawn on its own.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WithdrawError {
+    #[error(
+        "{0} is not held by a ground station (achieved, rejected, cancelled, or from the problem)"
+    )]
+    NotHeld(String),
+    #[error("{goal} was made from the same mission items as {with}: withdraw both (upload the list without them)")]
+    SharedItems { goal: String, with: String },
+}
+
 #[derive(Debug, Default)]
 pub struct HeldGoals {
     by_station: BTreeMap<Station, Vec<HeldGoal>>,
@@ -92,6 +103,46 @@ impl HeldGoals {
             .unwrap_or_default()
     }
 
+    /// Every goal held, with the station that holds it.
+    pub fn holders(&self) -> Vec<(String, Station)> {
+        self.by_station
+            .iter()
+            .flat_map(|(s, v)| v.iter().map(move |h| (h.request.name.clone(), *s)))
+            .collect()
+    }
+
+    /// The list the station holding `name` would upload to withdraw it (the mission protocol's list
+    /// replacement: a goal left out is cancelled), and that station.
+    pub fn list_without(&self, name: &str) -> Result<(Station, Vec<MissionItem>), WithdrawError> {
+        let (station, goals) = self
+            .by_station
+            .iter()
+            .find(|(_, v)| v.iter().any(|h| h.request.name == name))
+            .ok_or_else(|| WithdrawError::NotHeld(name.to_string()))?;
+        let Some(goal) = goals.iter().find(|h| h.request.name == name) else {
+            return Err(WithdrawError::NotHeld(name.to_string()));
+        };
+        // Goals made from the same items (the pictures of one trigger distance) leave together or not at all.
+        if let Some(twin) = goals
+            .iter()
+            .find(|h| h.request.name != name && h.items == goal.items)
+        {
+            return Err(WithdrawError::SharedItems {
+                goal: name.to_string(),
+                with: twin.request.name.clone(),
+            });
+        }
+        let mut out: Vec<MissionItem> = Vec::new();
+        let mut last: Option<&[MissionItem]> = None;
+        for h in goals.iter().filter(|h| h.request.name != name) {
+            if last != Some(h.items.as_slice()) {
+                out.extend(h.items.iter().cloned());
+            }
+            last = Some(&h.items);
+        }
+        Ok((*station, out))
+    }
+
     /// Goal `name` is no longer held (achieved, rejected, cancelled).
     pub fn release(&mut self, name: &str) {
         for v in self.by_station.values_mut() {
@@ -112,5 +163,57 @@ impl HeldGoals {
             last = Some(&h.items);
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::types::GoalKind;
+    use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame};
+
+    fn held(name: &str, x: f64, ordinal: usize) -> HeldGoal {
+        let mut item = MissionItem::new(MavCmd::MAV_CMD_NAV_WAYPOINT, MavFrame::MAV_FRAME_GLOBAL);
+        item.x = x;
+        HeldGoal {
+            request: GoalRequest {
+                name: name.into(),
+                kind: GoalKind::BeAt,
+                proposition: format!("at({name}_loc)"),
+                location: None,
+                priority: 1,
+                start_window_s: (0.0, 100.0),
+                duration_s: (0.0, 0.0),
+                d_achiev_s: 0.0,
+            },
+            items: vec![item],
+            ordinal,
+        }
+    }
+
+    #[test]
+    fn a_goal_is_withdrawn_by_its_stations_list_without_it() {
+        let mut h = HeldGoals::default();
+        h.set((255, 190), vec![held("g6", 1.0, 0), held("g7", 2.0, 0)]);
+        h.set((255, 230), vec![held("g8", 3.0, 0)]);
+        let (station, items) = h.list_without("g6").expect("held");
+        assert_eq!(station, (255, 190));
+        assert_eq!(items.iter().map(|i| i.x).collect::<Vec<_>>(), [2.0]);
+        let (station, items) = h.list_without("g8").expect("held");
+        assert_eq!((station, items.len()), ((255, 230), 0));
+        assert_eq!(
+            h.list_without("g1"),
+            Err(WithdrawError::NotHeld("g1".into()))
+        );
+        // Two pictures of one trigger distance share their items: not one without the other.
+        h.set((1, 1), vec![held("g9", 4.0, 0), held("g10", 4.0, 1)]);
+        assert!(matches!(
+            h.list_without("g9"),
+            Err(WithdrawError::SharedItems { .. })
+        ));
+        let mut holders = h.holders();
+        holders.sort();
+        assert_eq!(holders.len(), 5);
+        assert!(holders.contains(&("g7".to_string(), (255, 190))));
     }
 }

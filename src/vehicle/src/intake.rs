@@ -129,6 +129,11 @@ fn counted<'a>(lines: impl Iterator<Item = &'a str>) -> Vec<(usize, &'a str)> {
 }
 
 impl GoalIntake {
+    /// The goals each station holds.
+    pub fn held(&self) -> &HeldGoals {
+        &self.held
+    }
+
     pub fn new(known: KnownLocations, first_goal_number: u32) -> Self {
         Self {
             known,

@@ -42,6 +42,7 @@ pub mod observed;
 pub mod peers;
 pub mod readiness;
 pub mod safe_stop;
+pub mod status;
 pub mod telemetry;
 pub mod tlog;
 pub mod types;

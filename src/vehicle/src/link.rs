@@ -24,6 +24,7 @@ use super::intake::{GoalIntake, PendingDecision};
 use super::peers::Peers;
 use super::readiness::ReadyReport;
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
+use super::status::{link_state, StatusProbe, VehicleStatus};
 use super::tlog::TlogWriter;
 use super::types::{ActionId, ActionStart};
 
@@ -525,7 +526,8 @@ fn to_companion(msg: &mut MavMessage) {
     }
 }
 
-fn signing_key(cfg: &VehicleConfig) -> Result<Option<([u8; 32], u8)>, LinkError> {
+/// The MAVLink2 signing key and link id of `cfg`'s link, when it has a key.
+pub fn signing_key(cfg: &VehicleConfig) -> Result<Option<([u8; 32], u8)>, LinkError> {
     cfg.link
         .signing_key
         .as_deref()
@@ -566,6 +568,8 @@ pub struct MavlinkVehicle {
     stats: Arc<LinkStats>,
     tasks: Vec<tokio::task::JoinHandle<()>>,
     tlog: Option<Arc<Mutex<TlogWriter>>>,
+    /// The goal intake both endpoints serve: what each ground station holds.
+    intake: Arc<Mutex<GoalIntake>>,
     /// Present when the vehicle made its own runtime ([`MavlinkVehicle::connect_blocking`]).
     _runtime: Option<tokio::runtime::Runtime>,
 }
@@ -617,6 +621,7 @@ impl MavlinkVehicle {
             GoalIntake::new(known, opts.first_goal_number).allowing(goal_sysids),
         ));
         let decider = Arc::new(Mutex::new(opts.decider));
+        let intake_view = intake.clone();
         let mut tasks = vec![tokio::spawn(
             Pump {
                 transport,
@@ -661,6 +666,7 @@ impl MavlinkVehicle {
             stats,
             tasks,
             tlog,
+            intake: intake_view,
             _runtime: None,
         })
     }
@@ -890,6 +896,38 @@ impl MavlinkVehicle {
         let shared = self.shared.clone();
         Arc::new(move || shared.position())
     }
+
+    /// Mode, arming, battery and link state for the live page. It never waits for the driver's lock (the
+    /// mission loop must not contend for it): while the pump holds it, the last status is given again.
+    pub fn status_probe(&self) -> StatusProbe {
+        let shared = self.shared.clone();
+        let timeout = self
+            .shared
+            .driver
+            .lock()
+            .map_or(Duration::from_secs(3), |d| {
+                Duration::from_millis(d.config().link.heartbeat_timeout_ms)
+            });
+        let last = Arc::new(Mutex::new(VehicleStatus::default()));
+        Arc::new(move || {
+            let Ok(mut last) = last.lock() else {
+                return VehicleStatus::default();
+            };
+            if let Ok(d) = shared.driver.try_lock() {
+                let t = d.telemetry();
+                last.mode = t.custom_mode.map(super::authority::mode_name);
+                last.armed = t.armed;
+                last.battery_percent = t.battery_percent;
+            }
+            last.link = link_state(shared.age(&shared.heartbeat_at_ms), timeout);
+            last.clone()
+        })
+    }
+
+    /// The goal intake of both endpoints (the goals each ground station holds).
+    pub fn goal_intake(&self) -> Arc<Mutex<GoalIntake>> {
+        self.intake.clone()
+    }
 }
 
 impl MavlinkVehicle {
@@ -944,6 +982,19 @@ impl GoalServer {
         decider: Decider,
         tlog: Option<PathBuf>,
     ) -> Result<Self, LinkError> {
+        Self::start_signed(addr, system_id, known, decider, tlog, None).await
+    }
+
+    /// [`GoalServer::start`] that signs its frames and takes only frames signed with `signing` (key, link
+    /// id), as a companion whose config has a `link.signing_key` does.
+    pub async fn start_signed(
+        addr: &str,
+        system_id: u8,
+        known: KnownLocations,
+        decider: Decider,
+        tlog: Option<PathBuf>,
+        signing: Option<([u8; 32], u8)>,
+    ) -> Result<Self, LinkError> {
         let transport = bind(addr).await?;
         let local_addr = transport.local_addr();
         let tlog = tlog.as_deref().map(open_tlog).transpose()?;
@@ -959,7 +1010,7 @@ impl GoalServer {
                     Arc::new(Mutex::new(decider)),
                 )),
                 own_system: system_id,
-                signer_key: None,
+                signer_key: signing,
                 tlog,
                 events: tx,
                 stats: stats.clone(),

@@ -77,7 +77,7 @@ impl Executive {
             });
         }
         let t3 = Instant::now();
-        let index = self.cycles.len() as u64 + 1;
+        let index = self.cycles.count() + 1;
         let events = std::mem::take(&mut self.pending_trace);
         self.cycles.push(CycleRecord {
             index,
@@ -86,6 +86,7 @@ impl Executive {
             repair_us: (t2 - t1).as_micros() as u64,
             act_us: (t3 - t2).as_micros() as u64,
             events,
+            idle: None,
         });
         if let Some(reason) = aborted {
             return CycleOutcome::Aborted(reason);

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::abstraction::Hierarchy;
 use super::config::ExecConfig;
+use super::cycle_log::CycleLog;
 use super::dispatch_policy::PlanDispatch;
 use super::failures::FailureMemory;
 use super::goal_insertion::Insertion;
@@ -94,7 +95,7 @@ pub struct Executive {
     /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
     pub(crate) abort: Option<AbortReason>,
     pub(crate) fates: BTreeMap<GoalId, GoalFate>,
-    pub(crate) cycles: Vec<CycleRecord>,
+    pub(crate) cycles: CycleLog,
     pub(crate) counters: Counters,
     /// Events of the current cycle.
     pub(crate) pending_trace: Vec<TraceEvent>,
@@ -185,7 +186,7 @@ impl Executive {
             repair_requested: false,
             abort: None,
             fates,
-            cycles: Vec::new(),
+            cycles: CycleLog::default(),
             counters: Counters::default(),
             pending_trace: Vec::new(),
             changed: false,
@@ -264,12 +265,10 @@ impl Executive {
             return None;
         }
         let c = CycleRecord {
-            index: self.cycles.len() as u64 + 1,
+            index: self.cycles.count() + 1,
             time_ms: now,
-            sense_us: 0,
-            repair_us: 0,
-            act_us: 0,
             events: std::mem::take(&mut self.pending_trace),
+            ..CycleRecord::default()
         };
         self.cycles.push(c.clone());
         Some(c)
@@ -379,8 +378,8 @@ impl Executive {
         &self.counters
     }
 
-    /// The cycles run so far, with their events.
-    pub fn cycles(&self) -> &[CycleRecord] {
+    /// The cycles run so far: busy ones with their events, idle runs aggregated.
+    pub fn cycles(&self) -> &CycleLog {
         &self.cycles
     }
 

@@ -183,6 +183,8 @@ pub struct MissionReport {
     /// The places of the final plan's problem (initial ones and those named by goal uploads).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub places: Vec<Place>,
+    /// The cycles: busy ones whole, each run of cycles with no event as one record (`idle`); how many
+    /// cycles ran is `cycle_times.count`.
     pub cycles: Vec<CycleRecord>,
     /// Every complete replanning: the abort that caused it, its attempts (goals, planning steps, how each
     /// search ended), its outcome, the goals kept and those rejected with their reasons.
@@ -353,7 +355,10 @@ pub fn run_mission<V: Vehicle>(
         if now >= opts.time_limit_ms {
             break MissionEnd::TimeLimit;
         }
-        if opts.max_cycles.is_some_and(|m| ex.cycles.len() >= m) {
+        if opts
+            .max_cycles
+            .is_some_and(|m| ex.cycles.count() >= m as u64)
+        {
             break MissionEnd::CycleLimit;
         }
         let until = wake.min(opts.time_limit_ms.max(now + 1));
@@ -558,7 +563,7 @@ impl Log {
             duration_ms,
             goals,
             counters: ex.counters.clone(),
-            cycle_times: cycle_times(&ex.cycles),
+            cycle_times: ex.cycles.times(),
             plan_changes: self.changes,
             resources: self.resources,
             reservoirs: ex
@@ -571,7 +576,7 @@ impl Log {
                 .collect(),
             track: self.track,
             places: places(ex),
-            cycles: ex.cycles.clone(),
+            cycles: ex.cycles.records().to_vec(),
             replannings: ex.replannings.clone(),
             shutdown: None,
             ready: None,
@@ -637,24 +642,4 @@ pub fn places(ex: &Executive) -> Vec<Place> {
             })
         })
         .collect()
-}
-
-/// p50 / p99 / max of the cycles' CPU time.
-pub fn cycle_times(cycles: &[CycleRecord]) -> CycleTimes {
-    let mut t: Vec<u64> = cycles
-        .iter()
-        .map(|c| c.sense_us + c.repair_us + c.act_us)
-        .collect();
-    if t.is_empty() {
-        return CycleTimes::default();
-    }
-    t.sort_unstable();
-    let q = |p: f64| t[((t.len() - 1) as f64 * p).round() as usize];
-    CycleTimes {
-        count: t.len(),
-        p50_us: q(0.5),
-        p99_us: q(0.99),
-        max_us: t[t.len() - 1],
-        total_us: t.iter().sum(),
-    }
 }

@@ -40,6 +40,7 @@ pub mod cancel;
 pub mod capacity;
 pub mod config;
 pub mod cycle;
+pub mod cycle_log;
 pub mod deferral;
 pub mod dispatch_policy;
 pub mod executable;

@@ -175,6 +175,9 @@ pub struct CycleRecord {
     pub repair_us: u64,
     pub act_us: u64,
     pub events: Vec<TraceEvent>,
+    /// Set when this record stands for a run of cycles with no event ([`super::cycle_log`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub idle: Option<super::cycle_log::IdleRun>,
 }
 
 impl TraceEvent {
