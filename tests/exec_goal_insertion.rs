@@ -159,10 +159,15 @@ fn a_failed_insertion_leaves_the_plan_as_it_was_and_says_why() {
     }
     assert_eq!(plan_text(&ex), before);
     assert!(ex.abort().is_none());
-    assert!(ex.goal_fates().iter().any(|f| f.name == "g6"
-        && f.fate == Fate::Rejected
-        && matches!(&f.reason, Some(FateReason::InsertionFailed { failure, .. })
-            if failure.contains("search exhausted"))));
+    assert!(
+        ex.goal_fates().iter().any(|f| f.name == "g6"
+            && f.fate == Fate::Rejected
+            // The executive's bounded search (never worded as a proof), its last dead end the battery.
+            && matches!(&f.reason, Some(FateReason::InsertionFailed { failure, dead_end: Some(d) })
+                if failure.contains("repeated insertions fails") && d.contains("BATTERY"))),
+        "{:?}",
+        ex.goal_fates()
+    );
 }
 
 /// An insertion longer than the cycle in which the upload arrived: the upload is answered "verdict to

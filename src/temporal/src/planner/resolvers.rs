@@ -179,6 +179,15 @@ fn regress_depth(plan: &PartialPlan, c: CondId, task: TaskId) -> u32 {
     }
 }
 
+/// Whether the problem gives `attr` a value anywhere (initially, by a wildcard default, or as a predicted
+/// change): the first value a chain of `from` conditions on it can regress to.
+fn attr_has_a_value(plan: &PartialPlan, attr: crate::model::AttrId) -> bool {
+    let p = &plan.problem;
+    p.initial.iter().any(|f| f.attr == attr)
+        || p.defaults.iter().any(|f| f.attr == attr)
+        || p.exogenous.iter().any(|f| f.fact.attr == attr)
+}
+
 fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Resolver>> {
     let cond = plan.cond(c);
     let b = &plan.bindings;
@@ -204,7 +213,11 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
         // inserting another instance whose own `from` condition is just as open, without end until the
         // horizon runs out: the chain is bounded, and the search deepens the bound when it was hit.
         if regress_depth(plan, c, task) > plan.regress.limit {
-            plan.regress.cut.set(true);
+            // A chain on an attribute with no value in the problem can never reach a first value: the
+            // cut loses no plan, and deepening would only grow the chain (the search would never end).
+            if attr_has_a_value(plan, cond.attr) {
+                plan.regress.cut.set(true);
+            }
             continue;
         }
         for (k, ev) in plan.domain.task(task).events.iter().enumerate() {
