@@ -134,9 +134,8 @@ fn the_time_limit_stops_a_replanning() {
     assert!(frozen.steps() > search.steps());
 }
 
-/// Through `Executive::replan`: the moving clock makes the first attempt stop at l, a goal is rejected.
-#[test]
-fn replan_reports_the_time_limit_and_rejects_a_goal() {
+/// Fig. 2 replanned completely with a clock that moves 10 s each time it is read.
+fn fig2_replanned_on_a_moving_clock() -> Executive {
     let mut ex = fig2();
     let t = Cell::new(0);
     let clock = || {
@@ -145,6 +144,13 @@ fn replan_reports_the_time_limit_and_rejects_a_goal() {
         now
     };
     let _ = ex.replan(&clock, &mut |_| {});
+    ex
+}
+
+/// Through `Executive::replan`: the moving clock makes the first attempt stop at l, a goal is rejected.
+#[test]
+fn replan_reports_the_time_limit_and_rejects_a_goal() {
+    let ex = fig2_replanned_on_a_moving_clock();
     let outcomes: Vec<AttemptEnd> = ex
         .pending_events()
         .iter()
@@ -354,14 +360,7 @@ fn an_unreachable_goal_is_rejected_first_with_why_and_the_others_are_kept() {
 #[test]
 fn between_two_attempts_either_windows_passed_or_one_goal_is_abandoned() {
     use mavtempo::exec::outcome::FateReason;
-    let mut ex = fig2();
-    let t = Cell::new(0);
-    let clock = || {
-        let now = t.get();
-        t.set(now + 10_000);
-        now
-    };
-    let _ = ex.replan(&clock, &mut |_| {});
+    let ex = fig2_replanned_on_a_moving_clock();
     let rec = ex.replannings().last().expect("a replanning record");
     assert!(rec.attempts.len() >= 2, "{:?}", rec.attempts);
     let fates = ex.goal_fates();
