@@ -9,7 +9,7 @@ mod child;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use child::{fig2_sim, lines, wait_line, Reap};
+use child::{fig2_sim, lines, run_on_sim, wait_line, Reap};
 
 const SPEEDUP: &str = "10";
 
@@ -47,15 +47,7 @@ fn fig2_paced_with_a_goal_uploaded_at_100_s_keeps_every_goal() {
     std::fs::write(&plan_file, PICTURE_22M).expect("write the goal file");
     let (_sim, port) = fig2_sim(SPEEDUP);
     let report_path = dir.path().join("run.json");
-    let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args([
-            "run",
-            "--config",
-            "config/sitl-rover.toml",
-            "--speedup",
-            SPEEDUP,
-        ])
-        .args(["--vehicle", &format!("tcpout:127.0.0.1:{port}")])
+    let mut run = run_on_sim(port, SPEEDUP)
         .args(["--gcs", "udpin:127.0.0.1:0"])
         .arg("--report")
         .arg(&report_path)

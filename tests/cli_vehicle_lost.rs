@@ -5,25 +5,17 @@
 #[path = "common/child.rs"]
 mod child;
 
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
-use child::{fig2_sim, lines, wait_line, Reap};
+use child::{fig2_sim, lines, run_on_sim, wait_line, Reap};
 
 #[test]
 fn run_ends_with_a_verdict_when_the_vehicle_vanishes() {
     let dir = tempfile::TempDir::new().expect("temp dir");
     let (mut sim, port) = fig2_sim("10");
     let report_path = dir.path().join("run.json");
-    let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args([
-            "run",
-            "--config",
-            "config/sitl-rover.toml",
-            "--speedup",
-            "10",
-        ])
-        .args(["--vehicle", &format!("tcpout:127.0.0.1:{port}")])
+    let mut run = run_on_sim(port, "10")
         .args(["--link-timeout", "4"])
         .arg("--report")
         .arg(&report_path)

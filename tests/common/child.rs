@@ -109,3 +109,18 @@ pub fn fig2_sim(speedup: &str) -> (Reap, u16) {
         .unwrap_or_else(|| panic!("no port in {first:?}"));
     (reap, port)
 }
+
+/// `mavtempo run` with the built-in SITL rover's configuration, paced at `speedup`, against the simulator on
+/// `port` (callers add the rest: goals, timeouts, report, domain and problem).
+pub fn run_on_sim(port: u16, speedup: &str) -> Command {
+    let mut run = Command::new(env!("CARGO_BIN_EXE_mavtempo"));
+    run.args([
+        "run",
+        "--config",
+        "config/sitl-rover.toml",
+        "--speedup",
+        speedup,
+    ])
+    .args(["--vehicle", &format!("tcpout:127.0.0.1:{port}")]);
+    run
+}
