@@ -40,15 +40,15 @@ pub enum CaptureOutcome {
 pub struct Camera {
     params: CameraParams,
     rng: ChaCha8Rng,
-    /// (due sim ms, image index)
-    pending: Vec<(u64, i32)>,
+    /// (due sim ms, image index, the size an injected fault imposes)
+    pending: Vec<(u64, i32, Option<f64>)>,
     next_index: i32,
     /// Injected failures still to apply.
     pub fail_next: u32,
     /// Injected hangs still to apply: the capture is dropped without an outcome.
     pub hang_next: u32,
-    /// Injected capture times still to apply, in order.
-    pub duration_next: Vec<f64>,
+    /// Injected capture times (and image sizes) still to apply, in order.
+    pub duration_next: Vec<(f64, Option<f64>)>,
     /// A capture hung: the camera says it is capturing until it is asked again.
     hung: bool,
 }
@@ -91,8 +91,8 @@ impl Camera {
     /// Schedules `count` pictures `interval_s` apart; returns their image indices.
     pub fn start(&mut self, now_ms: u64, count: u32, interval_s: f64) -> Vec<i32> {
         self.hung = false;
-        let capture_s = if self.duration_next.is_empty() {
-            self.params.capture_time_s
+        let (capture_s, size) = if self.duration_next.is_empty() {
+            (self.params.capture_time_s, None)
         } else {
             self.duration_next.remove(0)
         };
@@ -107,6 +107,7 @@ impl Camera {
                         .saturating_add(capture_ms)
                         .saturating_add(u64::from(i).saturating_mul(step_ms)),
                     index,
+                    size,
                 ));
                 index
             })
@@ -122,11 +123,12 @@ impl Camera {
                 i += 1;
                 continue;
             }
-            let (_, index) = self.pending.remove(i);
-            // Draw the size even on failure so that a failure does not shift later sizes.
-            let size = self
+            let (_, index, imposed) = self.pending.remove(i);
+            // Draw the size even on failure or when imposed, so that neither shifts later sizes.
+            let drawn = self
                 .rng
                 .gen_range(self.params.size_min_mib..=self.params.size_max_mib);
+            let size = imposed.unwrap_or(drawn);
             if self.hang_next > 0 {
                 self.hang_next -= 1;
                 self.hung = true;
@@ -276,6 +278,35 @@ mod tests {
         assert_eq!(out.len(), 1, "{out:?}");
         assert!(matches!(out[0], CaptureOutcome::Stored { index: 1, .. }));
         assert_eq!(cam.hang_next, 0);
+    }
+
+    #[test]
+    fn an_injected_capture_time_and_size_apply_to_the_next_picture_only() {
+        let p = CameraParams::default();
+        let mut cam = Camera::new(&p, ChaCha8Rng::seed_from_u64(5));
+        let mut st = Storage::empty(&p);
+        cam.duration_next.push((3.0, Some(0.25)));
+        cam.start(0, 1, 1.0);
+        // Not yet due at 2.9 s, done at 3 s with the imposed size.
+        assert!(cam.step(2_900, &mut st).is_empty());
+        let out = cam.step(3_000, &mut st);
+        assert_eq!(
+            out,
+            vec![CaptureOutcome::Stored {
+                index: 0,
+                size_mib: 0.25
+            }]
+        );
+        // The next one is the camera's own again: its capture time, a size within bounds.
+        cam.start(3_000, 1, 1.0);
+        let due = 3_000 + secs_to_ms(p.capture_time_s);
+        assert!(cam.step(due - 1, &mut st).is_empty());
+        match cam.step(due, &mut st).as_slice() {
+            [CaptureOutcome::Stored { size_mib, .. }] => {
+                assert!((p.size_min_mib..=p.size_max_mib).contains(size_mib))
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

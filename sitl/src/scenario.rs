@@ -373,9 +373,12 @@ pub enum Fault {
         count: u32,
     },
     /// The next `count` captures take `capture_time_s` instead of the camera's capture time (a picture
-    /// that ends earlier, or later, than the plan expects).
+    /// that ends earlier, or later, than the plan expects), each storing `size_mib` if given (a capture cut
+    /// short stores a smaller image: seed 1 §5's too-short picture).
     PictureDuration {
         capture_time_s: f64,
+        #[serde(default)]
+        size_mib: Option<f64>,
         #[serde(default = "one")]
         count: u32,
     },
@@ -576,6 +579,11 @@ fn check_fault(f: &FaultSpec) -> Result<(), std::borrow::Cow<'static, str>> {
                 && *capture_time_s < 86_400.0) =>
         {
             Err("picture_duration: capture_time_s must be in [0, 86400[".into())
+        }
+        Fault::PictureDuration {
+            size_mib: Some(m), ..
+        } if !(m.is_finite() && *m >= 0.0) => {
+            Err("picture_duration: size_mib must be finite and >= 0".into())
         }
         Fault::BatteryDrop { percent } if !(0.0..=100.0).contains(percent) => {
             Err("battery_drop: percent must be in [0, 100]".into())

@@ -425,12 +425,13 @@ impl Autopilot {
             Fault::PictureHangs { count } => self.camera.hang_next += count,
             Fault::PictureDuration {
                 capture_time_s,
+                size_mib,
                 count,
             } => {
                 let n = count.min(crate::payload::MAX_PICTURES_PER_REQUEST) as usize;
                 self.camera
                     .duration_next
-                    .extend(std::iter::repeat_n(capture_time_s, n));
+                    .extend(std::iter::repeat_n((capture_time_s, size_mib), n));
             }
             Fault::SlowZone { zone } => self.world.slow.push(Disc::from_zone(&zone, &self.frame)),
             Fault::BatteryDrop { percent } => {

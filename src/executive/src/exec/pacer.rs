@@ -86,7 +86,7 @@ impl<V: Vehicle> Pacer<V> for LivePacer {
     }
 
     fn wait(&mut self, v: &mut V, until: Time) -> Option<VehicleEvent> {
-        v.wait_event(self.wall_left(v, until))
+        self.wait_until(v, until, None)
     }
 
     fn wait_or_interrupt(
@@ -95,27 +95,60 @@ impl<V: Vehicle> Pacer<V> for LivePacer {
         until: Time,
         interrupt: &Interrupt,
     ) -> Option<VehicleEvent> {
-        // In slices: a timestep at 1× is a second or more of wall time, too long to ignore a signal.
-        let deadline = Instant::now() + self.wall_left(v, until);
+        self.wait_until(v, until, Some(interrupt))
+    }
+}
+
+/// How often a live wait looks for an interrupt: a timestep at 1× is a second or more of wall time, too
+/// long to ignore a signal.
+const INTERRUPT_POLL: Duration = Duration::from_millis(50);
+
+/// The shortest wall wait while the vehicle's clock has not reached the wake-up time yet.
+const CLOCK_POLL: Duration = Duration::from_millis(1);
+
+/// How long past the expected wall time a wait holds for a vehicle clock that does not get there.
+const CLOCK_GRACE: Duration = Duration::from_millis(500);
+
+impl LivePacer {
+    /// Returns at the first vehicle event, once mission time reaches `until`, or on an interrupt. Seed 1
+    /// §3.2: the executive wakes when it has something to do. The vehicle's clock moves only when a frame
+    /// carries it, so a wake-up due between two frames waits for the clock to get there rather than cycle
+    /// again at an unchanged time (Dala at 10×: 362 idle cycles at one vehicle time before this loop).
+    fn wait_until<V: Vehicle>(
+        &self,
+        v: &mut V,
+        until: Time,
+        interrupt: Option<&Interrupt>,
+    ) -> Option<VehicleEvent> {
+        // A clock that stops (a vanished vehicle under a pacer that never calls it stale) still gives the
+        // executive its cycle, to notice the silence.
+        let give_up = Instant::now() + self.wall_left(v, until) + CLOCK_GRACE;
         loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            if let Some(e) = v.wait_event(left.min(INTERRUPT_POLL)) {
+            if Pacer::now(self, v) >= until || Instant::now() >= give_up {
+                return None;
+            }
+            let mut slice = self.wall_left(v, until).max(CLOCK_POLL);
+            if interrupt.is_some() {
+                slice = slice.min(INTERRUPT_POLL);
+            }
+            if let Some(e) = v.wait_event(slice) {
                 return Some(e);
             }
-            if interrupt.requested().is_some() || Instant::now() >= deadline {
+            if interrupt.is_some_and(|i| i.requested().is_some()) {
                 return None;
             }
         }
     }
-}
 
-/// How often a live wait looks for an interrupt.
-const INTERRUPT_POLL: Duration = Duration::from_millis(50);
-
-impl LivePacer {
-    /// The wall time until mission time `until`.
+    /// The wall time until mission time `until`, from the vehicle's last clock carried on by the wall time
+    /// since the frame that brought it (mission time itself waits for the next frame).
     fn wall_left<V: Vehicle>(&self, v: &V, until: Time) -> Duration {
-        let left = (until - Pacer::now(self, v)).max(1) as f64 / self.speedup.max(1e-3);
+        let speedup = self.speedup.max(1e-3);
+        let carried = v
+            .clock_age()
+            .map_or(0, |age| (age.as_secs_f64() * 1000.0 * speedup) as u64);
+        let now = since(v.now_ms().saturating_add(carried), self.origin_ms).max(self.last.get());
+        let left = (until - now).max(0) as f64 / speedup;
         Duration::from_micros((left * 1000.0).ceil() as u64)
     }
 }
@@ -187,6 +220,65 @@ mod tests {
         fn clock_age(&self) -> Option<Duration> {
             Some(self.age)
         }
+    }
+
+    /// A vehicle whose clock comes in frames every `frame_ms` of its time, at `speedup`, on a virtual wall
+    /// clock that a wait moves on.
+    struct Framed {
+        wall_us: std::cell::Cell<u64>,
+        frame_ms: u64,
+        speedup: u64,
+        waits: usize,
+    }
+
+    impl Framed {
+        fn true_ms(&self) -> u64 {
+            self.wall_us.get() * self.speedup / 1000
+        }
+    }
+
+    impl Vehicle for Framed {
+        fn start(&mut self, _: ActionStart) -> Result<(), VehicleError> {
+            Ok(())
+        }
+        fn stop(&mut self, _: ActionId) -> Result<(), VehicleError> {
+            Ok(())
+        }
+        fn try_event(&mut self) -> Option<VehicleEvent> {
+            None
+        }
+        fn wait_event(&mut self, timeout: Duration) -> Option<VehicleEvent> {
+            self.waits += 1;
+            self.wall_us
+                .set(self.wall_us.get() + timeout.as_micros() as u64);
+            None
+        }
+        fn now_ms(&self) -> u64 {
+            self.true_ms() / self.frame_ms * self.frame_ms
+        }
+        fn clock_age(&self) -> Option<Duration> {
+            let behind_ms = self.true_ms() - self.now_ms();
+            Some(Duration::from_micros(behind_ms * 1000 / self.speedup))
+        }
+    }
+
+    #[test]
+    fn a_wake_up_between_two_clock_frames_waits_for_the_clock_to_get_there() {
+        // Frames every second of vehicle time at 10x; the executive wants to wake 1 ms after the last frame.
+        let mut v = Framed {
+            wall_us: std::cell::Cell::new(5_000_000),
+            frame_ms: 1000,
+            speedup: 10,
+            waits: 0,
+        };
+        let mut p = LivePacer::new(0, 10.0, Duration::from_secs(3));
+        let now = Pacer::now(&p, &v);
+        assert_eq!(now, 50_000);
+        assert!(Pacer::wait(&mut p, &mut v, now + 1).is_none());
+        // Back only once the vehicle's clock moved past the wake-up time, at the next frame: 100 ms of wall
+        // time polled in CLOCK_POLL slices, no executive cycle in between.
+        assert_eq!(Pacer::now(&p, &v), 51_000);
+        assert!(v.waits <= 101, "{} waits", v.waits);
     }
 
     #[test]
