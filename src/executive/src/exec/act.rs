@@ -40,7 +40,7 @@ impl Executive {
         // never create one, so this set stays a (conservative) superset while ExecTPs is recomputed.
         let flawed = flawed_actions(&mut self.plan);
         loop {
-            let running: Vec<ActionId> = self.started.keys().copied().collect();
+            let running = self.dispatched.started_actions();
             let mut executed = false;
             let pt = classify(&self.plan, now);
             // The starts due now: each is weighed against the running actions and the others due now.
@@ -77,7 +77,7 @@ impl Executive {
             }
             for &a in &running {
                 let act = self.plan.action(a);
-                if act.removed || self.plan.is_executed(act.end) || self.stop_sent.contains(&a) {
+                if act.removed || self.plan.is_executed(act.end) || self.dispatched.is_stopping(a) {
                     continue;
                 }
                 let pre = self.plan.domain().task(act.task).preemption;
@@ -175,8 +175,7 @@ impl Executive {
             self.abort.get_or_insert(reason);
             return false;
         }
-        let vid = self.next_vid;
-        self.next_vid += 1;
+        let vid = self.dispatched.new_id();
         let cmd = self.start_command(a, vid);
         let action = self.action_text(a);
         let started = if self.must_end_still(a) {
@@ -199,8 +198,7 @@ impl Executive {
             });
             return false;
         }
-        self.started.insert(a, vid);
-        self.by_vid.insert(vid, a);
+        self.dispatched.started(a, vid);
         self.counters.launches += 1;
         let inst = super::failures::Instance::of(&self.plan, a);
         self.failures.launched(inst, now);
@@ -240,16 +238,16 @@ impl Executive {
     }
 
     pub fn stop(&mut self, vehicle: &mut dyn Vehicle, a: ActionId) {
-        let Some(&vid) = self.started.get(&a) else {
+        let Some(vid) = self.dispatched.id_of(a) else {
             return;
         };
-        if self.stop_sent.contains(&a) {
+        if self.dispatched.is_stopping(a) {
             return;
         }
         let action = self.action_text(a);
         match vehicle.stop(vid) {
             Ok(()) => {
-                self.stop_sent.push(a);
+                self.dispatched.stop_sent(a);
                 self.trace(TraceEvent::Stop { action, vid });
             }
             Err(e) => tracing::warn!(%action, "stop refused: {e}"),
@@ -270,7 +268,7 @@ impl Executive {
                 .find(|&(tp, _)| !stn.is_executed(tp) && stn.ub(tp) < now);
             if let Some((_, what)) = late_tp {
                 late = Some(format!("{what} of {}", self.action_text(a)));
-                if what == "end" && self.started.contains_key(&a) {
+                if what == "end" && self.dispatched.is_started(a) {
                     no_report.push(a);
                 }
             }

@@ -65,7 +65,7 @@ impl Executive {
             // those run to their end; a vehicle must not go on doing what no plan accounts for;
             // docs/departures.md). The abort and its stops are
             // this cycle's events.
-            let running: Vec<_> = self.started.keys().copied().collect();
+            let running = self.dispatched.started_actions();
             for a in running {
                 let act = self.plan.action(a);
                 if !act.removed && !self.plan.is_executed(act.end) {

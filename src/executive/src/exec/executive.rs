@@ -79,16 +79,12 @@ pub struct Executive {
     pub(crate) past: Vec<(f64, f64)>,
     /// LgcS_t.
     pub(crate) state: State,
-    /// Started actions and their `i_a`.
-    pub(crate) started: BTreeMap<ActionId, u64>,
-    pub(crate) by_vid: BTreeMap<u64, ActionId>,
-    /// Preemptive actions an `END i_a` was sent to.
-    pub(crate) stop_sent: Vec<ActionId>,
+    /// Started actions, their `i_a`, and those an `END i_a` was sent to.
+    pub(crate) dispatched: super::dispatched::Dispatched,
     /// The vehicle time (ms) of the plan's origin: report times are converted with it.
     pub(crate) vehicle_origin_ms: u64,
     /// Interruptions requested by message integration (sent in the act part).
     pub(crate) interrupt: Vec<ActionId>,
-    pub(crate) next_vid: u64,
     pub(crate) repair: Option<Repair>,
     /// Plan repair requested by message integration.
     pub(crate) repair_requested: bool,
@@ -176,12 +172,9 @@ impl Executive {
             hierarchy,
             past,
             state: State::default(),
-            started: BTreeMap::new(),
-            by_vid: BTreeMap::new(),
-            stop_sent: Vec::new(),
+            dispatched: Default::default(),
             vehicle_origin_ms: 0,
             interrupt: Vec::new(),
-            next_vid: 1,
             repair: None,
             repair_requested: false,
             abort: None,
@@ -424,7 +417,7 @@ impl Executive {
 
     /// Whether action `a` was started (`START` sent) and is still remembered as such.
     pub fn has_started(&self, a: ActionId) -> bool {
-        self.started.contains_key(&a)
+        self.dispatched.is_started(a)
     }
 
     /// The names of the new goals waiting for, or in, their insertion attempt, in the order they are tried.

@@ -444,9 +444,9 @@ fn collect_stop_reports<V: Vehicle>(
         |pacer: &dyn Pacer<V>, v: &V| std::time::Instant::now() < deadline && pacer.now(v) < until;
     let mut kept = VecDeque::new();
     let outstanding = |ex: &Executive| {
-        ex.stop_sent
-            .iter()
-            .any(|a| ex.started.contains_key(a) && !ex.plan.is_executed(ex.plan.action(*a).end))
+        ex.dispatched
+            .stopping()
+            .any(|a| !ex.plan.is_executed(ex.plan.action(a).end))
     };
     let mut held = std::mem::take(&mut v.held);
     loop {
@@ -462,7 +462,7 @@ fn collect_stop_reports<V: Vehicle>(
             continue;
         };
         match e {
-            VehicleEvent::Report(r) if ex.by_vid.contains_key(&r.id) => {
+            VehicleEvent::Report(r) if ex.dispatched.action_of(r.id).is_some() => {
                 let t = pacer.now(v.inner);
                 ex.integrate(VehicleEvent::Report(r), t);
             }

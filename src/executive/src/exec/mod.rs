@@ -43,6 +43,7 @@ pub mod cycle;
 pub mod cycle_log;
 pub mod deferral;
 pub mod dispatch_policy;
+mod dispatched;
 pub mod executable;
 pub mod executive;
 pub mod failures;

@@ -610,10 +610,8 @@ impl Executive {
     /// Adopts a plan from complete replanning: running actions are forgotten (P_ts has none).
     pub fn adopt(&mut self, plan: PartialPlan) {
         self.plan = plan;
-        self.started.clear();
         // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
-        self.by_vid.clear();
-        self.stop_sent.clear();
+        self.dispatched.forget_plan();
         self.repair = None;
         self.repair_episode_steps = 0;
         self.repair_requested = false;

@@ -58,7 +58,7 @@ impl Executive {
 
     /// Report upon an action's completion: its time, then the levels, then (not nominal) the state.
     fn integrate_report(&mut self, r: ActionReport, now: Time) {
-        let Some(&a) = self.by_vid.get(&r.id) else {
+        let Some(a) = self.dispatched.action_of(r.id) else {
             tracing::warn!(id = r.id, "report for an unknown action ignored");
             return;
         };
@@ -108,7 +108,7 @@ impl Executive {
         for l in &r.resources {
             self.integrate_level(l, t);
         }
-        self.stop_sent.retain(|&x| x != a);
+        self.dispatched.reported(a);
         for p in remove_past(&mut self.plan, t) {
             fold_removed(&self.plan, p, &mut self.past);
         }

@@ -380,7 +380,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
             for ra in threats {
                 let pre = ex.plan.domain().task(ex.plan.action(ra).task).preemption;
                 let name = ex.action_text(ra);
-                if pre != Preemption::NonPreemptive && !ex.stop_sent.contains(&ra) {
+                if pre != Preemption::NonPreemptive && !ex.dispatched.is_stopping(ra) {
                     ex.trace(TraceEvent::Interrupt {
                         action: name,
                         reason: format!("reported {var} threatens it"),
