@@ -167,12 +167,11 @@ impl Executive {
         if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
             self.action_failed(a, &format!("cannot be instantiated ({e})"), now);
             let action = self.action_text(a);
-            self.abort
-                .get_or_insert(AbortReason::CannotInstantiate { action, error: e });
+            self.abort_with(AbortReason::CannotInstantiate { action, error: e });
             return false;
         }
         if let Some(reason) = self.launch_banned(a) {
-            self.abort.get_or_insert(reason);
+            self.abort_with(reason);
             return false;
         }
         let vid = self.dispatched.new_id();
@@ -185,14 +184,14 @@ impl Executive {
         };
         if let Err(e) = started {
             self.action_failed(a, &format!("refused by the vehicle ({e})"), now);
-            self.abort.get_or_insert_with(|| AbortReason::StartRefused {
+            self.abort_with(AbortReason::StartRefused {
                 action,
                 error: e.to_string(),
             });
             return false;
         }
         if let Err(e) = self.plan.execute_at(st, now) {
-            self.abort = Some(AbortReason::StartInconsistent {
+            self.abort_with(AbortReason::StartInconsistent {
                 action,
                 error: e.to_string(),
             });
@@ -289,7 +288,7 @@ impl Executive {
             self.trace(TraceEvent::Timeout {
                 timepoint: timepoint.clone(),
             });
-            self.abort = Some(AbortReason::Timeout { timepoint });
+            self.abort_with(AbortReason::Timeout { timepoint });
         }
     }
 }

@@ -56,7 +56,7 @@ impl Executive {
                 if let Some(p) = position {
                     self.start_from(p, radius_m, now);
                 }
-                self.abort = Some(AbortReason::ControlReturned { how });
+                self.abort_with(AbortReason::ControlReturned { how });
             }
         }
     }

@@ -453,9 +453,14 @@ impl Executive {
         self.vehicle_origin_ms = ms;
     }
 
-    /// Aborts execution from outside the cycle (the next [`Self::replan`] says why).
+    /// The plan is not executable any more: this cycle aborts and a complete replanning follows (§3.6; the
+    /// next [`Self::replan`] says why). The only way to abort, inside the cycle or from outside it. The first
+    /// reason is kept: what follows it before the replanning (a timeout, a failed repair) is its
+    /// consequence, not its cause.
     pub fn abort_with(&mut self, reason: AbortReason) {
-        self.abort = Some(reason);
+        if self.abort.is_none() {
+            self.abort = Some(reason);
+        }
     }
 
     /// A value known from outside the messages (e.g. a state restored at start) enters LgcS_t at `t`.

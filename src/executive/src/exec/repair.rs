@@ -129,7 +129,7 @@ impl Executive {
                 Ok(r) => r,
                 Err(e) => {
                     let reason = AbortReason::from(e);
-                    self.abort = Some(reason.clone());
+                    self.abort_with(reason.clone());
                     return RepairOutcome::Failed(reason);
                 }
             };
@@ -182,7 +182,7 @@ impl Executive {
             };
             self.repair = None;
             self.repair_episode_steps = 0;
-            self.abort = Some(reason.clone());
+            self.abort_with(reason.clone());
             return RepairOutcome::Failed(reason);
         }
         match outcome {
@@ -212,7 +212,7 @@ impl Executive {
                     failure: r.to_string(),
                     dead_end,
                 };
-                self.abort = Some(reason.clone());
+                self.abort_with(reason.clone());
                 RepairOutcome::Failed(reason)
             }
             _ => {

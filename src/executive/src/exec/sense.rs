@@ -40,11 +40,9 @@ impl Executive {
                     outcome,
                 });
                 match outcome {
-                    CapacityOutcome::Abort => {
-                        self.abort = Some(AbortReason::CapacityAltered {
-                            resource: c.resource.clone(),
-                        })
-                    }
+                    CapacityOutcome::Abort => self.abort_with(AbortReason::CapacityAltered {
+                        resource: c.resource.clone(),
+                    }),
                     CapacityOutcome::Repair => self.repair_requested = true,
                     CapacityOutcome::Nothing => {}
                 }
@@ -91,11 +89,11 @@ impl Executive {
             Ok(true) => {}
             Ok(false) => {
                 integrate_late_state(self, a, &r, t);
-                self.abort = Some(AbortReason::ReportTooLate { action: name });
+                self.abort_with(AbortReason::ReportTooLate { action: name });
                 return;
             }
             Err(e) => {
-                self.abort = Some(AbortReason::ReportInconsistent {
+                self.abort_with(AbortReason::ReportInconsistent {
                     action: name,
                     error: e.to_string(),
                 });
@@ -165,7 +163,7 @@ impl Executive {
         if u.check_executable {
             let flawed = flawed_actions(&mut self.plan);
             if !plan_executable(&running, &flawed) {
-                self.abort = Some(AbortReason::LevelOutOfBounds {
+                self.abort_with(AbortReason::LevelOutOfBounds {
                     resource: l.resource.clone(),
                     level: l.level,
                 });

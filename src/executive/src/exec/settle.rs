@@ -35,9 +35,7 @@ impl Executive {
         }
         // The plan (repaired) would insert the same instance again: a complete replanning, which does not
         // adopt a plan needing it, settles the rest.
-        if self.abort.is_none() {
-            self.abort = Some(AbortReason::InstanceBanned { ban: reason });
-        }
+        self.abort_with(AbortReason::InstanceBanned { ban: reason });
     }
 
     /// A nominal completion of action `a`.
@@ -97,9 +95,7 @@ impl Executive {
         for g in goals {
             self.reject_goal(g, FateReason::PlanChurn(churn.clone()));
         }
-        if self.abort.is_none() {
-            self.abort = Some(AbortReason::PlanChurn(churn));
-        }
+        self.abort_with(AbortReason::PlanChurn(churn));
     }
 
     /// A plan from complete replanning that needs a banned instance: first, the instances it may still
