@@ -53,7 +53,7 @@ pub fn classify(plan: &PartialPlan, t: Time) -> Actions {
 
 /// "Past actions do not belong to the plan anymore": removes the actions whose both timepoints are executed
 /// at or before t. Their events stay in the plan (the state S_t is read from executed events); their
-/// resource usages are folded into `past_levels` by the caller (see [`super::resource_bounds`]).
+/// resource usages are folded into `past_levels` with it (`Executive::drop_past`, [`super::resource_bounds`]).
 /// Returns the removed actions.
 pub fn remove_past(plan: &mut PartialPlan, t: Time) -> Vec<ActionId> {
     let past: Vec<ActionId> = plan

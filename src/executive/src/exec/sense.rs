@@ -107,10 +107,16 @@ impl Executive {
             self.integrate_level(l, t);
         }
         self.dispatched.reported(a);
+        self.drop_past(t);
+        self.state.refresh(&self.plan, t);
+    }
+
+    /// The actions wholly in the past at `t` leave the plan (P_t's past part), their resource usages folded
+    /// into the aggregated past level: the two go together, or the levels forget what those actions did.
+    pub(crate) fn drop_past(&mut self, t: Time) {
         for p in remove_past(&mut self.plan, t) {
             fold_removed(&self.plan, p, &mut self.past);
         }
-        self.state.refresh(&self.plan, t);
     }
 
     /// A resource level: compared with `[RscL_lb, RscL_ub]` and adjusted (resource_report).
@@ -121,9 +127,7 @@ impl Executive {
         if let Some(slot) = self.last_reported.get_mut(r.index()) {
             *slot = Some((t, l.level));
         }
-        for p in remove_past(&mut self.plan, t) {
-            fold_removed(&self.plan, p, &mut self.past);
-        }
+        self.drop_past(t);
         let running = classify(&self.plan, t).running;
         let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
         let kind = self.plan.domain().resource(r).kind;
