@@ -227,8 +227,10 @@ impl Executive {
         for tp in tps {
             let at = self.plan.earliest(tp);
             if at <= now {
-                if let Err(e) = self.plan.execute_at(tp, at) {
-                    tracing::warn!("timed fact at {at} ms: {e}");
+                match self.plan.execute_at(tp, at) {
+                    // A timepoint executed: the repair in progress restarts from the plan as it is (§3.2).
+                    Ok(()) => self.mark_changed(),
+                    Err(e) => tracing::warn!("timed fact at {at} ms: {e}"),
                 }
             } else if next.is_none_or(|n| at < n) {
                 *next = Some(at);
