@@ -15,6 +15,7 @@ mod groups;
 pub mod http_arg;
 mod json_out;
 mod mission_out;
+mod nominal_world;
 pub mod out;
 mod plan;
 mod plan_pddl;
