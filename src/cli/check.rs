@@ -1,5 +1,6 @@
 //! `mavtempo check FILE...`: validates domain and problem files. A problem is checked against the domain of
 //! the same name given on the command line, else the one its `domain NAME;` header names beside it.
+//! `mavtempo check DOMAIN.pddl [PROBLEM.pddl...]`: PDDL, read as `plan` reads it ([`super::check_pddl`]).
 //! `mavtempo check --config FILE DOMAIN [PROBLEM]`: checks a vehicle configuration against its domain (and
 //! problem), printing every mismatch ([`crate::vehicle::config_check`]).
 
@@ -22,7 +23,8 @@ pub struct CheckArgs {
     /// then FILES are `DOMAIN [PROBLEM]`.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// Domain and problem files (e.g. `domains/*/*.ixt domains/*/problems/*`).
+    /// Domain and problem files (e.g. `domains/*/*.ixt domains/*/problems/*`), or a PDDL domain then its
+    /// problems (`domain.pddl p1.pddl p2.pddl`).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
 }
@@ -36,6 +38,13 @@ pub fn run(args: CheckArgs) -> ExitCode {
                 ExitCode::FAILURE
             }
         };
+    }
+    if args.files.iter().any(|f| crate::pddl::is_pddl(f)) {
+        if !args.files.iter().all(|f| crate::pddl::is_pddl(f)) {
+            eprintln!("check: PDDL files are checked as DOMAIN.pddl [PROBLEM.pddl...], without native files");
+            return ExitCode::FAILURE;
+        }
+        return super::check_pddl::run(&args.files);
     }
     let mut failed = false;
     let mut kinds = Vec::new();

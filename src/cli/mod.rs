@@ -5,6 +5,7 @@ mod bench_cpu;
 mod bench_ipc;
 mod bench_suite;
 mod check;
+mod check_pddl;
 pub mod demo;
 mod dispatch_arg;
 pub mod error;
