@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use super::bench::BenchArgs;
+use super::bench::IpcArgs;
 use crate::cli::out::outln;
 use crate::pddl;
 use crate::planner::Budget;
@@ -50,7 +50,7 @@ fn folder(domain: &str, variant: &str) -> String {
     }
 }
 
-pub fn run(args: &BenchArgs) -> ExitCode {
+pub fn run(args: &IpcArgs) -> ExitCode {
     let dir = args
         .dir
         .clone()
@@ -165,7 +165,7 @@ fn one(
     i: u32,
     domain: &Path,
     problem: &Path,
-    args: &BenchArgs,
+    args: &IpcArgs,
     folder: &str,
 ) -> Row {
     let mut row = Row {

@@ -3,12 +3,12 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
-use super::bench::BenchArgs;
+use super::bench::SuiteArgs;
 use crate::bench::suite::generate::{Mission, SuiteDomain};
 use crate::bench::suite::{self, pddl, SuiteOptions, SuiteRun};
 use crate::cli::out::outln;
 
-pub fn run(args: &BenchArgs) -> ExitCode {
+pub fn run(args: &SuiteArgs) -> ExitCode {
     let domain = match args.domain.as_deref() {
         None => None,
         Some("rover") => Some(SuiteDomain::Rover),
