@@ -154,8 +154,8 @@ fn the_reference_has_every_key_the_code_accepts_and_no_other() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
-/// The walk sees a key left out, at every depth: the top level, a table, a map keyed by an enum,
-/// an inline table, the actions, the executive.
+/// The walk sees a key left out, at every depth: the top level, a table, a map keyed by an enum, the
+/// actions, the executive.
 #[test]
 fn a_key_left_out_of_the_reference_is_found() {
     let doc = documented();

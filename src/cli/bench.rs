@@ -133,7 +133,7 @@ pub(super) fn show<T: serde::Serialize, E: std::fmt::Display>(
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("{what}: {e}");
+            crate::cli::out::errln!("{what}: {e}");
             ExitCode::FAILURE
         }
     }

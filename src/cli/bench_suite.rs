@@ -15,12 +15,14 @@ pub fn run(args: &SuiteArgs) -> ExitCode {
         Some("auv") => Some(SuiteDomain::Auv),
         Some("shopping") => Some(SuiteDomain::Shopping),
         Some(other) => {
-            eprintln!("bench suite: unknown domain `{other}` (rover, auv or shopping)");
+            crate::cli::out::errln!(
+                "bench suite: unknown domain `{other}` (rover, auv or shopping)"
+            );
             return ExitCode::FAILURE;
         }
     };
     if !(args.time_limit.is_finite() && args.time_limit > 0.0) {
-        eprintln!("bench suite: --time-limit must be a positive number of seconds");
+        crate::cli::out::errln!("bench suite: --time-limit must be a positive number of seconds");
         return ExitCode::FAILURE;
     }
     let opts = SuiteOptions {
@@ -56,7 +58,7 @@ pub fn run(args: &SuiteArgs) -> ExitCode {
                 outln!("{line}");
             }
         } else if !r.solved {
-            eprintln!(
+            crate::cli::out::errln!(
                 "  {} n={} seed={}: {}",
                 r.domain.name(),
                 r.size,
@@ -68,12 +70,12 @@ pub fn run(args: &SuiteArgs) -> ExitCode {
     let sizes = match suite::run(std::path::Path::new("domains"), &opts, &mut each) {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("bench suite: {e}");
+            crate::cli::out::errln!("bench suite: {e}");
             return ExitCode::FAILURE;
         }
     };
     if let Some(e) = write_error {
-        eprintln!("bench suite: cannot write a problem: {e}");
+        crate::cli::out::errln!("bench suite: cannot write a problem: {e}");
         return ExitCode::FAILURE;
     }
     for s in &sizes {

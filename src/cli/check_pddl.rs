@@ -20,7 +20,7 @@ pub fn run(files: &[PathBuf]) -> ExitCode {
     let (ds, d) = match domain {
         Ok(loaded) => loaded,
         Err(e) => {
-            eprintln!("{e}");
+            crate::cli::out::errln!("{e}");
             return ExitCode::FAILURE;
         }
     };
@@ -37,7 +37,7 @@ pub fn run(files: &[PathBuf]) -> ExitCode {
         match check_problem(&ds, &d, path) {
             Ok(line) => outln!("{line}"),
             Err(e) => {
-                eprintln!("{e}");
+                crate::cli::out::errln!("{e}");
                 failed = true;
             }
         }
@@ -59,7 +59,7 @@ fn check_problem(
     let p = pddl::parse_problem(&ps)?;
     let t = pddl::translate(ds, d, &ps, &p)?;
     for n in &t.notes {
-        eprintln!("{}: note: {n}", path.display());
+        crate::cli::out::errln!("{}: note: {n}", path.display());
     }
     Ok(format!(
         "{}: ok (PDDL problem {} for {}: {} objects, {} goals; translated to {} tasks)",

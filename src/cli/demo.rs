@@ -47,7 +47,7 @@ pub struct DemoArgs {
     /// executive's clock, as fast as the machine goes (deterministic).
     #[arg(long)]
     pub speedup: Option<f64>,
-    /// A problem instead of the built-in Fig. 2 (domains/rover/problems/fig2.ixt).
+    /// A problem instead of the built-in rover story (domains/rover/problems/fig2.ixt).
     #[arg(long)]
     pub problem: Option<PathBuf>,
     /// The problem's domain (default: the built-in rover domain, domains/rover/rover.ixt).
@@ -56,7 +56,7 @@ pub struct DemoArgs {
     /// The vehicle configuration (default: the built-in config/demo-rover.toml).
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// The SITL scenario (faults, world). Default: Fig. 2's for the built-in problem; for `--problem
+    /// The SITL scenario (faults, world). Default: sitl/scenarios/fig2.toml for the built-in problem; for `--problem
     /// P.ixt`, sitl/scenarios/P.toml when it exists, else a nominal world without faults whose card,
     /// pictures, capture time, speed and battery follow the domain and the configuration.
     #[arg(long)]
@@ -64,7 +64,7 @@ pub struct DemoArgs {
     /// The simulated vehicle: rover or auv.
     #[arg(long, default_value = "rover")]
     pub vehicle: sitl::VehicleKind,
-    /// Do not upload g6 and g7 during the download (only the built-in Fig. 2 story uploads them).
+    /// Do not upload the two new picture goals during the first download (only the built-in story uploads them).
     #[arg(long)]
     pub no_upload: bool,
     /// A ground station also uploads the goals of this `.plan`/`.waypoints` file, at `--upload-at`.
@@ -86,13 +86,13 @@ pub struct DemoArgs {
 
 pub fn run(args: DemoArgs) -> ExitCode {
     if let Err(e) = args.out.check_writable() {
-        eprintln!("mavtempo demo: {e}");
+        crate::cli::out::errln!("mavtempo demo: {e}");
         return ExitCode::FAILURE;
     }
     let interrupt = match super::shutdown::listen() {
         Ok(s) => s.interrupt,
         Err(e) => {
-            eprintln!("mavtempo demo: {e}");
+            crate::cli::out::errln!("mavtempo demo: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -138,7 +138,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
             }
             print_summary(&run.report);
             if let Err(e) = args.out.write(&run.report, "mavtempo demo") {
-                eprintln!("mavtempo demo: {e}");
+                crate::cli::out::errln!("mavtempo demo: {e}");
                 return ExitCode::FAILURE;
             }
             if let Some(hold) = run.hold {
@@ -154,7 +154,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
             }
         }
         Err(e) => {
-            eprintln!("mavtempo demo: {e}");
+            crate::cli::out::errln!("mavtempo demo: {e}");
             super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
         }
     }

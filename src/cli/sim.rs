@@ -37,7 +37,7 @@ pub fn run(args: SimArgs) -> ExitCode {
     match configure(&args) {
         Ok(config) => serve(config),
         Err(e) => {
-            eprintln!("mavtempo sim: {e}");
+            crate::cli::out::errln!("mavtempo sim: {e}");
             ExitCode::from(2)
         }
     }
@@ -70,7 +70,7 @@ fn serve(config: sitl::SimConfig) -> ExitCode {
     let rt = match super::runtime::multi_thread(None, "cannot start the runtime") {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("mavtempo sim: {e}");
+            crate::cli::out::errln!("mavtempo sim: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -78,7 +78,7 @@ fn serve(config: sitl::SimConfig) -> ExitCode {
         let sim = match sitl::spawn(config).await {
             Ok(sim) => sim,
             Err(e) => {
-                eprintln!("mavtempo sim: {e}");
+                crate::cli::out::errln!("mavtempo sim: {e}");
                 return ExitCode::FAILURE;
             }
         };
