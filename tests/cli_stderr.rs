@@ -28,6 +28,28 @@ fn stderr_of(cmd: &mut Command) -> (std::process::ExitStatus, String) {
     (status, std::fs::read_to_string(&path).unwrap_or_default())
 }
 
+/// The first-mission template with a home 961 m from the configuration's (a warning at start), in `dir`.
+fn far_home_problem(dir: &std::path::Path) -> std::path::PathBuf {
+    let far = dir.join("far.ixt");
+    let text = std::fs::read_to_string("domains/vehicle/problems/first.ixt").expect("template");
+    std::fs::write(
+        &far,
+        text.replace("horizon 15min;", "horizon 15min;\nhome lat 43.57 lon 1.48;"),
+    )
+    .expect("write");
+    far
+}
+
+/// `demo` of `problem` on the generic vehicle, stdout dropped.
+fn demo(problem: &std::path::Path) -> Command {
+    let mut cmd = mavtempo();
+    cmd.args(["demo", "--quiet", "--domain", "domains/vehicle/vehicle.ixt"])
+        .args(["--config", "config/sitl-vehicle.toml", "--problem"])
+        .arg(problem)
+        .stdout(Stdio::null());
+    cmd
+}
+
 #[test]
 fn a_closed_stderr_does_not_panic() {
     let dir = tempfile::TempDir::new().expect("temp dir");
@@ -44,18 +66,7 @@ fn a_closed_stderr_does_not_panic() {
         .expect("runs");
     assert_eq!(status.code(), Some(1));
     // Warnings on stderr while a mission runs: the mission ends normally.
-    let far = dir.path().join("far.ixt");
-    let text = std::fs::read_to_string("domains/vehicle/problems/first.ixt").expect("template");
-    std::fs::write(
-        &far,
-        text.replace("horizon 15min;", "horizon 15min;\nhome lat 43.57 lon 1.48;"),
-    )
-    .expect("write");
-    let status = mavtempo()
-        .args(["demo", "--quiet", "--domain", "domains/vehicle/vehicle.ixt"])
-        .args(["--config", "config/sitl-vehicle.toml", "--problem"])
-        .arg(&far)
-        .stdout(Stdio::null())
+    let status = demo(&far_home_problem(dir.path()))
         .stderr(closed_stderr())
         .status()
         .expect("runs");
@@ -66,19 +77,7 @@ fn a_closed_stderr_does_not_panic() {
 #[test]
 fn a_warning_is_one_plain_line() {
     let dir = tempfile::TempDir::new().expect("temp dir");
-    let far = dir.path().join("far.ixt");
-    let text = std::fs::read_to_string("domains/vehicle/problems/first.ixt").expect("template");
-    std::fs::write(
-        &far,
-        text.replace("horizon 15min;", "horizon 15min;\nhome lat 43.57 lon 1.48;"),
-    )
-    .expect("write");
-    let (status, err) = stderr_of(
-        mavtempo()
-            .args(["demo", "--quiet", "--domain", "domains/vehicle/vehicle.ixt"])
-            .args(["--config", "config/sitl-vehicle.toml", "--problem"])
-            .arg(&far),
-    );
+    let (status, err) = stderr_of(&mut demo(&far_home_problem(dir.path())));
     assert!(status.success(), "{err}");
     let home: Vec<&str> = err.lines().filter(|l| l.contains("home:")).collect();
     assert_eq!(home.len(), 1, "{err}");

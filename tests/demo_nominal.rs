@@ -4,29 +4,18 @@
 //! user would read it.
 
 use std::path::Path;
-use std::process::Command;
+
+#[path = "common/demo_report.rs"]
+mod demo_report;
+use demo_report::events;
 
 fn demo(args: &[&str], problem: &Path) -> serde_json::Value {
-    let dir = tempfile::TempDir::new().expect("temp dir");
-    let report = dir.path().join("report.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["demo", "--quiet", "--no-upload"])
-        .args(args)
-        .arg("--problem")
-        .arg(problem)
-        .arg("--report")
-        .arg(&report)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let problem = problem.to_str().expect("UTF-8 path");
+    let mut all = vec!["--quiet", "--no-upload", "--problem", problem];
+    all.extend_from_slice(args);
+    let (stdout, report) = demo_report::demo_with_report(&all);
     assert!(stdout.contains("nominal world"), "{stdout}");
-    let text = std::fs::read_to_string(&report).expect("report written");
-    serde_json::from_str(&text).expect("JSON")
+    report
 }
 
 fn assert_clean(report: &serde_json::Value, goals: usize) {
@@ -42,11 +31,8 @@ fn assert_clean(report: &serde_json::Value, goals: usize) {
         .filter_map(|g| g["fate"].as_str())
         .collect();
     assert_eq!(fates, vec!["achieved"; goals]);
-    let reports: Vec<&serde_json::Value> = report["cycles"]
-        .as_array()
-        .expect("cycles")
-        .iter()
-        .flat_map(|c| c["events"].as_array().into_iter().flatten())
+    let reports: Vec<serde_json::Value> = events(report)
+        .into_iter()
         .filter(|e| e["kind"] == "report")
         .collect();
     assert!(!reports.is_empty());
@@ -68,12 +54,8 @@ fn the_first_mission_runs_clean_on_the_nominal_world() {
         Path::new("domains/vehicle/problems/first.ixt"),
     );
     assert_clean(&report, 4);
-    for c in report["cycles"].as_array().expect("cycles") {
-        for e in c["events"].as_array().into_iter().flatten() {
-            if e["kind"] == "report" {
-                assert_eq!(e["timing"], "InBounds", "{e}");
-            }
-        }
+    for e in events(&report).iter().filter(|e| e["kind"] == "report") {
+        assert_eq!(e["timing"], "InBounds", "{e}");
     }
 }
 
