@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs every shell command of the README's ```sh blocks, as a newcomer would type them, from the repository
-# root. A line ending in `&` runs in the background until the next command ends. Commands CI runs in a
+# Runs every shell command of the ```sh blocks of the README and of the guides (GUIDES below), as a newcomer
+# would type them, in order, from the repository root. A line ending in `&` runs in the background until the next command ends. Commands CI runs in a
 # step of its own, or that need what CI has not (a second terminal, a ground station), are listed as
 # skipped with why. Fails at the first command that fails.
 set -euo pipefail
@@ -33,8 +33,12 @@ commands() {
     }' "$1"
 }
 
+# The guides a newcomer follows command by command.
+GUIDES=(docs/first-mission.md)
+
 bg=""
-cleanup() { [ -n "$bg" ] && kill "$bg" 2>/dev/null || true; rm -f my.ixt; }
+# What the commands leave in the working tree (the first-mission guide's copy, report and pictures).
+cleanup() { [ -n "$bg" ] && kill "$bg" 2>/dev/null || true; rm -rf my.ixt my-report.json my-report; }
 trap cleanup EXIT
 
 while IFS= read -r cmd; do
@@ -57,5 +61,5 @@ while IFS= read -r cmd; do
     exit 1
   }
   if [ -n "$bg" ]; then kill "$bg" 2>/dev/null || true; wait "$bg" 2>/dev/null || true; bg=""; fi
-done < <(commands README.md)
-echo "README commands: ok"
+done < <(for f in README.md "${GUIDES[@]}"; do commands "$f"; done)
+echo "README and guide commands: ok"

@@ -5,36 +5,21 @@
 
 use std::process::Command;
 
-fn events(report: &serde_json::Value) -> Vec<serde_json::Value> {
-    report["cycles"]
-        .as_array()
-        .expect("cycles")
-        .iter()
-        .flat_map(|c| c["events"].as_array().cloned().unwrap_or_default())
-        .collect()
-}
+#[path = "common/demo_report.rs"]
+mod demo_report;
+use demo_report::{demo_with_report, events};
 
 #[test]
 fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
-    let dir = tempfile::TempDir::new().expect("temp dir");
-    let report_path = dir.path().join("report.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["demo", "--quiet", "--no-upload", "--problem"])
-        .arg("tests/fixtures/exec/rover_two.ixt")
-        .args(["--scenario", "sitl/scenarios/fig2.toml"])
-        .arg("--report")
-        .arg(&report_path)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (stdout, report) = demo_with_report(&[
+        "--quiet",
+        "--no-upload",
+        "--problem",
+        "tests/fixtures/exec/rover_two.ixt",
+        "--scenario",
+        "sitl/scenarios/fig2.toml",
+    ]);
     assert!(stdout.contains("mission ended (finished)"), "{stdout}");
-    let text = std::fs::read_to_string(&report_path).expect("report written");
-    let report: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     let goals = report["goals"].as_array().expect("goals array");
     for name in ["g1", "g2"] {
         let g = goals
@@ -66,18 +51,7 @@ fn demo_over_sockets_reports_fates_and_the_sitl_faults() {
 
 #[test]
 fn demo_fig2_story_every_goal_settled() {
-    let dir = tempfile::TempDir::new().expect("temp dir");
-    let report_path = dir.path().join("fig2.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .args(["demo", "--quiet", "--report"])
-        .arg(&report_path)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}");
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report_path).expect("report"))
-            .expect("JSON");
+    let (_, report) = demo_with_report(&["--quiet"]);
     let goals = report["goals"].as_array().expect("goals array");
     let names: Vec<&str> = goals.iter().filter_map(|g| g["name"].as_str()).collect();
     assert_eq!(

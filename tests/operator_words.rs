@@ -3,7 +3,8 @@
 //! variant names such as `OverConsumption { c: … }`, `(InBounds)`, `NoGoals` — in its trace, its summary,
 //! the texts its ground station received, or the report's reasons.
 
-use std::process::Command;
+#[path = "common/demo_report.rs"]
+mod demo_report;
 
 /// Debug renderings that must not reach an operator.
 const DEBUG_PATTERNS: [&str; 14] = [
@@ -57,27 +58,12 @@ fn assert_operator_words(what: &str, text: &str) {
 
 #[test]
 fn the_fig2_story_speaks_the_operator_s_words() {
-    let dir = tempfile::TempDir::new().expect("temp dir");
-    let report_path = dir.path().join("report.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_mavtempo"))
-        .arg("demo")
-        .arg("--report")
-        .arg(&report_path)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (stdout, report) = demo_report::demo_with_report(&[]);
     // The story has what the scan is for: a level over the plan, a report out of bounds, uploaded goals.
     assert!(stdout.contains("more used than planned"), "{stdout}");
     assert!(stdout.contains("nominal (in time)"), "{stdout}");
     assert!(stdout.contains(" accepted: "), "{stdout}");
     assert_operator_words("demo stdout", &stdout);
-    let text = std::fs::read_to_string(&report_path).expect("report written");
-    let report: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     for g in report["goals"].as_array().expect("goals") {
         assert_operator_words("a goal's reason", g["reason"].as_str().unwrap_or(""));
     }

@@ -1,8 +1,9 @@
-//! `mavtempo bench <what> [--json]`.
+//! `mavtempo bench <what> [--json] [options of <what>]`: one subcommand per benchmark, each with its own
+//! options (`bench suite --help`, `bench ipc --help`).
 
 use std::process::ExitCode;
 
-use clap::{Args, ValueEnum};
+use clap::{Args, Subcommand};
 
 use super::json_out::print_json_lines;
 use crate::bench::stn as stn_bench;
@@ -10,85 +11,110 @@ use crate::cli::out::outln;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// What to measure.
+    #[command(subcommand)]
     pub what: BenchWhat,
+}
+
+/// `--json`, the only option most benchmarks take.
+#[derive(Args, Debug)]
+pub struct JsonArg {
     /// One JSON object per line instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// `suite`: seeds per size.
+}
+
+/// `bench suite`'s options.
+#[derive(Args, Debug)]
+pub struct SuiteArgs {
+    /// One JSON object per line instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Seeds per size.
     #[arg(long, default_value_t = 10)]
     pub seeds: u64,
-    /// `suite`: the first seed (seed S, S+1, … per size).
+    /// The first seed (seed S, S+1, … per size).
     #[arg(long, default_value_t = 1000)]
     pub first_seed: u64,
-    /// `suite`: only this domain (rover, auv, shopping).
+    /// Only this domain (rover, auv, shopping).
     #[arg(long)]
     pub domain: Option<String>,
-    /// `suite`: only sizes up to this one.
+    /// Only sizes up to this one.
     #[arg(long)]
     pub max_size: Option<usize>,
-    /// `suite`: planning time limit per problem, seconds.
+    /// Planning time limit per problem, seconds.
     #[arg(long, default_value_t = 10.0)]
     pub time_limit: f64,
-    /// `suite`: write each generated problem to DIR/<domain>/<name>.ixt (for other planners).
-    #[arg(long)]
+    /// Write each generated problem to DIR/<domain>/<name>.ixt (for other planners).
+    #[arg(long, value_name = "DIR")]
     pub write: Option<std::path::PathBuf>,
-    /// `suite`, with --write: also in PDDL, DIR/<domain>/domain.pddl and DIR/<domain>/n<N>_s<SEED>.pddl.
+    /// With --write: also in PDDL, DIR/<domain>/domain.pddl and DIR/<domain>/n<N>_s<SEED>.pddl.
     #[arg(long, requires = "write")]
     pub pddl: bool,
-    /// `ipc`: the IPC-2002 benchmarks' directory.
+}
+
+/// `bench ipc`'s options.
+#[derive(Args, Debug)]
+pub struct IpcArgs {
+    /// One JSON object per line instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// The IPC-2002 benchmarks' directory (default: ../shared/benchmarks/ipc2002).
     #[arg(long)]
     pub dir: Option<std::path::PathBuf>,
-    /// `ipc`: instance numbers, N or N-M.
+    /// Instance numbers, N or N-M.
     #[arg(long, default_value = "1-20")]
     pub instances: String,
-    /// `ipc`: domains, comma-separated (rovers, satellite).
+    /// Domains, comma-separated (rovers, satellite).
     #[arg(long, default_value = "rovers,satellite")]
     pub domains: String,
-    /// `ipc`: variants, comma-separated (simple = SimpleTime, time = Time).
+    /// Variants, comma-separated (simple = SimpleTime, time = Time).
     #[arg(long, default_value = "simple,time")]
     pub variants: String,
-    /// `ipc`: write each solved plan to DIR/<benchmark folder>/instance-N.plan (IPC format).
-    #[arg(long)]
+    /// Planning time limit per instance, seconds.
+    #[arg(long, default_value_t = 10.0)]
+    pub time_limit: f64,
+    /// Write each solved plan to DIR/<benchmark folder>/instance-N.plan (IPC format).
+    #[arg(long, value_name = "DIR")]
     pub plans_out: Option<std::path::PathBuf>,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug)]
+/// One subcommand per benchmark, each with its own options.
+#[derive(Subcommand, Debug)]
 pub enum BenchWhat {
     /// Incremental STN vs Floyd-Warshall.
-    Stn,
+    Stn(JsonArg),
     /// Executive cycle time (p50/p99) on plans of 200 and 2,000 actions.
-    Cycle,
-    /// Plan repair vs complete replanning on each Fig. 2 event kind (rover, mock vehicle).
-    Repair,
+    Cycle(JsonArg),
+    /// Plan repair vs complete replanning on each event kind of the rover mission (mock vehicle).
+    Repair(JsonArg),
     /// Planning time and steps on the shipped and generated problems.
-    Plan,
+    Plan(JsonArg),
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
-    Sim,
+    Sim(JsonArg),
     /// Goal-driven dispatch decision cost, Algorithm 2 vs the incremental marking, at 200 and 2,000 actions.
-    Dispatch,
+    Dispatch(JsonArg),
     /// MAVLink link: 100-item mission upload over loopback, telemetry messages per second.
-    Link,
+    Link(JsonArg),
     /// Executive CPU over a Dala-length mission (1,285 s) against the in-process SITL.
-    Cpu,
+    Cpu(JsonArg),
     /// Random rover, AUV and shopping problems of growing size: solved share and time per size, plans checked.
-    Suite,
+    Suite(SuiteArgs),
     /// IPC-2002 Rovers and Satellite (Time, SimpleTime) read as PDDL: solved, search time, makespan.
-    Ipc,
+    Ipc(IpcArgs),
 }
 
 pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
-        BenchWhat::Stn => bench_stn(args.json),
-        BenchWhat::Cycle => bench_cycle(args.json),
-        BenchWhat::Plan => bench_plan(args.json),
-        BenchWhat::Repair => bench_repair(args.json),
-        BenchWhat::Sim => bench_sim(args.json),
-        BenchWhat::Dispatch => bench_dispatch(args.json),
-        BenchWhat::Link => bench_link(args.json),
-        BenchWhat::Cpu => super::bench_cpu::run(args.json),
-        BenchWhat::Suite => super::bench_suite::run(&args),
-        BenchWhat::Ipc => super::bench_ipc::run(&args),
+        BenchWhat::Stn(a) => bench_stn(a.json),
+        BenchWhat::Cycle(a) => bench_cycle(a.json),
+        BenchWhat::Plan(a) => bench_plan(a.json),
+        BenchWhat::Repair(a) => bench_repair(a.json),
+        BenchWhat::Sim(a) => bench_sim(a.json),
+        BenchWhat::Dispatch(a) => bench_dispatch(a.json),
+        BenchWhat::Link(a) => bench_link(a.json),
+        BenchWhat::Cpu(a) => super::bench_cpu::run(a.json),
+        BenchWhat::Suite(a) => super::bench_suite::run(&a),
+        BenchWhat::Ipc(a) => super::bench_ipc::run(&a),
     }
 }
 
@@ -107,7 +133,7 @@ pub(super) fn show<T: serde::Serialize, E: std::fmt::Display>(
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("{what}: {e}");
+            crate::cli::out::errln!("{what}: {e}");
             ExitCode::FAILURE
         }
     }
@@ -277,4 +303,66 @@ fn bench_repair(json: bool) -> ExitCode {
             }
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::super::{Cli, Command};
+    use super::BenchWhat;
+
+    fn parse(line: &str) -> Result<BenchWhat, clap::Error> {
+        let args = std::iter::once("mavtempo").chain(line.split_whitespace());
+        match Cli::try_parse_from(args)?.command {
+            Command::Bench(b) => Ok(b.what),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// The invocations the README, docs/, .ci/ and benches/peers/ write keep parsing, to the benchmark
+    /// they name with the options they give.
+    #[test]
+    fn documented_invocations_parse() {
+        for line in [
+            "bench stn --json",
+            "bench dispatch",
+            "bench cycle --json",
+            "bench cpu --json",
+            "bench repair --json",
+            "bench plan --json",
+            "bench sim --json",
+            "bench link --json",
+        ] {
+            assert!(parse(line).is_ok(), "{line}");
+        }
+        match parse("bench suite --seeds 10 --first-seed 1000 --max-size 4 --time-limit 3 --write D --pddl --json") {
+            Ok(BenchWhat::Suite(s)) => {
+                assert_eq!((s.seeds, s.first_seed, s.max_size), (10, 1000, Some(4)));
+                assert!(s.pddl && s.json);
+            }
+            other => panic!("{other:?}"),
+        }
+        match parse("bench ipc --json --time-limit 10 --instances 1-20 --domains rovers,satellite --variants simple,time --plans-out P --dir D") {
+            Ok(BenchWhat::Ipc(i)) => {
+                assert_eq!((i.instances.as_str(), i.time_limit), ("1-20", 10.0));
+                assert!(i.plans_out.is_some() && i.dir.is_some());
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// An option of another benchmark is refused, not ignored.
+    #[test]
+    fn another_benchmarks_option_is_refused() {
+        for line in [
+            "bench stn --seeds 3",
+            "bench ipc --seeds 3",
+            "bench suite --instances 1-3",
+            "bench cpu --time-limit 1",
+        ] {
+            let e = parse(line).map(|_| ()).expect_err(line);
+            assert_eq!(e.kind(), clap::error::ErrorKind::UnknownArgument, "{line}");
+        }
+    }
 }

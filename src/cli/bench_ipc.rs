@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use super::bench::BenchArgs;
+use super::bench::IpcArgs;
 use crate::cli::out::outln;
 use crate::pddl;
 use crate::planner::Budget;
@@ -50,17 +50,17 @@ fn folder(domain: &str, variant: &str) -> String {
     }
 }
 
-pub fn run(args: &BenchArgs) -> ExitCode {
+pub fn run(args: &IpcArgs) -> ExitCode {
     let dir = args
         .dir
         .clone()
         .unwrap_or_else(|| PathBuf::from(DEFAULT_DIR));
     let Some((first, last)) = parse_range(&args.instances) else {
-        eprintln!("bench ipc: --instances takes N or N-M (e.g. 1-10)");
+        crate::cli::out::errln!("bench ipc: --instances takes N or N-M (e.g. 1-10)");
         return ExitCode::FAILURE;
     };
     if !(args.time_limit.is_finite() && args.time_limit > 0.0) {
-        eprintln!("bench ipc: --time-limit must be a positive number of seconds");
+        crate::cli::out::errln!("bench ipc: --time-limit must be a positive number of seconds");
         return ExitCode::FAILURE;
     }
     let domains: Vec<&str> = args.domains.split(',').map(str::trim).collect();
@@ -69,15 +69,15 @@ pub fn run(args: &BenchArgs) -> ExitCode {
         .iter()
         .find(|d| !matches!(**d, "rovers" | "satellite"))
     {
-        eprintln!("bench ipc: unknown domain `{d}` (rovers, satellite)");
+        crate::cli::out::errln!("bench ipc: unknown domain `{d}` (rovers, satellite)");
         return ExitCode::FAILURE;
     }
     if let Some(v) = variants.iter().find(|v| !matches!(**v, "simple" | "time")) {
-        eprintln!("bench ipc: unknown variant `{v}` (simple, time)");
+        crate::cli::out::errln!("bench ipc: unknown variant `{v}` (simple, time)");
         return ExitCode::FAILURE;
     }
     if !dir.is_dir() {
-        eprintln!("bench ipc: no benchmark directory {}", dir.display());
+        crate::cli::out::errln!("bench ipc: no benchmark directory {}", dir.display());
         return ExitCode::FAILURE;
     }
     let mut rows: Vec<Row> = Vec::new();
@@ -165,7 +165,7 @@ fn one(
     i: u32,
     domain: &Path,
     problem: &Path,
-    args: &BenchArgs,
+    args: &IpcArgs,
     folder: &str,
 ) -> Row {
     let mut row = Row {

@@ -3,24 +3,26 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
-use super::bench::BenchArgs;
+use super::bench::SuiteArgs;
 use crate::bench::suite::generate::{Mission, SuiteDomain};
 use crate::bench::suite::{self, pddl, SuiteOptions, SuiteRun};
 use crate::cli::out::outln;
 
-pub fn run(args: &BenchArgs) -> ExitCode {
+pub fn run(args: &SuiteArgs) -> ExitCode {
     let domain = match args.domain.as_deref() {
         None => None,
         Some("rover") => Some(SuiteDomain::Rover),
         Some("auv") => Some(SuiteDomain::Auv),
         Some("shopping") => Some(SuiteDomain::Shopping),
         Some(other) => {
-            eprintln!("bench suite: unknown domain `{other}` (rover, auv or shopping)");
+            crate::cli::out::errln!(
+                "bench suite: unknown domain `{other}` (rover, auv or shopping)"
+            );
             return ExitCode::FAILURE;
         }
     };
     if !(args.time_limit.is_finite() && args.time_limit > 0.0) {
-        eprintln!("bench suite: --time-limit must be a positive number of seconds");
+        crate::cli::out::errln!("bench suite: --time-limit must be a positive number of seconds");
         return ExitCode::FAILURE;
     }
     let opts = SuiteOptions {
@@ -56,7 +58,7 @@ pub fn run(args: &BenchArgs) -> ExitCode {
                 outln!("{line}");
             }
         } else if !r.solved {
-            eprintln!(
+            crate::cli::out::errln!(
                 "  {} n={} seed={}: {}",
                 r.domain.name(),
                 r.size,
@@ -68,12 +70,12 @@ pub fn run(args: &BenchArgs) -> ExitCode {
     let sizes = match suite::run(std::path::Path::new("domains"), &opts, &mut each) {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("bench suite: {e}");
+            crate::cli::out::errln!("bench suite: {e}");
             return ExitCode::FAILURE;
         }
     };
     if let Some(e) = write_error {
-        eprintln!("bench suite: cannot write a problem: {e}");
+        crate::cli::out::errln!("bench suite: cannot write a problem: {e}");
         return ExitCode::FAILURE;
     }
     for s in &sizes {

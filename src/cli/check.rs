@@ -1,5 +1,6 @@
 //! `mavtempo check FILE...`: validates domain and problem files. A problem is checked against the domain of
 //! the same name given on the command line, else the one its `domain NAME;` header names beside it.
+//! `mavtempo check DOMAIN.pddl [PROBLEM.pddl...]`: PDDL, read as `plan` reads it ([`super::check_pddl`]).
 //! `mavtempo check --config FILE DOMAIN [PROBLEM]`: checks a vehicle configuration against its domain (and
 //! problem), printing every mismatch ([`crate::vehicle::config_check`]).
 
@@ -22,7 +23,8 @@ pub struct CheckArgs {
     /// then FILES are `DOMAIN [PROBLEM]`.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// Domain and problem files (e.g. `domains/*/*.ixt domains/*/problems/*`).
+    /// Domain and problem files (e.g. `domains/*/*.ixt domains/*/problems/*`), or a PDDL domain then its
+    /// problems (`domain.pddl p1.pddl p2.pddl`).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
 }
@@ -32,10 +34,17 @@ pub fn run(args: CheckArgs) -> ExitCode {
         return match check_config(config, &args.files) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
-                eprintln!("{e}");
+                crate::cli::out::errln!("{e}");
                 ExitCode::FAILURE
             }
         };
+    }
+    if args.files.iter().any(|f| crate::pddl::is_pddl(f)) {
+        if !args.files.iter().all(|f| crate::pddl::is_pddl(f)) {
+            crate::cli::out::errln!("check: PDDL files are checked as DOMAIN.pddl [PROBLEM.pddl...], without native files");
+            return ExitCode::FAILURE;
+        }
+        return super::check_pddl::run(&args.files);
     }
     let mut failed = false;
     let mut kinds = Vec::new();
@@ -43,7 +52,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
         match header(path) {
             Ok(k) => kinds.push((path, k)),
             Err(d) => {
-                eprint!("{d}");
+                crate::cli::out::err!("{d}");
                 failed = true;
             }
         }
@@ -66,7 +75,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
                     domains.insert(name.clone(), Some(d));
                 }
                 Err(e) => {
-                    eprint!("{e}");
+                    crate::cli::out::err!("{e}");
                     failed = true;
                     domains.insert(name.clone(), None);
                 }
@@ -79,9 +88,11 @@ pub fn run(args: CheckArgs) -> ExitCode {
         };
         if !domains.contains_key(domain) {
             let loaded = match lang::domain_path_for(path, domain) {
-                Some(dp) => lang::load_domain(&dp).map_err(|e| eprint!("{e}")).ok(),
+                Some(dp) => lang::load_domain(&dp)
+                    .map_err(|e| crate::cli::out::err!("{e}"))
+                    .ok(),
                 None => {
-                    eprint!(
+                    crate::cli::out::err!(
                         "{}",
                         Diagnostics::file_error(
                             &path.display().to_string(),
@@ -94,7 +105,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
             domains.insert(domain.clone(), loaded);
         }
         let Some(Some(d)) = domains.get(domain) else {
-            eprintln!(
+            crate::cli::out::errln!(
                 "{}: not checked: domain `{domain}` has errors",
                 path.display()
             );
@@ -104,7 +115,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
         match lang::load_problem_warned(path, d) {
             Ok((p, warnings)) => {
                 for w in &warnings {
-                    eprintln!("{w}");
+                    crate::cli::out::errln!("{w}");
                 }
                 outln!(
                     "{}: ok (problem {} for {}: {} objects, {} goals, horizon {} s){}",
@@ -122,7 +133,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
                 )
             }
             Err(e) => {
-                eprint!("{e}");
+                crate::cli::out::err!("{e}");
                 failed = true;
             }
         }
@@ -188,7 +199,7 @@ pub fn checked_config(
     match config_check::check(cfg, domain, problem) {
         Ok(c) => {
             for w in &c.warnings {
-                eprintln!("{w}");
+                crate::cli::out::errln!("{w}");
             }
             Ok(c)
         }

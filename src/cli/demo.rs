@@ -34,6 +34,10 @@ const DOMAIN: &str = include_str!("../../domains/rover/rover.ixt");
 const FIG2: &str = include_str!("../../domains/rover/problems/fig2.ixt");
 const SCENARIO: &str = include_str!("../../sitl/scenarios/fig2.toml");
 
+/// The scenario of a problem without one: no fault, and the payload the domain and configuration say.
+const NOMINAL: &str =
+    "(nominal world: card, pictures, speed and battery from the domain and the configuration)";
+
 /// e3/e4: the ground station's new picture goals (local metres from home), uploaded during the download.
 const NEW_GOALS: [(f64, f64); 2] = [(30.0, -8.0), (46.0, 4.0)];
 
@@ -43,7 +47,7 @@ pub struct DemoArgs {
     /// executive's clock, as fast as the machine goes (deterministic).
     #[arg(long)]
     pub speedup: Option<f64>,
-    /// A problem instead of the built-in Fig. 2 (domains/rover/problems/fig2.ixt).
+    /// A problem instead of the built-in rover story (domains/rover/problems/fig2.ixt).
     #[arg(long)]
     pub problem: Option<PathBuf>,
     /// The problem's domain (default: the built-in rover domain, domains/rover/rover.ixt).
@@ -52,14 +56,15 @@ pub struct DemoArgs {
     /// The vehicle configuration (default: the built-in config/demo-rover.toml).
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// The SITL scenario (faults, world). Default: Fig. 2's for the built-in problem; for `--problem
-    /// P.ixt`, sitl/scenarios/P.toml when it exists, else a nominal world.
+    /// The SITL scenario (faults, world). Default: sitl/scenarios/fig2.toml for the built-in problem; for `--problem
+    /// P.ixt`, sitl/scenarios/P.toml when it exists, else a nominal world without faults whose card,
+    /// pictures, capture time, speed and battery follow the domain and the configuration.
     #[arg(long)]
     pub scenario: Option<PathBuf>,
     /// The simulated vehicle: rover or auv.
     #[arg(long, default_value = "rover")]
     pub vehicle: sitl::VehicleKind,
-    /// Do not upload g6 and g7 during the download (only the built-in Fig. 2 story uploads them).
+    /// Do not upload the two new picture goals during the first download (only the built-in story uploads them).
     #[arg(long)]
     pub no_upload: bool,
     /// A ground station also uploads the goals of this `.plan`/`.waypoints` file, at `--upload-at`.
@@ -81,13 +86,13 @@ pub struct DemoArgs {
 
 pub fn run(args: DemoArgs) -> ExitCode {
     if let Err(e) = args.out.check_writable() {
-        eprintln!("mavtempo demo: {e}");
+        crate::cli::out::errln!("mavtempo demo: {e}");
         return ExitCode::FAILURE;
     }
     let interrupt = match super::shutdown::listen() {
         Ok(s) => s.interrupt,
         Err(e) => {
-            eprintln!("mavtempo demo: {e}");
+            crate::cli::out::errln!("mavtempo demo: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -133,7 +138,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
             }
             print_summary(&run.report);
             if let Err(e) = args.out.write(&run.report, "mavtempo demo") {
-                eprintln!("mavtempo demo: {e}");
+                crate::cli::out::errln!("mavtempo demo: {e}");
                 return ExitCode::FAILURE;
             }
             if let Some(hold) = run.hold {
@@ -149,7 +154,7 @@ pub fn run(args: DemoArgs) -> ExitCode {
             }
         }
         Err(e) => {
-            eprintln!("mavtempo demo: {e}");
+            crate::cli::out::errln!("mavtempo demo: {e}");
             super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
         }
     }
@@ -280,6 +285,7 @@ fn load(setup: &DemoSetup) -> Result<(Arc<crate::model::Domain>, Arc<Problem>), 
 /// The session's configuration and scenario from the setup (see [`DemoArgs::scenario`]).
 fn session_spec(
     setup: &DemoSetup,
+    domain: &crate::model::Domain,
     problem: &Problem,
 ) -> Result<(SessionSpec, String, ExecConfig), CliError> {
     let (scenario, scenario_name) = match (&setup.scenario, &setup.problem) {
@@ -293,7 +299,7 @@ fn session_spec(
             });
             match beside.filter(|p| p.is_file()) {
                 Some(p) => (read(&p)?, p.display().to_string()),
-                None => (String::new(), "(nominal world)".to_string()),
+                None => (String::new(), NOMINAL.to_string()),
             }
         }
     };
@@ -304,6 +310,9 @@ fn session_spec(
         let (text, origin) = (read(p)?, p.display().to_string());
         spec.config = crate::exec::config::MissionConfig::parse(&text, &origin)?.vehicle;
         exec = ExecConfig::over(&exec, &text, &origin)?;
+    }
+    if scenario_name == NOMINAL {
+        spec.scenario = super::nominal_world::nominal_scenario(domain, problem, &spec.config);
     }
     spec.vehicle = setup.vehicle;
     spec.speedup = setup.speedup;
@@ -340,7 +349,7 @@ pub fn run_demo(
     ));
     let plan = initial_plan(domain.clone(), problem.clone(), setup.max_steps)?;
     say(&format!("initial plan: {} actions", plan.num_actions()));
-    let (spec, scenario_name, exec) = session_spec(setup, &problem)?;
+    let (spec, scenario_name, exec) = session_spec(setup, &domain, &problem)?;
     say(&format!("SITL scenario: {scenario_name}"));
     let mut session = SitlSession::start(&domain, &problem, spec)?;
     if let Some(r) = &session.ready {

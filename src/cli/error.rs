@@ -71,6 +71,8 @@ pub enum CliError {
     NotReady(String),
     #[error("the ground-station endpoint has no address")]
     NoGcsAddress,
+    #[error("--nominal-for takes CONFIG DOMAIN PROBLEM, got {0} files")]
+    NominalFor(usize),
     #[error("the vehicle link did not connect to the SITL")]
     SitlNotConnected,
     #[error("no telemetry from the SITL rover")]

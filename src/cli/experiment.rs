@@ -52,12 +52,16 @@ pub struct DispatchArgs {
 pub fn run(args: ExperimentArgs) -> ExitCode {
     let Experiment::Dispatch(a) = args.what;
     if !(a.per_hour.is_finite() && a.per_hour >= 0.0) {
-        eprintln!("mavtempo experiment dispatch: --per-hour must be a non-negative number");
+        crate::cli::out::errln!(
+            "mavtempo experiment dispatch: --per-hour must be a non-negative number"
+        );
         return ExitCode::FAILURE;
     }
     let known = experiment::scenario_names();
     if let Some(bad) = a.scenario.iter().find(|s| !known.contains(&s.as_str())) {
-        eprintln!("mavtempo experiment dispatch: unknown scenario {bad:?} (known: {known:?})");
+        crate::cli::out::errln!(
+            "mavtempo experiment dispatch: unknown scenario {bad:?} (known: {known:?})"
+        );
         return ExitCode::FAILURE;
     }
     let mut opts = ExperimentOptions {
@@ -71,23 +75,28 @@ pub fn run(args: ExperimentArgs) -> ExitCode {
     if !a.policy.is_empty() {
         opts.policies = a.policy.clone();
     }
+    // A progress bar on a terminal only: redirected, stderr gets no carriage returns.
+    let on_terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let mut progress = |done: u64, total: u64| {
+        if !on_terminal {
+            return;
+        }
         let width = 40;
         let filled = (done * width / total.max(1)) as usize;
-        eprint!(
+        crate::cli::out::err!(
             "\r[{}{}] {done}/{total} missions",
             "#".repeat(filled),
             " ".repeat(width as usize - filled)
         );
         if done == total {
-            eprintln!();
+            crate::cli::out::errln!();
         }
         let _ = std::io::stderr().flush();
     };
     let rows = match experiment::run(&opts, &mut progress) {
         Ok(rows) => rows,
         Err(e) => {
-            eprintln!("mavtempo experiment dispatch: {e}");
+            crate::cli::out::errln!("mavtempo experiment dispatch: {e}");
             return ExitCode::FAILURE;
         }
     };

@@ -17,6 +17,7 @@ pub struct FuzzArgs {
     /// Executions per target.
     #[arg(long, default_value_t = 100_000)]
     pub execs: u64,
+    /// Seeds the mutations: the same seed gives the same inputs.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Where failing inputs are written (default: a `mavtempo-fuzz` directory in the temp dir).
@@ -64,7 +65,7 @@ pub fn run(args: FuzzArgs) -> ExitCode {
         if args.json {
             match serde_json::to_string(&r) {
                 Ok(line) => outln!("{line}"),
-                Err(e) => eprintln!("mavtempo fuzz: {e}"),
+                Err(e) => crate::cli::out::errln!("mavtempo fuzz: {e}"),
             }
             continue;
         }
@@ -93,13 +94,13 @@ pub fn run(args: FuzzArgs) -> ExitCode {
 
 fn replay(args: &FuzzArgs, file: &std::path::Path) -> ExitCode {
     let [target] = args.target.0[..] else {
-        eprintln!("mavtempo fuzz --replay: name one --target");
+        crate::cli::out::errln!("mavtempo fuzz --replay: name one --target");
         return ExitCode::FAILURE;
     };
     let input = match std::fs::read(file) {
         Ok(b) => b,
         Err(e) => {
-            eprintln!("mavtempo fuzz: {}: {e}", file.display());
+            crate::cli::out::errln!("mavtempo fuzz: {}: {e}", file.display());
             return ExitCode::FAILURE;
         }
     };

@@ -25,6 +25,7 @@ pub struct GoalArgs {
 pub enum GoalCommand {
     /// Upload the goals of a QGroundControl .plan or a .waypoints file to a companion (component 191).
     Send {
+        /// The goal list: a QGroundControl `.plan` or a `.waypoints` file.
         file: PathBuf,
         /// Where the companion's goal intake listens, e.g. udpout:127.0.0.1:14551 or tcpout:HOST:PORT.
         #[arg(long)]
@@ -38,7 +39,10 @@ pub enum GoalCommand {
         config: Option<PathBuf>,
     },
     /// Check a goal file and print the goal requests it maps to.
-    Check { file: PathBuf },
+    Check {
+        /// The goal list: a QGroundControl `.plan` or a `.waypoints` file.
+        file: PathBuf,
+    },
     /// Answer goal uploads (syntactic checks only; `mavtempo run` lets the executive decide).
     Serve {
         /// e.g. udpin:127.0.0.1:0 (the bound address is printed on stdout).
@@ -47,6 +51,7 @@ pub enum GoalCommand {
         /// Home as LAT,LON (positions become local coordinates around it).
         #[arg(long, default_value = "0,0")]
         home: String,
+        /// The MAVLink system id it answers as (the vehicle's).
         #[arg(long, default_value_t = 1)]
         system_id: u8,
         /// Record every frame to this .tlog.
@@ -62,7 +67,7 @@ pub fn run(args: GoalArgs) -> ExitCode {
     let rt = match super::runtime::multi_thread(Some(1), "tokio runtime") {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("error: {e}");
+            crate::cli::out::errln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -98,7 +103,7 @@ fn signing_of(path: Option<&std::path::Path>) -> Result<Option<([u8; 32], u8)>, 
         .map_err(|e| e.to_string())
         .and_then(|cfg| signing_key(&cfg).map_err(|e| e.to_string()));
     key.map_err(|e| {
-        eprintln!("error: {e}");
+        crate::cli::out::errln!("error: {e}");
         ExitCode::FAILURE
     })
 }
@@ -107,7 +112,7 @@ fn check(file: PathBuf) -> ExitCode {
     let parsed = match goal_files::load(&file) {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("error: {e}");
+            crate::cli::out::errln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -117,11 +122,11 @@ fn check(file: PathBuf) -> ExitCode {
         alt: 0.0,
     });
     for e in &parsed.skipped {
-        eprintln!("warning: {e}");
+        crate::cli::out::errln!("warning: {e}");
     }
     let list = crate::vehicle::goals::items_to_goals(&parsed.items, &KnownLocations::new(home), 1);
     for e in &list.skipped {
-        eprintln!("warning: {}: {e}", file.display());
+        crate::cli::out::errln!("warning: {}: {e}", file.display());
     }
     for g in list.requests() {
         outln!(
@@ -148,12 +153,12 @@ async fn send(
     let parsed = match goal_files::load(&file) {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("error: {e}");
+            crate::cli::out::errln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
     for e in &parsed.skipped {
-        eprintln!("warning: {e}");
+        crate::cli::out::errln!("warning: {e}");
     }
     let timeout = Duration::from_secs(timeout);
     match send_goals_signed(GCS_SYSTEM_ID, signing, &to, parsed.items, timeout).await {
@@ -167,20 +172,20 @@ async fn send(
                     ExitCode::SUCCESS
                 }
                 Some(f) => {
-                    eprintln!("error: {f}");
+                    crate::cli::out::errln!("error: {f}");
                     ExitCode::FAILURE
                 }
             }
         }
         Err(e @ GoalSendError::NoCompanion(_)) if signing.is_none() => {
-            eprintln!(
+            crate::cli::out::errln!(
                 "error: {e} (a companion that requires MAVLink2 signing ignores unsigned stations: \
                  give its configuration with --config)"
             );
             ExitCode::FAILURE
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            crate::cli::out::errln!("error: {e}");
             ExitCode::FAILURE
         }
     }
@@ -197,7 +202,7 @@ async fn serve(
         .split_once(',')
         .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)));
     let Some((lat, lon)) = parsed else {
-        eprintln!("error: --home: expected LAT,LON, got `{home}`");
+        crate::cli::out::errln!("error: --home: expected LAT,LON, got `{home}`");
         return ExitCode::FAILURE;
     };
     let known = KnownLocations::new(Home { lat, lon, alt: 0.0 });
@@ -213,7 +218,7 @@ async fn serve(
     {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("error: {e}");
+            crate::cli::out::errln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };

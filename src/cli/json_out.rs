@@ -29,7 +29,7 @@ fn print_with<'a, T: Serialize + 'a>(
         match to_json(row) {
             Ok(text) => outln!("{text}"),
             Err(e) => {
-                eprintln!("{context}: {e}");
+                crate::cli::out::errln!("{context}: {e}");
                 return ExitCode::FAILURE;
             }
         }

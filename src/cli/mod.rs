@@ -5,6 +5,7 @@ mod bench_cpu;
 mod bench_ipc;
 mod bench_suite;
 mod check;
+mod check_pddl;
 pub mod demo;
 mod dispatch_arg;
 pub mod error;
@@ -12,9 +13,11 @@ mod experiment;
 mod fuzz;
 mod goal;
 mod groups;
+mod help_texts;
 pub mod http_arg;
 mod json_out;
 mod mission_out;
+mod nominal_world;
 pub mod out;
 mod plan;
 mod plan_pddl;
@@ -56,7 +59,7 @@ pub enum Command {
     Goal(goal::GoalArgs),
     /// Pictures of a mission report: Gantt chart, resources against their bounds, track map, HTML page.
     Report(report::ReportArgs),
-    /// A shipped mission (by default the rover mission of seed 1's Fig. 2, with its faults) on the built-in simulated vehicle.
+    /// A mission on the built-in simulated vehicle: by default the rover story with five faults and two goals uploaded mid-mission.
     Demo(demo::DemoArgs),
     /// Measure performance; prints one JSON object per line with --json.
     Bench(bench::BenchArgs),
@@ -99,14 +102,19 @@ pub fn main() -> ExitCode {
 }
 
 fn init_tracing() {
+    use std::io::IsTerminal;
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
-        // The config check's warnings are printed by the subcommands themselves (check, run, demo).
-        .unwrap_or_else(|_| {
-            tracing_subscriber::EnvFilter::new("warn,mavtempo::vehicle::config_check=error")
-        });
+        // The config check's warnings are printed by the subcommands themselves (check, run, demo): once.
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(DEFAULT_LOG_FILTER));
     // A second init (tests calling main twice) is harmless: ignore the error.
     let _ = tracing_subscriber::fmt()
         .with_env_filter(filter)
+        // Colours only on a terminal: a log redirected to a file stays plain text.
+        .with_ansi(std::io::stderr().is_terminal())
         .with_writer(std::io::stderr)
         .try_init();
 }
+
+/// The log's filter when `RUST_LOG` says nothing: warnings, but not the configuration check's, which the
+/// subcommands print themselves.
+const DEFAULT_LOG_FILTER: &str = "warn,mavtempo_vehicle::config_check=error";

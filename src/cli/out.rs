@@ -2,6 +2,8 @@
 //! `tee` that died): a command that only prints then stops quietly, as a reader that wanted no more lines
 //! expects; a command that drives or serves a vehicle goes on without printing, since a closed terminal must
 //! not end a mission (its trace still goes to the report and the log on stderr).
+//! `eprintln!` panics too when stderr is closed (exit 101): [`errln!`] writes to stderr and drops what
+//! cannot be written, as the log does.
 
 use std::fmt::Arguments;
 use std::io::{self, ErrorKind, Write};
@@ -43,8 +45,15 @@ fn closed(e: &io::Error) {
     if e.kind() == ErrorKind::BrokenPipe {
         std::process::exit(0);
     }
-    eprintln!("mavtempo: cannot write to standard output: {e}");
+    write_err(format_args!(
+        "mavtempo: cannot write to standard output: {e}\n"
+    ));
     std::process::exit(1);
+}
+
+/// Writes `args` to stderr; a closed or failing stderr loses the message, never the command.
+pub fn write_err(args: Arguments<'_>) {
+    let _ = io::stderr().lock().write_fmt(args);
 }
 
 /// `println!` that neither panics nor loses the mission when stdout is closed (see [`crate::cli::out`]).
@@ -64,4 +73,21 @@ macro_rules! out {
     };
 }
 
-pub(crate) use {out, outln};
+/// `eprintln!` that does not panic when stderr is closed.
+macro_rules! errln {
+    () => {
+        $crate::cli::out::write_err(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::out::write_err(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// `eprint!` that does not panic when stderr is closed.
+macro_rules! err {
+    ($($arg:tt)*) => {
+        $crate::cli::out::write_err(format_args!($($arg)*))
+    };
+}
+
+pub(crate) use {err, errln, out, outln};

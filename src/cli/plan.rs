@@ -43,20 +43,20 @@ pub fn run(args: PlanArgs) -> ExitCode {
         return super::plan_pddl::run(&args);
     }
     if args.pddl_out.is_some() {
-        eprintln!("--pddl-out is for PDDL problems (DOMAIN.pddl PROBLEM.pddl)");
+        crate::cli::out::errln!("--pddl-out is for PDDL problems (DOMAIN.pddl PROBLEM.pddl)");
         return ExitCode::FAILURE;
     }
     let domain = match lang::load_domain(&args.domain) {
         Ok(d) => Arc::new(d),
         Err(e) => {
-            eprint!("{e}");
+            crate::cli::out::err!("{e}");
             return ExitCode::FAILURE;
         }
     };
     let problem = match lang::load_problem(&args.problem, &domain) {
         Ok(p) => Arc::new(p),
         Err(e) => {
-            eprint!("{e}");
+            crate::cli::out::err!("{e}");
             return ExitCode::FAILURE;
         }
     };
@@ -73,7 +73,7 @@ pub fn run(args: PlanArgs) -> ExitCode {
     ) {
         Ok(p) => p,
         Err(e) => {
-            eprintln!("no plan for {}: {e}", problem.name);
+            crate::cli::out::errln!("no plan for {}: {e}", problem.name);
             return ExitCode::FAILURE;
         }
     };
@@ -108,7 +108,7 @@ pub fn run(args: PlanArgs) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(r) => {
-            eprintln!("checker: plan REJECTED: {r}");
+            crate::cli::out::errln!("checker: plan REJECTED: {r}");
             ExitCode::FAILURE
         }
     }

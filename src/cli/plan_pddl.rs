@@ -13,18 +13,18 @@ pub fn run(args: &PlanArgs) -> ExitCode {
     let loaded = match pddl::load(&args.domain, &args.problem) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("{e}");
+            crate::cli::out::errln!("{e}");
             return ExitCode::FAILURE;
         }
     };
     let t = &loaded.translated;
     for n in &t.notes {
-        eprintln!("note: {n}");
+        crate::cli::out::errln!("note: {n}");
     }
     let solved = match pddl::solve(&loaded, Budget::steps(args.max_steps)) {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("{}: {e}", t.problem.name);
+            crate::cli::out::errln!("{}: {e}", t.problem.name);
             return ExitCode::FAILURE;
         }
     };
@@ -38,7 +38,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
     let to_stdout = args.pddl_out.as_deref() == Some(std::path::Path::new("-"));
     if let Some(path) = args.pddl_out.as_deref().filter(|_| !to_stdout) {
         if let Err(e) = std::fs::write(path, solved.ipc.to_string()) {
-            eprintln!("cannot write {}: {e}", path.display());
+            crate::cli::out::errln!("cannot write {}: {e}", path.display());
             return ExitCode::FAILURE;
         }
     }
@@ -52,7 +52,7 @@ pub fn run(args: &PlanArgs) -> ExitCode {
         out!("{}", super::plan::dot(&solved.solution, &t.problem));
     } else if to_stdout {
         out!("{}", solved.ipc);
-        eprintln!("{summary}");
+        crate::cli::out::errln!("{summary}");
     } else {
         outln!("plan for {} ({}):", t.problem.name, t.domain.name);
         out!("{}", solved.ipc);

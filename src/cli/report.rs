@@ -23,7 +23,7 @@ pub fn run(args: ReportArgs) -> ExitCode {
     let view = match report::read_report(&args.report) {
         Ok(v) => v,
         Err(e) => {
-            eprintln!("mavtempo report: {e}");
+            crate::cli::out::errln!("mavtempo report: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -45,7 +45,7 @@ pub fn run(args: ReportArgs) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("mavtempo report: {e}");
+            crate::cli::out::errln!("mavtempo report: {e}");
             ExitCode::FAILURE
         }
     }

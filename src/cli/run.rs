@@ -78,7 +78,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     let signals = match super::shutdown::listen() {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("mavtempo run: {e}");
+            crate::cli::out::errln!("mavtempo run: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -87,7 +87,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         Ok((report, live)) => {
             print_summary(&report);
             if let Err(e) = args.out.write(&report, "mavtempo run") {
-                eprintln!("mavtempo run: {e}");
+                crate::cli::out::errln!("mavtempo run: {e}");
                 return ExitCode::FAILURE;
             }
             if let Some(keep) = live {
@@ -104,7 +104,7 @@ pub fn run(args: RunArgs) -> ExitCode {
             }
         }
         Err(e) => {
-            eprintln!("mavtempo run: {e}");
+            crate::cli::out::errln!("mavtempo run: {e}");
             super::shutdown::exit_code(&interrupt).unwrap_or(ExitCode::FAILURE)
         }
     }
@@ -292,7 +292,7 @@ fn mission(
     let mut report = run_mission(&mut ex, &mut vehicle, &mut pacer, &opts, &mut observe);
     report.ready = ready;
     if let Some(verdict) = report.end.vehicle_lost() {
-        eprintln!("mavtempo run: {verdict}");
+        crate::cli::out::errln!("mavtempo run: {verdict}");
     }
     if matches!(report.end, MissionEnd::Interrupted(_)) {
         report.shutdown =

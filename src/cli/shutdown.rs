@@ -66,12 +66,12 @@ pub fn listen() -> Result<Signals, CliError> {
                     };
                     let name = signal_name(number);
                     if seen.request(number) {
-                        eprintln!(
+                        crate::cli::out::errln!(
                             "mavtempo: {name} received: stopping (vehicle made safe, report, .tlog); \
                              send it again to exit at once"
                         );
                     } else {
-                        eprintln!("mavtempo: {name} received again: exiting at once");
+                        crate::cli::out::errln!("mavtempo: {name} received again: exiting at once");
                         if let Ok(hooks) = hooks.try_lock() {
                             for hook in hooks.iter() {
                                 hook();

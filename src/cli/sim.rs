@@ -31,19 +31,53 @@ pub struct SimArgs {
     /// scenario's `[autopilot] profile`; the scenario's other `[autopilot]` keys still apply.
     #[arg(long)]
     pub profile: Option<String>,
+    /// Instead of a scenario, the nominal world of a mission, as `demo` runs one without a scenario: no
+    /// fault; the card, pictures, capture time, speed and battery follow the vehicle configuration, the
+    /// domain and the problem; home is the problem's, else the configuration's.
+    #[arg(long, num_args = 3, value_names = ["CONFIG", "DOMAIN", "PROBLEM"], conflicts_with = "scenario")]
+    pub nominal_for: Option<Vec<PathBuf>>,
 }
 
 pub fn run(args: SimArgs) -> ExitCode {
-    match configure(&args) {
+    let nominal = match args.nominal_for.as_deref().map(nominal_world).transpose() {
+        Ok(n) => n,
+        Err(e) => {
+            crate::cli::out::errln!("mavtempo sim: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match configure(&args, nominal) {
         Ok(config) => serve(config),
         Err(e) => {
-            eprintln!("mavtempo sim: {e}");
+            crate::cli::out::errln!("mavtempo sim: {e}");
             ExitCode::from(2)
         }
     }
 }
 
-fn configure(args: &SimArgs) -> Result<sitl::SimConfig, sitl::SimError> {
+/// `--nominal-for CONFIG DOMAIN PROBLEM`: the world `demo` runs that mission in without a scenario.
+fn nominal_world(paths: &[PathBuf]) -> Result<sitl::Scenario, super::error::CliError> {
+    let [config, domain, problem] = paths else {
+        return Err(super::error::CliError::NominalFor(paths.len()));
+    };
+    let cfg = crate::vehicle::config::VehicleConfig::load(config)?;
+    let domain = crate::lang::load_domain(domain)?;
+    let problem = crate::lang::load_problem(problem, &domain)?;
+    let mut world = super::nominal_world::nominal_scenario(&domain, &problem, &cfg);
+    let home = problem
+        .home
+        .map_or((cfg.home.lat, cfg.home.lon), |h| (h.lat, h.lon));
+    world.home = Some(sitl::HomeParams {
+        lat: home.0,
+        lon: home.1,
+    });
+    Ok(world)
+}
+
+fn configure(
+    args: &SimArgs,
+    nominal: Option<sitl::Scenario>,
+) -> Result<sitl::SimConfig, sitl::SimError> {
     let mut config = sitl::SimConfig {
         listen: args.listen.clone(),
         speedup: args.speedup,
@@ -53,6 +87,9 @@ fn configure(args: &SimArgs) -> Result<sitl::SimConfig, sitl::SimError> {
     };
     if let Some(path) = &args.scenario {
         config.scenario = sitl::Scenario::load(path)?;
+    }
+    if let Some(world) = nominal {
+        config.scenario = world;
     }
     if let Some(home) = &args.home {
         config.home = sitl::parse_home(home)?;
@@ -70,7 +107,7 @@ fn serve(config: sitl::SimConfig) -> ExitCode {
     let rt = match super::runtime::multi_thread(None, "cannot start the runtime") {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("mavtempo sim: {e}");
+            crate::cli::out::errln!("mavtempo sim: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -78,7 +115,7 @@ fn serve(config: sitl::SimConfig) -> ExitCode {
         let sim = match sitl::spawn(config).await {
             Ok(sim) => sim,
             Err(e) => {
-                eprintln!("mavtempo sim: {e}");
+                crate::cli::out::errln!("mavtempo sim: {e}");
                 return ExitCode::FAILURE;
             }
         };
@@ -131,21 +168,60 @@ mod tests {
             ),
             seed: 0,
             profile: profile.map(String::from),
+            nominal_for: None,
         }
     }
 
     #[test]
     fn profile_and_home_on_the_command_line_win_over_the_scenario() {
-        let cfg = configure(&args(None, None)).expect("valid");
+        let cfg = configure(&args(None, None), None).expect("valid");
         assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Ardupilot);
         assert_eq!(cfg.home_point().lat, 43.5616);
-        let cfg = configure(&args(Some("default"), Some("43.5,1.25"))).expect("valid");
+        let cfg = configure(&args(Some("default"), Some("43.5,1.25")), None).expect("valid");
         assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Default);
         assert_eq!((cfg.home_point().lat, cfg.home_point().lon), (43.5, 1.25));
-        let err = configure(&args(Some("px4"), None)).expect_err("unknown profile");
+        let err = configure(&args(Some("px4"), None), None).expect_err("unknown profile");
         assert!(
             matches!(&err, sitl::SimError::UnknownProfile(p) if p == "px4"),
             "{err}"
         );
+    }
+
+    /// `--nominal-for`: the first mission's world, as `demo` builds it, at the configuration's home.
+    #[test]
+    fn the_nominal_world_of_a_mission_replaces_the_scenario() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let paths: Vec<PathBuf> = [
+            "config/sitl-vehicle.toml",
+            "domains/vehicle/vehicle.ixt",
+            "domains/vehicle/problems/first.ixt",
+        ]
+        .iter()
+        .map(|p| root.join(p))
+        .collect();
+        let world = nominal_world(&paths).expect("the first mission's world");
+        let mut a = args(None, None);
+        a.scenario = None;
+        let cfg = configure(&a, Some(world)).expect("valid");
+        let camera = &cfg.scenario.camera;
+        assert_eq!(camera.storage_capacity_mib, 10.0);
+        assert_eq!((camera.size_min_mib, camera.size_max_mib), (1.0, 1.0));
+        assert_eq!(camera.capture_time_s, 6.0);
+        assert_eq!(cfg.scenario.vehicle.speed_mps, 1.0);
+        assert_eq!(cfg.scenario.battery.drain_pct_per_km, 10.0);
+        assert_eq!(cfg.home_point().lat, 43.5615);
+        assert!(cfg.scenario.faults.is_empty());
+        // With a scenario too, the command line is refused, not one of them silently dropped.
+        let both = <super::super::Cli as clap::Parser>::try_parse_from([
+            "mavtempo",
+            "sim",
+            "--scenario",
+            "s.toml",
+            "--nominal-for",
+            "c",
+            "d",
+            "p",
+        ]);
+        assert!(both.is_err());
     }
 }

@@ -17,7 +17,7 @@ pub enum SoakDomain {
     Rover,
     Auv,
     All,
-    /// The shipped rover problems (Fig. 2, Dala) with their own SITL scenarios, and goals uploaded at
+    /// The shipped rover problems (fig2, dala) with their own SITL scenarios, and goals uploaded at
     /// random times, 10 to 150 m away (some need a recharge): does a new goal cost the goals held?
     Shipped,
 }

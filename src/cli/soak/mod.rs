@@ -46,6 +46,7 @@ pub struct SoakArgs {
     /// Mission i uses seed S + i.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Which missions: random rover or AUV ones, all (both), or shipped (the rover's own problems).
     #[arg(long, value_enum, default_value = "all")]
     pub domain: SoakDomain,
     /// Print the summary as JSON.
@@ -62,7 +63,7 @@ pub struct SoakArgs {
     #[arg(long)]
     pub report: Option<std::path::PathBuf>,
     /// Run every mission under each of these dispatch policies (comma-separated: goal-driven, earliest,
-    /// latest) and print them side by side: seed 2's experiment, live on the SITL. Default: goal-driven.
+    /// latest) and print them side by side: the dispatch experiment, live on the simulator. Default: goal-driven.
     #[arg(long, value_delimiter = ',', value_name = "POLICY")]
     pub dispatch: Vec<PolicyKind>,
 }
@@ -145,12 +146,14 @@ pub fn run(args: SoakArgs) -> ExitCode {
     let signals = match super::shutdown::listen() {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("mavtempo soak: {e}");
+            crate::cli::out::errln!("mavtempo soak: {e}");
             return ExitCode::FAILURE;
         }
     };
     let interrupt = signals.interrupt.clone();
-    let bar = (!args.trace && !args.show).then(|| {
+    // A progress bar on a terminal only: redirected, stderr gets no bar.
+    let on_terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = (!args.trace && !args.show && on_terminal).then(|| {
         let bar = indicatif::ProgressBar::new(args.missions);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
@@ -203,7 +206,7 @@ pub fn run(args: SoakArgs) -> ExitCode {
             }
             if let (Some(path), Some(r)) = (&args.report, &outcome.report) {
                 if let Err(e) = super::mission_out::write_report(path, r) {
-                    eprintln!("mavtempo soak: {e}");
+                    crate::cli::out::errln!("mavtempo soak: {e}");
                     return ExitCode::FAILURE;
                 }
             }
