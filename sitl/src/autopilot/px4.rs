@@ -133,6 +133,22 @@ impl Autopilot {
         }
     }
 
+    /// What the autopilot says when a mode cannot be entered for want of a position.
+    pub(super) fn mode_refused_text(&self, m: Mode) -> String {
+        if self.is_px4() {
+            // Commander::printRejectMode; PX4 calls AUTO/LOITER "Hold".
+            let name = match m {
+                Mode::Hold | Mode::Guided => "Hold",
+                Mode::Auto => "Mission",
+                Mode::Rtl => "Return",
+                Mode::Manual => "Manual",
+            };
+            format!("Switching to {name} is currently not available")
+        } else {
+            "Flight mode change failed".to_string()
+        }
+    }
+
     /// SYS_STATUS health: every sensor, plus PX4's PREARM_CHECK once it would arm.
     pub(super) fn health_sensors(&self, sensors: MavSysStatusSensor) -> MavSysStatusSensor {
         if self.is_px4() && self.ready() && self.battery.can_arm() {
