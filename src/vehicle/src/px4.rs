@@ -69,6 +69,28 @@ pub fn prearm_from(msg: &MavMessage) -> Option<bool> {
     }
 }
 
+/// A PX4 custom mode's name as QGroundControl shows it (src/modules/commander/px4_custom_mode.h); `None`
+/// for a number that is no PX4 main mode.
+pub fn mode_name(custom_mode: u32) -> Option<String> {
+    let (main, sub) = ((custom_mode >> 16) & 0xff, custom_mode >> 24);
+    let name = match (main, sub) {
+        (1, _) => "Manual",
+        (2, _) => "Altitude",
+        (3, _) => "Position",
+        (4, 2) => "Takeoff",
+        (4, 3) => "Hold",
+        (4, 4) => "Mission",
+        (4, 5) => "Return",
+        (4, 6) => "Land",
+        (4, _) => "Auto",
+        (5, _) => "Acro",
+        (6, _) => "Offboard",
+        (7, _) => "Stabilized",
+        _ => return None,
+    };
+    Some(format!("{name} ({main}/{sub})"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,6 +109,15 @@ mod tests {
         );
         assert!(!status_requests(Autopilot::Px4).contains(&EKF_STATUS_REPORT));
         assert!(status_requests(Autopilot::Ardupilot).contains(&EKF_STATUS_REPORT));
+    }
+
+    #[test]
+    fn px4_modes_have_their_names_and_ardupilot_numbers_none() {
+        assert_eq!(mode_name(4 << 16 | 5 << 24).as_deref(), Some("Return (4/5)"));
+        assert_eq!(mode_name(4 << 16 | 3 << 24).as_deref(), Some("Hold (4/3)"));
+        assert_eq!(mode_name(15), None);
+        assert_eq!(crate::authority::mode_name(4 << 16 | 3 << 24), "Hold (4/3)");
+        assert_eq!(crate::authority::mode_name(4), "HOLD");
     }
 
     #[test]
