@@ -93,6 +93,11 @@ def main():
             say(f"t={boot_s:.1f}s autopilot:", msg.text)
         if not a.no_arm and not armed and not held and boot_s - last_arm >= 5.0 and boot_s > 0:
             # The operator arms (ArduPilot refuses for ~20 s after boot; tried every 5 s).
+            if a.autopilot == "px4" and mode is not None and (mode >> 16) & 0xFF == 1:
+                # PX4 boots in Manual, which needs a stick (SIH has none): the operator selects Hold first.
+                say(f"t={boot_s:.1f}s selecting Hold before arming")
+                m.mav.command_long_send(m.target_system, 1, mavutil.mavlink.MAV_CMD_DO_SET_MODE, 0,
+                                        1, 4, 3, 0, 0, 0, 0)
             say(f"t={boot_s:.1f}s arming")
             m.mav.command_long_send(m.target_system, 1,
                                     mavutil.mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)

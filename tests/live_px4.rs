@@ -32,11 +32,11 @@ fn a_rover_mission_on_the_px4_profile_moves_in_global_int_and_yields_to_return()
     };
     let run = run_demo(&setup, &mut |_| {}, &mut |_| {}).unwrap_or_else(|e| panic!("demo: {e}"));
 
-    // The operator arms at 20 s, after the profile's 15 s of rejections; the companion never sends ARM.
+    // The operator arms at 10 s, after the profile's 5 s of rejections; the companion never sends ARM.
     let ready = run.ready.as_ref().expect("the run waited for readiness");
     assert!(ready.ready, "{ready:?}");
     assert!(
-        ready.armed_after_ms.is_some_and(|ms| ms >= 15_000),
+        ready.armed_after_ms.is_some_and(|ms| ms >= 9_000),
         "{ready:?}"
     );
     assert_eq!(ready.arm_attempts, 0, "{ready:?}");

@@ -273,8 +273,10 @@ impl AutopilotParams {
 
 /// Seconds after boot a PX4 SIH rover refuses arming ("heading estimate not stable") and has no position;
 /// measured on PX4 main's `sihsim_rover_ackermann` (docs/real-autopilots.md).
-const PX4_READY_AFTER_S: f64 = 15.0;
-const PX4_GPS_FIX_AFTER_S: f64 = 5.0;
+/// First GLOBAL_POSITION_INT at 2.0 s of its clock, SYS_STATUS's PREARM_CHECK bit at 4.7 s, ARM accepted
+/// at 5.5 s (2026-11-27, on 2 loaded cores).
+const PX4_READY_AFTER_S: f64 = 5.0;
+const PX4_GPS_FIX_AFTER_S: f64 = 2.0;
 
 /// Longest boot delay accepted (a day): beyond it a delay is a typo, and ms stay far from overflow.
 const MAX_BOOT_DELAY_S: f64 = 86_400.0;

@@ -96,8 +96,10 @@ async fn a_reposition_disarmed_changes_the_mode_and_sets_no_target() {
 #[tokio::test]
 async fn arming_is_rejected_until_the_checks_pass_and_sys_status_tells_it() {
     let (sim, mut gcs) = start(PX4).await;
-    sim.step(Duration::from_secs(6)).await.expect("step");
+    sim.step(Duration::from_secs(1)).await.expect("step");
     let seen = streamed(&sim, &mut gcs).await;
+    // PX4 SIH's rover boots in Hold (AUTO/LOITER).
+    assert_eq!(last_heartbeat(&seen).custom_mode, px4_mode(4, 3));
     let prearm = |msgs: &[MavMessage]| {
         msgs.iter()
             .rev()
@@ -114,16 +116,22 @@ async fn arming_is_rejected_until_the_checks_pass_and_sys_status_tells_it() {
     let r = gcs.arm().await;
     assert_eq!(r, MavResult::MAV_RESULT_TEMPORARILY_REJECTED);
     let texts = Gcs::texts_with_severity(&gcs.sync().await);
+    assert!(texts
+        .iter()
+        .all(|(s, _)| *s == MavSeverity::MAV_SEVERITY_CRITICAL));
+    let said: Vec<&str> = texts.iter().map(|(_, t)| t.as_str()).collect();
+    // The second text is 51 characters: two STATUSTEXT chunks.
     assert_eq!(
-        texts,
-        vec![(
-            MavSeverity::MAV_SEVERITY_CRITICAL,
-            "Preflight Fail: heading estimate not stable".to_string()
-        )]
+        said,
+        [
+            "Preflight Fail: heading estimate not stable",
+            "Arming denied: Resolve system health failures firs",
+            "t"
+        ]
     );
     assert!(!sim.snapshot().armed);
     let s = run_until(&sim, 60, |_| true).await;
-    let ready_ms = 15_000;
+    let ready_ms = 5_000;
     sim.step(Duration::from_millis(ready_ms - s.time_ms))
         .await
         .expect("step");
@@ -157,12 +165,12 @@ async fn ekf_status_report_is_denied_and_estimator_status_streams() {
             })
             .expect("an ESTIMATOR_STATUS")
     };
-    let before = flags(&streamed(&sim, &mut gcs).await);
+    let before = flags(&sent_over(&sim, &mut gcs, Duration::from_millis(1_500)).await);
     assert!(before.contains(EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE));
     assert!(!before.contains(EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS));
     // No home before the fix: nothing to send, DENIED (ArduPilot accepts and sends nothing).
     assert_eq!(gcs.request_message(242).await, MavResult::MAV_RESULT_DENIED);
-    sim.step(Duration::from_secs(5)).await.expect("step");
+    sim.step(Duration::from_secs(1)).await.expect("step");
     let after = flags(&streamed(&sim, &mut gcs).await);
     assert!(after.contains(EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS));
     assert!(!after.contains(EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE));
@@ -185,7 +193,11 @@ async fn modes_are_px4_custom_modes_and_hold_is_loiter() {
         texts.contains(&"Switching to Return is currently not available".to_string()),
         "{texts:?}"
     );
-    sim.step(Duration::from_secs(6)).await.expect("step");
+    sim.step(Duration::from_secs(3)).await.expect("step");
+    assert_eq!(
+        set_px4_mode(&mut gcs, (1, 0)).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     assert_eq!(
         set_px4_mode(&mut gcs, HOLD).await,
         MavResult::MAV_RESULT_ACCEPTED

@@ -56,6 +56,7 @@ impl Autopilot {
         let mut out = Vec::new();
         if self.behaviour.profile == Profile::Px4 && !self.ready() {
             out.push(super::px4::HEADING_NOT_STABLE.to_string());
+            out.push(super::px4::ARMING_DENIED.to_string());
         }
         if !self.ready() && self.behaviour.profile != Profile::Px4 {
             let ready_ms = secs_to_ms(self.behaviour.ready_after_s) as f64;

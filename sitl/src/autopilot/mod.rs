@@ -179,7 +179,7 @@ impl Autopilot {
         ap.streams = ap.default_streams();
         ap.mission = vec![ap.home_item()];
         ap.fence = ap.fence_items(&s.fence);
-        ap.mode = Mode::Manual;
+        ap.mode = ap.boot_mode();
         ap
     }
 
@@ -502,7 +502,7 @@ impl Autopilot {
             self.armed = false;
             self.emit_event(EventKind::Disarmed, 0);
         }
-        self.mode = Mode::Manual;
+        self.mode = self.boot_mode();
         self.guided_target = None;
         self.speed_override = None;
         self.exec = Exec::default();

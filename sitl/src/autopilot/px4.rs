@@ -35,8 +35,10 @@ pub const ESTIMATOR_STATUS: u32 = 230;
 /// Messages PX4 has no stream for, that the sim builds for ArduPilot.
 const NO_STREAM: [u32; 2] = [193, super::telemetry::CAMERA_FEEDBACK];
 
-/// The text PX4's estimator check gives while the heading settles after boot.
+/// The text PX4's estimator check gives while the heading settles after boot (estimatorCheck.cpp), and
+/// Commander's answer to the ARM (Commander.cpp `arm`; the one a SIH rover sent on 2026-11-27).
 pub const HEADING_NOT_STABLE: &str = "Preflight Fail: heading estimate not stable";
+pub const ARMING_DENIED: &str = "Arming denied: Resolve system health failures first";
 
 fn custom_mode(main: u32, sub: u32) -> u32 {
     (main << 16) | (sub << 24)
@@ -66,6 +68,15 @@ pub fn mode_from(main: u32, sub: u32) -> Option<Mode> {
 impl Autopilot {
     pub(super) fn is_px4(&self) -> bool {
         self.behaviour.profile == Profile::Px4
+    }
+
+    /// The mode at boot: PX4 SIH's rover boots in Hold (AUTO/LOITER, seen 2026-11-27), ArduPilot in MANUAL.
+    pub(super) fn boot_mode(&self) -> Mode {
+        if self.is_px4() {
+            Mode::Guided
+        } else {
+            Mode::Manual
+        }
     }
 
     /// The custom_mode the vehicle reports for `m`.
