@@ -60,6 +60,12 @@ def main():
         return 1
     m.wait_heartbeat(timeout=60)
     say("watching", a.vehicle, "sysid", m.target_system)
+    if a.autopilot == "px4":
+        # PX4's simulated battery empties in SIM_BAT_DRAIN s (60) while armed, down to 50 %: a test rig's
+        # setting, not a vehicle's. An hour drains about as the rover domain plans.
+        m.mav.param_set_send(m.target_system, 1, b"SIM_BAT_DRAIN", 3600.0,
+                             mavutil.mavlink.MAV_PARAM_TYPE_REAL32)
+        say("SIM_BAT_DRAIN set to 3600 s")
     uploaded = a.upload_at is None or not a.goals
     moves, moving_since, held = 0, None, a.hold_move == 0
     boot_s, mode, speed = 0.0, None, 0.0
@@ -91,7 +97,9 @@ def main():
             say(f"t={boot_s:.1f}s command {msg.command} answered {msg.result}")
         elif t == "STATUSTEXT" and msg.severity <= 4:
             say(f"t={boot_s:.1f}s autopilot:", msg.text)
-        if not a.no_arm and not armed and not held and boot_s - last_arm >= 5.0 and boot_s > 0:
+        # Before the mission, and after handing control back on PX4 (its Return disarms the rover at home).
+        rearm = not held or (a.autopilot == "px4" and handed_back)
+        if not a.no_arm and not armed and rearm and boot_s - last_arm >= 5.0 and boot_s > 0:
             # The operator arms (ArduPilot refuses for ~20 s after boot; tried every 5 s).
             if a.autopilot == "px4" and mode is not None and (mode >> 16) & 0xFF == 1:
                 # PX4 boots in Manual, which needs a stick (SIH has none): the operator selects Hold first.

@@ -36,7 +36,7 @@ fn a_rover_mission_on_the_px4_profile_moves_in_global_int_and_yields_to_return()
     let ready = run.ready.as_ref().expect("the run waited for readiness");
     assert!(ready.ready, "{ready:?}");
     assert!(
-        ready.armed_after_ms.is_some_and(|ms| ms >= 9_000),
+        ready.armed_after_ms.is_some_and(|ms| ms >= 8_000),
         "{ready:?}"
     );
     assert_eq!(ready.arm_attempts, 0, "{ready:?}");
