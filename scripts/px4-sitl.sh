@@ -53,11 +53,10 @@ build=$(realpath "$build")
 mkdir -p "$out"; out=$(realpath "$out")
 
 # pymavlink for the operator script, from the package registry into our own virtualenv.
+# shellcheck source=scripts/sitl-common.sh
+. "$root/scripts/sitl-common.sh"
 venv=${PX4_VENV:-$out/venv}
-if [ ! -x "$venv/bin/python" ]; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet pymavlink
-fi
+sitl_venv "$venv"
 
 # Re-run inside a private network namespace with loopback up.
 if [ -z "${MAVTEMPO_IN_NETNS:-}" ]; then
@@ -87,10 +86,5 @@ if [ -n "$goals" ]; then op_args+=(--goals "$goals" --upload-at "$upload_at"); f
 "$venv/bin/python" scripts/ardupilot-faults.py "${op_args[@]}" > "$out/operator.log" 2>&1 &
 operator=$!
 
-status=0
-wait $companion || status=$?
-wait $operator || true
-cat "$out/operator.log"
-grep -E "vehicle|position fix|mission ended|^  g|plan repairs|REJECTED|achieved" "$out/run.log" | head -40
-echo "companion exit $status; trace $out/run.log, report $out/report.json, PX4 $out/px4.log"
-exit $status
+echo "PX4 log: $out/px4.log"
+sitl_finish $companion $operator "$out"

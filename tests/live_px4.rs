@@ -7,56 +7,38 @@
 //! (PX4 SIH has no camera); a goal file is uploaded during the run; the companion yields during Return and
 //! resumes on Hold.
 
-use std::path::PathBuf;
+#[path = "common/live_run.rs"]
+mod live_run;
 
-use mavtempo::cli::demo::{run_demo, DemoSetup, TimedUpload, UploadItems};
-use mavtempo::exec::executive::Fate;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::ReportStatus;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 #[test]
 fn a_rover_mission_on_the_px4_profile_moves_in_global_int_and_yields_to_return() {
-    let setup = DemoSetup {
-        config: Some(root().join("config/px4-rover.toml")),
-        scenario: Some(root().join("tests/fixtures/exec/px4-return.toml")),
-        upload: false,
-        timed_upload: Some(TimedUpload {
-            at_ms: 150_000,
-            items: UploadItems::File(root().join("config/goals/px4-example.plan")),
-        }),
-        ..DemoSetup::default()
-    };
-    let run = run_demo(&setup, &mut |_| {}, &mut |_| {}).unwrap_or_else(|e| panic!("demo: {e}"));
+    let run = live_run::run(
+        "config/px4-rover.toml",
+        "tests/fixtures/exec/px4-return.toml",
+        "config/goals/px4-example.plan",
+        150_000,
+    );
 
     // The operator arms at 10 s, after the profile's 5 s of rejections; the companion never sends ARM.
     let ready = run.ready.as_ref().expect("the run waited for readiness");
-    assert!(ready.ready, "{ready:?}");
     assert!(
         ready.armed_after_ms.is_some_and(|ms| ms >= 8_000),
         "{ready:?}"
     );
-    assert_eq!(ready.arm_attempts, 0, "{ready:?}");
 
     let events: Vec<&TraceEvent> = run.report.cycles.iter().flat_map(|c| &c.events).collect();
-    let reports = |task: &str, status: ReportStatus| {
-        events
-            .iter()
-            .filter(|e| {
-                matches!(e, TraceEvent::Report { action, status: s, .. }
-                    if action.starts_with(task) && *s == status)
-            })
-            .count()
-    };
+    let reports = |task: &str, status: ReportStatus| live_run::reports(&events, task, status);
     // Every move PX4 took (a frame it refuses would fail them all with UNSUPPORTED_MAV_FRAME).
     let failed_moves: Vec<_> = events
         .iter()
-        .filter(|e| matches!(e, TraceEvent::Report { action, status, reason, .. }
+        .filter(|e| {
+            matches!(e, TraceEvent::Report { action, status, reason, .. }
             if action.starts_with("move(") && *status == ReportStatus::Failed
-                && reason.as_deref().is_some_and(|r| r.contains("refused"))))
+                && reason.as_deref().is_some_and(|r| r.contains("refused")))
+        })
         .collect();
     assert!(failed_moves.is_empty(), "{failed_moves:?}");
     assert!(reports("take_picture(", ReportStatus::Nominal) >= 3);
@@ -86,15 +68,7 @@ fn a_rover_mission_on_the_px4_profile_moves_in_global_int_and_yields_to_return()
 
     // Every goal settled, each rejection with its reason; most of the mission achieved.
     let fates = &run.report.goals;
-    for g in fates {
-        match g.fate {
-            Fate::Achieved => {}
-            Fate::Rejected => assert!(g.reason.is_some(), "{g:?}"),
-            _ => panic!("not settled: {g:?}"),
-        }
-    }
-    let achieved = fates.iter().filter(|g| g.fate == Fate::Achieved).count();
-    assert!(achieved >= 4, "{fates:?}");
+    live_run::assert_settled(fates, 4);
     assert!(
         run.timed_upload
             .as_deref()

@@ -24,11 +24,8 @@ fn px4_mode(main: u32, sub: u32) -> u32 {
 const HOLD: (u32, u32) = (4, 3);
 
 async fn set_px4_mode(gcs: &mut Gcs, (main, sub): (u32, u32)) -> MavResult {
-    gcs.command(
-        MavCmd::MAV_CMD_DO_SET_MODE,
-        &[1.0, main as f32, sub as f32],
-    )
-    .await
+    gcs.command(MavCmd::MAV_CMD_DO_SET_MODE, &[1.0, main as f32, sub as f32])
+        .await
 }
 
 /// The last HEARTBEAT among `msgs`.
@@ -67,7 +64,13 @@ async fn command_int_needs_global_int_and_reposition_its_change_mode_bit() {
     let r = reposition_in(&mut gcs, MavFrame::MAV_FRAME_GLOBAL, 30.0, 1.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME);
     assert_eq!(r as u32, 9);
-    let r = reposition_in(&mut gcs, MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, 30.0, 1.0).await;
+    let r = reposition_in(
+        &mut gcs,
+        MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+        30.0,
+        1.0,
+    )
+    .await;
     assert_eq!(r, MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME);
     // Without the change-mode bit: UNSUPPORTED.
     let r = reposition_in(&mut gcs, MavFrame::MAV_FRAME_GLOBAL_INT, 30.0, 0.0).await;
@@ -229,7 +232,7 @@ async fn without_a_camera_component_image_start_capture_is_unsupported() {
     // With a MAVLink camera declared (`camera = "mavlink"`), the picture is taken and confirmed.
     let (sim, mut gcs) = start(&format!("{PX4_READY}camera = \"mavlink\"\n")).await;
     let seen = shoot(&sim, &mut gcs, Duration::from_secs(5)).await;
-    assert!(seen
-        .iter()
-        .any(|m| matches!(m, MavMessage::CAMERA_IMAGE_CAPTURED(c) if c.capture_result.bits() == 1)));
+    assert!(seen.iter().any(
+        |m| matches!(m, MavMessage::CAMERA_IMAGE_CAPTURED(c) if c.capture_result.bits() == 1)
+    ));
 }

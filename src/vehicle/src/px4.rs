@@ -113,7 +113,10 @@ mod tests {
 
     #[test]
     fn px4_modes_have_their_names_and_ardupilot_numbers_none() {
-        assert_eq!(mode_name(4 << 16 | 5 << 24).as_deref(), Some("Return (4/5)"));
+        assert_eq!(
+            mode_name(4 << 16 | 5 << 24).as_deref(),
+            Some("Return (4/5)")
+        );
         assert_eq!(mode_name(4 << 16 | 3 << 24).as_deref(), Some("Hold (4/3)"));
         assert_eq!(mode_name(15), None);
         assert_eq!(crate::authority::mode_name(4 << 16 | 3 << 24), "Hold (4/3)");

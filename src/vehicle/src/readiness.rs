@@ -388,7 +388,10 @@ mod tests {
         };
         let mut r = Readiness::new(0);
         assert_eq!(r.tick(1_000, failing), ReadyAction::Nothing);
-        assert_eq!(r.phase(), ReadyPhase::WaitingForChecks(1_000 + MAX_BACKOFF_MS));
+        assert_eq!(
+            r.phase(),
+            ReadyPhase::WaitingForChecks(1_000 + MAX_BACKOFF_MS)
+        );
         assert_eq!(r.report().arm_attempts, 0);
         assert!(r.report().why_not(5.0).contains("pre-arm checks fail"));
         assert_ne!(r.tick(5_000, failing), ReadyAction::Arm);
@@ -417,7 +420,10 @@ mod tests {
         let rep = r.report();
         assert!(rep.ready);
         assert_eq!(rep.arm_attempts, 2);
-        assert!(rep.refusals.iter().any(|t| t.contains("TEMPORARILY_REJECTED")));
+        assert!(rep
+            .refusals
+            .iter()
+            .any(|t| t.contains("TEMPORARILY_REJECTED")));
         assert!(rep.refusals.iter().any(|t| t.contains("heading")));
     }
 

@@ -129,7 +129,9 @@ impl Telemetry {
                 );
             }
             // PX4's estimator report (it has no EKF_STATUS_REPORT): the same flags.
-            MavMessage::ESTIMATOR_STATUS(_) => self.navigation_ok = super::px4::navigation_from(msg),
+            MavMessage::ESTIMATOR_STATUS(_) => {
+                self.navigation_ok = super::px4::navigation_from(msg)
+            }
             MavMessage::HOME_POSITION(h) if h.latitude != 0 || h.longitude != 0 => {
                 self.home_known = true;
                 self.home_position = Some((
