@@ -12,7 +12,7 @@ use mavtempo::vehicle::ReportStatus;
 /// The shipped `config` (relative to the repository) against the built-in SITL in `scenario`, stepped, with
 /// the goal file `goals` uploaded by a ground station at `upload_at_ms`; the operator arms (the scenario
 /// does): the run must have waited for it without sending ARM.
-pub fn run(config: &str, scenario: &str, goals: &str, upload_at_ms: u64) -> DemoRun {
+pub fn run(config: &str, scenario: &str, goals: &str, upload_at_ms: i64) -> DemoRun {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let setup = DemoSetup {
         config: Some(root.join(config)),
