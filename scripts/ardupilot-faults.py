@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
-"""Watches a real ArduPilot Rover SITL on a spare port (pymavlink) while `mavtempo run` drives it, and does
-what an operator would: uploads a goal file through the companion's ground-station port once the vehicle's
-clock reaches a given time, arms the rover once its estimator is ready (arming is the operator's with
-config/ardupilot-rover.toml), switches it to HOLD in the middle of its N-th move (a foreign mode change: the
-companion yields) and hands control back by switching it to GUIDED --hold-for seconds later. Prints one line per thing seen or done; exits when the companion process ends or at --timeout.
+"""Watches a real ArduPilot Rover SITL (or PX4 SIH rover, --autopilot px4) on a spare port (pymavlink) while
+`mavtempo run` drives it, and does what an operator would: uploads a goal file through the companion's
+ground-station port once the vehicle's clock reaches a given time, arms the rover once its estimator is ready
+(arming is the operator's with config/ardupilot-rover.toml and config/px4-rover.toml), takes control in the
+middle of its N-th move (a foreign mode change: the companion yields) and hands control back --hold-for
+seconds later. ArduPilot: HOLD, then GUIDED. PX4: the companion's moves run in AUTO/LOITER, which is PX4's
+Hold itself, so the operator takes control with Return (AUTO/RTL) and hands it back by switching to Hold.
+Prints one line per thing seen or done; exits when the companion process ends or at --timeout.
 
-Used by scripts/ardupilot-sitl.sh; nothing of ArduPilot is in here.
+Used by scripts/ardupilot-sitl.sh and scripts/px4-sitl.sh; nothing of either autopilot is in here.
 """
 import argparse
 import subprocess
@@ -14,7 +17,14 @@ import time
 
 from pymavlink import mavutil
 
-GUIDED, HOLD = 15, 4
+# DO_SET_MODE (p2, p3) and the custom_mode a heartbeat shows, per autopilot:
+# the companion's mode, the operator's "take control" mode, the mode that hands control back.
+MODES = {
+    "ardupilot": {"guided": 15, "take": (4, 0), "take_name": "HOLD", "back": (15, 0), "back_name": "GUIDED"},
+    # PX4 custom_mode = main << 16 | sub << 24; AUTO 4, sub LOITER 3, RTL 5.
+    "px4": {"guided": 4 << 16 | 3 << 24, "take": (4, 5), "take_name": "Return",
+            "back": (4, 3), "back_name": "Hold"},
+}
 
 
 def say(*parts):
@@ -24,6 +34,7 @@ def say(*parts):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--vehicle", default="tcp:127.0.0.1:5762")
+    ap.add_argument("--autopilot", choices=sorted(MODES), default="ardupilot")
     ap.add_argument("--mavtempo", required=True, help="the mavtempo binary")
     ap.add_argument("--gcs", default="udpout:127.0.0.1:14551", help="the companion's goal port")
     ap.add_argument("--goals", help="goal file uploaded at --upload-at")
@@ -35,6 +46,7 @@ def main():
     ap.add_argument("--companion-pid", type=int, required=True)
     ap.add_argument("--timeout", type=float, default=1800.0, help="wall seconds")
     a = ap.parse_args()
+    modes = MODES[a.autopilot]
 
     deadline = time.time() + a.timeout
     m = None
@@ -48,11 +60,22 @@ def main():
         return 1
     m.wait_heartbeat(timeout=60)
     say("watching", a.vehicle, "sysid", m.target_system)
+    if a.autopilot == "px4":
+        # PX4's simulated battery empties in SIM_BAT_DRAIN s (60) while armed, down to 50 %: a test rig's
+        # setting, not a vehicle's. An hour drains about as the rover domain plans.
+        m.mav.param_set_send(m.target_system, 1, b"SIM_BAT_DRAIN", 3600.0,
+                             mavutil.mavlink.MAV_PARAM_TYPE_REAL32)
+        say("SIM_BAT_DRAIN set to 3600 s")
     uploaded = a.upload_at is None or not a.goals
     moves, moving_since, held = 0, None, a.hold_move == 0
     boot_s, mode, speed = 0.0, None, 0.0
     armed, last_arm, held_at, handed_back = False, -10.0, None, False
+    last_hb = 0.0
     while time.time() < deadline:
+        if time.time() - last_hb >= 1.0:
+            # A ground station's heartbeat: PX4 counts a GCS link among its arming checks.
+            m.mav.heartbeat_send(mavutil.mavlink.MAV_TYPE_GCS, mavutil.mavlink.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+            last_hb = time.time()
         if subprocess.run(["kill", "-0", str(a.companion_pid)], capture_output=True).returncode != 0:
             say("the companion ended")
             return 0
@@ -60,8 +83,8 @@ def main():
         if msg is None:
             continue
         t = msg.get_type()
-        if t == "SYSTEM_TIME":
-            boot_s = msg.time_boot_ms / 1000.0
+        if t in ("SYSTEM_TIME", "GLOBAL_POSITION_INT"):
+            boot_s = max(boot_s, msg.time_boot_ms / 1000.0)
         elif t == "HEARTBEAT" and msg.get_srcComponent() == 1:
             mode = msg.custom_mode
             armed = bool(msg.base_mode & mavutil.mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
@@ -70,20 +93,29 @@ def main():
         elif t == "CAMERA_FEEDBACK":
             # The picture's evidence: how fast the rover went when the camera fired (the domain wants STILL).
             say(f"t={boot_s:.1f}s capture {msg.img_idx} at {speed:.2f} m/s")
+        elif t == "COMMAND_ACK" and msg.result != 0:
+            say(f"t={boot_s:.1f}s command {msg.command} answered {msg.result}")
         elif t == "STATUSTEXT" and msg.severity <= 4:
             say(f"t={boot_s:.1f}s autopilot:", msg.text)
-        if not a.no_arm and not armed and not held and boot_s - last_arm >= 5.0 and boot_s > 0:
+        # Before the mission, and after handing control back on PX4 (its Return disarms the rover at home).
+        rearm = not held or (a.autopilot == "px4" and handed_back)
+        if not a.no_arm and not armed and rearm and boot_s - last_arm >= 5.0 and boot_s > 0:
             # The operator arms (ArduPilot refuses for ~20 s after boot; tried every 5 s).
+            if a.autopilot == "px4" and mode is not None and (mode >> 16) & 0xFF == 1:
+                # PX4 boots in Manual, which needs a stick (SIH has none): the operator selects Hold first.
+                say(f"t={boot_s:.1f}s selecting Hold before arming")
+                m.mav.command_long_send(m.target_system, 1, mavutil.mavlink.MAV_CMD_DO_SET_MODE, 0,
+                                        1, 4, 3, 0, 0, 0, 0)
             say(f"t={boot_s:.1f}s arming")
             m.mav.command_long_send(m.target_system, 1,
                                     mavutil.mavlink.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
             last_arm = boot_s
         if held_at is not None and not handed_back and boot_s - held_at >= a.hold_for:
-            say(f"t={boot_s:.1f}s handing control back: GUIDED")
+            say(f"t={boot_s:.1f}s handing control back: {modes['back_name']}")
             m.mav.command_long_send(m.target_system, 1, mavutil.mavlink.MAV_CMD_DO_SET_MODE, 0,
-                                    1, GUIDED, 0, 0, 0, 0, 0)
+                                    1, *modes["back"], 0, 0, 0, 0)
             handed_back = True
-        driving = mode == GUIDED and speed > 0.2
+        driving = mode == modes["guided"] and speed > 0.2
         if driving and moving_since is None:
             moves += 1
             moving_since = boot_s
@@ -92,9 +124,9 @@ def main():
             moving_since = None
         if not held and moves == a.hold_move and moving_since is not None \
                 and boot_s - moving_since >= a.hold_after:
-            say(f"t={boot_s:.1f}s switching the rover to HOLD in the middle of move {moves}")
+            say(f"t={boot_s:.1f}s switching the rover to {modes['take_name']} in the middle of move {moves}")
             m.mav.command_long_send(m.target_system, 1, mavutil.mavlink.MAV_CMD_DO_SET_MODE, 0,
-                                    1, HOLD, 0, 0, 0, 0, 0)
+                                    1, *modes["take"], 0, 0, 0, 0)
             held, held_at = True, boot_s
         if not uploaded and boot_s >= a.upload_at:
             say(f"t={boot_s:.1f}s uploading {a.goals} to {a.gcs}")

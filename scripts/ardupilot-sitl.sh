@@ -55,11 +55,10 @@ bin_ap=$(realpath "$bin_ap"); defaults=$(realpath "$defaults")
 mkdir -p "$out"; out=$(realpath "$out")
 
 # pymavlink for the operator script, from the package registry into our own virtualenv.
+# shellcheck source=scripts/sitl-common.sh
+. "$root/scripts/sitl-common.sh"
 venv=${ARDUPILOT_VENV:-$out/venv}
-if [ ! -x "$venv/bin/python" ]; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet pymavlink
-fi
+sitl_venv "$venv"
 
 # Re-run inside a private network namespace with loopback up.
 if [ -z "${MAVTEMPO_IN_NETNS:-}" ]; then
@@ -93,10 +92,4 @@ if [ -n "$goals" ]; then op_args+=(--goals "$goals" --upload-at "$upload_at"); f
 "$venv/bin/python" scripts/ardupilot-faults.py "${op_args[@]}" > "$out/operator.log" 2>&1 &
 operator=$!
 
-status=0
-wait $companion || status=$?
-wait $operator || true
-cat "$out/operator.log"
-grep -E "vehicle|position fix|mission ended|^  g|plan repairs|REJECTED|achieved" "$out/run.log" | head -40
-echo "companion exit $status; trace $out/run.log, report $out/report.json"
-exit $status
+sitl_finish $companion $operator "$out"

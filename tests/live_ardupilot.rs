@@ -6,35 +6,24 @@
 //! uploaded by a ground station during the run; the companion yields during the HOLD and the mission goes
 //! on after it is handed back.
 
-use std::path::PathBuf;
+#[path = "common/live_run.rs"]
+mod live_run;
 
-use mavtempo::cli::demo::{run_demo, DemoSetup, TimedUpload, UploadItems};
-use mavtempo::exec::executive::Fate;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::vehicle::ReportStatus;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 #[test]
 fn a_rover_mission_on_the_ardupilot_profile_waits_for_the_operator_and_yields_to_a_foreign_hold() {
-    let setup = DemoSetup {
-        config: Some(root().join("config/ardupilot-rover.toml")),
-        scenario: Some(root().join("tests/fixtures/exec/ardupilot-hold.toml")),
-        upload: false,
-        timed_upload: Some(TimedUpload {
-            at_ms: 150_000,
-            items: UploadItems::File(root().join("config/goals/example.plan")),
-        }),
-        ..DemoSetup::default()
-    };
-    let run = run_demo(&setup, &mut |_| {}, &mut |_| {}).unwrap_or_else(|e| panic!("demo: {e}"));
+    let run = live_run::run(
+        "config/ardupilot-rover.toml",
+        "tests/fixtures/exec/ardupilot-hold.toml",
+        "config/goals/example.plan",
+        150_000,
+    );
 
     // Started right after boot: the companion waits for the fix, then for the operator, who arms at 25 s
     // (the scenario's ground station); it never sends ARM itself.
     let ready = run.ready.as_ref().expect("the run waited for readiness");
-    assert!(ready.ready);
     assert!(
         ready.fix_after_ms.is_some_and(|ms| ms >= 9_000),
         "{ready:?}"
@@ -43,18 +32,9 @@ fn a_rover_mission_on_the_ardupilot_profile_waits_for_the_operator_and_yields_to
         ready.armed_after_ms.is_some_and(|ms| ms >= 20_000),
         "{ready:?}"
     );
-    assert_eq!(ready.arm_attempts, 0, "{ready:?}");
 
     let events: Vec<&TraceEvent> = run.report.cycles.iter().flat_map(|c| &c.events).collect();
-    let reports = |task: &str, status: ReportStatus| {
-        events
-            .iter()
-            .filter(|e| {
-                matches!(e, TraceEvent::Report { action, status: s, .. }
-                    if action.starts_with(task) && *s == status)
-            })
-            .count()
-    };
+    let reports = |task: &str, status: ReportStatus| live_run::reports(&events, task, status);
     // Pictures confirmed by CAMERA_FEEDBACK alone (the profile sends no CAMERA_IMAGE_CAPTURED).
     assert!(reports("take_picture(", ReportStatus::Nominal) >= 3);
     assert_eq!(reports("take_picture(", ReportStatus::Failed), 0);
@@ -115,15 +95,7 @@ fn a_rover_mission_on_the_ardupilot_profile_waits_for_the_operator_and_yields_to
         fates.len() >= 6,
         "the upload's goals have fates too: {fates:?}"
     );
-    for g in fates {
-        match g.fate {
-            Fate::Achieved => {}
-            Fate::Rejected => assert!(g.reason.is_some(), "{g:?}"),
-            _ => panic!("not settled: {g:?}"),
-        }
-    }
-    let achieved = fates.iter().filter(|g| g.fate == Fate::Achieved).count();
-    assert!(achieved >= 4, "{fates:?}");
+    live_run::assert_settled(fates, 4);
     assert!(
         run.timed_upload
             .as_deref()

@@ -25,7 +25,7 @@ pub enum SimError {
     /// A scenario file wrong at `file:line:col` (the line shown).
     #[error("bad scenario {0}")]
     ScenarioAt(Box<srctext::Located>),
-    #[error("unknown profile `{0}` (default or ardupilot)")]
+    #[error("unknown profile `{0}` (default, ardupilot or px4)")]
     UnknownProfile(String),
     #[error("unknown vehicle `{0}` (rover or auv)")]
     UnknownVehicle(String),

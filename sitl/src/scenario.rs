@@ -148,6 +148,9 @@ pub enum Profile {
     /// What a real ArduPilot Rover (4.7-dev) SITL does: arming refused for 20 s after boot, no
     /// position for 10 s, AP_Camera (CAMERA_FEEDBACK), GUIDED submodes and their speed rules.
     Ardupilot,
+    /// What a real PX4 (main, SIH rover) does: its custom modes, COMMAND_INT in GLOBAL_INT only, arming
+    /// rejected while its checks fail after boot, no EKF_STATUS_REPORT, no camera (sitl/src/autopilot/px4.rs).
+    Px4,
 }
 
 impl std::str::FromStr for Profile {
@@ -156,6 +159,7 @@ impl std::str::FromStr for Profile {
         match s.to_ascii_lowercase().as_str() {
             "default" => Ok(Self::Default),
             "ardupilot" => Ok(Self::Ardupilot),
+            "px4" => Ok(Self::Px4),
             other => Err(SimError::UnknownProfile(other.to_string())),
         }
     }
@@ -242,6 +246,17 @@ impl Profile {
                 guided_submodes: true,
                 storage_information: true,
             },
+            // PX4 SIH rover: the GPS (SENS_EN_GPSSIM) gives a position within seconds; arming is refused
+            // until the heading estimate is stable; no camera component; it has a STORAGE_INFORMATION
+            // stream (its SD card).
+            Profile::Px4 => Behaviour {
+                profile: self,
+                ready_after_s: PX4_READY_AFTER_S,
+                gps_fix_after_s: PX4_GPS_FIX_AFTER_S,
+                camera: CameraBackend::None,
+                guided_submodes: false,
+                storage_information: true,
+            },
         }
     }
 }
@@ -255,6 +270,13 @@ impl AutopilotParams {
         }
     }
 }
+
+/// Seconds after boot a PX4 SIH rover refuses arming ("heading estimate not stable") and has no position;
+/// measured on PX4 main's `sihsim_rover_ackermann` (docs/real-autopilots.md).
+/// First GLOBAL_POSITION_INT at 2.0 s of its clock, SYS_STATUS's PREARM_CHECK bit at 4.7 s, ARM accepted
+/// at 5.5 s (2026-11-27, on 2 loaded cores).
+const PX4_READY_AFTER_S: f64 = 5.0;
+const PX4_GPS_FIX_AFTER_S: f64 = 2.0;
 
 /// Longest boot delay accepted (a day): beyond it a delay is a typo, and ms stay far from overflow.
 const MAX_BOOT_DELAY_S: f64 = 86_400.0;

@@ -27,8 +27,9 @@ pub struct SimArgs {
     /// Seed for picture sizes and link faults.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Autopilot behaviours: default, or ardupilot (as a real ArduPilot Rover). Replaces the
-    /// scenario's `[autopilot] profile`; the scenario's other `[autopilot]` keys still apply.
+    /// Autopilot behaviours: default, ardupilot (as a real ArduPilot Rover) or px4 (as a real PX4 SIH
+    /// rover). Replaces the scenario's `[autopilot] profile` (and the one `--config` gives); the
+    /// scenario's other `[autopilot]` keys still apply.
     #[arg(long)]
     pub profile: Option<String>,
     /// Instead of a scenario, the nominal world of a mission, as `demo` runs one without a scenario: no
@@ -36,6 +37,19 @@ pub struct SimArgs {
     /// domain and the problem; home is the problem's, else the configuration's.
     #[arg(long, num_args = 3, value_names = ["CONFIG", "DOMAIN", "PROBLEM"], conflicts_with = "scenario")]
     pub nominal_for: Option<Vec<PathBuf>>,
+    /// A vehicle configuration (config/*.toml): the simulator behaves as its `autopilot` (ardupilot or
+    /// px4) and boots at its `[home]`, unless `--profile` / `--home` say otherwise.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+}
+
+/// Why `sim` cannot start: the simulator's own reasons, or the vehicle configuration's.
+#[derive(Debug, thiserror::Error)]
+enum SimCliError {
+    #[error(transparent)]
+    Sim(#[from] sitl::SimError),
+    #[error(transparent)]
+    Config(#[from] crate::vehicle::config::ConfigError),
 }
 
 pub fn run(args: SimArgs) -> ExitCode {
@@ -77,7 +91,7 @@ fn nominal_world(paths: &[PathBuf]) -> Result<sitl::Scenario, super::error::CliE
 fn configure(
     args: &SimArgs,
     nominal: Option<sitl::Scenario>,
-) -> Result<sitl::SimConfig, sitl::SimError> {
+) -> Result<sitl::SimConfig, SimCliError> {
     let mut config = sitl::SimConfig {
         listen: args.listen.clone(),
         speedup: args.speedup,
@@ -90,6 +104,16 @@ fn configure(
     }
     if let Some(world) = nominal {
         config.scenario = world;
+    }
+    if let Some(path) = &args.config {
+        use crate::vehicle::config::{Autopilot, VehicleConfig};
+        let vc = VehicleConfig::load(path)?;
+        config.scenario.autopilot.profile = match vc.autopilot {
+            Autopilot::Ardupilot => sitl::Profile::Ardupilot,
+            Autopilot::Px4 => sitl::Profile::Px4,
+        };
+        config.home = sitl::parse_home(&format!("{},{}", vc.home.lat, vc.home.lon))?;
+        config.scenario.home = None;
     }
     if let Some(home) = &args.home {
         config.home = sitl::parse_home(home)?;
@@ -169,6 +193,7 @@ mod tests {
             seed: 0,
             profile: profile.map(String::from),
             nominal_for: None,
+            config: None,
         }
     }
 
@@ -180,9 +205,9 @@ mod tests {
         let cfg = configure(&args(Some("default"), Some("43.5,1.25")), None).expect("valid");
         assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Default);
         assert_eq!((cfg.home_point().lat, cfg.home_point().lon), (43.5, 1.25));
-        let err = configure(&args(Some("px4"), None), None).expect_err("unknown profile");
+        let err = configure(&args(Some("betaflight"), None), None).expect_err("unknown profile");
         assert!(
-            matches!(&err, sitl::SimError::UnknownProfile(p) if p == "px4"),
+            matches!(&err, SimCliError::Sim(sitl::SimError::UnknownProfile(p)) if p == "betaflight"),
             "{err}"
         );
     }
@@ -223,5 +248,27 @@ mod tests {
             "p",
         ]);
         assert!(both.is_err());
+    }
+
+    #[test]
+    fn a_px4_vehicle_configuration_selects_the_px4_profile_and_its_home() {
+        let mut a = args(None, None);
+        a.config = Some(
+            [env!("CARGO_MANIFEST_DIR"), "config/px4-rover.toml"]
+                .iter()
+                .collect(),
+        );
+        let cfg = configure(&a, None).expect("valid");
+        assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Px4);
+        assert_eq!(
+            (cfg.home_point().lat, cfg.home_point().lon),
+            (47.397742, 8.545594)
+        );
+        // --profile still wins.
+        a.profile = Some("default".into());
+        let cfg = configure(&a, None).expect("valid");
+        assert_eq!(cfg.scenario.autopilot.profile, sitl::Profile::Default);
+        a.config = Some("no/such/config.toml".into());
+        assert!(matches!(configure(&a, None), Err(SimCliError::Config(_))));
     }
 }

@@ -50,9 +50,15 @@ impl Autopilot {
         let prefix = match self.behaviour.profile {
             Profile::Ardupilot => "Arm: ",
             Profile::Default => "PreArm: ",
+            // PX4's checks report "Preflight Fail: ..." (sitl/src/autopilot/px4.rs).
+            Profile::Px4 => "Preflight Fail: ",
         };
         let mut out = Vec::new();
-        if !self.ready() {
+        if self.behaviour.profile == Profile::Px4 && !self.ready() {
+            out.push(super::px4::HEADING_NOT_STABLE.to_string());
+            out.push(super::px4::ARMING_DENIED.to_string());
+        }
+        if !self.ready() && self.behaviour.profile != Profile::Px4 {
             let ready_ms = secs_to_ms(self.behaviour.ready_after_s) as f64;
             let t = f64::from(self.time_boot_ms());
             let check = BOOT_CHECKS

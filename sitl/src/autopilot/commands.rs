@@ -93,6 +93,10 @@ impl Autopilot {
             self.ack(&c, a.result, a.progress);
             return;
         }
+        if let Some(r) = self.px4_refusal(&c) {
+            self.ack(&c, r, 0);
+            return;
+        }
         let id = c.command as u32;
         self.emit_event(EventKind::Command, i64::from(id));
         if let Some(i) = self
@@ -115,7 +119,7 @@ impl Autopilot {
         let result = match c.command {
             MavCmd::MAV_CMD_DO_SET_MODE => {
                 // p1 must carry MAV_MODE_FLAG_CUSTOM_MODE_ENABLED; p2 is the custom mode.
-                match Mode::from_number(c.p[1] as u32, self.vehicle) {
+                match self.mode_from_command(c.p[1], c.p[2]) {
                     Some(m) if (c.p[0] as u32) & 1 == 1 => self.set_mode_result(m),
                     _ => MavResult::MAV_RESULT_FAILED,
                 }
@@ -128,7 +132,7 @@ impl Autopilot {
                             for reason in reasons {
                                 self.text(MavSeverity::MAV_SEVERITY_CRITICAL, &reason);
                             }
-                            MavResult::MAV_RESULT_FAILED
+                            self.refused_result()
                         }
                     }
                 } else {
@@ -182,6 +186,10 @@ impl Autopilot {
     }
 
     fn request_message(&mut self, c: &Cmd, id: u32) {
+        if self.px4_denies_request(id) {
+            self.ack(c, MavResult::MAV_RESULT_DENIED, 0);
+            return;
+        }
         if id == telemetry::STORAGE_INFORMATION && !self.behaviour.storage_information {
             // ArduPilot has no STORAGE_INFORMATION: an unknown id is FAILED.
             self.ack(c, MavResult::MAV_RESULT_FAILED, 0);
@@ -208,7 +216,7 @@ impl Autopilot {
     fn set_mode_result(&mut self, m: Mode) -> MavResult {
         match self.set_mode(m) {
             Ok(()) => MavResult::MAV_RESULT_ACCEPTED,
-            Err(_) => MavResult::MAV_RESULT_FAILED,
+            Err(_) => self.refused_result(),
         }
     }
 
@@ -249,6 +257,10 @@ impl Autopilot {
             }
         }
         let speed = f64::from(c.p[0]);
+        if self.is_px4() && !self.armed {
+            // PX4's navigator takes a reposition only armed: the mode changed, no target.
+            return MavResult::MAV_RESULT_ACCEPTED;
+        }
         if !submodes {
             // The simple model: the speed goes with this target, whatever the state before.
             self.set_guided_target(x, y, c.p[6], speed);
@@ -353,7 +365,7 @@ impl Autopilot {
     }
 
     pub(super) fn on_set_mode(&mut self, from: Sender, m: &SET_MODE_DATA) {
-        let result = match Mode::from_number(m.custom_mode, self.vehicle) {
+        let result = match self.mode_from_number(m.custom_mode) {
             Some(mode) => self.set_mode_result(mode),
             None => MavResult::MAV_RESULT_FAILED,
         };

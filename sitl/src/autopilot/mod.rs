@@ -11,6 +11,7 @@ mod mission;
 mod modes;
 mod params;
 mod payload_ops;
+mod px4;
 mod telemetry;
 
 use std::time::Duration;
@@ -175,9 +176,10 @@ impl Autopilot {
             out: Vec::new(),
             events: Vec::new(),
         };
+        ap.streams = ap.default_streams();
         ap.mission = vec![ap.home_item()];
         ap.fence = ap.fence_items(&s.fence);
-        ap.mode = Mode::Manual;
+        ap.mode = ap.boot_mode();
         ap
     }
 
@@ -345,10 +347,8 @@ impl Autopilot {
         // Without a fix ArduPilot has no position: armed, a mode that needs one cannot be entered
         // (Mode::enter), and RTL has no home even disarmed (ModeRTL::_enter).
         if !self.gps_fixed() && ((self.armed && m.navigates()) || m == Mode::Rtl) {
-            self.text(
-                MavSeverity::MAV_SEVERITY_WARNING,
-                "Flight mode change failed",
-            );
+            let text = self.mode_refused_text(m);
+            self.text(MavSeverity::MAV_SEVERITY_WARNING, &text);
             return Err("no position");
         }
         if self.behaviour.guided_submodes && m.navigates() {
@@ -367,7 +367,7 @@ impl Autopilot {
             Mode::Rtl => self.rtl_reported = false,
             Mode::Manual | Mode::Hold => {}
         }
-        self.emit_event(EventKind::ModeChanged, i64::from(m.number(self.vehicle)));
+        self.emit_event(EventKind::ModeChanged, i64::from(self.mode_number(m)));
         self.send(Dest::All, self.heartbeat());
         self.broadcast_mission_current();
         Ok(())
@@ -458,7 +458,7 @@ impl Autopilot {
                     self.mode = Mode::Hold;
                     self.emit_event(
                         EventKind::ModeChanged,
-                        i64::from(Mode::Hold.number(self.vehicle)),
+                        i64::from(self.mode_number(Mode::Hold)),
                     );
                     self.send(Dest::All, self.heartbeat());
                     self.broadcast_mission_current();
@@ -469,7 +469,7 @@ impl Autopilot {
                     tracing::info!(?why, "arm fault: arming refused");
                 }
             }
-            Fault::ModeChange { mode } => match Mode::from_number(mode, self.vehicle) {
+            Fault::ModeChange { mode } => match self.mode_from_number(mode) {
                 Some(m) => {
                     if let Err(why) = self.set_mode(m) {
                         tracing::info!(mode, why, "mode_change fault: the mode was refused");
@@ -503,7 +503,7 @@ impl Autopilot {
             self.armed = false;
             self.emit_event(EventKind::Disarmed, 0);
         }
-        self.mode = Mode::Manual;
+        self.mode = self.boot_mode();
         self.guided_target = None;
         self.speed_override = None;
         self.exec = Exec::default();
@@ -511,7 +511,7 @@ impl Autopilot {
         self.camera.cancel();
         self.ap_camera = ap_camera::ApCamera::booted(self.camera.next_index());
         self.upload = None;
-        self.streams = Streams::default();
+        self.streams = self.default_streams();
         self.cmd_memory.clear();
     }
 
@@ -529,7 +529,7 @@ impl Autopilot {
             heading_deg: self.kin.heading.to_degrees().rem_euclid(360.0),
             distance_m: self.distance_m,
             mode: self.mode.name(),
-            custom_mode: self.mode.number(self.vehicle),
+            custom_mode: self.mode_number(self.mode),
             armed: self.armed,
             battery_pct: self.battery.pct,
             storage_capacity_mib: self.storage.capacity_mib,

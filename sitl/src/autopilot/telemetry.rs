@@ -68,6 +68,12 @@ impl Default for Streams {
 }
 
 impl Streams {
+    /// Also streams `id` at 1 Hz by default (PX4's ESTIMATOR_STATUS).
+    pub fn with_default(mut self, id: u32) -> Self {
+        self.active.insert(id, (1000, 0));
+        self
+    }
+
     /// SET_MESSAGE_INTERVAL semantics: -1 stops, 0 restores the default, > 0 is the interval in us.
     /// Refused (DENIED): an interval that is not a number, and HEARTBEAT stopped or slower than 1 Hz — it
     /// is every peer's sign that the vehicle is there, and one peer's request would silence it for all.
@@ -138,6 +144,16 @@ pub fn data_stream_ids(stream: MavDataStream) -> Vec<u32> {
 }
 
 impl Autopilot {
+    /// The streams at boot: PX4 also streams ESTIMATOR_STATUS (mavlink_main.cpp, onboard mode).
+    pub(super) fn default_streams(&self) -> Streams {
+        let s = Streams::default();
+        if self.is_px4() {
+            s.with_default(super::px4::ESTIMATOR_STATUS)
+        } else {
+            s
+        }
+    }
+
     pub(super) fn time_boot_ms(&self) -> u32 {
         self.now_ms.saturating_sub(self.booted_ms) as u32
     }
@@ -161,7 +177,7 @@ impl Autopilot {
             SYS_STATUS => MavMessage::SYS_STATUS(SYS_STATUS_DATA {
                 onboard_control_sensors_present: sensors(),
                 onboard_control_sensors_enabled: sensors(),
-                onboard_control_sensors_health: sensors(),
+                onboard_control_sensors_health: self.health_sensors(sensors()),
                 load: 100,
                 voltage_battery: self.battery.voltage_mv(),
                 current_battery: self.battery.current_ca(self.kin.speed),
@@ -297,6 +313,7 @@ impl Autopilot {
             }),
             CAMERA_CAPTURE_STATUS => return self.capture_status(),
             CAMERA_FEEDBACK => return self.last_feedback(),
+            super::px4::ESTIMATOR_STATUS => return self.estimator_status(),
             _ => return None,
         })
     }
@@ -314,12 +331,16 @@ impl Autopilot {
             base |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
         }
         MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: self.mode.number(self.vehicle),
+            custom_mode: self.mode_number(self.mode),
             mavtype: match self.vehicle {
                 VehicleKind::Rover => MavType::MAV_TYPE_GROUND_ROVER,
                 VehicleKind::Auv => MavType::MAV_TYPE_SUBMARINE,
             },
-            autopilot: MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA,
+            autopilot: if self.is_px4() {
+                MavAutopilot::MAV_AUTOPILOT_PX4
+            } else {
+                MavAutopilot::MAV_AUTOPILOT_ARDUPILOTMEGA
+            },
             base_mode: base,
             system_status: if self.battery.pct < 10.0 {
                 MavState::MAV_STATE_CRITICAL

@@ -265,6 +265,18 @@ impl Gcs {
         y: i32,
         z: f32,
     ) -> (MavResult, u8) {
+        self.command_int_in(MavFrame::MAV_FRAME_GLOBAL, command, p, (x, y, z))
+            .await
+    }
+
+    /// COMMAND_INT in `frame` at `xyz` (lat/lon ×1e7, altitude); the ACK's result and progress.
+    pub async fn command_int_in(
+        &mut self,
+        frame: MavFrame,
+        command: MavCmd,
+        p: [f32; 4],
+        (x, y, z): (i32, i32, f32),
+    ) -> (MavResult, u8) {
         self.send(MavMessage::COMMAND_INT(COMMAND_INT_DATA {
             param1: p[0],
             param2: p[1],
@@ -276,7 +288,7 @@ impl Gcs {
             command,
             target_system: 1,
             target_component: 1,
-            frame: MavFrame::MAV_FRAME_GLOBAL,
+            frame,
             current: 0,
             autocontinue: 0,
         }))

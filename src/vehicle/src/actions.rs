@@ -1,7 +1,7 @@
 //! Action bindings at run time: one state machine per running action instance, realising its task in MAVLink
 //! and recognising its end (nominal / interrupted / failed, seed 1 §2.1). Pure: messages in, messages out.
 
-use mavlink::dialects::ardupilotmega::{MavCmd, MavFrame, MavMessage, MavResult, COMMAND_INT_DATA};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavResult, COMMAND_INT_DATA};
 
 use super::authority::Arming;
 use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
@@ -329,7 +329,8 @@ impl Run {
             command: MavCmd::MAV_CMD_DO_REPOSITION,
             target_system: ctx.target.0,
             target_component: ctx.target.1,
-            frame: MavFrame::MAV_FRAME_GLOBAL,
+            // PX4 answers any frame but GLOBAL_INT with UNSUPPORTED_MAV_FRAME (9): see px4.rs.
+            frame: super::px4::command_int_frame(ctx.cfg.autopilot),
             current: 0,
             autocontinue: 0,
         });
@@ -899,6 +900,9 @@ pub(crate) fn result_name(r: MavResult) -> &'static str {
         MavResult::MAV_RESULT_UNSUPPORTED => "UNSUPPORTED",
         MavResult::MAV_RESULT_TEMPORARILY_REJECTED => "TEMPORARILY_REJECTED",
         MavResult::MAV_RESULT_CANCELLED => "CANCELLED",
+        MavResult::MAV_RESULT_COMMAND_INT_ONLY => "COMMAND_INT_ONLY",
+        MavResult::MAV_RESULT_COMMAND_LONG_ONLY => "COMMAND_LONG_ONLY",
+        MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME => "UNSUPPORTED_MAV_FRAME",
         _ => "refused",
     }
 }

@@ -296,7 +296,8 @@ pub fn mode_name(mode: u32) -> String {
         12 => "SMART_RTL",
         15 => "GUIDED",
         16 => "INITIALISING",
-        _ => return format!("mode {mode}"),
+        // PX4's custom modes are main << 16 | sub << 24: never an ArduPilot number.
+        _ => return super::px4::mode_name(mode).unwrap_or_else(|| format!("mode {mode}")),
     };
     name.to_string()
 }

@@ -15,7 +15,7 @@ use super::api::VehicleError;
 use super::api::VehicleEvent;
 use super::authority::{self, Authority, AuthorityEvent, Change};
 use super::commands::{Command, CommandClient, CommandOutcome, Token};
-use super::config::VehicleConfig;
+use super::config::{Autopilot, VehicleConfig};
 use super::fence::{AutopilotFence, FenceRead};
 use super::mission_client::MissionClient;
 use super::readiness::{Readiness, ReadyAction, Seen};
@@ -505,6 +505,10 @@ impl Driver {
             home: self.tel.home_known,
             armed: self.tel.armed,
             navigation: self.tel.navigation_ok,
+            prearm: match self.cfg.autopilot {
+                Autopilot::Px4 => self.tel.prearm_ok,
+                Autopilot::Ardupilot => None,
+            },
         };
         let target = self.target.unwrap_or((self.system_id, 1));
         match r.tick(vnow, seen) {
@@ -517,13 +521,13 @@ impl Driver {
                 self.cmds.send(READY_TOKEN, cmd, now, &mut self.out);
             }
             ReadyAction::RequestStatus => {
-                // Fire and forget: HOME_POSITION (242) comes once home is set (before, ArduPilot sends
-                // nothing); EKF_STATUS_REPORT (193) only from autopilots that have one.
-                for id in [242.0, 193.0] {
+                // Fire and forget: HOME_POSITION comes once home is set (before, ArduPilot sends
+                // nothing); EKF_STATUS_REPORT only from ArduPilot (PX4 denies it: px4.rs).
+                for id in super::px4::status_requests(self.cfg.autopilot) {
                     let cmd = Command::long(
                         MavCmd::MAV_CMD_REQUEST_MESSAGE,
                         target,
-                        [id, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                        [f32::from(*id), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
                     );
                     self.cmds.send(u64::MAX, cmd, now, &mut self.out);
                 }

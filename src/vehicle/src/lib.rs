@@ -40,6 +40,7 @@ pub mod mission_client;
 pub mod mock;
 pub mod observed;
 pub mod peers;
+pub mod px4;
 pub mod readiness;
 pub mod safe_stop;
 pub mod status;

@@ -29,6 +29,9 @@ pub struct Seen {
     /// The estimator trusts its horizontal position (ArduPilot's EKF_STATUS_REPORT: absolute position, not
     /// in constant-position mode); `None` when the autopilot does not say.
     pub navigation: Option<bool>,
+    /// The autopilot's own pre-arm verdict (PX4's SYS_STATUS PREARM_CHECK health bit, src/vehicle/src/px4.rs);
+    /// `None` when it is not read (ArduPilot).
+    pub prearm: Option<bool>,
 }
 
 /// Where the wait stands.
@@ -41,6 +44,10 @@ pub enum ReadyPhase {
     Arming,
     /// The last ARM was refused; the next goes out at the given vehicle time.
     Backoff(u64),
+    /// A fix, but the autopilot says its pre-arm checks fail (PX4: "heading estimate not stable" for a while
+    /// after boot): ARM waits for them to pass, and is tried at the given vehicle time anyway, since PX4
+    /// tells its reasons ("Preflight Fail: ...") only on an attempt.
+    WaitingForChecks(u64),
     /// Armed, but the estimator does not trust its position yet (GUIDED would be refused).
     WaitingForNavigation,
     /// A fix, and arming is the operator's (`[authority] arm = "operator"`): waiting for them to arm.
@@ -59,6 +66,9 @@ pub struct ReadyReport {
     /// ... and to the estimator trusting its position (the mission's start).
     pub navigation_after_ms: Option<u64>,
     pub arm_attempts: u32,
+    /// The autopilot's pre-arm checks failed when last seen (PX4's SYS_STATUS), unarmed.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub checks_failing: bool,
     /// The autopilot's answers to the refused attempts and its warnings meanwhile, newest last.
     pub refusals: Vec<String>,
 }
@@ -70,6 +80,11 @@ impl ReadyReport {
             "no position fix (GLOBAL_POSITION_INT at 0, 0, or no HOME_POSITION)".to_string()
         } else if self.armed_after_ms.is_some() {
             "armed, but the estimator does not trust its position (EKF_STATUS_REPORT)".to_string()
+        } else if self.checks_failing {
+            format!(
+                "the autopilot's pre-arm checks fail (SYS_STATUS PREARM_CHECK), {} ARM attempts",
+                self.arm_attempts
+            )
         } else if self.arm_attempts == 0 {
             "not armed (arming is the operator's: [authority] arm = \"operator\")".to_string()
         } else {
@@ -123,6 +138,7 @@ impl Readiness {
                 armed_after_ms: None,
                 navigation_after_ms: None,
                 arm_attempts: 0,
+                checks_failing: false,
                 refusals: Vec::new(),
             },
         }
@@ -164,9 +180,12 @@ impl Readiness {
         match self.phase {
             ReadyPhase::WaitingForFix if seen.position && seen.home => {
                 self.report.fix_after_ms = Some(since);
-                self.attempt()
+                self.attempt(vnow, seen, false)
             }
-            ReadyPhase::Backoff(at) if vnow >= at => self.attempt(),
+            ReadyPhase::Backoff(at) if vnow >= at => self.attempt(vnow, seen, false),
+            ReadyPhase::WaitingForChecks(at) if seen.prearm != Some(false) || vnow >= at => {
+                self.attempt(vnow, seen, true)
+            }
             ReadyPhase::WaitingForFix | ReadyPhase::WaitingForNavigation
                 if self
                     .status_asked
@@ -179,10 +198,16 @@ impl Readiness {
         }
     }
 
-    fn attempt(&mut self) -> ReadyAction {
+    /// ARM now, unless the autopilot says its checks fail and it was not waited for (`waited`).
+    fn attempt(&mut self, vnow: u64, seen: Seen, waited: bool) -> ReadyAction {
         if self.operator_arms {
             self.phase = ReadyPhase::WaitingForOperator;
             return ReadyAction::AskOperator;
+        }
+        self.report.checks_failing = seen.prearm == Some(false);
+        if self.report.checks_failing && !waited {
+            self.phase = ReadyPhase::WaitingForChecks(vnow.saturating_add(MAX_BACKOFF_MS));
+            return ReadyAction::Nothing;
         }
         self.report.arm_attempts += 1;
         self.phase = ReadyPhase::Arming;
@@ -246,12 +271,14 @@ mod tests {
         home: false,
         armed: false,
         navigation: None,
+        prearm: None,
     };
     const FIX: Seen = Seen {
         position: true,
         home: true,
         armed: false,
         navigation: Some(false),
+        prearm: None,
     };
     const ARMED: Seen = Seen { armed: true, ..FIX };
 
@@ -345,6 +372,59 @@ mod tests {
         assert_eq!(r.tick(60_000, armed), ReadyAction::Nothing);
         assert!(r.report().ready);
         assert_eq!(r.report().arm_attempts, 0);
+    }
+
+    /// PX4 (SYS_STATUS PREARM_CHECK health bit): no ARM while its checks fail, but one every
+    /// MAX_BACKOFF_MS so that its "Preflight Fail" reasons are heard; ARM as soon as they pass.
+    #[test]
+    fn px4_arms_once_its_prearm_checks_pass_and_tries_meanwhile_for_the_reasons() {
+        let failing = Seen {
+            prearm: Some(false),
+            ..FIX
+        };
+        let passing = Seen {
+            prearm: Some(true),
+            ..FIX
+        };
+        let mut r = Readiness::new(0);
+        assert_eq!(r.tick(1_000, failing), ReadyAction::Nothing);
+        assert_eq!(
+            r.phase(),
+            ReadyPhase::WaitingForChecks(1_000 + MAX_BACKOFF_MS)
+        );
+        assert_eq!(r.report().arm_attempts, 0);
+        assert!(r.report().why_not(5.0).contains("pre-arm checks fail"));
+        assert_ne!(r.tick(5_000, failing), ReadyAction::Arm);
+        // Still failing after the longest pause: one attempt, its refusal and reasons kept.
+        assert_eq!(r.tick(1_000 + MAX_BACKOFF_MS, failing), ReadyAction::Arm);
+        r.on_arm(
+            9_100,
+            CommandOutcome::Rejected(MavResult::MAV_RESULT_TEMPORARILY_REJECTED),
+            false,
+        );
+        r.on_text("Preflight Fail: heading estimate not stable");
+        let ReadyPhase::Backoff(at) = r.phase() else {
+            panic!("{:?}", r.phase());
+        };
+        // Due again but the checks still fail: waits for them.
+        assert_eq!(r.tick(at, failing), ReadyAction::Nothing);
+        // They pass: ARM at once.
+        assert_eq!(r.tick(at + 100, passing), ReadyAction::Arm);
+        r.on_arm(at + 200, CommandOutcome::Accepted, true);
+        let navigating = Seen {
+            armed: true,
+            navigation: Some(true),
+            ..passing
+        };
+        assert_eq!(r.tick(at + 300, navigating), ReadyAction::Nothing);
+        let rep = r.report();
+        assert!(rep.ready);
+        assert_eq!(rep.arm_attempts, 2);
+        assert!(rep
+            .refusals
+            .iter()
+            .any(|t| t.contains("TEMPORARILY_REJECTED")));
+        assert!(rep.refusals.iter().any(|t| t.contains("heading")));
     }
 
     #[test]

@@ -28,6 +28,9 @@ pub struct Telemetry {
     /// The estimator trusts its horizontal position (EKF_STATUS_REPORT: absolute position, not in
     /// constant-position mode); `None` until an autopilot that has such a report sends it.
     pub navigation_ok: Option<bool>,
+    /// PX4's pre-arm verdict (SYS_STATUS's PREARM_CHECK health bit, src/vehicle/src/px4.rs); the readiness
+    /// wait only reads it from PX4.
+    pub prearm_ok: Option<bool>,
     /// The image index of the camera's last CAMERA_FEEDBACK (ArduPilot's picture confirmation).
     pub camera_feedback_index: Option<u16>,
     /// Ground speed, m/s (VFR_HUD, else GLOBAL_POSITION_INT's velocity).
@@ -56,6 +59,9 @@ impl Telemetry {
         names: &ResourceNames,
         events: &mut Vec<VehicleEvent>,
     ) {
+        if let Some(p) = super::px4::prearm_from(msg) {
+            self.prearm_ok = Some(p);
+        }
         match msg {
             MavMessage::HEARTBEAT(h) => {
                 self.custom_mode = Some(h.custom_mode);
@@ -121,6 +127,10 @@ impl Telemetry {
                     f.contains(EkfStatusFlags::EKF_POS_HORIZ_ABS)
                         && !f.contains(EkfStatusFlags::EKF_CONST_POS_MODE),
                 );
+            }
+            // PX4's estimator report (it has no EKF_STATUS_REPORT): the same flags.
+            MavMessage::ESTIMATOR_STATUS(_) => {
+                self.navigation_ok = super::px4::navigation_from(msg)
             }
             MavMessage::HOME_POSITION(h) if h.latitude != 0 || h.longitude != 0 => {
                 self.home_known = true;
