@@ -32,6 +32,8 @@ pub struct Telemetry {
     pub camera_feedback_index: Option<u16>,
     /// Ground speed, m/s (VFR_HUD, else GLOBAL_POSITION_INT's velocity).
     pub ground_speed: Option<f64>,
+    /// A flying vehicle's state: altitude above home and landed state (src/vehicle/src/flight.rs).
+    pub flight: super::flight::FlightTelemetry,
     has_vfr_hud: bool,
     has_battery_status: bool,
     /// The autopilot's own time_boot_ms, last received.
@@ -56,6 +58,7 @@ impl Telemetry {
         names: &ResourceNames,
         events: &mut Vec<VehicleEvent>,
     ) {
+        self.flight.update(msg);
         match msg {
             MavMessage::HEARTBEAT(h) => {
                 self.custom_mode = Some(h.custom_mode);
@@ -198,7 +201,7 @@ impl Telemetry {
             if let Some(name) = &names.battery {
                 events.push(VehicleEvent::Resource(ResourceLevel {
                     resource: name.clone(),
-                    level,
+                    level: names.battery_level(level),
                 }));
             }
         }
@@ -210,7 +213,7 @@ impl Telemetry {
         if let (Some(b), Some(name)) = (self.battery_percent, &names.battery) {
             v.push(ResourceLevel {
                 resource: name.clone(),
-                level: b,
+                level: names.battery_level(b),
             });
         }
         if let (Some(s), Some(name)) = (self.storage_available, &names.storage) {
