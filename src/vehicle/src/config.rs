@@ -183,12 +183,21 @@ pub struct ReadyConfig {
     /// Vehicle seconds; 0: do not wait (the first motion arms the vehicle itself).
     #[serde(default = "d_ready_timeout")]
     pub timeout_s: f64,
+    /// false: ready with a position (and the estimator trusting it), disarmed — a copter arms at its
+    /// takeoff (src/vehicle/src/flight.rs).
+    #[serde(default = "d_true")]
+    pub arm: bool,
+}
+
+fn d_true() -> bool {
+    true
 }
 
 impl Default for ReadyConfig {
     fn default() -> Self {
         ReadyConfig {
             timeout_s: d_ready_timeout(),
+            arm: true,
         }
     }
 }
