@@ -29,7 +29,11 @@ fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve()
     let mut said = Vec::new();
     let run = run_demo(&setup, &mut |l: &str| said.push(l.to_string()), &mut |_| {})
         .unwrap_or_else(|e| panic!("survey: {e}"));
-    assert!(said.iter().any(|l| l.contains("sitl/scenarios/survey.toml")), "{said:?}");
+    assert!(
+        said.iter()
+            .any(|l| l.contains("sitl/scenarios/survey.toml")),
+        "{said:?}"
+    );
     let r = &run.report;
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
     let fates: BTreeMap<&str, &Fate> = r.goals.iter().map(|g| (g.name.as_str(), &g.fate)).collect();
@@ -38,7 +42,11 @@ fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve()
     }
     // The uploaded goal: one more, achieved.
     assert_eq!(r.goals.len(), 4, "{:?}", r.goals);
-    assert!(r.goals.iter().all(|g| g.fate == Fate::Achieved), "{:?}", r.goals);
+    assert!(
+        r.goals.iter().all(|g| g.fate == Fate::Achieved),
+        "{:?}",
+        r.goals
+    );
     let launched: Vec<&str> = r
         .cycles
         .iter()
@@ -49,8 +57,22 @@ fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve()
         })
         .collect();
     assert_eq!(launched.first(), Some(&"takeoff(home)"), "{launched:?}");
-    assert_eq!(launched.iter().filter(|a| a.starts_with("take_picture")).count(), 2, "{launched:?}");
-    assert_eq!(launched.iter().filter(|a| a.starts_with("return_home")).count(), 1, "{launched:?}");
+    assert_eq!(
+        launched
+            .iter()
+            .filter(|a| a.starts_with("take_picture"))
+            .count(),
+        2,
+        "{launched:?}"
+    );
+    assert_eq!(
+        launched
+            .iter()
+            .filter(|a| a.starts_with("return_home"))
+            .count(),
+        1,
+        "{launched:?}"
+    );
     // The battery reservoir (the charge above the reserve) reported never below 0.
     let battery: Vec<f64> = r
         .resources

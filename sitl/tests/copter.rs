@@ -24,8 +24,11 @@ async fn copter(scenario: &str) -> (sitl::SimHandle, Gcs) {
 }
 
 async fn takeoff(gcs: &mut Gcs, alt: f32) -> MavResult {
-    gcs.command(MavCmd::MAV_CMD_NAV_TAKEOFF, &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, alt])
-        .await
+    gcs.command(
+        MavCmd::MAV_CMD_NAV_TAKEOFF,
+        &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, alt],
+    )
+    .await
 }
 
 /// GUIDED, armed, takeoff to `alt` and wait until it is there (bounded in sim time).
@@ -33,12 +36,18 @@ async fn airborne(sim: &sitl::SimHandle, gcs: &mut Gcs, alt: f32) {
     assert_eq!(gcs.set_mode(GUIDED).await, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     assert_eq!(takeoff(gcs, alt).await, MavResult::MAV_RESULT_ACCEPTED);
-    run_until(sim, 120, |s| (-s.depth_m - f64::from(alt)).abs() < 0.2 && s.landed_state == 2).await;
+    run_until(sim, 120, |s| {
+        (-s.depth_m - f64::from(alt)).abs() < 0.2 && s.landed_state == 2
+    })
+    .await;
 }
 
 async fn landed_state(sim: &sitl::SimHandle, gcs: &mut Gcs) -> MavLandedState {
     gcs.drain();
-    assert_eq!(gcs.request_message(245).await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        gcs.request_message(245).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     sim.step(Duration::from_millis(10)).await.expect("step");
     expect_msg!(gcs, EXTENDED_SYS_STATE).await.landed_state
 }
@@ -46,8 +55,17 @@ async fn landed_state(sim: &sitl::SimHandle, gcs: &mut Gcs) -> MavLandedState {
 #[tokio::test]
 async fn a_copter_is_a_quadrotor_with_arducopter_modes() {
     let (sim, mut gcs) = copter("").await;
-    for (mode, name) in [(GUIDED, "GUIDED"), (LOITER, "HOLD"), (LAND, "LAND"), (RTL, "RTL")] {
-        assert_eq!(gcs.set_mode(mode).await, MavResult::MAV_RESULT_ACCEPTED, "{name}");
+    for (mode, name) in [
+        (GUIDED, "GUIDED"),
+        (LOITER, "HOLD"),
+        (LAND, "LAND"),
+        (RTL, "RTL"),
+    ] {
+        assert_eq!(
+            gcs.set_mode(mode).await,
+            MavResult::MAV_RESULT_ACCEPTED,
+            "{name}"
+        );
         assert_eq!(sim.snapshot().mode, name);
         let hb = expect_msg!(gcs, HEARTBEAT).await;
         assert_eq!(hb.mavtype, MavType::MAV_TYPE_QUADROTOR);
@@ -70,10 +88,19 @@ async fn takeoff_needs_guided_armed_and_the_ground() {
         .command_int(MavCmd::MAV_CMD_NAV_TAKEOFF, [0.0; 4], 0, 0, 10.0)
         .await;
     assert_eq!(r, MavResult::MAV_RESULT_DENIED);
-    assert_eq!(landed_state(&sim, &mut gcs).await, MavLandedState::MAV_LANDED_STATE_ON_GROUND);
-    assert_eq!(takeoff(&mut gcs, 10.0).await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        landed_state(&sim, &mut gcs).await,
+        MavLandedState::MAV_LANDED_STATE_ON_GROUND
+    );
+    assert_eq!(
+        takeoff(&mut gcs, 10.0).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     sim.step(Duration::from_secs(2)).await.expect("step");
-    assert_eq!(landed_state(&sim, &mut gcs).await, MavLandedState::MAV_LANDED_STATE_TAKEOFF);
+    assert_eq!(
+        landed_state(&sim, &mut gcs).await,
+        MavLandedState::MAV_LANDED_STATE_TAKEOFF
+    );
     let s = run_until(&sim, 60, |s| s.landed_state == 2).await;
     assert!((-s.depth_m - 10.0).abs() < 0.25, "{}", s.depth_m);
     // Flying: a second takeoff is refused.
@@ -96,7 +123,10 @@ async fn a_landed_copter_does_not_move_and_a_flying_one_flies_at_the_target_alti
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
     sim.step(Duration::from_secs(5)).await.expect("step");
     assert!(sim.snapshot().north_m.abs() < 1e-6, "moved on the ground");
-    assert_eq!(takeoff(&mut gcs, 10.0).await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        takeoff(&mut gcs, 10.0).await,
+        MavResult::MAV_RESULT_ACCEPTED
+    );
     run_until(&sim, 60, |s| s.landed_state == 2).await;
     let (r, _) = gcs.reposition(&wp, true, 15.0).await;
     assert_eq!(r, MavResult::MAV_RESULT_ACCEPTED);
@@ -115,7 +145,10 @@ async fn land_and_rtl_touch_down_and_disarm() {
     );
     assert_eq!(sim.snapshot().mode, "LAND");
     sim.step(Duration::from_secs(1)).await.expect("step");
-    assert_eq!(landed_state(&sim, &mut gcs).await, MavLandedState::MAV_LANDED_STATE_LANDING);
+    assert_eq!(
+        landed_state(&sim, &mut gcs).await,
+        MavLandedState::MAV_LANDED_STATE_LANDING
+    );
     let s = run_until(&sim, 60, |s| !s.armed).await;
     assert_eq!(s.landed_state, 1);
     assert!(s.depth_m.abs() < 0.06);
@@ -135,7 +168,10 @@ async fn land_and_rtl_touch_down_and_disarm() {
     }
     let s = sim.snapshot();
     assert!(!s.armed && s.landed_state == 1, "{s:?}");
-    assert!(s.north_m.hypot(s.east_m) <= 2.0, "landed away from home: {s:?}");
+    assert!(
+        s.north_m.hypot(s.east_m) <= 2.0,
+        "landed away from home: {s:?}"
+    );
     assert!(top > 14.5, "the return climbed to {top} m only");
     assert!(s.statustexts.iter().any(|t| t == "Land complete"));
 }
@@ -154,7 +190,10 @@ async fn hovering_drains_the_battery_and_an_idle_armed_copter_disarms() {
     let before = sim.snapshot().battery_pct;
     sim.step(Duration::from_secs(60)).await.expect("step");
     let drained = before - sim.snapshot().battery_pct;
-    assert!((drained - 6.0).abs() < 0.05, "hovering 60 s drained {drained} %");
+    assert!(
+        (drained - 6.0).abs() < 0.05,
+        "hovering 60 s drained {drained} %"
+    );
 }
 
 #[tokio::test]
@@ -169,5 +208,8 @@ async fn a_headwind_slows_the_leg_it_covers() {
         sim.step(Duration::from_millis(100)).await.expect("step");
         fastest = fastest.max(sim.snapshot().speed_mps);
     }
-    assert!(fastest <= 0.3 * 5.0 + 1e-6, "flew at {fastest} m/s in the wind");
+    assert!(
+        fastest <= 0.3 * 5.0 + 1e-6,
+        "flew at {fastest} m/s in the wind"
+    );
 }

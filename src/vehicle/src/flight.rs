@@ -221,7 +221,10 @@ impl Flight {
             FlightBinding::Takeoff { .. } => {
                 f.modes = if px4 {
                     // Commander's AUTO.TAKEOFF (main 4, sub 2), then the navigator's loiter.
-                    vec![Mode::Px4 { main: 4, sub: 2 }.custom_mode(), modes.hold.custom_mode()]
+                    vec![
+                        Mode::Px4 { main: 4, sub: 2 }.custom_mode(),
+                        modes.hold.custom_mode(),
+                    ]
                 } else {
                     vec![modes.guided.custom_mode()]
                 };
@@ -294,7 +297,8 @@ impl Flight {
     }
 
     fn reposition(&mut self, ctx: &mut Ctx, id: u64) {
-        let (FlightBinding::FlyTo { speed_m_s, .. }, Some(goal)) = (&self.binding, self.goal) else {
+        let (FlightBinding::FlyTo { speed_m_s, .. }, Some(goal)) = (&self.binding, self.goal)
+        else {
             return;
         };
         let (lat, lon, _) = ctx.cfg.home.to_global(goal);
@@ -360,7 +364,11 @@ impl Flight {
     ) -> Option<FlightEnd> {
         if cmd == MavCmd::MAV_CMD_DO_CHANGE_SPEED {
             if outcome != CommandOutcome::Accepted {
-                tracing::warn!(id, ?outcome, "the flight's speed was not taken: the autopilot's own");
+                tracing::warn!(
+                    id,
+                    ?outcome,
+                    "the flight's speed was not taken: the autopilot's own"
+                );
             }
             return None;
         }
