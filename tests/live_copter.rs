@@ -47,6 +47,7 @@ fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve()
         "{:?}",
         r.goals
     );
+    // The actions launched, in order.
     let launched: Vec<&str> = r
         .cycles
         .iter()

@@ -354,14 +354,7 @@ impl Run {
         let Binding::Move { speed_m_s, .. } = self.binding else {
             return;
         };
-        if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
-            let cmd = Command::long(
-                MavCmd::MAV_CMD_DO_CHANGE_SPEED,
-                ctx.target,
-                [1.0, speed_m_s as f32, -1.0, 0.0, 0.0, 0.0, 0.0],
-            );
-            ctx.command(self.id, cmd);
-        }
+        change_speed(ctx, self.id, speed_m_s);
     }
 
     fn servo(&mut self, ctx: &mut Ctx, step: usize, servo: u8, pwm: u16) {
@@ -914,6 +907,19 @@ impl Run {
             // An interrupted preemptive motion ended as preempted (its end effects hold): no moving value.
             state: self.state_values(ctx, false),
         }
+    }
+}
+
+/// ArduPilot: a motion's ground speed by DO_CHANGE_SPEED (speed type 1), once the destination is set
+/// (nothing on PX4, which takes the speed with the destination, or for the autopilot's own speed).
+pub(crate) fn change_speed(ctx: &mut Ctx, id: ActionId, speed_m_s: f64) {
+    if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_CHANGE_SPEED,
+            ctx.target,
+            [1.0, speed_m_s as f32, -1.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        ctx.command(id, cmd);
     }
 }
 

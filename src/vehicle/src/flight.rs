@@ -344,14 +344,7 @@ impl Flight {
     /// ArduCopter takes a speed in GUIDED by DO_CHANGE_SPEED (ground speed), after the reposition.
     fn speed_after_ack(&self, ctx: &mut Ctx, id: u64) {
         if let FlightBinding::FlyTo { speed_m_s, .. } = self.binding {
-            if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
-                let cmd = Command::long(
-                    MavCmd::MAV_CMD_DO_CHANGE_SPEED,
-                    ctx.target,
-                    [1.0, speed_m_s as f32, -1.0, 0.0, 0.0, 0.0, 0.0],
-                );
-                ctx.command(id, cmd);
-            }
+            super::actions::change_speed(ctx, id, speed_m_s);
         }
     }
 
@@ -502,4 +495,53 @@ fn request_landed_state(ctx: &mut Ctx) {
         ],
     );
     ctx.cmds.send(u64::MAX, cmd, ctx.now, ctx.out);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mavlink::dialects::ardupilotmega::{MavVtolState, EXTENDED_SYS_STATE_DATA};
+
+    #[test]
+    fn a_land_binding_needs_a_landing_mode_and_a_takeoff_an_altitude() {
+        let mut modes = crate::config::tests::rover_modes();
+        let land = FlightBinding::Land {
+            home: false,
+            acceptance_radius_m: 2.0,
+            position_variable: "position".into(),
+        };
+        assert_eq!(land.invalid(&modes).map(|(k, _)| k), Some("kind"));
+        modes.land = Some(Mode::Number(9));
+        assert_eq!(land.invalid(&modes), None);
+        let takeoff = FlightBinding::Takeoff {
+            altitude_m: 0.0,
+            vertical_acceptance_m: 1.0,
+        };
+        assert_eq!(takeoff.invalid(&modes).map(|(k, _)| k), Some("altitude_m"));
+    }
+
+    #[test]
+    fn the_landed_state_wins_over_the_altitude() {
+        let mut t = FlightTelemetry::default();
+        // No EXTENDED_SYS_STATE: disarmed near home's altitude is on the ground, armed is not.
+        t.relative_alt_m = Some(0.2);
+        assert!(t.on_ground(false));
+        assert!(!t.on_ground(true));
+        t.update(&MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
+            vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
+            landed_state: MavLandedState::MAV_LANDED_STATE_LANDING,
+        }));
+        assert!(!t.on_ground(false));
+    }
+
+    #[test]
+    fn the_battery_reservoir_is_the_charge_above_the_reserve() {
+        let names = crate::config::ResourceNames {
+            battery: Some("BATTERY".into()),
+            battery_reserve: Some(25.0),
+            ..Default::default()
+        };
+        assert_eq!(names.battery_level(57.0), 32.0);
+        assert_eq!(names.battery_level(20.0), -5.0);
+    }
 }

@@ -164,20 +164,14 @@ impl Readiness {
             self.report.fix_after_ms.get_or_insert(since);
             self.report.armed_after_ms.get_or_insert(since);
             if seen.navigation != Some(false) {
-                self.phase = ReadyPhase::Ready;
-                self.report.ready = true;
-                self.report.navigation_after_ms = Some(since);
-                return ReadyAction::Nothing;
+                return self.ready(since);
             }
             self.phase = ReadyPhase::WaitingForNavigation;
         }
         if self.fix_only && seen.position && seen.home {
             self.report.fix_after_ms.get_or_insert(since);
             if seen.navigation != Some(false) {
-                self.phase = ReadyPhase::Ready;
-                self.report.ready = true;
-                self.report.navigation_after_ms = Some(since);
-                return ReadyAction::Nothing;
+                return self.ready(since);
             }
         }
         match self.phase {
@@ -196,6 +190,14 @@ impl Readiness {
             }
             _ => ReadyAction::Nothing,
         }
+    }
+
+    /// Ready `since` ms after the wait began.
+    fn ready(&mut self, since: u64) -> ReadyAction {
+        self.phase = ReadyPhase::Ready;
+        self.report.ready = true;
+        self.report.navigation_after_ms = Some(since);
+        ReadyAction::Nothing
     }
 
     fn attempt(&mut self) -> ReadyAction {
