@@ -71,7 +71,8 @@ impl Autopilot {
         }
         let alt = f64::from(c.p[6]);
         let mode_ok = matches!(self.mode, Mode::Guided | Mode::Hold);
-        if !(alt.is_finite() && alt > 0.0) || !mode_ok || !self.armed || !self.copter.landed {
+        let can = alt.is_finite() && alt > 0.0 && mode_ok && self.armed && self.copter.landed;
+        if !can {
             return MavResult::MAV_RESULT_FAILED;
         }
         self.copter.landed = false;

@@ -522,9 +522,11 @@ mod tests {
 
     #[test]
     fn the_landed_state_wins_over_the_altitude() {
-        let mut t = FlightTelemetry::default();
         // No EXTENDED_SYS_STATE: disarmed near home's altitude is on the ground, armed is not.
-        t.relative_alt_m = Some(0.2);
+        let mut t = FlightTelemetry {
+            relative_alt_m: Some(0.2),
+            ..Default::default()
+        };
         assert!(t.on_ground(false));
         assert!(!t.on_ground(true));
         t.update(&MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
