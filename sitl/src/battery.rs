@@ -35,6 +35,11 @@ impl Battery {
         self.pct = (self.pct - drain + gain).clamp(0.0, 100.0);
     }
 
+    /// A copter off the ground for `dt` seconds: hover power.
+    pub fn hover(&mut self, dt: f64) {
+        self.drop_by(self.params.hover_pct_per_min * dt / 60.0);
+    }
+
     pub fn drop_by(&mut self, pct: f64) {
         self.consumed_mah += pct.max(0.0) / 100.0 * self.params.capacity_mah;
         self.pct = (self.pct - pct).clamp(0.0, 100.0);

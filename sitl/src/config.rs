@@ -19,6 +19,9 @@ pub enum VehicleKind {
     /// ArduSub-like AUV: `MAV_TYPE_SUBMARINE` with depth, modes MANUAL 19, POSHOLD 16 (hold), AUTO 3,
     /// SURFACE 9 (return), GUIDED 4.
     Auv,
+    /// ArduCopter-like quad: `MAV_TYPE_QUADROTOR` with altitude, takeoff and landing, modes STABILIZE 0
+    /// (manual), LOITER 5 (hold), AUTO 3, RTL 6, GUIDED 4, LAND 9 (`autopilot/copter.rs`).
+    Copter,
 }
 
 impl FromStr for VehicleKind {
@@ -27,6 +30,7 @@ impl FromStr for VehicleKind {
         match s.to_ascii_lowercase().as_str() {
             "rover" => Ok(Self::Rover),
             "auv" | "sub" => Ok(Self::Auv),
+            "copter" | "quad" => Ok(Self::Copter),
             other => Err(SimError::UnknownVehicle(other.to_string())),
         }
     }

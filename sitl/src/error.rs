@@ -27,7 +27,7 @@ pub enum SimError {
     ScenarioAt(Box<srctext::Located>),
     #[error("unknown profile `{0}` (default, ardupilot or px4)")]
     UnknownProfile(String),
-    #[error("unknown vehicle `{0}` (rover or auv)")]
+    #[error("unknown vehicle `{0}` (rover, auv or copter)")]
     UnknownVehicle(String),
     #[error("the simulator has stopped")]
     Stopped,

@@ -24,6 +24,8 @@ pub struct Kinematics {
     pub heading: f64,
     pub speed: f64,
     pub vz: f64,
+    /// A copter: depth is minus its altitude, never below the ground (else never above the surface).
+    pub flies: bool,
 }
 
 impl Kinematics {
@@ -60,7 +62,12 @@ impl Kinematics {
         self.speed += (desired_speed - self.speed).clamp(-dv, dv);
         self.speed = self.speed.max(0.0);
         self.vz = desired_vz;
-        self.depth = (self.depth + self.vz * dt).max(0.0);
+        let depth = self.depth + self.vz * dt;
+        self.depth = if self.flies {
+            depth.min(0.0)
+        } else {
+            depth.max(0.0)
+        };
         let step = self.speed * dt;
         self.pos += Vector2::new(self.heading.cos(), self.heading.sin()) * step;
         step

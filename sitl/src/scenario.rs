@@ -39,7 +39,7 @@ pub struct VehicleParams {
     pub turn_rate_dps: f64,
     /// Acceptance radius (ArduPilot WP_RADIUS).
     pub wp_radius_m: f64,
-    /// AUV only.
+    /// AUV depth and copter altitude changes (a copter's climb, descent and landing).
     pub vertical_speed_mps: f64,
 }
 
@@ -69,6 +69,8 @@ pub struct BatteryParams {
     pub recharge_pct_per_min: f64,
     /// Arming is refused below this level ("PreArm: Battery 1 below minimum arming capacity").
     pub arm_min_pct: f64,
+    /// Copter: drain per minute off the ground (hover power), on top of the others.
+    pub hover_pct_per_min: f64,
 }
 
 impl Default for BatteryParams {
@@ -80,6 +82,7 @@ impl Default for BatteryParams {
             drain_pct_per_min: 0.2,
             recharge_pct_per_min: 3.0,
             arm_min_pct: 20.0,
+            hover_pct_per_min: 0.0,
         }
     }
 }

@@ -10,6 +10,9 @@ pub struct Snapshot {
     pub north_m: f64,
     pub east_m: f64,
     pub depth_m: f64,
+    /// Copter: EXTENDED_SYS_STATE's landed state (1 on the ground, 2 in the air, 3 taking off, 4 landing);
+    /// 0 for other vehicles.
+    pub landed_state: u8,
     pub speed_mps: f64,
     pub heading_deg: f64,
     /// Odometer.

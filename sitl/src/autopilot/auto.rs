@@ -61,12 +61,7 @@ impl Autopilot {
             // ArduPilot "sanitizes" a zero location to the current one.
             return (self.kin.pos, self.kin.depth);
         }
-        let depth = if self.vehicle == VehicleKind::Auv && it.z < 0.0 {
-            f64::from(-it.z)
-        } else {
-            0.0
-        };
-        (self.frame.to_local_e7(it.x, it.y), depth)
+        (self.frame.to_local_e7(it.x, it.y), self.depth_of(it.z))
     }
 
     fn next_nav_after(&self, seq: u16) -> Option<u16> {
@@ -195,6 +190,16 @@ impl Autopilot {
         self.now_ms >= self.exec.hold_until_ms
     }
 
+    /// The depth a target's altitude `z` means: an AUV's below the surface, a copter's above home
+    /// (negative depth), a rover's none.
+    pub(super) fn depth_of(&self, z: f32) -> f64 {
+        match self.vehicle {
+            VehicleKind::Auv if z < 0.0 => f64::from(-z),
+            VehicleKind::Copter => -f64::from(z.max(0.0)),
+            _ => 0.0,
+        }
+    }
+
     fn at(&self, pos: &Vector2<f64>, depth: f64) -> bool {
         (self.kin.pos - pos).norm() <= self.params.wp_radius_m
             && (self.vehicle == VehicleKind::Rover || (self.kin.depth - depth).abs() <= 1.0)
@@ -251,6 +256,11 @@ impl Autopilot {
             return None;
         }
         let speed = self.speed_override.unwrap_or(self.params.speed_mps);
+        if self.is_copter() {
+            if let Some(decided) = self.copter_target(speed) {
+                return decided;
+            }
+        }
         match self.mode {
             Mode::Auto if self.exec.started && !self.exec.complete && self.exec.nav_loaded => {
                 let it = self.mission.get(usize::from(self.exec.current))?;

@@ -157,6 +157,8 @@ impl Autopilot {
             }
             MavCmd::MAV_CMD_DO_SET_MISSION_CURRENT => self.set_mission_current(c.p[0] as i64),
             MavCmd::MAV_CMD_NAV_RETURN_TO_LAUNCH => self.set_mode_result(Mode::Rtl),
+            MavCmd::MAV_CMD_NAV_TAKEOFF => self.takeoff(&c),
+            MavCmd::MAV_CMD_NAV_LAND if self.is_copter() => self.set_mode_result(Mode::Land),
             MavCmd::MAV_CMD_DO_REPOSITION => self.reposition(&c),
             MavCmd::MAV_CMD_DO_CHANGE_SPEED => self.change_speed_command(&c),
             MavCmd::MAV_CMD_DO_SET_SERVO => {
@@ -318,7 +320,7 @@ impl Autopilot {
             && match self.mode {
                 Mode::Auto | Mode::Rtl => true,
                 Mode::Guided => self.guided_target.is_some(),
-                Mode::Manual | Mode::Hold => false,
+                Mode::Manual | Mode::Hold | Mode::Land => false,
             };
         if ok {
             self.speed_override = Some(speed);
@@ -332,11 +334,7 @@ impl Autopilot {
         } else {
             self.frame.to_local_e7(lat_e7, lon_e7)
         };
-        let depth = if self.vehicle == crate::config::VehicleKind::Auv && alt < 0.0 {
-            f64::from(-alt)
-        } else {
-            0.0
-        };
+        let depth = self.depth_of(alt);
         self.guided_target = Some(Target {
             pos,
             depth,

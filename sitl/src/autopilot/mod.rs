@@ -7,6 +7,7 @@ mod auto;
 mod boot;
 mod command_memory;
 mod commands;
+mod copter;
 mod mission;
 mod modes;
 mod params;
@@ -88,6 +89,8 @@ pub struct Autopilot {
     mission: Vec<Item>,
     exec: Exec,
     guided_target: Option<Target>,
+    /// The copter's takeoff, landing and landed state (`copter.rs`).
+    copter: copter::CopterState,
     speed_override: Option<f64>,
     rtl_reported: bool,
     upload: Option<Upload>,
@@ -139,7 +142,10 @@ impl Autopilot {
             behaviour: s.autopilot.behaviour(),
             now_ms: 0,
             booted_ms: 0,
-            kin: Kinematics::default(),
+            kin: Kinematics {
+                flies: cfg.vehicle == VehicleKind::Copter,
+                ..Kinematics::default()
+            },
             mode: Mode::Manual,
             armed: false,
             battery: Battery::new(&s.battery),
@@ -154,6 +160,7 @@ impl Autopilot {
             mission: Vec::new(),
             exec: Exec::default(),
             guided_target: None,
+            copter: Default::default(),
             speed_override: None,
             rtl_reported: false,
             upload: None,
@@ -301,6 +308,7 @@ impl Autopilot {
         let factor = self.world.speed_factor(&self.kin.pos);
         let dist = self.kin.step(dt, target.as_ref(), &self.params, factor);
         self.distance_m += dist;
+        self.step_copter(dt);
         let still = self.kin.is_still();
         if !still && !self.was_moving {
             self.emit_event(EventKind::Moving, 0);
@@ -365,7 +373,7 @@ impl Autopilot {
             }
             Mode::Guided => self.guided_target = None,
             Mode::Rtl => self.rtl_reported = false,
-            Mode::Manual | Mode::Hold => {}
+            Mode::Manual | Mode::Hold | Mode::Land => {}
         }
         self.emit_event(EventKind::ModeChanged, i64::from(self.mode_number(m)));
         self.send(Dest::All, self.heartbeat());
@@ -525,6 +533,7 @@ impl Autopilot {
             north_m: self.kin.pos.x,
             east_m: self.kin.pos.y,
             depth_m: self.kin.depth,
+            landed_state: self.landed_state() as u8,
             speed_mps: self.kin.speed,
             heading_deg: self.kin.heading.to_degrees().rem_euclid(360.0),
             distance_m: self.distance_m,

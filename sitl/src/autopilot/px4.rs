@@ -29,6 +29,8 @@ const MAIN_AUTO: u32 = 4;
 const SUB_AUTO_LOITER: u32 = 3;
 const SUB_AUTO_MISSION: u32 = 4;
 const SUB_AUTO_RTL: u32 = 5;
+/// px4_custom_mode.h PX4_CUSTOM_SUB_MODE_AUTO_LAND.
+const SUB_AUTO_LAND: u32 = 6;
 
 /// ESTIMATOR_STATUS's message id.
 pub const ESTIMATOR_STATUS: u32 = 230;
@@ -51,6 +53,7 @@ pub fn mode_number(m: Mode) -> u32 {
         Mode::Hold | Mode::Guided => custom_mode(MAIN_AUTO, SUB_AUTO_LOITER),
         Mode::Auto => custom_mode(MAIN_AUTO, SUB_AUTO_MISSION),
         Mode::Rtl => custom_mode(MAIN_AUTO, SUB_AUTO_RTL),
+        Mode::Land => custom_mode(MAIN_AUTO, SUB_AUTO_LAND),
     }
 }
 
@@ -61,6 +64,7 @@ pub fn mode_from(main: u32, sub: u32) -> Option<Mode> {
         (MAIN_AUTO, SUB_AUTO_LOITER) => Some(Mode::Guided),
         (MAIN_AUTO, SUB_AUTO_MISSION) => Some(Mode::Auto),
         (MAIN_AUTO, SUB_AUTO_RTL) => Some(Mode::Rtl),
+        (MAIN_AUTO, SUB_AUTO_LAND) => Some(Mode::Land),
         _ => None,
     }
 }
@@ -153,6 +157,7 @@ impl Autopilot {
                 Mode::Auto => "Mission",
                 Mode::Rtl => "Return",
                 Mode::Manual => "Manual",
+                Mode::Land => "Land",
             };
             format!("Switching to {name} is currently not available")
         } else {

@@ -20,6 +20,7 @@ pub const MISSION_CURRENT: u32 = 42;
 pub const BATTERY_STATUS: u32 = 147;
 pub const AUTOPILOT_VERSION: u32 = 148;
 pub const HOME_POSITION: u32 = 242;
+pub const EXTENDED_SYS_STATE: u32 = 245;
 pub const STORAGE_INFORMATION: u32 = 261;
 pub const CAMERA_CAPTURE_STATUS: u32 = 262;
 pub const CAMERA_FEEDBACK: u32 = 180;
@@ -37,7 +38,7 @@ const DEFAULT_STREAMS: [u32; 8] = [
 ];
 
 /// Every message the sim can send on request or at an interval.
-pub const SENDABLE: [u32; 13] = [
+pub const SENDABLE: [u32; 14] = [
     HEARTBEAT,
     SYS_STATUS,
     SYSTEM_TIME,
@@ -51,6 +52,7 @@ pub const SENDABLE: [u32; 13] = [
     HOME_POSITION,
     STORAGE_INFORMATION,
     CAMERA_CAPTURE_STATUS,
+    EXTENDED_SYS_STATE,
 ];
 
 #[derive(Debug, Clone)]
@@ -174,6 +176,11 @@ impl Autopilot {
         let reported = self.reported_position_e7();
         Some(match id {
             HEARTBEAT => self.heartbeat(),
+            // ArduPilot sends it on request only; vtol_state is a VTOL's (MAV_VTOL_STATE_UNDEFINED).
+            EXTENDED_SYS_STATE => MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
+                vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
+                landed_state: self.landed_state(),
+            }),
             SYS_STATUS => MavMessage::SYS_STATUS(SYS_STATUS_DATA {
                 onboard_control_sensors_present: sensors(),
                 onboard_control_sensors_enabled: sensors(),
@@ -325,7 +332,7 @@ impl Autopilot {
             Mode::Auto | Mode::Rtl | Mode::Guided => {
                 base |= MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED
             }
-            Mode::Hold => {}
+            Mode::Hold | Mode::Land => {}
         }
         if self.armed {
             base |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
@@ -335,6 +342,7 @@ impl Autopilot {
             mavtype: match self.vehicle {
                 VehicleKind::Rover => MavType::MAV_TYPE_GROUND_ROVER,
                 VehicleKind::Auv => MavType::MAV_TYPE_SUBMARINE,
+                VehicleKind::Copter => MavType::MAV_TYPE_QUADROTOR,
             },
             autopilot: if self.is_px4() {
                 MavAutopilot::MAV_AUTOPILOT_PX4

@@ -7,6 +7,7 @@ use super::authority::Arming;
 use super::capture_evidence::{CaptureEvidence, CaptureStatus, Verdict};
 use super::commands::{Command, CommandClient, CommandOutcome};
 use super::config::{Autopilot, Binding, Mode, VehicleConfig};
+use super::flight::{Flight, FlightEnd};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
 use super::telemetry::Telemetry;
@@ -29,11 +30,11 @@ pub struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    fn command(&mut self, id: ActionId, cmd: Command) {
+    pub(crate) fn command(&mut self, id: ActionId, cmd: Command) {
         self.cmds.send(id, cmd, self.now, self.out);
     }
 
-    fn set_mode(&mut self, id: ActionId, mode: Mode) {
+    pub(crate) fn set_mode(&mut self, id: ActionId, mode: Mode) {
         let (p2, p3) = mode.set_mode_params();
         // p1 = MAV_MODE_FLAG_CUSTOM_MODE_ENABLED.
         let cmd = Command::long(
@@ -44,7 +45,7 @@ impl Ctx<'_> {
         self.command(id, cmd);
     }
 
-    fn arm(&mut self, id: ActionId) {
+    pub(crate) fn arm(&mut self, id: ActionId) {
         let cmd = Command::long(
             MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
             self.target,
@@ -140,6 +141,8 @@ pub struct Run {
     /// A motion the next action needs still: it ends within its radius once the vehicle is still
     /// (`[state] still_below_m_s`), not as it enters the radius.
     pub end_still: bool,
+    /// A flight action (src/vehicle/src/flight.rs) runs instead of the bindings above.
+    flight: Option<Flight>,
 }
 
 /// How long (vehicle ms) a run disarmed under it waits for the restart that explains it before failing.
@@ -178,6 +181,10 @@ pub enum StartError {
         "the vehicle is disarmed and arming is the operator's ([authority] arm = \"operator\")"
     )]
     NotArmed,
+    #[error("the vehicle is on the ground: it must take off first")]
+    OnGround,
+    #[error("no landing mode: [modes] land")]
+    NoLandMode,
 }
 
 fn location_arg(start: &ActionStart, name: &str) -> Result<Enu, StartError> {
@@ -214,6 +221,7 @@ impl Run {
             settling: None,
             settled: false,
             end_still: false,
+            flight: None,
         };
         let id = start.id;
         match binding {
@@ -273,6 +281,10 @@ impl Run {
             }
             Binding::Timed { .. } => run.phase = Phase::Running,
             Binding::Download { command, .. } => start_download(ctx, id, *command)?,
+            Binding::Flight(f) => {
+                run.phase = Phase::Running;
+                run.flight = Some(Flight::begin(start, f, ctx)?);
+            }
         }
         Ok(run)
     }
@@ -343,14 +355,7 @@ impl Run {
         let Binding::Move { speed_m_s, .. } = self.binding else {
             return;
         };
-        if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
-            let cmd = Command::long(
-                MavCmd::MAV_CMD_DO_CHANGE_SPEED,
-                ctx.target,
-                [1.0, speed_m_s as f32, -1.0, 0.0, 0.0, 0.0, 0.0],
-            );
-            ctx.command(self.id, cmd);
-        }
+        change_speed(ctx, self.id, speed_m_s);
     }
 
     fn servo(&mut self, ctx: &mut Ctx, step: usize, servo: u8, pwm: u16) {
@@ -383,12 +388,13 @@ impl Run {
             }
             | Binding::ReturnHome {
                 position_variable, ..
-            } => Some(position_variable),
+            } => Some(position_variable.as_str()),
+            Binding::Flight(f) => f.position_variable(),
             _ => None,
         };
         let mut v = Vec::new();
         if let (Some(var), Some(p)) = (pos_var, ctx.tel.position) {
-            v.push((var.clone(), StateValue::Position(p)));
+            v.push((var.to_string(), StateValue::Position(p)));
         }
         if pos_var.is_some() {
             v.extend(ctx.cfg.state.values(ctx.tel, &ctx.cfg.modes, with_moving));
@@ -423,8 +429,19 @@ impl Run {
     fn is_vehicle_motion(&self) -> bool {
         matches!(
             self.binding,
-            Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. }
+            Binding::Move { .. }
+                | Binding::Survey { .. }
+                | Binding::ReturnHome { .. }
+                | Binding::Flight(_)
         )
+    }
+
+    /// A flight action's end as a report (with the vehicle's state when it failed).
+    fn flight_end(&self, ctx: &Ctx, end: Option<FlightEnd>) -> Option<End> {
+        Some(match end? {
+            FlightEnd::Nominal => End::nominal(),
+            FlightEnd::Failed(why) => self.failed(ctx, why),
+        })
     }
 
     pub fn on_command(
@@ -435,6 +452,10 @@ impl Run {
     ) -> Option<End> {
         if self.settling.is_some() {
             return None;
+        }
+        if let Some(f) = self.flight.as_mut() {
+            let end = f.on_command(ctx, self.id, cmd, outcome);
+            return self.flight_end(ctx, end);
         }
         let what = format!("{cmd:?}");
         if cmd == MavCmd::MAV_CMD_DO_CHANGE_SPEED {
@@ -503,6 +524,10 @@ impl Run {
     /// The autopilot restarted under this run: the run is commanded again from the start of its protocol
     /// (the vehicle kept its position, so a move goes on from where it stopped).
     pub fn resume(&mut self, ctx: &mut Ctx) -> Option<End> {
+        if let Some(f) = self.flight.as_mut() {
+            let end = f.resume();
+            return self.flight_end(ctx, Some(end));
+        }
         self.resumes += 1;
         if self.resumes > MAX_RESUMES {
             return Some(self.failed(
@@ -541,7 +566,7 @@ impl Run {
                     self.phase = Phase::Starting;
                 }
             }
-            Binding::Timed { .. } => {}
+            Binding::Timed { .. } | Binding::Flight(_) => {}
         }
         None
     }
@@ -593,6 +618,10 @@ impl Run {
     pub fn on_message(&mut self, ctx: &mut Ctx, msg: &MavMessage) -> Option<End> {
         if self.settling.is_some() {
             return None;
+        }
+        if let Some(f) = self.flight.as_mut() {
+            let end = f.on_message(ctx, msg);
+            return self.flight_end(ctx, end);
         }
         match msg {
             MavMessage::HEARTBEAT(h) => {
@@ -710,6 +739,10 @@ impl Run {
         {
             let mode = ctx.tel.custom_mode.unwrap_or(0);
             return Some(self.failed(ctx, format!("the vehicle disarmed (mode {mode})")));
+        }
+        if let Some(f) = self.flight.as_mut() {
+            let end = f.on_tick(ctx);
+            return self.flight_end(ctx, end);
         }
         match (&self.binding, self.phase) {
             (
@@ -858,10 +891,7 @@ impl Run {
         }
         ctx.cmds.cancel(self.id);
         self.stop_downlink(ctx);
-        if matches!(
-            self.binding,
-            Binding::Move { .. } | Binding::Survey { .. } | Binding::ReturnHome { .. }
-        ) {
+        if self.is_vehicle_motion() {
             let hold = ctx.cfg.modes.hold;
             // The HOLD's ACK is nobody's business once the action ended: owner u64::MAX.
             let (p2, p3) = hold.set_mode_params();
@@ -878,6 +908,19 @@ impl Run {
             // An interrupted preemptive motion ended as preempted (its end effects hold): no moving value.
             state: self.state_values(ctx, false),
         }
+    }
+}
+
+/// ArduPilot: a motion's ground speed by DO_CHANGE_SPEED (speed type 1), once the destination is set
+/// (nothing on PX4, which takes the speed with the destination, or for the autopilot's own speed).
+pub(crate) fn change_speed(ctx: &mut Ctx, id: ActionId, speed_m_s: f64) {
+    if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
+        let cmd = Command::long(
+            MavCmd::MAV_CMD_DO_CHANGE_SPEED,
+            ctx.target,
+            [1.0, speed_m_s as f32, -1.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        ctx.command(id, cmd);
     }
 }
 

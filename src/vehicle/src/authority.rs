@@ -106,6 +106,9 @@ pub struct Authority {
     cfg: AuthorityConfig,
     /// The companion's driving mode (GUIDED): a switch to it hands control back.
     own_mode: u32,
+    /// Modes in which a flying vehicle lands and disarms itself (`[modes] land` and RTL, when the
+    /// vehicle has a landing mode).
+    landing_modes: Vec<u32>,
     /// The modes the companion commanded and may see next (the last one, and the one before while the
     /// vehicle has not switched yet).
     expected: Vec<u32>,
@@ -131,6 +134,10 @@ impl Authority {
         Authority {
             cfg,
             own_mode: modes.guided.custom_mode(),
+            landing_modes: modes
+                .land
+                .map(|l| vec![l.custom_mode(), modes.rtl.custom_mode()])
+                .unwrap_or_default(),
             expected: Vec::new(),
             in_control: false,
             paused: false,
@@ -174,6 +181,9 @@ impl Authority {
         self.last_mode = Some(mode);
         self.armed = armed;
         if armed {
+            self.disarmed_since = None;
+        } else if self.landing_modes.contains(&mode) {
+            // A multicopter that lands disarms itself (ArduCopter's ModeLand and RTL): not the operator.
             self.disarmed_since = None;
         } else if self.in_control
             && !self.paused

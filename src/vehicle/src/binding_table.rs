@@ -5,6 +5,7 @@
 use serde::Deserialize;
 
 use super::config::{Binding, ServoStep};
+use super::flight::FlightBinding;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -17,6 +18,10 @@ pub enum BindingKind {
     Recharge,
     Download,
     Timed,
+    Takeoff,
+    FlyTo,
+    Land,
+    ReturnLand,
 }
 
 /// Declares the table's keys once: the struct and the list of the keys written come from the same list, so a
@@ -63,6 +68,7 @@ binding_table! {
     max_ms: u64,
     poll_ms: u64,
     duration_ms: u64,
+    altitude_m: f64,
 }
 
 /// What is wrong with a table: the key it is about (relative to the table, empty for the table itself).
@@ -94,6 +100,17 @@ impl BindingTable {
             BindingKind::Recharge => &["until_percent", "level_arg"],
             BindingKind::Download => &["command", "until_used", "max_ms", "poll_ms"],
             BindingKind::Timed => &["duration_ms"],
+            BindingKind::Takeoff => &["altitude_m", "vertical_acceptance_m"],
+            BindingKind::FlyTo => &[
+                "to",
+                "acceptance_radius_m",
+                "vertical_acceptance_m",
+                "speed_m_s",
+                "position_variable",
+            ],
+            BindingKind::Land | BindingKind::ReturnLand => {
+                &["acceptance_radius_m", "position_variable"]
+            }
         };
         if let Some(k) = keys.iter().find(|k| !allowed.contains(k)) {
             return Err((
@@ -150,6 +167,22 @@ impl BindingTable {
             BindingKind::Timed => Binding::Timed {
                 duration_ms: need(self.duration_ms, "duration_ms", kind)?,
             },
+            BindingKind::Takeoff => Binding::Flight(FlightBinding::Takeoff {
+                altitude_m: need(self.altitude_m, "altitude_m", kind)?,
+                vertical_acceptance_m: self.vertical_acceptance_m.unwrap_or(1.0),
+            }),
+            BindingKind::FlyTo => Binding::Flight(FlightBinding::FlyTo {
+                to: self.to.clone().unwrap_or_else(|| "to".into()),
+                acceptance_radius_m: radius,
+                vertical_acceptance_m: self.vertical_acceptance_m.unwrap_or(1.0),
+                speed_m_s: self.speed_m_s.unwrap_or(-1.0),
+                position_variable: position(),
+            }),
+            BindingKind::Land | BindingKind::ReturnLand => Binding::Flight(FlightBinding::Land {
+                home: kind == BindingKind::ReturnLand,
+                acceptance_radius_m: radius,
+                position_variable: position(),
+            }),
         })
     }
 }

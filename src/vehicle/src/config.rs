@@ -169,6 +169,8 @@ pub struct Modes {
     pub guided: Mode,
     pub rtl: Mode,
     pub manual: Option<Mode>,
+    /// A flying vehicle's landing mode (ArduCopter LAND 9, PX4 AUTO.LAND): the `land` binding's.
+    pub land: Option<Mode>,
     /// What a SIGINT / SIGTERM leaves the vehicle in: `hold` (default), `rtl` or `none` (as it is).
     #[serde(default)]
     pub on_shutdown: OnShutdown,
@@ -181,12 +183,21 @@ pub struct ReadyConfig {
     /// Vehicle seconds; 0: do not wait (the first motion arms the vehicle itself).
     #[serde(default = "d_ready_timeout")]
     pub timeout_s: f64,
+    /// false: ready with a position (and the estimator trusting it), disarmed — a copter arms at its
+    /// takeoff (src/vehicle/src/flight.rs).
+    #[serde(default = "d_true")]
+    pub arm: bool,
+}
+
+fn d_true() -> bool {
+    true
 }
 
 impl Default for ReadyConfig {
     fn default() -> Self {
         ReadyConfig {
             timeout_s: d_ready_timeout(),
+            arm: true,
         }
     }
 }
@@ -207,6 +218,9 @@ impl Modes {
         if let Some(m) = self.manual {
             v.push(("manual", m));
         }
+        if let Some(m) = self.land {
+            v.push(("land", m));
+        }
         v
     }
 }
@@ -226,6 +240,9 @@ pub struct ResourceNames {
     pub battery_tolerance: Option<f64>,
     pub storage_resolution: Option<f64>,
     pub storage_tolerance: Option<f64>,
+    /// Percent of the battery the plan must never use (a flying vehicle's landing reserve): the battery
+    /// reservoir is the level above it, so a plan that keeps the reservoir >= 0 keeps the reserve.
+    pub battery_reserve: Option<f64>,
 }
 
 /// MAVLink reports the battery in whole percents (`battery_remaining`).
@@ -259,6 +276,16 @@ impl ResourceNames {
         .into_iter()
         .find(|(_, v)| v.is_some_and(|v| !(v.is_finite() && v >= 0.0)))
         .map(|(k, _)| k)
+        .or_else(|| {
+            self.battery_reserve
+                .is_some_and(|r| !(0.0..100.0).contains(&r))
+                .then_some("resources.battery_reserve")
+        })
+    }
+
+    /// The battery reservoir's level for a reported `percent`: what is left above the reserve.
+    pub fn battery_level(&self, percent: f64) -> f64 {
+        percent - self.battery_reserve.unwrap_or(0.0)
     }
 }
 
@@ -344,6 +371,9 @@ pub enum Binding {
     /// A task the autopilot has no counterpart for (e.g. turning a pan-and-tilt unit it does not drive, a
     /// software initialisation): nothing is sent, the action ends `duration_ms` after its start.
     Timed { duration_ms: u64 },
+    /// A multicopter's flight actions (takeoff, fly to a place at its altitude, land or return and land):
+    /// run by [`super::flight`].
+    Flight(super::flight::FlightBinding),
 }
 
 /// The longest duration a configuration may give, ms: a week (longer ones overflow clock arithmetic).
@@ -408,7 +438,12 @@ impl VehicleConfig {
             return Err(invalid(key.into(), &reason));
         }
         if let Some(key) = self.resources.invalid() {
-            return Err(invalid(key.into(), "must be a level >= 0"));
+            let why = if key == "resources.battery_reserve" {
+                "a percent in [0, 100["
+            } else {
+                "must be a level >= 0"
+            };
+            return Err(invalid(key.into(), why));
         }
         if let Some(ids) = &self.link.goal_sysids {
             if ids.is_empty() || ids.contains(&0) {
@@ -504,6 +539,11 @@ impl VehicleConfig {
                         ));
                     }
                 }
+                Binding::Flight(f) => {
+                    if let Some((k, why)) = f.invalid(&self.modes) {
+                        return Err(invalid(key(k), why));
+                    }
+                }
                 Binding::Sample { steps } if steps.is_empty() => {
                     return Err(invalid(key("steps"), "needs at least one servo step"));
                 }
@@ -531,6 +571,7 @@ pub(crate) mod tests {
             guided: Mode::Number(15),
             rtl: Mode::Number(11),
             manual: Some(Mode::Number(0)),
+            land: None,
             on_shutdown: Default::default(),
         }
     }

@@ -323,6 +323,10 @@ fn bindings(issues: &mut Issues, cfg: &VehicleConfig, location_type: Option<Type
         let args: Vec<(&str, &str, bool)> = match b {
             Binding::Move { to, .. } => vec![("to", to, true)],
             Binding::Survey { area, .. } => vec![("area", area, true)],
+            Binding::Flight(f) => f
+                .location_param()
+                .map(|to| vec![("to", to, true)])
+                .unwrap_or_default(),
             Binding::Recharge {
                 level_arg: Some(level),
                 ..

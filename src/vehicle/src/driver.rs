@@ -428,6 +428,7 @@ impl Driver {
         let r = Readiness::new(vnow);
         self.readiness = Some(match self.cfg.authority.arm {
             authority::Arming::Operator => r.operator_arms(),
+            authority::Arming::Companion if !self.cfg.ready.arm => r.fix_only(),
             authority::Arming::Companion => r,
         });
         if self.cfg.limits.autopilot_fence != Some(false) {

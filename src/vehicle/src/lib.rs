@@ -23,6 +23,7 @@ pub mod config_check;
 pub mod driver;
 pub mod endpoint;
 pub mod fence;
+pub mod flight;
 pub mod frame;
 pub mod geo;
 pub mod goal_answers;

@@ -110,6 +110,9 @@ pub struct Readiness {
     report: ReadyReport,
     /// Arming is the operator's: no ARM is ever sent.
     operator_arms: bool,
+    /// Ready with a fix, a home and the estimator's position, disarmed: a copter arms at its takeoff
+    /// (ArduCopter disarms a copter armed on the ground after DISARM_DELAY, 10 s).
+    fix_only: bool,
 }
 
 /// What the driver must do next.
@@ -132,6 +135,7 @@ impl Readiness {
             backoff_ms: FIRST_BACKOFF_MS,
             status_asked: None,
             operator_arms: false,
+            fix_only: false,
             report: ReadyReport {
                 ready: false,
                 fix_after_ms: None,
@@ -147,6 +151,12 @@ impl Readiness {
     /// Arming is left to the operator: the wait never sends ARM, it waits for the vehicle armed.
     pub fn operator_arms(mut self) -> Self {
         self.operator_arms = true;
+        self
+    }
+
+    /// Ready once the vehicle has a fix, a home and (if it says) a trusted position; no ARM is sent.
+    pub fn fix_only(mut self) -> Self {
+        self.fix_only = true;
         self
     }
 
@@ -170,15 +180,18 @@ impl Readiness {
             self.report.fix_after_ms.get_or_insert(since);
             self.report.armed_after_ms.get_or_insert(since);
             if seen.navigation != Some(false) {
-                self.phase = ReadyPhase::Ready;
-                self.report.ready = true;
-                self.report.navigation_after_ms = Some(since);
-                return ReadyAction::Nothing;
+                return self.ready(since);
             }
             self.phase = ReadyPhase::WaitingForNavigation;
         }
+        if self.fix_only && seen.position && seen.home {
+            self.report.fix_after_ms.get_or_insert(since);
+            if seen.navigation != Some(false) {
+                return self.ready(since);
+            }
+        }
         match self.phase {
-            ReadyPhase::WaitingForFix if seen.position && seen.home => {
+            ReadyPhase::WaitingForFix if seen.position && seen.home && !self.fix_only => {
                 self.report.fix_after_ms = Some(since);
                 self.attempt(vnow, seen, false)
             }
@@ -196,6 +209,14 @@ impl Readiness {
             }
             _ => ReadyAction::Nothing,
         }
+    }
+
+    /// Ready `since` ms after the wait began.
+    fn ready(&mut self, since: u64) -> ReadyAction {
+        self.phase = ReadyPhase::Ready;
+        self.report.ready = true;
+        self.report.navigation_after_ms = Some(since);
+        ReadyAction::Nothing
     }
 
     /// ARM now, unless the autopilot says its checks fail and it was not waited for (`waited`).

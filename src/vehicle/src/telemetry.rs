@@ -35,6 +35,8 @@ pub struct Telemetry {
     pub camera_feedback_index: Option<u16>,
     /// Ground speed, m/s (VFR_HUD, else GLOBAL_POSITION_INT's velocity).
     pub ground_speed: Option<f64>,
+    /// A flying vehicle's state: altitude above home and landed state (src/vehicle/src/flight.rs).
+    pub flight: super::flight::FlightTelemetry,
     has_vfr_hud: bool,
     has_battery_status: bool,
     /// The autopilot's own time_boot_ms, last received.
@@ -62,6 +64,7 @@ impl Telemetry {
         if let Some(p) = super::px4::prearm_from(msg) {
             self.prearm_ok = Some(p);
         }
+        self.flight.update(msg);
         match msg {
             MavMessage::HEARTBEAT(h) => {
                 self.custom_mode = Some(h.custom_mode);
@@ -208,7 +211,7 @@ impl Telemetry {
             if let Some(name) = &names.battery {
                 events.push(VehicleEvent::Resource(ResourceLevel {
                     resource: name.clone(),
-                    level,
+                    level: names.battery_level(level),
                 }));
             }
         }
@@ -220,7 +223,7 @@ impl Telemetry {
         if let (Some(b), Some(name)) = (self.battery_percent, &names.battery) {
             v.push(ResourceLevel {
                 resource: name.clone(),
-                level: b,
+                level: names.battery_level(b),
             });
         }
         if let (Some(s), Some(name)) = (self.storage_available, &names.storage) {

@@ -1,0 +1,90 @@
+//! A copter mission end to end on the built-in SITL copter, over real sockets, stepped: domains/copter's
+//! survey problem with config/sitl-copter.toml and sitl/scenarios/survey.toml (a headwind over the mast),
+//! and a picture goal at 25 m uploaded by a ground station during the flight (config/goals/copter.plan).
+//! The copter takes off, takes its pictures at altitude, hovers over the field, returns and lands with the
+//! battery above its 25 % reserve all along.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use mavtempo::cli::demo::{run_demo, DemoSetup, TimedUpload, UploadItems};
+use mavtempo::exec::executive::Fate;
+use mavtempo::exec::mission::MissionEnd;
+use mavtempo::exec::trace::TraceEvent;
+
+#[test]
+fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve() {
+    let setup = DemoSetup {
+        problem: Some(PathBuf::from("domains/copter/problems/survey.ixt")),
+        domain: Some(PathBuf::from("domains/copter/copter.ixt")),
+        config: Some(PathBuf::from("config/sitl-copter.toml")),
+        vehicle: sitl::VehicleKind::Copter,
+        upload: false,
+        timed_upload: Some(TimedUpload {
+            at_ms: 40_000,
+            items: UploadItems::File(PathBuf::from("config/goals/copter.plan")),
+        }),
+        ..DemoSetup::default()
+    };
+    let mut said = Vec::new();
+    let run = run_demo(&setup, &mut |l: &str| said.push(l.to_string()), &mut |_| {})
+        .unwrap_or_else(|e| panic!("survey: {e}"));
+    assert!(
+        said.iter()
+            .any(|l| l.contains("sitl/scenarios/survey.toml")),
+        "{said:?}"
+    );
+    let r = &run.report;
+    assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
+    let fates: BTreeMap<&str, &Fate> = r.goals.iter().map(|g| (g.name.as_str(), &g.fate)).collect();
+    for g in ["picture_mast", "survey_field", "back_home"] {
+        assert_eq!(fates.get(g), Some(&&Fate::Achieved), "{g}: {:?}", r.goals);
+    }
+    // The uploaded goal: one more, achieved.
+    assert_eq!(r.goals.len(), 4, "{:?}", r.goals);
+    assert!(
+        r.goals.iter().all(|g| g.fate == Fate::Achieved),
+        "{:?}",
+        r.goals
+    );
+    // The actions launched, in order.
+    let launched: Vec<&str> = r
+        .cycles
+        .iter()
+        .flat_map(|c| &c.events)
+        .filter_map(|e| match e {
+            TraceEvent::Launch { action, .. } => Some(action.as_str()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(launched.first(), Some(&"takeoff(home)"), "{launched:?}");
+    assert_eq!(
+        launched
+            .iter()
+            .filter(|a| a.starts_with("take_picture"))
+            .count(),
+        2,
+        "{launched:?}"
+    );
+    assert_eq!(
+        launched
+            .iter()
+            .filter(|a| a.starts_with("return_home"))
+            .count(),
+        1,
+        "{launched:?}"
+    );
+    // The battery reservoir (the charge above the reserve) reported never below 0.
+    let battery: Vec<f64> = r
+        .resources
+        .iter()
+        .filter(|s| s.resource == "BATTERY")
+        .filter_map(|s| s.reported)
+        .collect();
+    assert!(!battery.is_empty());
+    let lowest = battery.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(lowest >= 0.0, "went {lowest} below the reserve");
+    // Back home: the last point of the track is within the return's acceptance radius.
+    let last = r.track.last().expect("a track");
+    assert!(last.east.hypot(last.north) <= 3.0, "{last:?}");
+}
