@@ -191,9 +191,9 @@ fn bad_autopilot_and_home_values_are_reported_at_line_and_column() {
     let cases = [
         (
             "profile = \"ardupilot\"",
-            "profile = \"px4\"",
+            "profile = \"betaflight\"",
             format!("{profile}:11"),
-            "unknown variant `px4`",
+            "unknown variant `betaflight`",
         ),
         (
             "profile = \"ardupilot\"",
