@@ -36,6 +36,9 @@ pub struct BenchArgs {
     /// `suite`, with --write: also in PDDL, DIR/<domain>/domain.pddl and DIR/<domain>/n<N>_s<SEED>.pddl.
     #[arg(long, requires = "write")]
     pub pddl: bool,
+    /// `plan`: the generated rover grids to plan, by number of targets (repeatable; default 10, 20, 40).
+    #[arg(long = "grid")]
+    pub grids: Vec<usize>,
     /// `ipc`: the IPC-2002 benchmarks' directory.
     #[arg(long)]
     pub dir: Option<std::path::PathBuf>,
@@ -81,7 +84,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn => bench_stn(args.json),
         BenchWhat::Cycle => bench_cycle(args.json),
-        BenchWhat::Plan => bench_plan(args.json),
+        BenchWhat::Plan => bench_plan(args.json, &args.grids),
         BenchWhat::Repair => bench_repair(args.json),
         BenchWhat::Sim => bench_sim(args.json),
         BenchWhat::Dispatch => bench_dispatch(args.json),
@@ -211,8 +214,13 @@ fn bench_link(json: bool) -> ExitCode {
     })
 }
 
-fn bench_plan(json: bool) -> ExitCode {
-    let figures = crate::bench::plan::run(std::path::Path::new("domains"), 20_000);
+fn bench_plan(json: bool, grids: &[usize]) -> ExitCode {
+    let grids = if grids.is_empty() {
+        &crate::bench::plan::DEFAULT_GRIDS[..]
+    } else {
+        grids
+    };
+    let figures = crate::bench::plan::run(std::path::Path::new("domains"), 20_000, grids);
     show("bench plan", json, figures, |figures| {
         for f in figures {
             outln!(

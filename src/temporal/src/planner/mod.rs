@@ -133,6 +133,8 @@ impl Search {
     /// A search whose root is `plan` (the incremental flaw detection is rebuilt from scratch).
     pub fn new(mut plan: PartialPlan) -> Self {
         plan.recompute_candidates();
+        // Ordering queries by look-up rather than by search (the answers are the same).
+        plan.stn.maintain_paths();
         let hierarchy = hierarchy::Hierarchy::new(&plan.domain);
         Search {
             hierarchy,
