@@ -138,6 +138,8 @@ pub(crate) fn norm_ub(x: Time) -> Time {
 }
 
 #[cfg(test)]
+mod paths_tests;
+#[cfg(test)]
 mod stnu_tests;
 #[cfg(test)]
 mod tests;
