@@ -50,8 +50,6 @@ enum Op {
     Relax {
         t: usize,
     },
-    /// Keep the all-pairs matrix of paths avoiding the origin (again, after a removal or restore dropped it).
-    MaintainPaths,
 }
 
 fn lower() -> impl Strategy<Value = Time> {
@@ -77,11 +75,6 @@ fn op() -> impl Strategy<Value = Op> {
         2 => ix.clone().prop_map(|c| Op::Remove { c }),
         1 => ix.prop_map(|t| Op::Relax { t }),
     ]
-}
-
-/// [`op`], with the matrix of paths asked for now and then.
-fn op_with_paths() -> impl Strategy<Value = Op> {
-    prop_oneof![8 => op(), 1 => Just(Op::MaintainPaths)]
 }
 
 /// Everything observable, to check that failures and restores leave the network exactly as it was.
@@ -218,15 +211,11 @@ fn add(stn: &mut Stn, k: Constraint) -> Result<Option<ConstraintId>, TestCaseErr
     }
 }
 
-fn run(ops: Vec<Op>, with_paths: bool) -> Result<(), TestCaseError> {
+fn run(ops: Vec<Op>) -> Result<(), TestCaseError> {
     let mut stn = Stn::new();
     let mut saved: Vec<(Level, Snapshot)> = Vec::new();
     for _ in 0..3 {
         stn.add_timepoint();
-    }
-    if with_paths {
-        stn.maintain_paths();
-        prop_assert!(stn.has_paths());
     }
     for op in ops {
         let o = stn.origin();
@@ -372,10 +361,6 @@ fn run(ops: Vec<Op>, with_paths: bool) -> Result<(), TestCaseError> {
                 prop_assert_eq!(stn.constraints_of(t).count(), 0);
                 prop_assert!(!stn.is_executed(t) || t == o);
             }
-            Op::MaintainPaths => {
-                stn.maintain_paths();
-                prop_assert!(stn.has_paths());
-            }
         }
         check_against_oracle(&stn)?;
         let now = 40;
@@ -394,39 +379,18 @@ proptest! {
 
     #[test]
     fn incremental_network_equals_floyd_warshall(ops in prop::collection::vec(op(), 1..40)) {
-        run(ops, false)?;
-    }
-
-    /// The same with the matrix of paths kept (queries by look-up, updated on each addition, undone by
-    /// restores, dropped by removals and rebuilt): every distance still equals the oracle's.
-    #[test]
-    fn network_with_matrix_of_paths_equals_floyd_warshall(ops in prop::collection::vec(op_with_paths(), 1..60)) {
-        run(ops, true)?;
+        run(ops)?;
     }
 }
 
 /// Builds a plan-like network and checks it against the oracle after every few insertions and executions.
 #[test]
 fn generated_plan_like_network_equals_floyd_warshall() {
-    plan_like_network_equals_floyd_warshall(false);
-}
-
-/// The same, the matrix of paths kept from the empty network on (grown as timepoints come).
-#[test]
-fn generated_plan_like_network_with_matrix_of_paths_equals_floyd_warshall() {
-    plan_like_network_equals_floyd_warshall(true);
-}
-
-fn plan_like_network_equals_floyd_warshall(with_paths: bool) {
     let plan = mavtempo::bench::stn::plan_like(60, 7);
     let mut stn = Stn::new();
-    if with_paths {
-        stn.maintain_paths();
-    }
     for _ in 0..plan.timepoints {
         stn.add_timepoint();
     }
-    assert_eq!(stn.has_paths(), with_paths);
     let tps: Vec<Timepoint> = stn.timepoints().collect();
     for (i, &(f, t, lb, ub)) in plan.constraints.iter().enumerate() {
         stn.add_constraint(tps[f as usize], tps[t as usize], lb, ub)

@@ -72,7 +72,11 @@ pub const DEFAULT_GRIDS: [usize; 3] = [10, 20, 40];
 
 /// Plans each shipped problem and a rover grid of each size in `grids` once (files under `domains`), with
 /// at most `max_steps` steps each.
-pub fn run(domains: &Path, max_steps: u64, grids: &[usize]) -> Result<Vec<PlanFigures>, BenchError> {
+pub fn run(
+    domains: &Path,
+    max_steps: u64,
+    grids: &[usize],
+) -> Result<Vec<PlanFigures>, BenchError> {
     let load_d = |name: &str| -> Result<Arc<Domain>, BenchError> {
         let path = domains.join(name).join(format!("{name}.ixt"));
         load_domain(&path)

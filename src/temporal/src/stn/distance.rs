@@ -178,7 +178,11 @@ pub(crate) fn all_distances(stn: &Stn, a: u32, forward: bool) -> Vec<Time> {
     }
     if stn.has_paths() {
         for (y, o) in out.iter_mut().enumerate().skip(1) {
-            let (from, to) = if forward { (a, y as u32) } else { (y as u32, a) };
+            let (from, to) = if forward {
+                (a, y as u32)
+            } else {
+                (y as u32, a)
+            };
             if let Some(d) = stn.path_avoiding_origin(from, to) {
                 *o = (*o).min(d);
             }

@@ -34,7 +34,9 @@ fn pack(t: Time) -> Option<i32> {
     if t >= INF {
         Some(NONE)
     } else {
-        i32::try_from(t).ok().filter(|&v| v != NONE && v != i32::MIN)
+        i32::try_from(t)
+            .ok()
+            .filter(|&v| v != NONE && v != i32::MIN)
     }
 }
 
@@ -96,7 +98,10 @@ impl Paths {
             let mut d = vec![NONE; cap * cap];
             let mut recorded = vec![0; cap * cap];
             for x in 0..self.n {
-                let (old, new) = (x * self.cap..x * self.cap + self.n, x * cap..x * cap + self.n);
+                let (old, new) = (
+                    x * self.cap..x * self.cap + self.n,
+                    x * cap..x * cap + self.n,
+                );
                 d[new.clone()].copy_from_slice(&self.d[old.clone()]);
                 recorded[new].copy_from_slice(&self.recorded[old]);
             }

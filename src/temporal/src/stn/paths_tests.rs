@@ -10,16 +10,40 @@ use super::*;
 #[derive(Clone, Debug)]
 enum Op {
     /// An action: start and end with a duration interval, after an existing timepoint.
-    Action { after: usize, dmin: Time, dspan: Time },
+    Action {
+        after: usize,
+        dmin: Time,
+        dspan: Time,
+    },
     /// `a` before `b` (`b − a ≥ gap`).
-    Precedence { a: usize, b: usize, gap: Time },
+    Precedence {
+        a: usize,
+        b: usize,
+        gap: Time,
+    },
     /// Any constraint between two timepoints (often inconsistent, then refused).
-    Add { from: usize, to: usize, lb: Time, ub: Time },
-    Deadline { t: usize, at: Time },
-    Tighten { c: usize, lb: Time, ub: Time },
+    Add {
+        from: usize,
+        to: usize,
+        lb: Time,
+        ub: Time,
+    },
+    Deadline {
+        t: usize,
+        at: Time,
+    },
+    Tighten {
+        c: usize,
+        lb: Time,
+        ub: Time,
+    },
     Save,
-    Restore { back: usize },
-    Remove { c: usize },
+    Restore {
+        back: usize,
+    },
+    Remove {
+        c: usize,
+    },
     Maintain,
 }
 
@@ -51,7 +75,13 @@ fn check(stn: &Stn) -> Result<(), TestCaseError> {
             let d = apsp.distance(a, b);
             prop_assert_eq!(stn.distance(a, b), d, "distance {:?}->{:?}", a, b);
             prop_assert_eq!(from[b.index()], d, "distances_from {:?}->{:?}", a, b);
-            prop_assert_eq!(to[b.index()], apsp.distance(b, a), "distances_to {:?}<-{:?}", a, b);
+            prop_assert_eq!(
+                to[b.index()],
+                apsp.distance(b, a),
+                "distances_to {:?}<-{:?}",
+                a,
+                b
+            );
             for limit in [d.saturating_sub(1), d, d.saturating_add(1), -1, 0, 1] {
                 prop_assert_eq!(stn.distance_below(a, b, limit), d < limit);
             }
