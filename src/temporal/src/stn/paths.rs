@@ -7,11 +7,12 @@
 //! distances of every pair through the origin. A new (or lowered) edge u→v of weight w improves `D[x][y]`
 //! only for sources x whose path to v improves through it (`D[x][u] + w < D[x][v]`) and targets y
 //! whose path from u does (`w + D[v][y] < D[u][y]`): the update costs one scan of the four rows and
-//! columns and the pairs actually improved (the incremental all-pairs update of Even & Gazit; IxTeT kept
-//! a full matrix the same way). In a plan the edges mostly join a new action to the order, so few pairs
-//! improve.
+//! columns and the pairs actually improved (the classic incremental all-pairs update; IxTeT kept its
+//! networks' all-pairs matrix, see [`super::floyd_warshall`]). A tightening in the middle of a long
+//! order still improves the pairs on both sides of it: that is the cost that grows with the plan.
 //!
-//! Each improved entry is recorded on the network's trail and undone by a restore. What the update cannot
+//! Each improved entry is recorded (at most once per saved level) in the matrix's undo log, whose batches
+//! are marked on the network's trail, and is undone by a restore. What the update cannot
 //! follow drops the matrix, and the queries go back to searches: removing or reactivating a constraint (a
 //! relaxation, or undoing one), restoring a level saved before the matrix was built, growing past
 //! [`MAX_TIMEPOINTS`]. A clone of the network starts without it (it is a cache).
