@@ -67,8 +67,16 @@ fn measure(
     }
 }
 
-/// Plans each problem once (files under `domains`), with at most `max_steps` steps each.
-pub fn run(domains: &Path, max_steps: u64) -> Result<Vec<PlanFigures>, BenchError> {
+/// The generated rover grids `bench plan` measures unless told which (`--grid N`).
+pub const DEFAULT_GRIDS: [usize; 3] = [10, 20, 40];
+
+/// Plans each shipped problem and a rover grid of each size in `grids` once (files under `domains`), with
+/// at most `max_steps` steps each.
+pub fn run(
+    domains: &Path,
+    max_steps: u64,
+    grids: &[usize],
+) -> Result<Vec<PlanFigures>, BenchError> {
     let load_d = |name: &str| -> Result<Arc<Domain>, BenchError> {
         let path = domains.join(name).join(format!("{name}.ixt"));
         load_domain(&path)
@@ -95,7 +103,7 @@ pub fn run(domains: &Path, max_steps: u64) -> Result<Vec<PlanFigures>, BenchErro
             max_steps,
         ));
     }
-    for n in [10, 20, 40] {
+    for &n in grids {
         let text = crate::lang::generate::rover_grid_problem(n);
         let p = parse_problem(&format!("grid{n}"), &text, &rover)
             .map_err(|e| BenchError(e.to_string()))?;

@@ -52,6 +52,17 @@ pub struct SuiteArgs {
     pub pddl: bool,
 }
 
+/// `bench plan`'s options.
+#[derive(Args, Debug)]
+pub struct PlanArgs {
+    /// One JSON object per line instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// The generated rover grids to plan, by number of targets (repeatable; default 10, 20, 40).
+    #[arg(long = "grid", value_name = "TARGETS")]
+    pub grids: Vec<usize>,
+}
+
 /// `bench ipc`'s options.
 #[derive(Args, Debug)]
 pub struct IpcArgs {
@@ -88,7 +99,7 @@ pub enum BenchWhat {
     /// Plan repair vs complete replanning on each event kind of the rover mission (mock vehicle).
     Repair(JsonArg),
     /// Planning time and steps on the shipped and generated problems.
-    Plan(JsonArg),
+    Plan(PlanArgs),
     /// Achieved speed-up of the built-in SITL on a 10-waypoint mission at --speedup 500.
     Sim(JsonArg),
     /// Goal-driven dispatch decision cost, Algorithm 2 vs the incremental marking, at 200 and 2,000 actions.
@@ -107,7 +118,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
     match args.what {
         BenchWhat::Stn(a) => bench_stn(a.json),
         BenchWhat::Cycle(a) => bench_cycle(a.json),
-        BenchWhat::Plan(a) => bench_plan(a.json),
+        BenchWhat::Plan(a) => bench_plan(a.json, &a.grids),
         BenchWhat::Repair(a) => bench_repair(a.json),
         BenchWhat::Sim(a) => bench_sim(a.json),
         BenchWhat::Dispatch(a) => bench_dispatch(a.json),
@@ -237,8 +248,13 @@ fn bench_link(json: bool) -> ExitCode {
     })
 }
 
-fn bench_plan(json: bool) -> ExitCode {
-    let figures = crate::bench::plan::run(std::path::Path::new("domains"), 20_000);
+fn bench_plan(json: bool, grids: &[usize]) -> ExitCode {
+    let grids = if grids.is_empty() {
+        &crate::bench::plan::DEFAULT_GRIDS[..]
+    } else {
+        grids
+    };
+    let figures = crate::bench::plan::run(std::path::Path::new("domains"), 20_000, grids);
     show("bench plan", json, figures, |figures| {
         for f in figures {
             outln!(

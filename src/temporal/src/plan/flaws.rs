@@ -79,6 +79,14 @@ impl PartialPlan {
         }
     }
 
+    /// Whether `e` can never threaten `l`, whatever happens to the plan: `e` establishes `l`, or `l` supports
+    /// `e`'s own prior value. Such candidates are marked done (a flaw pass would otherwise re-examine one per
+    /// link at every step).
+    fn never_threatens(&self, e: EventId, l: LinkId) -> bool {
+        let link = self.link(l);
+        e == link.event || self.cond(link.cond).kind == super::CondKind::Before(e)
+    }
+
     /// The non-temporal part of [`Self::check_threat`]: `Err` with the answer when it decides, otherwise the
     /// timepoints whose order decides.
     fn threat_window(&self, e: EventId, l: LinkId) -> Result<ThreatWindow, ThreatCheck> {
@@ -137,6 +145,10 @@ impl PartialPlan {
         let mut open: Vec<(usize, ThreatWindow)> = Vec::new();
         for i in pending {
             let c = self.threats.get(i);
+            if self.never_threatens(c.a, c.b) {
+                verdicts.push((i, ThreatCheck::Resolved));
+                continue;
+            }
             let w = match self.threat_window(c.a, c.b) {
                 Err(check) => {
                     verdicts.push((i, check));

@@ -129,10 +129,20 @@ pub struct Search {
 /// costing a propagation, unseen by every step budget (a plan repair's cycle, a replanning's cap).
 pub const MAX_REJECTED_PER_STEP: u32 = 32;
 
+/// Largest root network (timepoints) whose matrix of paths a search builds ([`crate::stn::paths`]); the
+/// matrix then grows with the plan up to [`crate::stn::paths::MAX_TIMEPOINTS`].
+pub const PATHS_ROOT_MAX: usize = 256;
+
 impl Search {
     /// A search whose root is `plan` (the incremental flaw detection is rebuilt from scratch).
     pub fn new(mut plan: PartialPlan) -> Self {
         plan.recompute_candidates();
+        // Ordering queries by look-up rather than by search (the answers are the same). Built from the
+        // root's network in one Dijkstra per timepoint: a large executing plan's repair, whose tree is
+        // rebuilt every cycle, keeps its searches.
+        if plan.stn.num_timepoints() <= PATHS_ROOT_MAX {
+            plan.stn.maintain_paths();
+        }
         let hierarchy = hierarchy::Hierarchy::new(&plan.domain);
         Search {
             hierarchy,

@@ -195,11 +195,6 @@ fn ranked_flaws(
             (Flaw::Threat { event, link }, rank)
         })
         .collect();
-    let unary: Vec<(Flaw, u64)> = plan
-        .live_unary_conflicts()
-        .into_iter()
-        .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
-        .collect();
     // Conditions that take any value wait until no other open condition is left (see `open_condition`).
     let (any, mut open): (Vec<_>, Vec<_>) = plan
         .open_conditions()
@@ -215,11 +210,20 @@ fn ranked_flaws(
             (f, rank)
         })
         .collect();
-    let top = threats
-        .iter()
-        .chain(&unary)
-        .chain(&open)
-        .map(|&(_, r)| r)
+    let top = threats.iter().chain(&open).map(|&(_, r)| r).max();
+    // Unary conflicts rank below every other flaw but a static condition's: listed (a pass over them all)
+    // only when nothing ranks above them, the only case the selection looks at them.
+    let unary: Vec<(Flaw, u64)> = if top.is_some_and(|t| t > RANK_UNARY) {
+        Vec::new()
+    } else {
+        plan.live_unary_conflicts()
+            .into_iter()
+            .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
+            .collect()
+    };
+    let top = top
+        .into_iter()
+        .chain(unary.iter().map(|&(_, r)| r))
         .max()
         .unwrap_or(0);
     (threats, unary, open, top)

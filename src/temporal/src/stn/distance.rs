@@ -40,6 +40,9 @@ pub(crate) fn distance(stn: &Stn, a: u32, b: u32) -> Time {
 /// Whether the shortest path a→b is shorter than `limit`. A "no" the search proved is remembered
 /// ([`super::memo`]): asked again, it is re-checked against the edges added since instead of searched.
 pub(crate) fn distance_below(stn: &Stn, a: u32, b: u32, limit: Time) -> bool {
+    if let Some(d) = kept(stn, a, b) {
+        return d < limit;
+    }
     if a != b && a != 0 && b != 0 {
         let via_origin = sat_add(stn.ub[b as usize], -stn.lb[a as usize]);
         if via_origin >= limit && stn.memo.proves(stn, a, b, limit) {
@@ -54,8 +57,25 @@ pub(crate) fn distance_below(stn: &Stn, a: u32, b: u32, limit: Time) -> bool {
     bounded(stn, a, b, limit) < limit
 }
 
+/// The shortest path a→b from the matrix of paths avoiding the origin ([`super::paths`]) and the bounds,
+/// when the matrix is kept.
+#[inline]
+fn kept(stn: &Stn, a: u32, b: u32) -> Option<Time> {
+    if a == b {
+        return Some(0);
+    }
+    let via_origin = sat_add(stn.ub[b as usize], -stn.lb[a as usize]);
+    if a == 0 || b == 0 {
+        return Some(via_origin);
+    }
+    stn.path_avoiding_origin(a, b).map(|d| d.min(via_origin))
+}
+
 /// The shortest path a→b if it is shorter than `limit`; otherwise some value `≥ limit`.
 fn bounded(stn: &Stn, a: u32, b: u32, limit: Time) -> Time {
+    if let Some(d) = kept(stn, a, b) {
+        return d;
+    }
     if a == b {
         return 0;
     }
@@ -154,6 +174,19 @@ pub(crate) fn all_distances(stn: &Stn, a: u32, forward: bool) -> Vec<Time> {
         .collect();
     out[ai] = 0;
     if a == 0 {
+        return out;
+    }
+    if stn.has_paths() {
+        for (y, o) in out.iter_mut().enumerate().skip(1) {
+            let (from, to) = if forward {
+                (a, y as u32)
+            } else {
+                (y as u32, a)
+            };
+            if let Some(d) = stn.path_avoiding_origin(from, to) {
+                *o = (*o).min(d);
+            }
+        }
         return out;
     }
     // Reduced distances from a (in the reversed graph when !forward).

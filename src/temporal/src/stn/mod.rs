@@ -13,7 +13,8 @@
 //! - a trail: [`Stn::save`] returns a [`Level`], [`Stn::restore`] undoes everything done after it;
 //! - relaxation ([`Stn::remove_constraint`]) by bounded recomputation of the bounds that depended on the
 //!   removed constraint;
-//! - [`Stn::distance`] on demand (no all-pairs matrix);
+//! - [`Stn::distance`] on demand: a search, or two look-ups in the all-pairs matrix of the paths avoiding the
+//!   origin when the planner asks for it ([`Stn::maintain_paths`], [`paths`]);
 //! - execution of timepoints ([`Stn::execute`]) and the timepoints due at a time ([`Stn::due`]).
 //!
 //! [`Stnu`] adds contingent links (durations the world decides) and the dynamic-controllability check
@@ -31,6 +32,7 @@ mod error;
 pub mod floyd_warshall;
 mod memo;
 mod network;
+pub mod paths;
 mod propagate;
 mod relax;
 mod settle;
@@ -135,6 +137,8 @@ pub(crate) fn norm_ub(x: Time) -> Time {
     }
 }
 
+#[cfg(test)]
+mod paths_tests;
 #[cfg(test)]
 mod stnu_tests;
 #[cfg(test)]

@@ -62,6 +62,8 @@ pub struct Stn {
     /// Stamp of the last logged edge (never decreases).
     pub(crate) log_stamp: u64,
     pub(crate) memo: super::memo::Memo,
+    /// The all-pairs matrix of paths avoiding the origin, when kept ([`super::paths`]).
+    pub(crate) paths: super::paths::PathsCache,
 }
 
 impl Default for Stn {
@@ -86,6 +88,7 @@ impl Stn {
             log: Vec::new(),
             log_stamp: 0,
             memo: Default::default(),
+            paths: Default::default(),
         }
     }
 
@@ -103,6 +106,7 @@ impl Stn {
         self.wout.push(Vec::new());
         self.executed.push(None);
         self.trail.push(Entry::AddTimepoint);
+        self.paths_push_timepoint();
         Timepoint(t)
     }
 
@@ -125,7 +129,8 @@ impl Stn {
         lb: Time,
         ub: Time,
     ) -> Result<ConstraintId, Inconsistent> {
-        let level = self.save();
+        // Not `save`: a rollback point that the matrix of paths need not honour (it is updated on success).
+        let level = self.trail.level();
         let c = self.cons.len() as u32;
         let at_from = self.out[from.0 as usize].len() as u32;
         self.out[from.0 as usize].push(Half { c, forward: true });
@@ -165,7 +170,8 @@ impl Stn {
 
     /// Intersects constraint `c`'s interval with `[lb, ub]` and propagates. On `Err` nothing changes.
     pub fn tighten(&mut self, c: ConstraintId, lb: Time, ub: Time) -> Result<(), Inconsistent> {
-        let level = self.save();
+        // Not `save`: a rollback point that the matrix of paths need not honour (it is updated on success).
+        let level = self.trail.level();
         let d = &self.cons[c.index()];
         let (old_lb, old_ub) = (d.lb, d.ub);
         let (new_lb, new_ub) = (old_lb.max(norm_lb(lb)), old_ub.min(norm_ub(ub)));
@@ -285,6 +291,7 @@ impl Stn {
         self.cons[c.index()].active = false;
         self.sync_edges(c.0);
         self.trail.push(Entry::Remove(c.0));
+        self.paths_drop();
         let d = &self.cons[c.index()];
         let t = d.to as usize;
         if d.from == 0 && self.executed[t] == Some(c) {
@@ -299,6 +306,7 @@ impl Stn {
         let mut removed: Vec<ConstraintId> = self.constraints_of(t).map(|(c, _)| c).collect();
         removed.sort();
         removed.dedup();
+        self.paths_drop();
         for c in &removed {
             self.cons[c.index()].active = false;
             self.sync_edges(c.0);

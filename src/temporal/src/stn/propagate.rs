@@ -108,7 +108,16 @@ impl Stn {
             self.log_edge(Half { c, forward: false });
             self.propagate_half(Half { c, forward: false })?;
         }
+        // Only now that nothing can be rolled back (see `Paths::recorded`).
+        self.paths_add_half(Half { c, forward: true });
+        self.paths_add_half(Half { c, forward: false });
         Ok(())
+    }
+
+    /// The matrix of paths after a new or lowered edge was propagated ([`super::paths`]).
+    fn paths_add_half(&mut self, h: Half) {
+        let (u, v, w) = self.half_edge(h);
+        self.paths_add_edge(u, v, w);
     }
 
     /// Logs a new or lowered edge for the query memory ([`super::memo`]).
@@ -150,7 +159,7 @@ impl Stn {
         if cand <= self.lb[u as usize] {
             return Ok(());
         }
-        let level = self.save();
+        let level = self.trail.level();
         if u == v || u == 0 {
             return Err(self.report_cycle(level, new, None, v));
         }

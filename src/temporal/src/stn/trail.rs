@@ -17,11 +17,14 @@ pub(crate) enum Entry {
     Weights(u32, Time, Time),
     /// Old execution marker of a timepoint.
     Executed(u32, Option<ConstraintId>),
+    /// A batch of undo records of the matrix of paths ([`super::paths`]): its undo log's length before.
+    Paths(u32),
 }
 
 impl Stn {
     /// The current trail level.
     pub fn save(&mut self) -> Level {
+        self.paths_saved();
         self.trail.level()
     }
 
@@ -29,12 +32,14 @@ impl Stn {
     /// Timepoints and constraints created after `level` no longer exist; their identifiers will be reused.
     /// Restoring a level above the current one does nothing.
     pub fn restore(&mut self, level: Level) {
+        self.paths_restoring(level);
         while self.log.last().is_some_and(|e| e.at > level) {
             self.log.pop();
         }
         while let Some(entry) = self.trail.pop_after(level) {
             self.undo(entry);
         }
+        self.paths_restored();
     }
 
     fn undo(&mut self, entry: Entry) {
@@ -48,6 +53,7 @@ impl Stn {
                 self.inc.pop();
                 self.wout.pop();
                 self.executed.pop();
+                self.paths_pop_timepoint();
             }
             Entry::AddConstraint => {
                 if let Some(d) = self.cons.pop() {
@@ -65,6 +71,7 @@ impl Stn {
                 self.cons[c as usize].active = true;
                 self.sync_edges(c);
                 self.memo.clear();
+                self.paths_drop();
             }
             Entry::Weights(c, lb, ub) => {
                 let d = &mut self.cons[c as usize];
@@ -73,6 +80,7 @@ impl Stn {
                 self.sync_edges(c);
             }
             Entry::Executed(t, old) => self.executed[t as usize] = old,
+            Entry::Paths(len) => self.paths_undo(len),
         }
     }
 
