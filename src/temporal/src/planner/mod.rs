@@ -9,6 +9,7 @@
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
 mod controllability;
+pub mod forward;
 pub mod hierarchy;
 pub mod reachability;
 pub mod resolvers;
@@ -556,6 +557,18 @@ pub fn solve_portfolio(
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
+    solve_portfolio_with(domain, problem, budget, &mut |_| Err(0))
+}
+
+/// [`solve_portfolio`] with a third search given its slice first in each round: `other(steps)` runs at most
+/// about that many steps and returns a plan if it found one, else the steps it took (the forward search
+/// of a PDDL problem, [`forward`]). Only the POCL searches, complete, can end the portfolio without a plan.
+pub fn solve_portfolio_with(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+    budget: Budget,
+    other: &mut dyn FnMut(u64) -> Result<Planned, u64>,
+) -> Result<Planned, PlanFailure> {
     let root = checked_root(domain, problem)?;
     let mut searches = [
         Search::with_order(root.clone(), select::Order::Hierarchy),
@@ -564,6 +577,14 @@ pub fn solve_portfolio(
     let mut slice = FIRST_SLICE;
     let mut steps = 0u64;
     loop {
+        let left = budget.max_steps.map(|m| m.saturating_sub(steps));
+        if left != Some(0) && budget.deadline.is_none_or(|d| Instant::now() < d) {
+            let part = left.map_or(slice, |l| l.min(slice));
+            match other(part) {
+                Ok(p) => return Ok(p),
+                Err(used) => steps += used,
+            }
+        }
         for search in &mut searches {
             let left = budget.max_steps.map(|m| m.saturating_sub(steps));
             if left == Some(0) || budget.deadline.is_some_and(|d| Instant::now() >= d) {
