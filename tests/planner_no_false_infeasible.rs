@@ -403,7 +403,10 @@ fn declared_infeasible(p: &Problem, what: &str) -> Option<String> {
 /// the POCL search, the checker and the replay) finds a plan; `Err` says why not.
 fn forward_plan(p: &Problem, what: &str) -> Result<(), String> {
     let (d, pr) = pddl_texts(p);
-    let (ds, ps) = (Src::new("gen-domain.pddl", d), Src::new("gen-problem.pddl", pr));
+    let (ds, ps) = (
+        Src::new("gen-domain.pddl", d),
+        Src::new("gen-problem.pddl", pr),
+    );
     let dom = pddl::parse_domain(&ds).map_err(|e| format!("{what}: {e}"))?;
     let prob = pddl::parse_problem(&ps).map_err(|e| format!("{what}: {e}"))?;
     let translated =

@@ -238,18 +238,21 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
                 .iter()
                 .find(|(_, &v)| v == k.0)
                 .map_or("?", |(s, _)| s.as_str());
-            let args: Vec<&str> = k
-                .1
-                .iter()
-                .map(|&o| names.object_names[o as usize].as_str())
-                .collect();
+            let args: Vec<&str> =
+                k.1.iter()
+                    .map(|&o| names.object_names[o as usize].as_str())
+                    .collect();
             atom_names.push(format!("({pred} {})", args.join(" ")));
             n
         })
     };
     let mut task_init: Vec<AtomId> = Vec::new();
     for k in &init {
-        let pred_name = names.preds.iter().find(|(_, &v)| v == k.0).map(|(s, _)| s.clone());
+        let pred_name = names
+            .preds
+            .iter()
+            .find(|(_, &v)| v == k.0)
+            .map(|(s, _)| s.clone());
         if pred_name.is_some_and(|s| changed.contains(s.as_str())) {
             task_init.push(id(k.clone(), &names));
         }
@@ -305,10 +308,18 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
             }
         }
         for (w, e) in &a.effects {
-            let h = if *w == When::End { &mut end } else { &mut start };
+            let h = if *w == When::End {
+                &mut end
+            } else {
+                &mut start
+            };
             match e {
-                Effect::Add(x) => h.add.push(id(ground_atom(&mut names, d, ai, x, &b)?, &names)),
-                Effect::Del(x) => h.del.push(id(ground_atom(&mut names, d, ai, x, &b)?, &names)),
+                Effect::Add(x) => h
+                    .add
+                    .push(id(ground_atom(&mut names, d, ai, x, &b)?, &names)),
+                Effect::Del(x) => h
+                    .del
+                    .push(id(ground_atom(&mut names, d, ai, x, &b)?, &names)),
                 Effect::Num(..) => return Err(GroundError::Unsupported("numeric effects")),
             }
         }

@@ -34,7 +34,11 @@ impl<'a> Hybrid<'a> {
     pub fn new(loaded: &'a Loaded, deadline: Option<Instant>) -> Self {
         let (forward, aside) = match ground(&loaded.domain, &loaded.problem) {
             Ok(task) => {
-                tracing::debug!(actions = task.actions.len(), atoms = task.atoms.len(), "grounded");
+                tracing::debug!(
+                    actions = task.actions.len(),
+                    atoms = task.atoms.len(),
+                    "grounded"
+                );
                 (Some(Forward::new(task)), None)
             }
             Err(e) => (None, Some(format!("not grounded: {e}"))),

@@ -22,7 +22,10 @@ pub fn precedences(task: &GroundTask, steps: &[u32]) -> Vec<(usize, usize)> {
         let mut writes: Vec<AtomId> = a.writes().collect();
         writes.sort_unstable();
         writes.dedup();
-        let mut reads: Vec<AtomId> = a.reads().filter(|x| writes.binary_search(x).is_err()).collect();
+        let mut reads: Vec<AtomId> = a
+            .reads()
+            .filter(|x| writes.binary_search(x).is_err())
+            .collect();
         reads.sort_unstable();
         reads.dedup();
         for x in reads.iter().chain(&writes) {

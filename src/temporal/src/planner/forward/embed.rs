@@ -36,8 +36,8 @@ pub fn embed(
     steps: &[u32],
     max_steps: u64,
 ) -> Result<Planned, EmbedError> {
-    let mut plan =
-        PartialPlan::new(domain.clone(), problem.clone()).map_err(|e| EmbedError::Root(e.to_string()))?;
+    let mut plan = PartialPlan::new(domain.clone(), problem.clone())
+        .map_err(|e| EmbedError::Root(e.to_string()))?;
     let mut actions: Vec<ActionId> = Vec::with_capacity(steps.len());
     for &s in steps {
         let Some(ga) = task.actions.get(s as usize) else {

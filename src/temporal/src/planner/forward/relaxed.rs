@@ -93,10 +93,10 @@ impl Relaxed {
         }
         let mut goals_left = self.goal.iter().filter(|g| !state.has(**g)).count();
         let fire = |act: usize,
-                        c: u32,
-                        cost: &mut Vec<u32>,
-                        supporter: &mut Vec<u32>,
-                        queue: &mut BinaryHeap<Reverse<(u32, AtomId)>>| {
+                    c: u32,
+                    cost: &mut Vec<u32>,
+                    supporter: &mut Vec<u32>,
+                    queue: &mut BinaryHeap<Reverse<(u32, AtomId)>>| {
             let c = c.saturating_add(1);
             for &p in &self.add[act] {
                 if c < cost[p as usize] {
@@ -177,7 +177,12 @@ mod tests {
     use super::super::{Cond, GroundAction, Happening};
     use super::*;
 
-    fn action(name: &str, pre: &[AtomId], start_add: &[AtomId], end_add: &[AtomId]) -> GroundAction {
+    fn action(
+        name: &str,
+        pre: &[AtomId],
+        start_add: &[AtomId],
+        end_add: &[AtomId],
+    ) -> GroundAction {
         GroundAction {
             name: name.into(),
             args: Vec::new(),
@@ -242,7 +247,9 @@ mod tests {
         let mut a = action("self-help", &[], &[1], &[2]);
         a.end.pre.pos.push(1);
         t.actions.push(a);
-        let e = Relaxed::new(&t).estimate(&t.initial_state()).expect("reachable");
+        let e = Relaxed::new(&t)
+            .estimate(&t.initial_state())
+            .expect("reachable");
         assert_eq!((e.h_add, e.h_ff, e.helpful), (1, 1, vec![4]));
         t.goal.pos = vec![3];
         assert_eq!(Relaxed::new(&t).estimate(&t.initial_state()), None);
