@@ -59,12 +59,14 @@ impl<'a> Hybrid<'a> {
         let started = forward.expanded();
         let outcome = forward.run((steps / STEPS_PER_EXPANSION).max(1));
         let used = (forward.expanded() - started) * STEPS_PER_EXPANSION;
+        tracing::debug!(expanded = forward.expanded(), "forward slice");
         let ForwardOutcome::Plan(seq) = outcome else {
             if outcome == ForwardOutcome::Exhausted {
                 self.step_aside("no sequential plan".into());
             }
             return Err(used);
         };
+        tracing::debug!(actions = seq.len(), "sequential plan found");
         let t = &self.loaded.translated;
         let max_steps = COMPLETION_STEPS_PER_ACTION * (seq.len() as u64 + 10);
         let embedded = embed(
