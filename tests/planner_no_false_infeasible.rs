@@ -417,7 +417,7 @@ fn forward_plan(p: &Problem, what: &str) -> Result<(), String> {
         translated,
     };
     let mut hybrid = pddl::Hybrid::new(&loaded, None);
-    match hybrid.slice(1_000_000) {
+    match hybrid.slice(1_000_000, std::time::Duration::MAX) {
         Ok(_) => Ok(()),
         Err(_) => Err(hybrid.aside.unwrap_or_else(|| "paused".into())),
     }

@@ -5,16 +5,15 @@
 //! help (a feature it does not ground, no sequential plan, a plan the model or the checker refuses) it
 //! steps aside and the POCL searches go on alone.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use super::ground::ground;
 use super::Loaded;
 use crate::planner::forward::{embed, Forward, ForwardOutcome};
 use crate::planner::Planned;
 
-/// Portfolio steps one forward expansion counts for (an expansion evaluates h_FF on every successor:
-/// roughly this many POCL steps of time on the development set's domains).
-const STEPS_PER_EXPANSION: u64 = 4;
+/// Expansions between two looks at the clock.
+const CHUNK: u64 = 32;
 
 /// Planning steps the POCL search may take to complete a sequential plan, per action in it (it mostly
 /// links and orders; a plan it cannot complete within this is handed over to the POCL searches).
@@ -51,14 +50,24 @@ impl<'a> Hybrid<'a> {
         }
     }
 
-    /// One slice of about `steps` portfolio steps: a checked plan, or the steps taken.
-    pub fn slice(&mut self, steps: u64) -> Result<Planned, u64> {
+    /// One slice of about `share` of time and at most `steps` expansions (one step each): a checked plan,
+    /// or the steps taken.
+    pub fn slice(&mut self, steps: u64, share: Duration) -> Result<Planned, u64> {
         let Some(forward) = &mut self.forward else {
             return Err(0);
         };
         let started = forward.expanded();
-        let outcome = forward.run((steps / STEPS_PER_EXPANSION).max(1));
-        let used = (forward.expanded() - started) * STEPS_PER_EXPANSION;
+        let clock = Instant::now();
+        let mut outcome = ForwardOutcome::Paused;
+        while outcome == ForwardOutcome::Paused
+            && clock.elapsed() < share
+            && forward.expanded() - started < steps
+            && self.deadline.is_none_or(|d| Instant::now() < d)
+        {
+            let left = steps - (forward.expanded() - started);
+            outcome = forward.run(CHUNK.min(left));
+        }
+        let used = forward.expanded() - started;
         tracing::debug!(expanded = forward.expanded(), "forward slice");
         let ForwardOutcome::Plan(seq) = outcome else {
             if outcome == ForwardOutcome::Exhausted {

@@ -85,10 +85,12 @@ pub fn solve(l: &Loaded, budget: Budget) -> Result<Solved, SolveError> {
     let t = &l.translated;
     let started = Instant::now();
     let mut hybrid = super::hybrid::Hybrid::new(l, budget.deadline);
-    let planned =
-        planner::solve_portfolio_with(t.domain.clone(), t.problem.clone(), budget, &mut |steps| {
-            hybrid.slice(steps)
-        });
+    let planned = planner::solve_portfolio_with(
+        t.domain.clone(),
+        t.problem.clone(),
+        budget,
+        &mut |steps, share| hybrid.slice(steps, share),
+    );
     let search_ms = started.elapsed().as_secs_f64() * 1e3;
     let planned = planned.map_err(|e| SolveError::NoPlan(e, search_ms))?;
     let (solution, ipc) = check(l, &planned).map_err(|e| e.with_ms(search_ms))?;
