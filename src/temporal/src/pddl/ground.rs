@@ -167,7 +167,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
                 Lit::Compare(c, x, y, _) => {
                     let mut depth = 0;
                     for e in [x, y] {
-                        depth = depth.max(expr_depth(&names, a, e, &values)?);
+                        depth = depth.max(expr_depth(&names, a, e)?);
                     }
                     (Check::Compare(*c, x.clone(), y.clone()), depth)
                 }
@@ -444,19 +444,12 @@ fn depth_of(args: &[A]) -> usize {
 }
 
 /// The parameters a numeric expression needs assigned; a fluent that actions change is refused.
-fn expr_depth(
-    names: &Names,
-    a: &ast::Action,
-    e: &NExpr,
-    values: &HashMap<(String, Vec<u32>), f64>,
-) -> Result<usize, GroundError> {
+fn expr_depth(names: &Names, a: &ast::Action, e: &NExpr) -> Result<usize, GroundError> {
     Ok(match e {
         NExpr::Num(..) => 0,
         NExpr::Duration(_) => return Err(GroundError::Unsupported("conditions on ?duration")),
-        NExpr::Neg(x, _) => expr_depth(names, a, x, values)?,
-        NExpr::Bin(_, x, y, _) => {
-            expr_depth(names, a, x, values)?.max(expr_depth(names, a, y, values)?)
-        }
+        NExpr::Neg(x, _) => expr_depth(names, a, x)?,
+        NExpr::Bin(_, x, y, _) => expr_depth(names, a, x)?.max(expr_depth(names, a, y)?),
         NExpr::Fluent(f) => {
             if f.pred.name == "total-time" {
                 return Err(GroundError::Unsupported("conditions on total-time"));

@@ -106,10 +106,9 @@ impl Relaxed {
                 }
             }
         };
-        for act in 0..self.pre.len() {
-            if waiting[act] == 0 {
-                fire(act, 0, &mut cost, &mut supporter, &mut queue);
-            }
+        for (act, _) in self.pre.iter().enumerate().filter(|(_, p)| p.is_empty()) {
+            // An action without conditions fires at once.
+            fire(act, 0, &mut cost, &mut supporter, &mut queue);
         }
         while let Some(Reverse((c, a))) = queue.pop() {
             let i = a as usize;
