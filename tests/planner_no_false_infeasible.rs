@@ -423,7 +423,13 @@ fn forward_plan(p: &Problem, what: &str) -> Result<(), String> {
     }
 }
 
-fn check_family(name: &str, make: fn(u64) -> Problem, seeds: std::ops::Range<u64>) -> usize {
+/// Each draw of the family the oracle finds a plan for, with its name; `check` panics on a failure.
+fn for_each_solvable(
+    name: &str,
+    make: fn(u64) -> Problem,
+    seeds: std::ops::Range<u64>,
+    check: &dyn Fn(&Problem, &str) -> Option<String>,
+) -> usize {
     let mut solvable = 0;
     for seed in seeds {
         let p = make(seed);
@@ -432,12 +438,16 @@ fn check_family(name: &str, make: fn(u64) -> Problem, seeds: std::ops::Range<u64
         }
         solvable += 1;
         let what = format!("{name} seed {seed}");
-        if let Some(why) = declared_infeasible(&p, &what) {
+        if let Some(why) = check(&p, &what) {
             let (d, pr) = pddl_texts(&p);
             panic!("{what}: the oracle finds a plan, mavtempo says: {why}\n{d}\n{pr}");
         }
     }
     solvable
+}
+
+fn check_family(name: &str, make: fn(u64) -> Problem, seeds: std::ops::Range<u64>) -> usize {
+    for_each_solvable(name, make, seeds, &declared_infeasible)
 }
 
 #[test]
@@ -457,24 +467,9 @@ fn walks_longer_than_the_first_regression_bound_are_never_declared_infeasible() 
 /// the sequential oracle solves, it solves, and its plan, deordered and completed, passes the checks.
 #[test]
 fn the_forward_search_solves_what_the_oracle_solves() {
-    let mut solvable = 0;
-    for (name, make, seeds) in [
-        ("random", random_problem as fn(u64) -> Problem, 0..100),
-        ("walk", walk_problem, 0..30),
-    ] {
-        for seed in seeds {
-            let p = make(seed);
-            if oracle(&p, 20_000) != Some(true) {
-                continue;
-            }
-            solvable += 1;
-            let what = format!("{name} seed {seed}");
-            if let Err(why) = forward_plan(&p, &what) {
-                let (d, pr) = pddl_texts(&p);
-                panic!("{what}: the oracle finds a plan, the forward search: {why}\n{d}\n{pr}");
-            }
-        }
-    }
+    let forward = |p: &Problem, what: &str| forward_plan(p, what).err();
+    let solvable = for_each_solvable("random", random_problem, 0..100, &forward)
+        + for_each_solvable("walk", walk_problem, 0..30, &forward);
     assert!(solvable >= 50, "only {solvable} solvable draws");
 }
 

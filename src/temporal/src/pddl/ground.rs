@@ -91,24 +91,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
         names.object_names.push(o.name.name.clone());
         object_types.push(o.types.iter().map(|t| t.name.clone()).collect());
     }
-    let parent: HashMap<&str, &str> = d
-        .types
-        .iter()
-        .map(|(c, q)| (c.name.as_str(), q.name.as_str()))
-        .collect();
-    let is_sub = |t: &str, anc: &str| {
-        let mut t = t;
-        for _ in 0..=parent.len() {
-            if t == anc || anc == "object" || anc == "objects" {
-                return true;
-            }
-            match parent.get(t) {
-                Some(q) => t = q,
-                None => return false,
-            }
-        }
-        false
-    };
+    let is_sub = super::simulate::subtype_test(d);
     let mut changed: HashSet<&str> = HashSet::new();
     for a in &d.actions {
         for (_, e) in &a.effects {
@@ -406,15 +389,7 @@ impl Cx<'_> {
             NExpr::Num(v, _) => *v,
             NExpr::Duration(_) => return None,
             NExpr::Neg(x, _) => -self.eval(x, b)?,
-            NExpr::Bin(op, x, y, _) => {
-                let (x, y) = (self.eval(x, b)?, self.eval(y, b)?);
-                match op {
-                    '+' => x + y,
-                    '-' => x - y,
-                    '*' => x * y,
-                    _ => x / y,
-                }
-            }
+            NExpr::Bin(op, x, y, _) => ast::arithmetic(*op, self.eval(x, b)?, self.eval(y, b)?),
             NExpr::Fluent(f) => {
                 let mut args = Vec::with_capacity(f.args.len());
                 for x in &f.args {
