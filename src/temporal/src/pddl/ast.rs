@@ -71,6 +71,16 @@ impl NExpr {
     }
 }
 
+/// `x op y` for a [`NExpr::Bin`] operator (`+ - * /`).
+pub fn arithmetic(op: char, x: f64, y: f64) -> f64 {
+    match op {
+        '+' => x + y,
+        '-' => x - y,
+        '*' => x * y,
+        _ => x / y,
+    }
+}
+
 /// A comparison operator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Cmp {

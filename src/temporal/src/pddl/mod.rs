@@ -8,6 +8,8 @@
 //! (`file:line:col`, the line, a caret) like the native language's; no input makes these functions panic.
 
 pub mod ast;
+mod ground;
+pub mod hybrid;
 mod invariants;
 mod parse;
 pub mod sexpr;
@@ -19,6 +21,7 @@ pub mod writer;
 
 use std::path::Path;
 
+pub use hybrid::Hybrid;
 pub use solve::{load, solve, Loaded, SolveError, Solved};
 pub use translate::{translate, Translated, HORIZON_S};
 pub use writer::{ipc_plan, IpcPlan, IpcStep, EPSILON_MS};

@@ -125,24 +125,7 @@ pub fn simulate(
             )
         })
         .collect();
-    let parent: HashMap<&str, &str> = d
-        .types
-        .iter()
-        .map(|(c, p)| (c.name.as_str(), p.name.as_str()))
-        .collect();
-    let is_sub = |t: &str, anc: &str| {
-        let mut t = t;
-        for _ in 0..=parent.len() {
-            if t == anc || anc == "object" {
-                return true;
-            }
-            match parent.get(t) {
-                Some(p) => t = p,
-                None => return false,
-            }
-        }
-        false
-    };
+    let is_sub = subtype_test(d);
     let mut happenings: Vec<Happening> = Vec::new();
     let mut spans: Vec<(Time, Time, Vec<Cond>)> = Vec::new();
     for (k, s) in plan.iter().enumerate() {
@@ -357,6 +340,28 @@ pub fn simulate(
         .unwrap_or(0))
 }
 
+/// Whether a type is `anc` or below it in the domain's hierarchy (every type is below `object`).
+pub(super) fn subtype_test(d: &ast::Domain) -> impl Fn(&str, &str) -> bool + '_ {
+    let parent: HashMap<&str, &str> = d
+        .types
+        .iter()
+        .map(|(c, p)| (c.name.as_str(), p.name.as_str()))
+        .collect();
+    move |t: &str, anc: &str| {
+        let mut t = t;
+        for _ in 0..=parent.len() {
+            if t == anc || anc == "object" {
+                return true;
+            }
+            match parent.get(t) {
+                Some(p) => t = p,
+                None => return false,
+            }
+        }
+        false
+    }
+}
+
 /// Whether `x`'s effects touch `y`'s conditions or effects (deleting what it adds, or changing what it reads).
 fn interfere(x: &Happening, y: &Happening) -> bool {
     let touched = |g: &Ground| y.pre.iter().any(|(p, _)| p == g);
@@ -396,13 +401,7 @@ fn eval(
         NExpr::Duration(_) => return Err(SimulateError::DurationInExpression),
         NExpr::Neg(a, _) => -eval(a, env, values)?,
         NExpr::Bin(op, a, b, _) => {
-            let (x, y) = (eval(a, env, values)?, eval(b, env, values)?);
-            match op {
-                '+' => x + y,
-                '-' => x - y,
-                '*' => x * y,
-                _ => x / y,
-            }
+            ast::arithmetic(*op, eval(a, env, values)?, eval(b, env, values)?)
         }
         NExpr::Fluent(f) => {
             let g = ground(f, env);

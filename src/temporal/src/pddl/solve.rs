@@ -57,6 +57,16 @@ pub enum SolveError {
 }
 
 impl SolveError {
+    /// The same error with the search time `ms`.
+    fn with_ms(self, ms: f64) -> Self {
+        match self {
+            SolveError::NoPlan(e, _) => SolveError::NoPlan(e, ms),
+            SolveError::Rejected(e, _) => SolveError::Rejected(e, ms),
+            SolveError::Ipc(e, _) => SolveError::Ipc(e, ms),
+            SolveError::Replay(e, _) => SolveError::Replay(e, ms),
+        }
+    }
+
     /// The search time spent (ms).
     pub fn search_ms(&self) -> f64 {
         match self {
@@ -68,21 +78,22 @@ impl SolveError {
     }
 }
 
-/// Plans `l` within `budget`; the plan is checked by the independent checker on the translation, and its
-/// IPC form replayed on the PDDL.
+/// Plans `l` within `budget`: the POCL searches with the forward search beside them ([`super::hybrid`]);
+/// the plan is checked by the independent checker on the translation, and its IPC form replayed on the
+/// PDDL.
 pub fn solve(l: &Loaded, budget: Budget) -> Result<Solved, SolveError> {
     let t = &l.translated;
     let started = Instant::now();
-    let planned = planner::solve_portfolio(t.domain.clone(), t.problem.clone(), budget);
+    let mut hybrid = super::hybrid::Hybrid::new(l, budget.deadline);
+    let planned = planner::solve_portfolio_with(
+        t.domain.clone(),
+        t.problem.clone(),
+        budget,
+        &mut |steps, share| hybrid.slice(steps, share),
+    );
     let search_ms = started.elapsed().as_secs_f64() * 1e3;
     let planned = planned.map_err(|e| SolveError::NoPlan(e, search_ms))?;
-    let solution = planned.plan.to_solution(&HashMap::new());
-    let checked = validate(&t.domain, &t.problem, &solution)
-        .map_err(|r| SolveError::Rejected(r.to_string(), search_ms))?;
-    let ipc = writer::ipc_plan(&t.domain, &t.problem, &solution, &checked)
-        .map_err(|e| SolveError::Ipc(e, search_ms))?;
-    simulate::simulate(&l.domain, &l.problem, &ipc.steps)
-        .map_err(|e| SolveError::Replay(e, search_ms))?;
+    let (solution, ipc) = check(l, &planned).map_err(|e| e.with_ms(search_ms))?;
     Ok(Solved {
         solution,
         ipc,
@@ -90,4 +101,21 @@ pub fn solve(l: &Loaded, budget: Budget) -> Result<Solved, SolveError> {
         backtracks: planned.backtracks,
         search_ms,
     })
+}
+
+/// The solution of a plan, accepted by the independent checker, and its IPC plan, replayed on the PDDL
+/// (the times in the errors are 0: the caller sets them).
+pub(super) fn check(
+    l: &Loaded,
+    planned: &planner::Planned,
+) -> Result<(Solution, writer::IpcPlan), SolveError> {
+    let t = &l.translated;
+    let solution = planned.plan.to_solution(&HashMap::new());
+    let checked = validate(&t.domain, &t.problem, &solution)
+        .map_err(|r| SolveError::Rejected(r.to_string(), 0.0))?;
+    let ipc = writer::ipc_plan(&t.domain, &t.problem, &solution, &checked)
+        .map_err(|e| SolveError::Ipc(e, 0.0))?;
+    simulate::simulate(&l.domain, &l.problem, &ipc.steps)
+        .map_err(|e| SolveError::Replay(e, 0.0))?;
+    Ok((solution, ipc))
 }

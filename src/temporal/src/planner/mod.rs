@@ -9,6 +9,7 @@
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
 mod controllability;
+pub mod forward;
 pub mod hierarchy;
 pub mod reachability;
 pub mod resolvers;
@@ -555,6 +556,10 @@ fn finish(outcome: StepOutcome, search: Search) -> Result<Planned, PlanFailure> 
 /// Steps the first portfolio slice gives each search; each round doubles it.
 const FIRST_SLICE: u64 = 500;
 
+/// The time [`solve_portfolio_with`]'s other search gets in the first round (then as long as the POCL
+/// searches took in the previous round).
+const FIRST_OTHER_SHARE: std::time::Duration = std::time::Duration::from_millis(50);
+
 /// [`solve`] by two searches run in turn, in slices of steps that double each round: one takes the open
 /// conditions by the hierarchy ([`select::Order::Hierarchy`]), the other takes the static choices last
 /// ([`select::Order::StaticChoicesLast`]). Neither order wins everywhere (binding a place by the first fact
@@ -566,6 +571,19 @@ pub fn solve_portfolio(
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
 ) -> Result<Planned, PlanFailure> {
+    solve_portfolio_with(domain, problem, budget, &mut |_, _| Err(0))
+}
+
+/// [`solve_portfolio`] with a third search given its slice first in each round: `other(steps, time)` runs
+/// for about as long as the POCL searches took in the previous round (`time`; their steps and the other
+/// search's are too different in cost to share steps), within `steps`, and returns a plan if it found
+/// one, else the steps it took (the forward search of a PDDL problem, [`forward`]). Only the POCL searches, complete, can end the portfolio without a plan.
+pub fn solve_portfolio_with(
+    domain: std::sync::Arc<crate::model::Domain>,
+    problem: std::sync::Arc<crate::model::Problem>,
+    budget: Budget,
+    other: &mut dyn FnMut(u64, std::time::Duration) -> Result<Planned, u64>,
+) -> Result<Planned, PlanFailure> {
     let root = checked_root(domain, problem)?;
     let mut searches = [
         Search::with_order(root.clone(), select::Order::Hierarchy),
@@ -573,7 +591,16 @@ pub fn solve_portfolio(
     ];
     let mut slice = FIRST_SLICE;
     let mut steps = 0u64;
+    let mut share = FIRST_OTHER_SHARE;
     loop {
+        let left = budget.max_steps.map(|m| m.saturating_sub(steps));
+        if left != Some(0) && budget.deadline.is_none_or(|d| Instant::now() < d) {
+            match other(left.unwrap_or(u64::MAX), share) {
+                Ok(p) => return Ok(p),
+                Err(used) => steps += used,
+            }
+        }
+        let round = Instant::now();
         for search in &mut searches {
             let left = budget.max_steps.map(|m| m.saturating_sub(steps));
             if left == Some(0) || budget.deadline.is_some_and(|d| Instant::now() >= d) {
@@ -594,5 +621,6 @@ pub fn solve_portfolio(
             }
         }
         slice = slice.saturating_mul(2);
+        share = share.max(round.elapsed());
     }
 }
