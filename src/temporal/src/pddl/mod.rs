@@ -8,6 +8,8 @@
 //! (`file:line:col`, the line, a caret) like the native language's; no input makes these functions panic.
 
 pub mod ast;
+mod finalise;
+mod fluents;
 mod invariants;
 mod parse;
 pub mod sexpr;
@@ -20,6 +22,7 @@ pub mod writer;
 use std::path::Path;
 
 pub use solve::{load, solve, Loaded, SolveError, Solved};
+pub use fluents::{Access, Change, Fluents, StateDuration, TaskNumeric};
 pub use translate::{translate, Translated, HORIZON_S};
 pub use writer::{ipc_plan, IpcPlan, IpcStep, EPSILON_MS};
 

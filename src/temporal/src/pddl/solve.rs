@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
 
+use super::finalise::{self, FinaliseError};
 use super::{ast, simulate, writer, PddlError, Translated};
 use crate::plan::solution::Solution;
 use crate::plan::validate::validate;
@@ -48,6 +49,8 @@ pub struct Solved {
 pub enum SolveError {
     #[error("no plan: {0}")]
     NoPlan(PlanFailure, f64),
+    #[error("numeric fluents: {0}")]
+    Finalise(FinaliseError, f64),
     #[error("checker: plan REJECTED: {0}")]
     Rejected(String, f64),
     #[error("no IPC plan: {0}")]
@@ -61,6 +64,7 @@ impl SolveError {
     pub fn search_ms(&self) -> f64 {
         match self {
             SolveError::NoPlan(_, t)
+            | SolveError::Finalise(_, t)
             | SolveError::Rejected(_, t)
             | SolveError::Ipc(_, t)
             | SolveError::Replay(_, t) => *t,
@@ -76,7 +80,9 @@ pub fn solve(l: &Loaded, budget: Budget) -> Result<Solved, SolveError> {
     let planned = planner::solve_portfolio(t.domain.clone(), t.problem.clone(), budget);
     let search_ms = started.elapsed().as_secs_f64() * 1e3;
     let planned = planned.map_err(|e| SolveError::NoPlan(e, search_ms))?;
-    let solution = planned.plan.to_solution(&HashMap::new());
+    let mut solution = planned.plan.to_solution(&HashMap::new());
+    finalise::finalise(&t.domain, &t.fluents, &mut solution)
+        .map_err(|e| SolveError::Finalise(e, search_ms))?;
     let checked = validate(&t.domain, &t.problem, &solution)
         .map_err(|r| SolveError::Rejected(r.to_string(), search_ms))?;
     let ipc = writer::ipc_plan(&t.domain, &t.problem, &solution, &checked)
