@@ -255,6 +255,18 @@ fn ipc2002_simple_time_first_instances_are_planned_and_checked() {
     }
 }
 
+/// Numeric fluents (issue 32): Rovers Time's `energy` (guarded decreases, a recharge at a rate whose
+/// duration depends on the energy left) and ZenoTravel Time's `fuel` (fly and zoom decrease it, refuel
+/// assigns it the capacity; `total-fuel-used` only feeds the metric) are planned, checked and replayed.
+#[test]
+fn rovers_and_zenotravel_time_first_instances_are_planned_and_checked() {
+    for folder in ["rovers-time-automatic", "zenotravel-time-automatic"] {
+        let (domain, problem) = ipc2002(folder, 1);
+        let (n, makespan) = plan_and_replay(&domain, &problem);
+        assert!(n > 0 && makespan > 0, "{folder}");
+    }
+}
+
 /// Rovers p6 needs its communication places bound by where the rovers already are: the hierarchy order
 /// alone took > 200,000 steps (the first fact that fits sends rover1 to a place it cannot reach in three
 /// moves); the portfolio's static-choices-last search plans it in a few thousand.
@@ -459,9 +471,10 @@ fn an_unsupported_feature_refuses_the_file_and_never_drops_the_action() {
     let problem = "(define (problem p) (:domain d) (:objects p1 - plane c1 c2 - city)
   (:init (at p1 c1) (= (distance c1 c2) 5) (= (distance c2 c1) 5) (= (fuel p1) 100))
   (:goal (at p1 c2)))";
+    // The decrease has no `>=` guard: the fluent could go below 0, which a reservoir cannot.
     let e = translate_texts(domain, problem).err().unwrap_or_default();
     assert!(
-        e.starts_with("d.pddl:9:") && e.contains("numeric effects are not supported"),
+        e.starts_with("d.pddl:9:") && e.contains("a decrease that no `>=` condition"),
         "{e}"
     );
     // A duration on a fluent that actions change is refused too, at the duration.
@@ -473,7 +486,7 @@ fn an_unsupported_feature_refuses_the_file_and_never_drops_the_action() {
         .err()
         .unwrap_or_default();
     assert!(
-        e.starts_with("d.pddl:6:") && e.contains("state-dependent duration"),
+        e.starts_with("d.pddl:6:") && e.contains("is supported only as `(= ?duration (/ (- v f) r))`"),
         "{e}"
     );
 }
