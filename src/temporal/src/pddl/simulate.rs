@@ -73,7 +73,7 @@ pub enum SimulateError {
         end: &'static str,
         at_ms: Time,
     },
-    #[error("step {step}: its duration {duration} s breaks its constraint in the state at its start ({bound} s)")]
+    #[error("step {step}: its duration {duration} s breaks its constraint ({bound} s, in the state at its start)")]
     StateDuration { step: usize, duration: f64, bound: f64 },
     #[error("step {step}: over-all condition {atom} is not {value} at {at_ms} ms")]
     OverAll {
@@ -99,8 +99,6 @@ pub enum StepFault {
     UnknownObject(String),
     #[error("`{0}` is not of the parameter's type")]
     WrongType(String),
-    #[error("duration {duration} breaks its constraint ({bound})")]
-    Duration { duration: f64, bound: f64 },
     #[error("an instantaneous action with a duration")]
     InstantaneousWithDuration,
     #[error("an (in)equality is false")]
