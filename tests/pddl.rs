@@ -478,7 +478,8 @@ fn an_unsupported_feature_refuses_the_file_and_never_drops_the_action() {
         .err()
         .unwrap_or_default();
     assert!(
-        e.starts_with("d.pddl:6:") && e.contains("is supported only as `(= ?duration (/ (- v f) r))`"),
+        e.starts_with("d.pddl:6:")
+            && e.contains("is supported only as `(= ?duration (/ (- v f) r))`"),
         "{e}"
     );
 }

@@ -46,10 +46,16 @@ fn a_battery_with_a_recharge_at_a_rate_is_planned_checked_and_replayed() {
     assert_eq!(t.domain.resources[charge].kind, ResourceKind::Reservoir);
     assert_eq!(t.domain.resources[charge].capacity, 10.0);
     assert_eq!(t.problem.resources[charge].level, 3.0);
-    assert!(t.domain.resources.iter().any(|r| r.name == "charge(r1)-lock"));
+    assert!(t
+        .domain
+        .resources
+        .iter()
+        .any(|r| r.name == "charge(r1)-lock"));
     // `walked` only feeds the metric: left out, with a note that says so.
     assert!(
-        t.notes.iter().any(|n| n.contains("walked") && n.contains("left out")),
+        t.notes
+            .iter()
+            .any(|n| n.contains("walked") && n.contains("left out")),
         "{:?}",
         t.notes
     );
@@ -85,7 +91,8 @@ fn the_replay_simulates_numeric_fluents() {
                 5.020: (go r1 s1 s2) [4.000]\n9.030: (look r1 s2) [1.000]\n";
     assert_eq!(run(good), Ok(10_030));
     // Without the recharge the move's guard `(>= (charge r1) 4)` fails (2 left).
-    let flat = "0.000: (look r1 s1) [1.000]\n1.010: (go r1 s1 s2) [4.000]\n5.020: (look r1 s2) [1.000]\n";
+    let flat =
+        "0.000: (look r1 s1) [1.000]\n1.010: (go r1 s1 s2) [4.000]\n5.020: (look r1 s2) [1.000]\n";
     assert!(
         matches!(run(flat), Err(E::Numeric { step: 2, .. })),
         "{:?}",
@@ -233,7 +240,10 @@ fn what_a_reservoir_cannot_express_is_refused_at_its_place() {
     )
     .err()
     .unwrap_or_default();
-    assert!(e.starts_with("p.pddl:2:24:") && e.contains("below 0"), "{e}");
+    assert!(
+        e.starts_with("p.pddl:2:24:") && e.contains("below 0"),
+        "{e}"
+    );
     // Filled to two values.
     let twice = one_action("", "", d).replace(
         "(at end (done ?c)) )",

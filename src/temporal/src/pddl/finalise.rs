@@ -27,7 +27,9 @@ pub enum FinaliseError {
     Separation(String),
     #[error("{0}: the fluent it fills is already full at its start (a duration of 0)")]
     AlreadyFull(String),
-    #[error("{0}: its duration, fixed by the fluent's level at its start, breaks the plan's network")]
+    #[error(
+        "{0}: its duration, fixed by the fluent's level at its start, breaks the plan's network"
+    )]
     Duration(String),
 }
 
@@ -35,7 +37,11 @@ pub enum FinaliseError {
 type Slot = (i64, u8, usize, PlanTp, TpId);
 
 /// Orders the numeric accesses of `sol` and fixes its rate-dependent durations (see the module's doc).
-pub fn finalise(domain: &Domain, fluents: &Fluents, sol: &mut Solution) -> Result<(), FinaliseError> {
+pub fn finalise(
+    domain: &Domain,
+    fluents: &Fluents,
+    sol: &mut Solution,
+) -> Result<(), FinaliseError> {
     let any = sol.actions.iter().any(|a| {
         fluents
             .tasks

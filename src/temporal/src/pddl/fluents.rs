@@ -28,8 +28,8 @@ use super::sexpr::Span;
 use super::translate::Cx;
 use super::PddlError;
 use crate::model::{
-    Domain, NumTerm, ObjectId, ResourceAttr, ResourceId, ResourceKind, ResourceUsage, Task,
-    TpId, UsageKind,
+    Domain, NumTerm, ObjectId, ResourceAttr, ResourceId, ResourceKind, ResourceUsage, Task, TpId,
+    UsageKind,
 };
 
 const ST: TpId = TpId(0);
@@ -532,7 +532,10 @@ pub(super) fn translate(
             continue;
         }
         if !cx.numeric.contains(&f.pred.name) {
-            return Err(cx.derr(*span, "internal: a numeric effect on an unclassified function"));
+            return Err(cx.derr(
+                *span,
+                "internal: a numeric effect on an unclassified function",
+            ));
         }
         let key = key_of(f)?;
         if let Some(fl) = fill(a, *op, f, x) {
@@ -587,12 +590,16 @@ pub(super) fn translate(
     for (key, q, when, span) in &w.decs {
         let Some(i) = inst(key) else { continue };
         // A guard `f >= q` at or before the decrease.
-        let g = w.guards.iter().enumerate().position(|(k, (gk, gv, gw, _))| {
-            guards_left[k]
-                && gk == key
-                && (gv - q).abs() <= crate::model::LEVEL_TOLERANCE
-                && (*gw == When::Start || *gw == *when)
-        });
+        let g = w
+            .guards
+            .iter()
+            .enumerate()
+            .position(|(k, (gk, gv, gw, _))| {
+                guards_left[k]
+                    && gk == key
+                    && (gv - q).abs() <= crate::model::LEVEL_TOLERANCE
+                    && (*gw == When::Start || *gw == *when)
+            });
         let Some(g) = g else {
             return Err(cx.derr(*span, "a decrease that no `>=` condition on the same amount guards (at the same end or at the start) may take the fluent below 0, which the model's reservoirs cannot"));
         };
@@ -630,7 +637,14 @@ pub(super) fn translate(
         if i.capacity < UNBOUNDED {
             return Err(cx.derr(*span, "an increase of a fluent that actions also fill is not supported (its reservoir's capacity is the fill value, which an increase could pass)"));
         }
-        usage(t, i.resource, UsageKind::Produce { at: tp(*when) }, *q, true, false);
+        usage(
+            t,
+            i.resource,
+            UsageKind::Produce { at: tp(*when) },
+            *q,
+            true,
+            false,
+        );
         out.accesses.push(Access {
             resource: i.resource,
             at: tp(*when),
@@ -639,11 +653,22 @@ pub(super) fn translate(
     }
     for (key, v, when, _, rate) in &w.fills {
         let Some(i) = inst(key) else { continue };
-        usage(t, i.resource, UsageKind::Produce { at: tp(*when) }, *v, true, true);
+        usage(
+            t,
+            i.resource,
+            UsageKind::Produce { at: tp(*when) },
+            *v,
+            true,
+            true,
+        );
         out.accesses.push(Access {
             resource: i.resource,
             at: tp(*when),
-            change: Some(if *rate { Change::Rate(*v) } else { Change::Set(*v) }),
+            change: Some(if *rate {
+                Change::Rate(*v)
+            } else {
+                Change::Set(*v)
+            }),
         });
     }
     for (key, v, strict, when, span) in &w.uppers {
@@ -714,7 +739,12 @@ pub(super) fn translate(
     locked.sort();
     locked.dedup();
     for r in locked {
-        let Some(lock) = cx.instances.values().find(|i| i.resource == r).and_then(|i| i.lock) else {
+        let Some(lock) = cx
+            .instances
+            .values()
+            .find(|i| i.resource == r)
+            .and_then(|i| i.lock)
+        else {
             continue;
         };
         let ats: Vec<TpId> = out

@@ -21,8 +21,8 @@ pub mod writer;
 
 use std::path::Path;
 
-pub use solve::{load, solve, Loaded, SolveError, Solved};
 pub use fluents::{Access, Change, Fluents, StateDuration, TaskNumeric};
+pub use solve::{load, solve, Loaded, SolveError, Solved};
 pub use translate::{translate, Translated, HORIZON_S};
 pub use writer::{ipc_plan, IpcPlan, IpcStep, EPSILON_MS};
 

@@ -74,7 +74,11 @@ pub enum SimulateError {
         at_ms: Time,
     },
     #[error("step {step}: its duration {duration} s breaks its constraint ({bound} s, in the state at its start)")]
-    StateDuration { step: usize, duration: f64, bound: f64 },
+    StateDuration {
+        step: usize,
+        duration: f64,
+        bound: f64,
+    },
     #[error("step {step}: over-all condition {atom} is not {value} at {at_ms} ms")]
     OverAll {
         step: usize,
@@ -456,8 +460,7 @@ fn interfere(x: &Happening, y: &Happening) -> bool {
     let touched = |g: &Ground| y.pre.iter().any(|(p, _)| p == g);
     x.del.iter().any(|g| touched(g) || y.add.contains(g))
         || x.add.iter().any(|g| touched(g) || y.del.contains(g))
-        || x
-            .writes
+        || x.writes
             .iter()
             .any(|g| y.reads.contains(g) || y.writes.contains(g))
 }

@@ -203,8 +203,8 @@ fn task(
             let argf = |x: &Arg| fluents::fixed_arg(cx, a, fixed, x);
             // A fill at a rate lasts `(v - f) / r` with `f` its level at the start: between 1 ms and
             // `v / r` here, fixed once the plan's changes of `f` are in one order (`super::finalise`).
-            if let Some((_, v, r)) = fluents::state_duration(e)
-                .filter(|(f, _, _)| cx.numeric.contains(&f.pred.name))
+            if let Some((_, v, r)) =
+                fluents::state_duration(e).filter(|(f, _, _)| cx.numeric.contains(&f.pred.name))
             {
                 let full = cx.eval(v, src, &argf)? / cx.eval(r, src, &argf)?;
                 let ms = (full * MS_PER_S as f64).ceil().max(1.0) as Time;
