@@ -608,7 +608,7 @@ pub(super) fn translate(
         usage(t, i.resource, UsageKind::Consume { at }, *q, false, false);
         out.accesses.push(Access {
             resource: i.resource,
-            at: tp(w.guards[g].2),
+            at,
             change: None,
         });
         out.accesses.push(Access {
@@ -632,43 +632,37 @@ pub(super) fn translate(
             });
         }
     }
-    for (key, q, when, span) in &w.incs {
-        let Some(i) = inst(key) else { continue };
-        if i.capacity < UNBOUNDED {
-            return Err(cx.derr(*span, "an increase of a fluent that actions also fill is not supported (its reservoir's capacity is the fill value, which an increase could pass)"));
-        }
-        usage(
-            t,
-            i.resource,
-            UsageKind::Produce { at: tp(*when) },
-            *q,
-            true,
-            false,
-        );
-        out.accesses.push(Access {
-            resource: i.resource,
-            at: tp(*when),
-            change: Some(Change::Add(*q)),
-        });
-    }
-    for (key, v, when, _, rate) in &w.fills {
-        let Some(i) = inst(key) else { continue };
-        usage(
-            t,
-            i.resource,
-            UsageKind::Produce { at: tp(*when) },
-            *v,
-            true,
-            true,
-        );
-        out.accesses.push(Access {
-            resource: i.resource,
-            at: tp(*when),
-            change: Some(if *rate {
+    // Increases (an error where the instance has a capacity: `Some(span)`) and fills (saturating).
+    let productions = w
+        .incs
+        .iter()
+        .map(|(k, q, wh, sp)| (k, *q, *wh, Some(*sp), Change::Add(*q)))
+        .chain(w.fills.iter().map(|(k, v, wh, _, rate)| {
+            let c = if *rate {
                 Change::Rate(*v)
             } else {
                 Change::Set(*v)
-            }),
+            };
+            (k, *v, *wh, None, c)
+        }));
+    for (key, q, when, increase, change) in productions {
+        let Some(i) = inst(key) else { continue };
+        if let Some(span) = increase.filter(|_| i.capacity < UNBOUNDED) {
+            return Err(cx.derr(span, "an increase of a fluent that actions also fill is not supported (its reservoir's capacity is the fill value, which an increase could pass)"));
+        }
+        let at = tp(when);
+        usage(
+            t,
+            i.resource,
+            UsageKind::Produce { at },
+            q,
+            true,
+            increase.is_none(),
+        );
+        out.accesses.push(Access {
+            resource: i.resource,
+            at,
+            change: Some(change),
         });
     }
     for (key, v, strict, when, span) in &w.uppers {
