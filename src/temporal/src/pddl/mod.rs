@@ -8,6 +8,8 @@
 //! (`file:line:col`, the line, a caret) like the native language's; no input makes these functions panic.
 
 pub mod ast;
+mod finalise;
+mod fluents;
 mod ground;
 pub mod hybrid;
 mod invariants;
@@ -21,6 +23,7 @@ pub mod writer;
 
 use std::path::Path;
 
+pub use fluents::{Access, Change, Fluents, StateDuration, TaskNumeric};
 pub use hybrid::Hybrid;
 pub use solve::{load, solve, Loaded, SolveError, Solved};
 pub use translate::{translate, Translated, HORIZON_S};

@@ -2,12 +2,13 @@
 //! durative-action semantics with ε-separation. Each action is a start happening and an end happening;
 //! `at start` / `at end` conditions are checked in the state before the happening, `over all` conditions in
 //! every state strictly inside the action, goals in the final state; two happenings closer than ε must not
-//! interfere (one's effects touching the other's conditions or effects). Numeric fluents are not
-//! simulated: plans of domains with numeric effects or conditions on fluents are refused.
+//! interfere (one's effects touching the other's conditions or effects, numeric fluents included).
+//! Numeric fluents are simulated: comparisons in the state before the happening, durations in the state at
+//! the start, `increase` / `decrease` / `assign` / `scale-up` / `scale-down` with `?duration` the step's.
 
 use std::collections::{BTreeSet, HashMap};
 
-use super::ast::{self, Arg, Atom, Cmp, Effect, Init, Lit, NExpr, When};
+use super::ast::{self, Arg, Atom, Cmp, Effect, Init, Lit, NExpr, NumOp, When};
 use super::writer::IpcStep;
 use crate::model::Time;
 
@@ -27,6 +28,15 @@ struct Happening {
     pre: Vec<(Ground, bool)>,
     add: Vec<Ground>,
     del: Vec<Ground>,
+    /// Numeric comparisons (and, at a start, the duration constraints as `(op, ?duration, e)`).
+    num_pre: Vec<(Cmp, NExpr, NExpr)>,
+    num_eff: Vec<(NumOp, Ground, NExpr)>,
+    /// The numeric fluents it reads and those it changes (for ε-interference).
+    reads: Vec<Ground>,
+    writes: Vec<Ground>,
+    env: HashMap<String, String>,
+    /// The step's duration (s).
+    dur: f64,
 }
 
 /// The first reason a plan is not valid on its PDDL (steps are numbered from 1).
@@ -57,6 +67,18 @@ pub enum SimulateError {
         value: bool,
         at_ms: Time,
     },
+    #[error("step {step}: a numeric {end} condition is false at {at_ms} ms")]
+    Numeric {
+        step: usize,
+        end: &'static str,
+        at_ms: Time,
+    },
+    #[error("step {step}: its duration {duration} s breaks its constraint ({bound} s, in the state at its start)")]
+    StateDuration {
+        step: usize,
+        duration: f64,
+        bound: f64,
+    },
     #[error("step {step}: over-all condition {atom} is not {value} at {at_ms} ms")]
     OverAll {
         step: usize,
@@ -81,16 +103,12 @@ pub enum StepFault {
     UnknownObject(String),
     #[error("`{0}` is not of the parameter's type")]
     WrongType(String),
-    #[error("duration {duration} breaks its constraint ({bound})")]
-    Duration { duration: f64, bound: f64 },
     #[error("an instantaneous action with a duration")]
     InstantaneousWithDuration,
     #[error("an (in)equality is false")]
     Equality,
     #[error("a numeric condition is false")]
     NumericCondition,
-    #[error("numeric effects are not simulated")]
-    NumericEffect,
 }
 
 /// `Ok(makespan ms)` when the plan is valid, else the first reason it is not.
@@ -127,7 +145,7 @@ pub fn simulate(
         .collect();
     let is_sub = subtype_test(d);
     let mut happenings: Vec<Happening> = Vec::new();
-    let mut spans: Vec<(Time, Time, Vec<Cond>)> = Vec::new();
+    let mut spans: Vec<Span> = Vec::new();
     for (k, s) in plan.iter().enumerate() {
         let who = |fault| SimulateError::Step {
             step: k + 1,
@@ -156,24 +174,17 @@ pub fn simulate(
             env.insert(p.name.name.clone(), v.clone());
         }
         let dur = s.duration_ms as f64 / 1000.0;
-        for (c, e, _) in &a.duration {
-            let v = eval(e, &env, &values)?;
-            let ok = match c {
-                Cmp::Eq => (dur - v).abs() <= 0.0011,
-                Cmp::Le | Cmp::Lt => dur <= v + 0.0011,
-                Cmp::Ge | Cmp::Gt => dur + 0.0011 >= v,
-            };
-            if !ok {
-                return Err(who(StepFault::Duration {
-                    duration: dur,
-                    bound: v,
-                }));
-            }
-        }
+        // Duration constraints are checked in the state at the start (they may read numeric fluents).
+        let dur_cons: Vec<(Cmp, NExpr, NExpr)> = a
+            .duration
+            .iter()
+            .map(|(c, e, span)| (*c, NExpr::Duration(*span), e.clone()))
+            .collect();
         if !a.durative && s.duration_ms != 0 {
             return Err(who(StepFault::InstantaneousWithDuration));
         }
         let mut pre: [Vec<(Ground, bool)>; 3] = Default::default();
+        let mut num_pre: [Vec<(Cmp, NExpr, NExpr)>; 3] = Default::default();
         for (w, l) in &a.conditions {
             let slot = &mut pre[*w as usize];
             match l {
@@ -184,25 +195,36 @@ pub fn simulate(
                         return Err(who(StepFault::Equality));
                     }
                 }
-                Lit::Compare(c, x, y, _) => {
-                    let (x, y) = (eval(x, &env, &values)?, eval(y, &env, &values)?);
-                    let ok = c.holds(x, y);
-                    if !ok {
-                        return Err(who(StepFault::NumericCondition));
-                    }
-                }
+                Lit::Compare(c, x, y, _) => num_pre[*w as usize].push((*c, x.clone(), y.clone())),
             }
         }
         let mut add: [Vec<Ground>; 2] = Default::default();
         let mut del: [Vec<Ground>; 2] = Default::default();
+        let mut num_eff: [Vec<(NumOp, Ground, NExpr)>; 2] = Default::default();
         for (w, e) in &a.effects {
             let i = usize::from(*w == When::End);
             match e {
                 Effect::Add(x) => add[i].push(ground(x, &env)),
                 Effect::Del(x) => del[i].push(ground(x, &env)),
-                Effect::Num(..) => return Err(who(StepFault::NumericEffect)),
+                Effect::Num(op, f, x, _) => num_eff[i].push((*op, ground(f, &env), x.clone())),
             }
         }
+        let [mut ns, no, ne] = num_pre;
+        ns.extend(dur_cons);
+        let [nes, nee] = num_eff;
+        let touched = |pre: &[(Cmp, NExpr, NExpr)], eff: &[(NumOp, Ground, NExpr)]| {
+            let mut r = Vec::new();
+            for (_, x, y) in pre {
+                fluents_of(x, &env, &mut r);
+                fluents_of(y, &env, &mut r);
+            }
+            for (_, _, x) in eff {
+                fluents_of(x, &env, &mut r);
+            }
+            (r, eff.iter().map(|e| e.1.clone()).collect::<Vec<_>>())
+        };
+        let (reads_s, writes_s) = touched(&ns, &nes);
+        let (reads_e, writes_e) = touched(&ne, &nee);
         let [ps, po, pe] = pre;
         let [as_, ae] = add;
         let [ds, de] = del;
@@ -214,6 +236,12 @@ pub fn simulate(
             pre: ps,
             add: as_,
             del: ds,
+            num_pre: ns,
+            num_eff: nes,
+            reads: reads_s,
+            writes: writes_s,
+            env: env.clone(),
+            dur,
         });
         happenings.push(Happening {
             at: end,
@@ -222,8 +250,14 @@ pub fn simulate(
             pre: pe,
             add: ae,
             del: de,
+            num_pre: ne,
+            num_eff: nee,
+            reads: reads_e,
+            writes: writes_e,
+            env: env.clone(),
+            dur,
         });
-        spans.push((s.start_ms, end, po));
+        spans.push((s.start_ms, end, po, no, env));
     }
     // Timed initial literals are happenings too (no conditions), subject to the same separation.
     for (at, g, add) in &tils {
@@ -234,6 +268,12 @@ pub fn simulate(
             pre: Vec::new(),
             add: if *add { vec![g.clone()] } else { Vec::new() },
             del: if *add { Vec::new() } else { vec![g.clone()] },
+            num_pre: Vec::new(),
+            num_eff: Vec::new(),
+            reads: Vec::new(),
+            writes: Vec::new(),
+            env: HashMap::new(),
+            dur: 0.0,
         });
     }
     for i in 0..happenings.len() {
@@ -278,21 +318,69 @@ pub fn simulate(
             .filter(|h| h.at == t && h.step != usize::MAX)
             .collect();
         for h in &now {
+            let end = if h.when == When::Start {
+                "start"
+            } else {
+                "end"
+            };
             for (g, v) in &h.pre {
                 if state.contains(g) != *v {
                     return Err(SimulateError::Condition {
                         step: h.step + 1,
-                        end: if h.when == When::Start {
-                            "start"
-                        } else {
-                            "end"
-                        },
+                        end,
                         atom: show(g),
                         value: *v,
                         at_ms: t,
                     });
                 }
             }
+            for (c, x, y) in &h.num_pre {
+                let dur = Some(h.dur);
+                let (xv, yv) = (
+                    eval(x, &h.env, &values, dur)?,
+                    eval(y, &h.env, &values, dur)?,
+                );
+                if matches!(x, NExpr::Duration(_)) {
+                    // A duration constraint, with the validators' tolerance on the IPC plan's 3 decimals.
+                    let ok = match c {
+                        Cmp::Eq => (xv - yv).abs() <= 0.0011,
+                        Cmp::Le | Cmp::Lt => xv <= yv + 0.0011,
+                        Cmp::Ge | Cmp::Gt => xv + 0.0011 >= yv,
+                    };
+                    if !ok {
+                        return Err(SimulateError::StateDuration {
+                            step: h.step + 1,
+                            duration: xv,
+                            bound: yv,
+                        });
+                    }
+                } else if !c.holds(xv, yv) {
+                    return Err(SimulateError::Numeric {
+                        step: h.step + 1,
+                        end,
+                        at_ms: t,
+                    });
+                }
+            }
+        }
+        // Numeric effects read the state before the happenings.
+        let mut updates: Vec<(Ground, NumOp, f64)> = Vec::new();
+        for h in &now {
+            for (op, g, x) in &h.num_eff {
+                updates.push((g.clone(), *op, eval(x, &h.env, &values, Some(h.dur))?));
+            }
+        }
+        for (g, op, v) in updates {
+            let old = values.get(&g).copied();
+            let new = match (op, old) {
+                (NumOp::Assign, _) => v,
+                (_, None) => return Err(SimulateError::NoValue(show(&g))),
+                (NumOp::Increase, Some(o)) => o + v,
+                (NumOp::Decrease, Some(o)) => o - v,
+                (NumOp::ScaleUp, Some(o)) => o * v,
+                (NumOp::ScaleDown, Some(o)) => o / v,
+            };
+            values.insert(g, new);
         }
         for h in &now {
             for g in &h.del {
@@ -304,7 +392,7 @@ pub fn simulate(
                 state.insert(g.clone());
             }
         }
-        for (k, (s, e, inv)) in spans.iter().enumerate() {
+        for (k, (s, e, inv, num, env)) in spans.iter().enumerate() {
             if *s <= t && t < *e {
                 for (g, v) in inv {
                     if state.contains(g) != *v {
@@ -312,6 +400,15 @@ pub fn simulate(
                             step: k + 1,
                             atom: show(g),
                             value: *v,
+                            at_ms: t,
+                        });
+                    }
+                }
+                for (c, x, y) in num {
+                    if !c.holds(eval(x, env, &values, None)?, eval(y, env, &values, None)?) {
+                        return Err(SimulateError::Numeric {
+                            step: k + 1,
+                            end: "over-all",
                             at_ms: t,
                         });
                     }
@@ -362,11 +459,37 @@ pub(super) fn subtype_test(d: &ast::Domain) -> impl Fn(&str, &str) -> bool + '_ 
     }
 }
 
-/// Whether `x`'s effects touch `y`'s conditions or effects (deleting what it adds, or changing what it reads).
+/// Whether `x`'s effects touch `y`'s conditions or effects (deleting what it adds, or changing what it
+/// reads; a numeric fluent `x` changes that `y` reads or changes).
 fn interfere(x: &Happening, y: &Happening) -> bool {
     let touched = |g: &Ground| y.pre.iter().any(|(p, _)| p == g);
     x.del.iter().any(|g| touched(g) || y.add.contains(g))
         || x.add.iter().any(|g| touched(g) || y.del.contains(g))
+        || x.writes
+            .iter()
+            .any(|g| y.reads.contains(g) || y.writes.contains(g))
+}
+
+/// An over-all interval: start, end, its literal and numeric conditions, its parameters' objects.
+type Span = (
+    Time,
+    Time,
+    Vec<Cond>,
+    Vec<(Cmp, NExpr, NExpr)>,
+    HashMap<String, String>,
+);
+
+/// The ground functions an expression reads.
+fn fluents_of(e: &NExpr, env: &HashMap<String, String>, out: &mut Vec<Ground>) {
+    match e {
+        NExpr::Fluent(f) => out.push(ground(f, env)),
+        NExpr::Bin(_, x, y, _) => {
+            fluents_of(x, env, out);
+            fluents_of(y, env, out);
+        }
+        NExpr::Neg(x, _) => fluents_of(x, env, out),
+        NExpr::Num(..) | NExpr::Duration(_) => {}
+    }
 }
 
 fn ms(s: f64) -> Time {
@@ -395,13 +518,14 @@ fn eval(
     e: &NExpr,
     env: &HashMap<String, String>,
     values: &HashMap<Ground, f64>,
+    dur: Option<f64>,
 ) -> Result<f64, SimulateError> {
     Ok(match e {
         NExpr::Num(v, _) => *v,
-        NExpr::Duration(_) => return Err(SimulateError::DurationInExpression),
-        NExpr::Neg(a, _) => -eval(a, env, values)?,
+        NExpr::Duration(_) => dur.ok_or(SimulateError::DurationInExpression)?,
+        NExpr::Neg(a, _) => -eval(a, env, values, dur)?,
         NExpr::Bin(op, a, b, _) => {
-            ast::arithmetic(*op, eval(a, env, values)?, eval(b, env, values)?)
+            ast::arithmetic(*op, eval(a, env, values, dur)?, eval(b, env, values, dur)?)
         }
         NExpr::Fluent(f) => {
             let g = ground(f, env);

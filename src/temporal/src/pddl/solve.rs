@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::time::Instant;
 
+use super::finalise::{self, FinaliseError};
 use super::{ast, simulate, writer, PddlError, Translated};
 use crate::plan::solution::Solution;
 use crate::plan::validate::validate;
@@ -48,6 +49,8 @@ pub struct Solved {
 pub enum SolveError {
     #[error("no plan: {0}")]
     NoPlan(PlanFailure, f64),
+    #[error("numeric fluents: {0}")]
+    Finalise(FinaliseError, f64),
     #[error("checker: plan REJECTED: {0}")]
     Rejected(String, f64),
     #[error("no IPC plan: {0}")]
@@ -61,6 +64,7 @@ impl SolveError {
     fn with_ms(self, ms: f64) -> Self {
         match self {
             SolveError::NoPlan(e, _) => SolveError::NoPlan(e, ms),
+            SolveError::Finalise(e, _) => SolveError::Finalise(e, ms),
             SolveError::Rejected(e, _) => SolveError::Rejected(e, ms),
             SolveError::Ipc(e, _) => SolveError::Ipc(e, ms),
             SolveError::Replay(e, _) => SolveError::Replay(e, ms),
@@ -71,6 +75,7 @@ impl SolveError {
     pub fn search_ms(&self) -> f64 {
         match self {
             SolveError::NoPlan(_, t)
+            | SolveError::Finalise(_, t)
             | SolveError::Rejected(_, t)
             | SolveError::Ipc(_, t)
             | SolveError::Replay(_, t) => *t,
@@ -110,7 +115,10 @@ pub(super) fn check(
     planned: &planner::Planned,
 ) -> Result<(Solution, writer::IpcPlan), SolveError> {
     let t = &l.translated;
-    let solution = planned.plan.to_solution(&HashMap::new());
+    let mut solution = planned.plan.to_solution(&HashMap::new());
+    // Accesses to numeric fluents put in one order, ε apart, and state-dependent durations fixed.
+    finalise::finalise(&t.domain, &t.fluents, &mut solution)
+        .map_err(|e| SolveError::Finalise(e, 0.0))?;
     let checked = validate(&t.domain, &t.problem, &solution)
         .map_err(|r| SolveError::Rejected(r.to_string(), 0.0))?;
     let ipc = writer::ipc_plan(&t.domain, &t.problem, &solution, &checked)

@@ -11,6 +11,7 @@
 //! not require gets a fresh `from` variable (any prior value).
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Lit, When};
+use super::fluents::{self, TaskNumeric};
 use super::translate::{Cx, PredRep};
 use super::PddlError;
 use crate::model::{
@@ -41,8 +42,8 @@ pub enum Inapplicable {
     DurationUnsatisfiable,
     #[error("an (in)equality between constants is false")]
     ConstantEquality,
-    #[error("a numeric condition between constants is false")]
-    ConstantComparison,
+    #[error("a numeric condition is never true, or a numeric fluent it needs has no value")]
+    NumericNever,
     #[error("its condition on `{0}` is never true")]
     NeverTrue(String),
     #[error("it requires a value and its absence at once")]
@@ -53,59 +54,39 @@ pub enum Inapplicable {
     NoReplacedValue,
 }
 
-/// Ground combinations of an action's parameters beyond which the translation refuses (a duration given
-/// by a static function of the parameters makes one task per combination).
-const MAX_DURATION_GROUNDINGS: usize = 20_000;
-
-/// The tasks of an action: one, or — when its duration is a static function of some parameters
-/// (`(slew_time ?from ?to)`) — one per combination of those parameters where the function is defined,
-/// each with the parameters bound (`?from in {a}`) and its own fixed duration. Empty with the reason when
-/// the action can never apply.
+/// The tasks of an action: one, or — when its duration or its numeric fluents depend on some parameters
+/// (`(slew_time ?from ?to)`, `(energy ?r)`) — one per combination of those parameters where the functions
+/// are defined, each with the parameters bound (`?from in {a}`), its own fixed duration and its own
+/// reservoirs. Empty with the reason when the action can never apply.
 pub(super) fn tasks(
     cx: &mut Cx,
     a: &ast::Action,
-) -> Result<Result<Vec<Task>, Inapplicable>, PddlError> {
+) -> Result<Result<Vec<(Task, TaskNumeric)>, Inapplicable>, PddlError> {
     let mut used: Vec<usize> = Vec::new();
     for (_, e, _) in &a.duration {
         check_duration(cx, e)?;
-        duration_params(e, a, &mut used);
+        fluents::params_of(e, a, &mut used);
     }
-    used.sort_unstable();
-    used.dedup();
-    if used.is_empty() {
-        return Ok(task(cx, a, &[])?.map(|t| vec![t]));
-    }
-    let choices: Vec<Vec<ObjectId>> = used
-        .iter()
-        .map(|&i| {
-            a.params
-                .get(i)
-                .map_or_else(Vec::new, |p| cx.objects_of(&p.types))
-        })
-        .collect();
-    let n = choices
-        .iter()
-        .try_fold(1usize, |acc, c| acc.checked_mul(c.len()));
-    if n.is_none_or(|n| n > MAX_DURATION_GROUNDINGS) {
-        return Err(cx.derr(a.span, format!("the duration of `{}` depends on parameters with more than {MAX_DURATION_GROUNDINGS} combinations", a.name.name)));
-    }
-    let mut combos: Vec<Vec<ObjectId>> = vec![Vec::new()];
-    for c in &choices {
-        combos = combos
-            .into_iter()
-            .flat_map(|p| c.iter().map(move |o| [p.as_slice(), &[*o]].concat()))
-            .collect();
-    }
+    fluents::numeric_params(cx, a, &mut used);
     let mut out = Vec::new();
     let mut last_why = Inapplicable::NoDuration;
-    for combo in combos {
-        let fixed: Vec<(usize, ObjectId)> = used.iter().copied().zip(combo).collect();
-        // A static function without a value for these arguments (the only way left for the duration to
-        // fail, see `check_duration`): the action does not apply to them. Any other error is refused.
+    for fixed in fluents::groundings(cx, a, &used, a.span)? {
+        // A function without a value for these arguments (a static one the problem does not define, a
+        // fluent instance without an initial value): the action does not apply to them.
+        let argf = |x: &Arg| fluents::fixed_arg(cx, a, &fixed, x);
         let defined = a
             .duration
             .iter()
-            .all(|(_, e, _)| cx.eval(e, cx.ds, &|x| fixed_arg(cx, a, &fixed, x)).is_ok());
+            .map(|(_, e, _)| e)
+            .chain(a.conditions.iter().flat_map(|(_, l)| match l {
+                Lit::Compare(_, x, y, _) => vec![x, y],
+                _ => Vec::new(),
+            }))
+            .chain(a.effects.iter().flat_map(|(_, e)| match e {
+                Effect::Num(_, f, x, _) if !cx.metric_only.contains(&f.pred.name) => vec![x],
+                _ => Vec::new(),
+            }))
+            .all(|e| fluents::defined(cx, e, &argf));
         if !defined {
             continue;
         }
@@ -121,25 +102,19 @@ pub(super) fn tasks(
     })
 }
 
-/// The object of a duration's argument: a constant, or a parameter fixed for this task.
-fn fixed_arg(cx: &Cx, a: &ast::Action, fixed: &[(usize, ObjectId)], x: &Arg) -> Option<ObjectId> {
-    match x {
-        Arg::Const(n) => cx.objs.get(&n.name).copied(),
-        Arg::Var(n) => a
-            .params
-            .iter()
-            .position(|p| p.name.name == n.name)
-            .and_then(|i| fixed.iter().find(|f| f.0 == i))
-            .map(|f| f.1),
-    }
-}
-
 /// Refuses, at its place, what a duration expression may not use: `?duration`, `total-time`, an unknown
 /// function or one with the wrong number of arguments, a numeric fluent that actions change (a
 /// state-dependent duration). What is left can only fail for a combination of parameters where a static
 /// function has no value (the action does not apply there), so no action is ever dropped for a feature the
 /// translation does not support.
 fn check_duration(cx: &Cx, e: &ast::NExpr) -> Result<(), PddlError> {
+    // A fill at a rate, `(/ (- v f) r)`: `f` is read at the start ([`fluents::translate`]).
+    if let Some((f, v, r)) = fluents::state_duration(e) {
+        if cx.numeric.contains(&f.pred.name) {
+            check_duration(cx, v)?;
+            return check_duration(cx, r);
+        }
+    }
     match e {
         ast::NExpr::Num(..) => Ok(()),
         ast::NExpr::Duration(s) => {
@@ -160,31 +135,10 @@ fn check_duration(cx: &Cx, e: &ast::NExpr) -> Result<(), PddlError> {
                 Some(&n) if n != f.args.len() => {
                     Err(cx.derr(f.span, format!("`{name}` takes {n} arguments")))
                 }
-                _ if cx.fluent_functions.contains(name) => Err(cx.derr(f.span, format!("a duration that depends on `{name}`, a numeric fluent actions change (a state-dependent duration), is not supported by the translation"))),
+                _ if cx.fluent_functions.contains(name) => Err(cx.derr(f.span, format!("a duration that depends on `{name}`, a numeric fluent actions change, is supported only as `(= ?duration (/ (- v f) r))` (a fill at a rate) with `v` and `r` static"))),
                 _ => Ok(()),
             }
         }
-    }
-}
-
-/// Parameters (by position) that the static functions of a duration expression take.
-fn duration_params(e: &ast::NExpr, a: &ast::Action, out: &mut Vec<usize>) {
-    match e {
-        ast::NExpr::Fluent(f) => {
-            for x in &f.args {
-                if let Arg::Var(n) = x {
-                    if let Some(i) = a.params.iter().position(|p| p.name.name == n.name) {
-                        out.push(i);
-                    }
-                }
-            }
-        }
-        ast::NExpr::Bin(_, x, y, _) => {
-            duration_params(x, a, out);
-            duration_params(y, a, out);
-        }
-        ast::NExpr::Neg(x, _) => duration_params(x, a, out),
-        ast::NExpr::Num(..) | ast::NExpr::Duration(_) => {}
     }
 }
 
@@ -193,7 +147,7 @@ fn task(
     cx: &mut Cx,
     a: &ast::Action,
     fixed: &[(usize, ObjectId)],
-) -> Result<Result<Task, Inapplicable>, PddlError> {
+) -> Result<Result<(Task, TaskNumeric), Inapplicable>, PddlError> {
     let src = cx.ds;
     let mut t = Task::new(
         a.name.name.clone(),
@@ -246,7 +200,19 @@ fn task(
     let (mut lb, mut ub): (Time, Option<Time>) = (0, None);
     if a.durative {
         for (c, e, _) in &a.duration {
-            let v = cx.eval(e, src, &|x| fixed_arg(cx, a, fixed, x))?;
+            let argf = |x: &Arg| fluents::fixed_arg(cx, a, fixed, x);
+            // A fill at a rate lasts `(v - f) / r` with `f` its level at the start: between 1 ms and
+            // `v / r` here, fixed once the plan's changes of `f` are in one order (`super::finalise`).
+            if let Some((_, v, r)) =
+                fluents::state_duration(e).filter(|(f, _, _)| cx.numeric.contains(&f.pred.name))
+            {
+                let full = cx.eval(v, src, &argf)? / cx.eval(r, src, &argf)?;
+                let ms = (full * MS_PER_S as f64).ceil().max(1.0) as Time;
+                lb = lb.max(1);
+                ub = Some(ub.map_or(ms, |u| u.min(ms)));
+                continue;
+            }
+            let v = cx.eval(e, src, &argf)?;
             let ms = (v * MS_PER_S as f64).round() as Time;
             match c {
                 Cmp::Eq => {
@@ -290,19 +256,8 @@ fn task(
                     }),
                 }
             }
-            Lit::Compare(c, x, y, span) => {
-                let konst = |arg: &Arg| match arg {
-                    Arg::Const(n) => cx.objs.get(&n.name).copied(),
-                    Arg::Var(_) => None,
-                };
-                let (Ok(x), Ok(y)) = (cx.eval(x, src, &konst), cx.eval(y, src, &konst)) else {
-                    return Err(cx.derr(*span, "numeric conditions on fluents or on values that depend on the parameters are not supported by the translation"));
-                };
-                let ok = c.holds(x, y);
-                if !ok {
-                    return Ok(Err(Inapplicable::ConstantComparison));
-                }
-            }
+            // Numeric conditions: `fluents::translate`, below.
+            Lit::Compare(..) => {}
             Lit::Pos(atom) | Lit::Neg(atom) => {
                 let positive = matches!(l, Lit::Pos(_));
                 let (rep, params) = cx.pred(atom, src)?.clone();
@@ -341,9 +296,8 @@ fn task(
         let (atom, add) = match e {
             Effect::Add(x) => (x, true),
             Effect::Del(x) => (x, false),
-            Effect::Num(_, f, _, span) => {
-                return Err(cx.derr(*span, format!("numeric effects are not supported by the translation (`{}` changes; the model's resources are ground reservoirs)", f.pred.name)));
-            }
+            // Numeric effects: `fluents::translate`, below.
+            Effect::Num(..) => continue,
         };
         let (rep, _) = cx.pred(atom, src)?.clone();
         let args = terms(cx, atom)?;
@@ -391,7 +345,10 @@ fn task(
             return Ok(Err(why));
         }
     }
-    Ok(Ok(t))
+    match fluents::translate(cx, a, fixed, &mut t)? {
+        Ok(numeric) => Ok(Ok((t, numeric))),
+        Err(fluents::Never::Unmeetable) => Ok(Err(Inapplicable::NumericNever)),
+    }
 }
 
 fn instance(

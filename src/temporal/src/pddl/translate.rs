@@ -7,6 +7,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::sync::Arc;
 
 use super::ast::{self, Arg, Atom, Effect, Init, Lit, NExpr};
+use super::fluents;
 use super::invariants::{self, Group};
 use super::sexpr::Span;
 use super::task;
@@ -32,6 +33,8 @@ pub struct Translated {
     pub multi_valued: Vec<String>,
     /// What was dropped or ignored (actions that can never apply, the metric).
     pub notes: Vec<String>,
+    /// The reservoirs that stand for numeric fluents, and what each task does to them.
+    pub fluents: fluents::Fluents,
 }
 
 /// How a predicate is represented.
@@ -95,6 +98,14 @@ pub(super) struct Cx<'a> {
     pub functions: HashMap<String, usize>,
     /// Boolean predicates whose `false` instances some condition or goal asks for.
     pub needs_false: BTreeSet<String>,
+    /// Functions actions change and something reads: reservoirs ([`super::fluents`]).
+    pub numeric: BTreeSet<String>,
+    /// Functions actions change and nothing but the metric reads: their effects are left out.
+    pub metric_only: BTreeSet<String>,
+    /// The ground instances of [`Cx::numeric`] with an initial value.
+    pub instances: HashMap<fluents::Key, fluents::Instance>,
+    /// The initial level of each of their reservoirs.
+    pub fluent_initial: HashMap<ResourceId, f64>,
 }
 
 impl Cx<'_> {
@@ -300,6 +311,10 @@ pub fn translate(
         fluent_functions: BTreeSet::new(),
         functions: HashMap::new(),
         needs_false: BTreeSet::new(),
+        numeric: BTreeSet::new(),
+        metric_only: BTreeSet::new(),
+        instances: HashMap::new(),
+        fluent_initial: HashMap::new(),
     };
     let mut model = Domain::new(d.name.name.clone());
     model.source = Some(ds.file.clone());
@@ -354,7 +369,8 @@ pub fn translate(
         &group_attrs,
     )?;
     functions(&mut cx, d, p)?;
-    let mut notes = Vec::new();
+    let mut notes = fluents::analyse(&mut cx, d, p, &mut model)?;
+    let mut numeric_tasks = Vec::new();
     let mut seen: BTreeSet<&str> = BTreeSet::new();
     for a in &d.actions {
         if !seen.insert(&a.name.name) {
@@ -365,8 +381,9 @@ pub fn translate(
         }
         match task::tasks(&mut cx, a)? {
             Ok(ts) => {
-                for t in ts {
+                for (t, n) in ts {
                     model.add_task(t);
+                    numeric_tasks.push(n);
                 }
             }
             Err(why) => notes.push(format!("action `{}` dropped: {why}", a.name.name)),
@@ -387,6 +404,10 @@ pub fn translate(
         problem: Arc::new(problem),
         multi_valued,
         notes,
+        fluents: fluents::Fluents {
+            initial: cx.fluent_initial.clone(),
+            tasks: numeric_tasks,
+        },
     })
 }
 
@@ -866,6 +887,11 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
         facts.push((at_ms, fact));
     }
     pr.add_facts(facts);
+    for (r, level) in &cx.fluent_initial {
+        if let Some(setup) = pr.resources.get_mut(r.index()) {
+            setup.level = *level;
+        }
+    }
     let horizon = pr.horizon;
     for (i, l) in p.goal.iter().enumerate() {
         let (a, positive) = match l {
