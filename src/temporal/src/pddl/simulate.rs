@@ -111,6 +111,65 @@ pub enum StepFault {
     NumericCondition,
 }
 
+/// Gives each step whose action fixes its duration on static values (`(= ?duration e)`, `e` reading no
+/// fluent an action changes) that duration exactly: the planner works in milliseconds, and a validator
+/// compares `[0.530]` with a `slew_time` of 0.5297 exactly. Steps whose duration depends on the state keep
+/// their milliseconds.
+pub fn exact_durations(d: &ast::Domain, p: &ast::Problem, plan: &mut [IpcStep]) {
+    let changed: BTreeSet<&str> = d
+        .actions
+        .iter()
+        .flat_map(|a| &a.effects)
+        .filter_map(|(_, e)| match e {
+            ast::Effect::Num(_, f, _, _) => Some(f.pred.name.as_str()),
+            _ => None,
+        })
+        .collect();
+    fn reads_changed(e: &NExpr, changed: &BTreeSet<&str>) -> bool {
+        match e {
+            NExpr::Num(..) => false,
+            NExpr::Duration(_) => true,
+            NExpr::Fluent(f) => changed.contains(f.pred.name.as_str()),
+            NExpr::Bin(_, a, b, _) => reads_changed(a, changed) || reads_changed(b, changed),
+            NExpr::Neg(a, _) => reads_changed(a, changed),
+        }
+    }
+    let values: HashMap<Ground, f64> = p
+        .init
+        .iter()
+        .filter_map(|i| match i {
+            Init::Value(f, v) => Some((ground(f, &HashMap::new()), *v)),
+            _ => None,
+        })
+        .collect();
+    for s in plan {
+        let Some(a) = d.actions.iter().find(|a| a.name.name == s.action) else {
+            continue;
+        };
+        let [(Cmp::Eq, e, _)] = a.duration.as_slice() else {
+            continue;
+        };
+        if !a.durative || reads_changed(e, &changed) || a.params.len() != s.args.len() {
+            continue;
+        }
+        let env: HashMap<String, String> = a
+            .params
+            .iter()
+            .zip(&s.args)
+            .map(|(p, v)| (p.name.name.clone(), v.clone()))
+            .collect();
+        // Only where the plan's milliseconds are that duration rounded: anything else is the replay's to judge.
+        if let Ok(v) = eval(e, &env, &values, None) {
+            if v.is_finite()
+                && !super::writer::whole_ms(v)
+                && ((v * 1000.0).round() as Time) == s.duration_ms
+            {
+                s.exact_s = Some(v);
+            }
+        }
+    }
+}
+
 /// `Ok(makespan ms)` when the plan is valid, else the first reason it is not.
 pub fn simulate(
     d: &ast::Domain,

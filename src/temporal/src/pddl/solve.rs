@@ -123,6 +123,8 @@ pub(super) fn check(
         .map_err(|r| SolveError::Rejected(r.to_string(), 0.0))?;
     let ipc = writer::ipc_plan(&t.domain, &t.problem, &solution, &checked)
         .map_err(|e| SolveError::Ipc(e, 0.0))?;
+    let mut ipc = ipc;
+    simulate::exact_durations(&l.domain, &l.problem, &mut ipc.steps);
     simulate::simulate(&l.domain, &l.problem, &ipc.steps)
         .map_err(|e| SolveError::Replay(e, 0.0))?;
     Ok((solution, ipc))

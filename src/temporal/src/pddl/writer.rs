@@ -24,6 +24,10 @@ pub struct IpcStep {
     pub action: String,
     pub args: Vec<String>,
     pub duration_ms: Time,
+    /// The duration the PDDL fixes (`(= ?duration e)` on static values) in seconds, where it is not a whole
+    /// number of milliseconds: printed instead of `duration_ms` (the planner's rounding), since validators
+    /// compare it exactly.
+    pub exact_s: Option<f64>,
 }
 
 /// A plan in the IPC format.
@@ -43,6 +47,12 @@ impl IpcPlan {
     }
 }
 
+/// Whether `s` seconds is a whole number of milliseconds (what `secs` prints exactly).
+pub(super) fn whole_ms(s: f64) -> bool {
+    let ms = s * 1000.0;
+    (ms - ms.round()).abs() < 1e-6
+}
+
 fn secs(ms: Time) -> String {
     format!("{}.{:03}", ms.div_euclid(1000), ms.rem_euclid(1000))
 }
@@ -59,7 +69,8 @@ impl fmt::Display for IpcPlan {
                 f,
                 "{}: ({call}) [{}]",
                 secs(s.start_ms),
-                secs(s.duration_ms)
+                s.exact_s
+                    .map_or_else(|| secs(s.duration_ms), |x| format!("{x}"))
             )?;
         }
         Ok(())
@@ -126,6 +137,7 @@ pub fn ipc_plan(
             action: task.name.clone(),
             args,
             duration_ms: et - st,
+            exact_s: None,
         });
     }
     steps.sort_by(|x, y| (x.start_ms, &x.action, &x.args).cmp(&(y.start_ms, &y.action, &y.args)));
@@ -223,12 +235,14 @@ pub fn parse_ipc(text: &str) -> Result<Vec<IpcStep>, IpcLineError> {
                 .map(|v| (v * 1000.0).round() as Time)
                 .map_err(|_| bad())
         };
+        let exact_s = dur.trim().parse::<f64>().ok().filter(|&v| !whole_ms(v));
         let (action, args) = call.split_first().ok_or_else(bad)?;
         out.push(IpcStep {
             start_ms: ms(start)?,
             action: action.clone(),
             args: args.to_vec(),
             duration_ms: ms(dur)?,
+            exact_s,
         });
     }
     Ok(out)
@@ -239,6 +253,22 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_duration_finer_than_a_millisecond_is_printed_as_the_pddl_gives_it() {
+        let p = IpcPlan {
+            steps: vec![IpcStep {
+                start_ms: 1,
+                action: "turn_to".into(),
+                args: vec!["satellite0".into()],
+                duration_ms: 530,
+                exact_s: Some(0.5297),
+            }],
+        };
+        let text = p.to_string();
+        assert_eq!(text, "0.001: (turn_to satellite0) [0.5297]\n");
+        assert_eq!(parse_ipc(&text), Ok(p.steps));
+    }
+
+    #[test]
     fn prints_and_reads_back_the_ipc_format() {
         let p = IpcPlan {
             steps: vec![IpcStep {
@@ -246,6 +276,7 @@ mod tests {
                 action: "navigate".into(),
                 args: vec!["rover0".into(), "waypoint3".into()],
                 duration_ms: 5_000,
+                exact_s: None,
             }],
         };
         let text = p.to_string();
