@@ -78,8 +78,10 @@ try:
     # Issue 30: the operator reads it as accepted (not "pending"), where it came from, and can withdraw it.
     row = f"#goals tr[data-goal={name}]"
     wait(name + " accepted", lambda: js(f"document.querySelector('{row}').dataset.state") == "accepted")
-    source = js(f"document.querySelector('{row}').children[5].textContent")
-    assert source == "ground station 255/190", source
+    # Where it came from: the page may render the executive's "accepted" one refresh before the link's
+    # held list names the station (then it reads "upload" for that refresh).
+    source = lambda: js(f"document.querySelector('{row}').children[5].textContent")
+    wait(name + " from ground station 255/190", lambda: source() == "ground station 255/190", 10)
     wait("the vehicle's mode", lambda: js("document.getElementById('vehicle-mode').textContent") == "GUIDED")
     print("vehicle: mode " + js("document.getElementById('vehicle-mode').textContent")
           + ", armed " + js("document.getElementById('vehicle-armed').textContent")
