@@ -46,11 +46,10 @@ bin_ap=$(realpath "$bin_ap"); defaults=$(realpath "$defaults")
 [ -n "$out" ] || out=$(mktemp -d)
 mkdir -p "$out"; out=$(realpath "$out")
 
+# shellcheck source=scripts/sitl-common.sh
+. "$root/scripts/sitl-common.sh"
 venv=${ARDUPILOT_VENV:-$out/venv}
-if [ ! -x "$venv/bin/python" ]; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet pymavlink
-fi
+sitl_venv "$venv"
 
 if [ -z "${MAVTEMPO_IN_NETNS:-}" ]; then
   exec unshare -n env MAVTEMPO_IN_NETNS=1 ARDUPILOT_VENV="$venv" MAVTEMPO_BIN="$bin" \
@@ -89,10 +88,4 @@ if [ -n "$goals" ]; then op_args+=(--goals "$goals" --upload-at "$upload_at"); f
 "$venv/bin/python" scripts/ardupilot-faults.py "${op_args[@]}" > "$out/operator.log" 2>&1 &
 operator=$!
 
-status=0
-wait $companion || status=$?
-wait $operator || true
-cat "$out/operator.log"
-grep -E "vehicle|position fix|mission ended|^  [a-z_]|plan repairs|REJECTED|achieved|BATTERY" "$out/run.log" | head -40
-echo "companion exit $status; trace $out/run.log, report $out/report.json"
-exit $status
+sitl_finish "$companion" "$operator" "$out"

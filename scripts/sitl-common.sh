@@ -1,4 +1,5 @@
-# Shared by scripts/ardupilot-sitl.sh and scripts/px4-sitl.sh (sourced, not run).
+# Shared by scripts/ardupilot-sitl.sh, scripts/ardupilot-copter-sitl.sh and scripts/px4-sitl.sh (sourced,
+# not run).
 
 # sitl_venv DIR: a virtualenv with pymavlink at DIR, for the operator script (from the package registry).
 sitl_venv() {
@@ -15,7 +16,7 @@ sitl_finish() {
   wait "$1" || status=$?
   wait "$2" || true
   cat "$3/operator.log"
-  grep -E "vehicle|position fix|mission ended|^  g|plan repairs|REJECTED|achieved" "$3/run.log" | head -40
+  grep -E "vehicle|position fix|mission ended|^  [a-z_]|plan repairs|REJECTED|achieved|BATTERY" "$3/run.log" | head -40
   echo "companion exit $status; trace $3/run.log, report $3/report.json"
   exit $status
 }
