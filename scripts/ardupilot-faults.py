@@ -43,6 +43,8 @@ def main():
     ap.add_argument("--hold-after", type=float, default=3.0, help="vehicle seconds into that move")
     ap.add_argument("--hold-for", type=float, default=10.0, help="vehicle seconds before GUIDED again")
     ap.add_argument("--no-arm", action="store_true", help="leave arming to someone else")
+    ap.add_argument("--bat-drain", type=float, default=3600.0,
+                    help="PX4: SIM_BAT_DRAIN, seconds from full to empty while armed")
     ap.add_argument("--companion-pid", type=int, required=True)
     ap.add_argument("--timeout", type=float, default=1800.0, help="wall seconds")
     a = ap.parse_args()
@@ -61,14 +63,18 @@ def main():
     m.wait_heartbeat(timeout=60)
     say("watching", a.vehicle, "sysid", m.target_system)
     if a.autopilot == "px4":
-        # PX4's simulated battery empties in SIM_BAT_DRAIN s (60) while armed, down to 50 %: a test rig's
-        # setting, not a vehicle's. An hour drains about as the rover domain plans.
-        m.mav.param_set_send(m.target_system, 1, b"SIM_BAT_DRAIN", 3600.0,
+        # PX4's simulated battery empties in SIM_BAT_DRAIN s (60) while armed, linearly, down to
+        # SIM_BAT_MIN_PCT (50 %), and reads full again once disarmed (BatterySimulator.cpp): a test rig's
+        # setting, not a vehicle's. An hour drains about as the rover domain plans; a copter's pack
+        # (--bat-drain 600) empties in 10 minutes of flight, down to 0 %.
+        m.mav.param_set_send(m.target_system, 1, b"SIM_BAT_DRAIN", a.bat_drain,
                              mavutil.mavlink.MAV_PARAM_TYPE_REAL32)
-        say("SIM_BAT_DRAIN set to 3600 s")
+        m.mav.param_set_send(m.target_system, 1, b"SIM_BAT_MIN_PCT", 0.0,
+                             mavutil.mavlink.MAV_PARAM_TYPE_REAL32)
+        say(f"SIM_BAT_DRAIN set to {a.bat_drain:.0f} s, SIM_BAT_MIN_PCT to 0 %")
     uploaded = a.upload_at is None or not a.goals
     moves, moving_since, held = 0, None, a.hold_move == 0
-    boot_s, mode, speed = 0.0, None, 0.0
+    boot_s, mode, speed, battery = 0.0, None, 0.0, None
     armed, last_arm, held_at, handed_back = False, -10.0, None, False
     last_hb = 0.0
     while time.time() < deadline:
@@ -85,9 +91,16 @@ def main():
         t = msg.get_type()
         if t in ("SYSTEM_TIME", "GLOBAL_POSITION_INT"):
             boot_s = max(boot_s, msg.time_boot_ms / 1000.0)
+        elif t == "SYS_STATUS" and (armed or battery is None):
+            battery = msg.battery_remaining
         elif t == "HEARTBEAT" and msg.get_srcComponent() == 1:
             mode = msg.custom_mode
+            was_armed = armed
             armed = bool(msg.base_mode & mavutil.mavlink.MAV_MODE_FLAG_SAFETY_ARMED)
+            if armed != was_armed:
+                # The battery at arming and at the disarm (a copter's landing; PX4's simulated battery
+                # reads full again once disarmed, so this is the last reading armed).
+                say(f"t={boot_s:.1f}s {'armed' if armed else 'disarmed'} in mode {mode}, battery {battery} %")
         elif t == "VFR_HUD":
             speed = msg.groundspeed
         elif t == "CAMERA_FEEDBACK":

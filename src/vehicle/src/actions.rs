@@ -643,7 +643,13 @@ impl Run {
                         self.mode_seen = true;
                     } else if self.mode_seen {
                         return Some(
-                            self.failed(ctx, format!("foreign mode change to {}", h.custom_mode)),
+                            self.failed(
+                                ctx,
+                                format!(
+                                    "foreign mode change to {}",
+                                    super::mode_names::mode_name(h.custom_mode, Some(h.mavtype))
+                                ),
+                            ),
                         );
                     }
                 }

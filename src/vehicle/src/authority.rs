@@ -6,7 +6,7 @@
 //! (`arm`) and what the companion leaves the vehicle in at the end of a mission (`at_end`). Pure: the driver
 //! feeds it the HEARTBEATs and the modes it commands itself.
 
-use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage};
+use mavlink::dialects::ardupilotmega::{MavCmd, MavMessage, MavType};
 use serde::{Deserialize, Serialize};
 
 use super::config::{Autopilot, Modes};
@@ -123,6 +123,8 @@ pub struct Authority {
     error_at: Option<u64>,
     /// The mission is over: the companion's own end-of-mission HOLD and disarm take no control back.
     released: bool,
+    /// The autopilot's vehicle type, once its HEARTBEAT said.
+    vehicle: Option<MavType>,
 }
 
 /// A mode change this soon (vehicle ms) after an autopilot error is the autopilot's own reaction (a
@@ -146,6 +148,7 @@ impl Authority {
             disarmed_since: None,
             error_at: None,
             released: false,
+            vehicle: None,
         }
     }
 
@@ -283,33 +286,15 @@ impl Authority {
         self.disarmed_since = None;
     }
 
+    /// The autopilot's vehicle type (its HEARTBEAT): which table names its modes.
+    pub fn set_vehicle_type(&mut self, vehicle: MavType) {
+        self.vehicle = Some(vehicle);
+    }
+
     /// The mode's name as the operator knows it.
     fn name(&self, mode: u32) -> String {
-        mode_name(mode)
+        super::mode_names::mode_name(mode, self.vehicle)
     }
-}
-
-/// An ArduPilot Rover mode's name (ArduPilot's `Mode::Number`), else `mode N`.
-pub fn mode_name(mode: u32) -> String {
-    let name = match mode {
-        0 => "MANUAL",
-        1 => "ACRO",
-        3 => "STEERING",
-        4 => "HOLD",
-        5 => "LOITER",
-        6 => "FOLLOW",
-        7 => "SIMPLE",
-        8 => "DOCK",
-        9 => "CIRCLE",
-        10 => "AUTO",
-        11 => "RTL",
-        12 => "SMART_RTL",
-        15 => "GUIDED",
-        16 => "INITIALISING",
-        // PX4's custom modes are main << 16 | sub << 24: never an ArduPilot number.
-        _ => return super::px4::mode_name(mode).unwrap_or_else(|| format!("mode {mode}")),
-    };
-    name.to_string()
 }
 
 /// The mode a message of the companion commands, if it commands one: DO_SET_MODE (its params matched

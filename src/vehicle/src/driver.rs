@@ -189,7 +189,10 @@ impl Driver {
                 }
                 // What was produced before the pause (a HOLD the operator asked for) still goes out.
                 self.pause_mark.get_or_insert(self.out.len());
-                let guided = authority::mode_name(self.cfg.modes.guided.custom_mode());
+                let guided = super::mode_names::mode_name(
+                    self.cfg.modes.guided.custom_mode(),
+                    self.tel.vehicle_type,
+                );
                 let text = format!("mavtempo paused: {why}; {guided} or continue resumes");
                 tracing::warn!("{text}");
                 self.tell(&text, MavSeverity::MAV_SEVERITY_WARNING);
@@ -611,6 +614,7 @@ impl Driver {
                 .base_mode
                 .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
             let vnow = self.tel.time_boot_ms.unwrap_or(now);
+            self.authority.set_vehicle_type(h.mavtype);
             if let Some(change) = self.authority.on_heartbeat(h.custom_mode, armed, vnow) {
                 self.authority_changed(change, now);
             }

@@ -413,7 +413,7 @@ impl Flight {
         } else if self.mode_seen {
             return Some(FlightEnd::Failed(format!(
                 "foreign mode change to {}",
-                h.custom_mode
+                super::mode_names::mode_name(h.custom_mode, Some(h.mavtype))
             )));
         }
         // A landing disarms the vehicle (ArduCopter's ModeLand, RTL); anything else disarmed in the air

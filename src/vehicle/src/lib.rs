@@ -39,6 +39,7 @@ pub mod link;
 pub mod mapping;
 pub mod mission_client;
 pub mod mock;
+pub mod mode_names;
 pub mod observed;
 pub mod peers;
 pub mod px4;

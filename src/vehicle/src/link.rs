@@ -915,7 +915,9 @@ impl MavlinkVehicle {
             };
             if let Ok(d) = shared.driver.try_lock() {
                 let t = d.telemetry();
-                last.mode = t.custom_mode.map(super::authority::mode_name);
+                last.mode = t
+                    .custom_mode
+                    .map(|m| super::mode_names::mode_name(m, t.vehicle_type));
                 last.armed = t.armed;
                 last.battery_percent = t.battery_percent;
             }

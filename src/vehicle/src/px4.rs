@@ -43,17 +43,22 @@ pub fn status_requests(autopilot: Autopilot) -> &'static [u16] {
     }
 }
 
-/// The estimator trusts its horizontal position: an absolute horizontal position, not in constant-position
-/// mode (ESTIMATOR_STATUS flags; `None` for other messages).
+/// The estimator trusts its horizontal position: an absolute horizontal position, and either no
+/// constant-position mode or an absolute position fused (ESTIMATOR_STATUS flags; `None` for other messages).
+/// EKF2 sets CONST_POS_MODE also while the vehicle rests on the ground (`vehicle_at_rest`, from the land
+/// detector: src/modules/ekf2/EKF/ekf_helper.cpp `get_ekf_soln_status`), GNSS fused or not: a copter
+/// waiting on the ground to take off reads 0x3ff (seen on SIH's quadrotor, 2026-11-27). PRED_POS_HORIZ_ABS
+/// says GNSS (or an auxiliary global position) is fused.
 pub fn navigation_from(msg: &MavMessage) -> Option<bool> {
     match msg {
-        MavMessage::ESTIMATOR_STATUS(e) => Some(
-            e.flags
-                .contains(EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS)
-                && !e
-                    .flags
-                    .contains(EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE),
-        ),
+        MavMessage::ESTIMATOR_STATUS(e) => {
+            let has = |f| e.flags.contains(f);
+            Some(
+                has(EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS)
+                    && (!has(EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE)
+                        || has(EstimatorStatusFlags::ESTIMATOR_PRED_POS_HORIZ_ABS)),
+            )
+        }
         _ => None,
     }
 }
@@ -119,8 +124,11 @@ mod tests {
         );
         assert_eq!(mode_name(4 << 16 | 3 << 24).as_deref(), Some("Hold (4/3)"));
         assert_eq!(mode_name(15), None);
-        assert_eq!(crate::authority::mode_name(4 << 16 | 3 << 24), "Hold (4/3)");
-        assert_eq!(crate::authority::mode_name(4), "HOLD");
+        assert_eq!(
+            crate::mode_names::mode_name(4 << 16 | 3 << 24, None),
+            "Hold (4/3)"
+        );
+        assert_eq!(crate::mode_names::mode_name(4, None), "HOLD");
     }
 
     #[test]
@@ -135,6 +143,11 @@ mod tests {
         assert_eq!(navigation_from(&est(abs)), Some(true));
         let constant = abs | EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE;
         assert_eq!(navigation_from(&est(constant)), Some(false));
+        // At rest on the ground with GNSS fused (a PX4 copter before its takeoff): trusted.
+        let at_rest = EstimatorStatusFlags::from_bits_truncate(0x3ff);
+        assert_eq!(navigation_from(&est(at_rest)), Some(true));
+        let no_abs = at_rest - abs;
+        assert_eq!(navigation_from(&est(no_abs)), Some(false));
         assert_eq!(
             navigation_from(&est(EstimatorStatusFlags::ESTIMATOR_ATTITUDE)),
             Some(false)

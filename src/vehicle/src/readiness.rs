@@ -69,6 +69,10 @@ pub struct ReadyReport {
     /// The autopilot's pre-arm checks failed when last seen (PX4's SYS_STATUS), unarmed.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub checks_failing: bool,
+    /// A fix and a home, but the estimator did not trust its position when last seen (a wait that sends no
+    /// ARM: `[ready] arm = false`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub navigation_untrusted: bool,
     /// The autopilot's answers to the refused attempts and its warnings meanwhile, newest last.
     pub refusals: Vec<String>,
 }
@@ -78,8 +82,9 @@ impl ReadyReport {
     pub fn why_not(&self, waited_s: f64) -> String {
         let what = if self.fix_after_ms.is_none() {
             "no position fix (GLOBAL_POSITION_INT at 0, 0, or no HOME_POSITION)".to_string()
-        } else if self.armed_after_ms.is_some() {
-            "armed, but the estimator does not trust its position (EKF_STATUS_REPORT)".to_string()
+        } else if self.armed_after_ms.is_some() || self.navigation_untrusted {
+            "the estimator does not trust its position (EKF_STATUS_REPORT, PX4's ESTIMATOR_STATUS)"
+                .to_string()
         } else if self.checks_failing {
             format!(
                 "the autopilot's pre-arm checks fail (SYS_STATUS PREARM_CHECK), {} ARM attempts",
@@ -143,6 +148,7 @@ impl Readiness {
                 navigation_after_ms: None,
                 arm_attempts: 0,
                 checks_failing: false,
+                navigation_untrusted: false,
                 refusals: Vec::new(),
             },
         }
@@ -186,7 +192,8 @@ impl Readiness {
         }
         if self.fix_only && seen.position && seen.home {
             self.report.fix_after_ms.get_or_insert(since);
-            if seen.navigation != Some(false) {
+            self.report.navigation_untrusted = seen.navigation == Some(false);
+            if !self.report.navigation_untrusted {
                 return self.ready(since);
             }
         }
@@ -457,5 +464,19 @@ mod tests {
         r.tick(20, ARMED);
         let why = r.report().why_not(30.0);
         assert!(why.contains("estimator"), "{why}");
+        // No ARM sent (a copter arms at its takeoff): the estimator is what is missing, not an operator.
+        let mut f = Readiness::new(0).fix_only();
+        assert_eq!(f.tick(0, FIX), ReadyAction::Nothing);
+        let why = f.report().why_not(120.0);
+        assert!(why.contains("estimator"), "{why}");
+        assert!(!why.contains("operator"), "{why}");
+        f.tick(
+            1_000,
+            Seen {
+                navigation: Some(true),
+                ..FIX
+            },
+        );
+        assert!(f.report().ready);
     }
 }

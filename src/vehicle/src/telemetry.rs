@@ -2,7 +2,7 @@
 //! (STORAGE_INFORMATION), position (GLOBAL_POSITION_INT → local ENU), mode and arming (HEARTBEAT), and the
 //! vehicle's clock (SYSTEM_TIME / time_boot_ms).
 
-use mavlink::dialects::ardupilotmega::{EkfStatusFlags, MavMessage, MavModeFlag};
+use mavlink::dialects::ardupilotmega::{EkfStatusFlags, MavMessage, MavModeFlag, MavType};
 
 use super::api::VehicleEvent;
 use super::config::ResourceNames;
@@ -19,6 +19,8 @@ pub struct Telemetry {
     pub storage_total: Option<f64>,
     pub time_boot_ms: Option<u64>,
     pub custom_mode: Option<u32>,
+    /// The vehicle type the autopilot's HEARTBEAT reports (which mode table names its modes).
+    pub vehicle_type: Option<MavType>,
     pub armed: bool,
     pub mission_current: Option<(u16, u16)>,
     /// The autopilot has a home (HOME_POSITION received): its position estimate is trusted.
@@ -68,6 +70,7 @@ impl Telemetry {
         match msg {
             MavMessage::HEARTBEAT(h) => {
                 self.custom_mode = Some(h.custom_mode);
+                self.vehicle_type = Some(h.mavtype);
                 self.armed = h
                     .base_mode
                     .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
