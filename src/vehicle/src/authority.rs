@@ -125,6 +125,9 @@ pub struct Authority {
     released: bool,
     /// The autopilot's vehicle type, once its HEARTBEAT said.
     vehicle: Option<MavType>,
+    /// Disarmed by a landing, not armed since: the mode PX4 switches to once disarmed (the last one
+    /// that allows arming, UserModeIntention::onDisarm) is the autopilot's, not an operator's.
+    landed_disarmed: bool,
 }
 
 /// A mode change this soon (vehicle ms) after an autopilot error is the autopilot's own reaction (a
@@ -149,6 +152,7 @@ impl Authority {
             error_at: None,
             released: false,
             vehicle: None,
+            landed_disarmed: false,
         }
     }
 
@@ -185,9 +189,12 @@ impl Authority {
         self.armed = armed;
         if armed {
             self.disarmed_since = None;
-        } else if self.landing_modes.contains(&mode) {
-            // A multicopter that lands disarms itself (ArduCopter's ModeLand and RTL): not the operator.
+            self.landed_disarmed = false;
+        } else if self.landing_modes.contains(&mode) || self.landed_disarmed {
+            // A multicopter that lands disarms itself (ArduCopter's ModeLand and RTL, PX4's AUTO.LAND and
+            // AUTO.RTL, which then switches to the mode before them): not the operator.
             self.disarmed_since = None;
+            self.landed_disarmed = true;
         } else if self.in_control
             && !self.paused
             && self.cfg.on_foreign_mode == OnForeignMode::Pause
@@ -320,6 +327,14 @@ pub fn commanded_mode(msg: &MavMessage, modes: &Modes, autopilot: Autopilot) -> 
         {
             Some(modes.guided.custom_mode())
         }
+        // PX4's Commander switches to AUTO.TAKEOFF on NAV_TAKEOFF (Commander.cpp `VEHICLE_CMD_NAV_TAKEOFF`);
+        // once the takeoff is over it loiters (AUTO.LOITER, the companion's own mode) by itself.
+        // ArduCopter takes off in the GUIDED it is in.
+        MavMessage::COMMAND_LONG(c)
+            if c.command == MavCmd::MAV_CMD_NAV_TAKEOFF && autopilot == Autopilot::Px4 =>
+        {
+            Some(super::flight::PX4_AUTO_TAKEOFF)
+        }
         _ => None,
     }
 }
@@ -436,6 +451,77 @@ mod tests {
             a.on_heartbeat(4, true, 9_000),
             Some(Change::Paused { .. })
         ));
+    }
+
+    /// A PX4 copter's modes (config/px4-copter.toml): custom_mode = main << 16 | sub << 24.
+    fn px4_copter_modes() -> Modes {
+        use crate::config::Mode;
+        let px4 = |main, sub| Mode::Px4 { main, sub };
+        Modes {
+            hold: px4(4, 3),
+            auto: px4(4, 4),
+            guided: px4(4, 3),
+            rtl: px4(4, 5),
+            manual: Some(px4(1, 0)),
+            land: Some(px4(4, 6)),
+            on_shutdown: Default::default(),
+        }
+    }
+
+    #[test]
+    fn px4s_own_switches_after_a_takeoff_and_a_landing_are_no_pause() {
+        use mavlink::dialects::ardupilotmega::COMMAND_LONG_DATA;
+        let modes = px4_copter_modes();
+        let (hold, land) = (4 << 16 | 3 << 24, 4 << 16 | 6 << 24);
+        let takeoff = crate::flight::PX4_AUTO_TAKEOFF;
+        let mut a = Authority::new(AuthorityConfig::default(), &modes);
+        a.set_vehicle_type(MavType::MAV_TYPE_QUADROTOR);
+        a.on_heartbeat(hold, false, 0);
+        // In the air, in control (a reposition), then the companion's AUTO.LAND: PX4 lands, disarms, and
+        // switches back to Hold, disarmed (UserModeIntention::onDisarm).
+        a.commanded(hold);
+        a.on_heartbeat(hold, true, 1_000);
+        a.commanded(land);
+        assert_eq!(a.on_heartbeat(land, true, 2_000), None);
+        assert_eq!(a.on_heartbeat(land, false, 30_000), None);
+        assert_eq!(a.on_heartbeat(hold, false, 30_500), None);
+        assert_eq!(a.on_tick(40_000), None, "the landing's disarm: no pause");
+        // The next takeoff: ARM, NAV_TAKEOFF (PX4 enters AUTO.TAKEOFF), then PX4's own loiter.
+        let cmd = MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            command: MavCmd::MAV_CMD_NAV_TAKEOFF,
+            ..Default::default()
+        });
+        assert_eq!(
+            commanded_mode(&cmd, &modes, Autopilot::Px4),
+            Some(takeoff)
+        );
+        assert_eq!(commanded_mode(&cmd, &modes, Autopilot::Ardupilot), None);
+        a.on_heartbeat(hold, true, 41_000);
+        a.commanded(takeoff);
+        assert_eq!(a.on_heartbeat(takeoff, true, 41_500), None);
+        assert_eq!(a.on_heartbeat(hold, true, 60_000), None);
+        assert!(!a.is_paused());
+        // An operator's Return is still one, named from PX4's table.
+        let Some(Change::Paused { why }) = a.on_heartbeat(4 << 16 | 5 << 24, true, 70_000) else {
+            panic!("Return pauses")
+        };
+        assert_eq!(why, "the vehicle was switched to Return (4/5)");
+    }
+
+    #[test]
+    fn a_copters_modes_are_named_from_arducopters_table() {
+        let mut modes = modes();
+        modes.guided = crate::config::Mode::Number(4);
+        modes.land = Some(crate::config::Mode::Number(9));
+        let mut a = Authority::new(AuthorityConfig::default(), &modes);
+        a.set_vehicle_type(MavType::MAV_TYPE_QUADROTOR);
+        a.on_heartbeat(4, false, 0);
+        a.commanded(4);
+        a.on_heartbeat(4, true, 100);
+        let Some(Change::Paused { why }) = a.on_heartbeat(6, true, 1_000) else {
+            panic!("RTL pauses")
+        };
+        assert_eq!(why, "the vehicle was switched to RTL");
     }
 
     #[test]

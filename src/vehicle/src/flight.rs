@@ -196,6 +196,9 @@ pub struct Flight {
     airborne_seen: bool,
 }
 
+/// PX4's AUTO.TAKEOFF (main 4, sub 2: px4_custom_mode.h), entered on NAV_TAKEOFF.
+pub const PX4_AUTO_TAKEOFF: u32 = 4 << 16 | 2 << 24;
+
 /// EXTENDED_SYS_STATE, asked for at 2 Hz (ArduCopter does not stream it).
 const EXTENDED_SYS_STATE_ID: f32 = 245.0;
 const EXTENDED_SYS_STATE_US: f32 = 500_000.0;
@@ -221,10 +224,7 @@ impl Flight {
             FlightBinding::Takeoff { .. } => {
                 f.modes = if px4 {
                     // Commander's AUTO.TAKEOFF (main 4, sub 2), then the navigator's loiter.
-                    vec![
-                        Mode::Px4 { main: 4, sub: 2 }.custom_mode(),
-                        modes.hold.custom_mode(),
-                    ]
+                    vec![PX4_AUTO_TAKEOFF, modes.hold.custom_mode()]
                 } else {
                     vec![modes.guided.custom_mode()]
                 };
