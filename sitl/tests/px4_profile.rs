@@ -174,13 +174,24 @@ async fn ekf_status_report_is_denied_and_estimator_status_streams() {
     // No home before the fix: nothing to send, DENIED (ArduPilot accepts and sends nothing).
     assert_eq!(gcs.request_message(242).await, MavResult::MAV_RESULT_DENIED);
     sim.step(Duration::from_secs(1)).await.expect("step");
-    let after = flags(&streamed(&sim, &mut gcs).await);
-    assert!(after.contains(EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS));
-    assert!(!after.contains(EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE));
+    // Disarmed, the rover is "landed" and at rest (RoverLandDetector: landed = !armed): EKF2 says
+    // CONST_POS_MODE with its absolute position, GNSS fused (PRED_POS_HORIZ_ABS).
+    let at_rest = flags(&streamed(&sim, &mut gcs).await);
+    assert!(at_rest.contains(
+        EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS
+            | EstimatorStatusFlags::ESTIMATOR_PRED_POS_HORIZ_ABS
+            | EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE
+    ));
     assert_eq!(
         gcs.request_message(242).await,
         MavResult::MAV_RESULT_ACCEPTED
     );
+    // Armed once the pre-arm checks pass (the profile's 5 s after boot).
+    sim.step(Duration::from_secs(5)).await.expect("step");
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    let armed = flags(&streamed(&sim, &mut gcs).await);
+    assert!(armed.contains(EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS));
+    assert!(!armed.contains(EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE));
 }
 
 #[tokio::test]

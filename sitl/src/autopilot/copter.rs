@@ -69,11 +69,23 @@ impl Autopilot {
         {
             return MavResult::MAV_RESULT_DENIED;
         }
-        let alt = f64::from(c.p[6]);
-        let mode_ok = matches!(self.mode, Mode::Guided | Mode::Hold);
+        let alt = if self.is_px4() {
+            self.px4_takeoff_altitude(c.p[6])
+        } else {
+            f64::from(c.p[6])
+        };
+        // PX4's Commander enters AUTO.TAKEOFF from any mode (the sim: Guided, reported as AUTO.TAKEOFF).
+        let mode_ok = matches!(self.mode, Mode::Guided | Mode::Hold) || self.is_px4();
         let can = alt.is_finite() && alt > 0.0 && mode_ok && self.armed && self.copter.landed;
         if !can {
-            return MavResult::MAV_RESULT_FAILED;
+            return if self.is_px4() {
+                self.refused_result()
+            } else {
+                MavResult::MAV_RESULT_FAILED
+            };
+        }
+        if self.is_px4() {
+            self.mode = Mode::Guided;
         }
         self.copter.landed = false;
         self.copter.taking_off = Some(alt);
@@ -144,6 +156,9 @@ impl Autopilot {
             if matches!(self.mode, Mode::Land | Mode::Rtl) && self.armed {
                 self.text(MavSeverity::MAV_SEVERITY_INFO, "Land complete");
                 self.disarm();
+                if self.is_px4() {
+                    self.px4_after_landing();
+                }
             }
         }
         if !self.armed && alt <= TOUCHDOWN_M {

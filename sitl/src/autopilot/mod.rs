@@ -538,7 +538,7 @@ impl Autopilot {
             heading_deg: self.kin.heading.to_degrees().rem_euclid(360.0),
             distance_m: self.distance_m,
             mode: self.mode.name(),
-            custom_mode: self.mode_number(self.mode),
+            custom_mode: self.reported_mode(),
             armed: self.armed,
             battery_pct: self.battery.pct,
             storage_capacity_mib: self.storage.capacity_mib,

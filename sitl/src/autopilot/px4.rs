@@ -16,7 +16,16 @@
 //!   bit says whether it would arm (src/modules/mavlink/streams/SYS_STATUS.hpp);
 //! - a mode needing a position before the fix is TEMPORARILY_REJECTED (Commander.cpp `printRejectMode`);
 //! - without a camera component (PX4 SIH has none), IMAGE_START_CAPTURE to the autopilot falls to
-//!   Commander's default case: UNSUPPORTED.
+//!   Commander's default case: UNSUPPORTED;
+//! - a multicopter (checked on SIH's `sihsim_quadx`, 2026-11-27): NAV_TAKEOFF enters AUTO.TAKEOFF
+//!   (Commander.cpp `VEHICLE_CMD_NAV_TAKEOFF`) to param7 metres AMSL (MIS_TAKEOFF_ALT, 2.5 m above home,
+//!   when not a number: navigator_main.cpp), and Commander switches to AUTO.LOITER by itself once the
+//!   takeoff is over (Commander.cpp, "Transition mode to loiter ... after takeoff is completed"); AUTO.LAND
+//!   and AUTO.RTL, which prevent arming (ModeUtil/mode_requirements.cpp), land, disarm, and hand back the
+//!   last mode that allows arming (UserModeIntention::onDisarm; in the sim, Hold);
+//! - EKF2 reports CONST_POS_MODE while the vehicle rests on the ground (`vehicle_at_rest` from the land
+//!   detector: ekf/ekf_helper.cpp `get_ekf_soln_status`), with its absolute position and PRED_POS_HORIZ_ABS
+//!   (GNSS fused) set: a quadrotor waiting to take off reads 0x3ff.
 
 use mavlink::dialects::ardupilotmega::*;
 
@@ -26,6 +35,8 @@ use crate::scenario::{CameraBackend, Profile};
 
 const MAIN_MANUAL: u32 = 1;
 const MAIN_AUTO: u32 = 4;
+/// px4_custom_mode.h PX4_CUSTOM_SUB_MODE_AUTO_TAKEOFF.
+const SUB_AUTO_TAKEOFF: u32 = 2;
 const SUB_AUTO_LOITER: u32 = 3;
 const SUB_AUTO_MISSION: u32 = 4;
 const SUB_AUTO_RTL: u32 = 5;
@@ -36,6 +47,9 @@ const SUB_AUTO_LAND: u32 = 6;
 pub const ESTIMATOR_STATUS: u32 = 230;
 /// Messages PX4 has no stream for, that the sim builds for ArduPilot.
 const NO_STREAM: [u32; 2] = [193, super::telemetry::CAMERA_FEEDBACK];
+
+/// MIS_TAKEOFF_ALT (mission_params.c): a takeoff's height above home when param7 is not a number.
+const MIS_TAKEOFF_ALT_M: f64 = 2.5;
 
 /// The text PX4's estimator check gives while the heading settles after boot (estimatorCheck.cpp), and
 /// Commander's answer to the ARM (Commander.cpp `arm`; the one a SIH rover sent on 2026-11-27).
@@ -81,6 +95,30 @@ impl Autopilot {
         } else {
             Mode::Manual
         }
+    }
+
+    /// The custom_mode the HEARTBEAT reports: the mode's, or PX4's AUTO.TAKEOFF while a copter takes off.
+    pub(super) fn reported_mode(&self) -> u32 {
+        if self.is_px4() && self.copter.taking_off.is_some() {
+            custom_mode(MAIN_AUTO, SUB_AUTO_TAKEOFF)
+        } else {
+            self.mode_number(self.mode)
+        }
+    }
+
+    /// NAV_TAKEOFF's height above home: param7 is AMSL on PX4 (the sim's home is at 0 m AMSL).
+    pub(super) fn px4_takeoff_altitude(&self, p7: f32) -> f64 {
+        if p7.is_finite() {
+            f64::from(p7)
+        } else {
+            MIS_TAKEOFF_ALT_M
+        }
+    }
+
+    /// A landing's disarm on PX4: back to the mode before AUTO.LAND / AUTO.RTL (Hold in the sim).
+    pub(super) fn px4_after_landing(&mut self) {
+        self.mode = Mode::Hold;
+        self.send(super::Dest::All, self.heartbeat());
     }
 
     /// The custom_mode the vehicle reports for `m`.
@@ -186,8 +224,16 @@ impl Autopilot {
             | EstimatorStatusFlags::ESTIMATOR_POS_VERT_ABS;
         if self.gps_fixed() {
             flags |= EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_REL
-                | EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS;
+                | EstimatorStatusFlags::ESTIMATOR_POS_HORIZ_ABS
+                | EstimatorStatusFlags::ESTIMATOR_PRED_POS_HORIZ_ABS;
+        }
+        // At rest: a copter landed, a ground vehicle disarmed (the land detector's "landed"), and still.
+        let landed = if self.is_copter() {
+            self.copter.landed
         } else {
+            !self.armed
+        };
+        if !self.gps_fixed() || (landed && self.kin.speed.abs() < 0.01) {
             flags |= EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE;
         }
         Some(MavMessage::ESTIMATOR_STATUS(ESTIMATOR_STATUS_DATA {

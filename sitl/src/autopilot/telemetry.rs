@@ -338,7 +338,7 @@ impl Autopilot {
             base |= MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED;
         }
         MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: self.mode_number(self.mode),
+            custom_mode: self.reported_mode(),
             mavtype: match self.vehicle {
                 VehicleKind::Rover => MavType::MAV_TYPE_GROUND_ROVER,
                 VehicleKind::Auv => MavType::MAV_TYPE_SUBMARINE,
