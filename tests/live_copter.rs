@@ -2,22 +2,25 @@
 //! survey problem with config/sitl-copter.toml and sitl/scenarios/survey.toml (a headwind over the mast),
 //! and a picture goal at 25 m uploaded by a ground station during the flight (config/goals/copter.plan).
 //! The copter takes off, takes its pictures at altitude, hovers over the field, returns and lands with the
-//! battery above its 25 % reserve all along.
+//! battery above its 25 % reserve all along. The same mission with config/px4-copter.toml against the
+//! SITL's PX4 profile (tests/fixtures/exec/px4-copter.toml), as on a real PX4 SIH quadrotor.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use mavtempo::cli::demo::{run_demo, DemoSetup, TimedUpload, UploadItems};
+use mavtempo::cli::demo::{run_demo, DemoRun, DemoSetup, TimedUpload, UploadItems};
 use mavtempo::exec::executive::Fate;
 use mavtempo::exec::mission::MissionEnd;
 use mavtempo::exec::trace::TraceEvent;
 
-#[test]
-fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve() {
+/// The survey mission with `config`, in `scenario` (the problem's own when `None`), the copter.plan
+/// picture uploaded at 40 s.
+fn survey(config: &str, scenario: Option<&str>) -> (DemoRun, Vec<String>) {
     let setup = DemoSetup {
         problem: Some(PathBuf::from("domains/copter/problems/survey.ixt")),
         domain: Some(PathBuf::from("domains/copter/copter.ixt")),
-        config: Some(PathBuf::from("config/sitl-copter.toml")),
+        config: Some(PathBuf::from(config)),
+        scenario: scenario.map(PathBuf::from),
         vehicle: sitl::VehicleKind::Copter,
         upload: false,
         timed_upload: Some(TimedUpload {
@@ -28,12 +31,46 @@ fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve()
     };
     let mut said = Vec::new();
     let run = run_demo(&setup, &mut |l: &str| said.push(l.to_string()), &mut |_| {})
-        .unwrap_or_else(|e| panic!("survey: {e}"));
+        .unwrap_or_else(|e| panic!("survey with {config}: {e}"));
+    (run, said)
+}
+
+#[test]
+fn the_copter_takes_its_pictures_at_altitude_and_lands_home_within_its_reserve() {
+    let (run, said) = survey("config/sitl-copter.toml", None);
     assert!(
         said.iter()
             .any(|l| l.contains("sitl/scenarios/survey.toml")),
         "{said:?}"
     );
+    assert_flown_within_the_reserve(&run);
+}
+
+#[test]
+fn on_the_px4_profile_the_copter_waits_at_rest_takes_off_and_px4s_own_loiter_is_no_takeover() {
+    let (run, _) = survey(
+        "config/px4-copter.toml",
+        Some("tests/fixtures/exec/px4-copter.toml"),
+    );
+    // Ready on the ground, disarmed, with PX4's at-rest estimator flags (CONST_POS_MODE and a fused
+    // absolute position): no ARM before the takeoff.
+    let ready = run.ready.as_ref().expect("the run waited for readiness");
+    assert!(ready.ready, "{ready:?}");
+    assert_eq!(ready.arm_attempts, 0, "{ready:?}");
+    // PX4's AUTO.TAKEOFF, then its own AUTO.LOITER: the companion never yields.
+    let events: Vec<&TraceEvent> = run.report.cycles.iter().flat_map(|c| &c.events).collect();
+    assert!(
+        !events
+            .iter()
+            .any(|e| matches!(e, TraceEvent::Paused { .. })),
+        "{events:?}"
+    );
+    assert_flown_within_the_reserve(&run);
+}
+
+/// Every goal achieved (the uploaded one too), two pictures taken, one return, the battery reservoir never
+/// below 0 and the copter back home.
+fn assert_flown_within_the_reserve(run: &DemoRun) {
     let r = &run.report;
     assert_eq!(r.end, MissionEnd::Finished, "{:?}", r.goals);
     let fates: BTreeMap<&str, &Fate> = r.goals.iter().map(|g| (g.name.as_str(), &g.fate)).collect();

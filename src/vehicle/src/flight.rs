@@ -24,7 +24,7 @@ use mavlink::dialects::ardupilotmega::{
 
 use super::actions::{Ctx, StartError};
 use super::commands::{Command, CommandOutcome};
-use super::config::{Autopilot, Mode, Modes};
+use super::config::{Autopilot, Modes};
 use super::types::{ActionStart, Enu};
 use geodesy::deg_to_e7;
 
@@ -401,13 +401,19 @@ impl Flight {
         None
     }
 
-    pub fn on_message(&mut self, _ctx: &mut Ctx, msg: &MavMessage) -> Option<FlightEnd> {
+    pub fn on_message(&mut self, ctx: &mut Ctx, msg: &MavMessage) -> Option<FlightEnd> {
         let MavMessage::HEARTBEAT(h) = msg else {
             return None;
         };
         let armed = h
             .base_mode
             .contains(MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED);
+        let landing = matches!(self.binding, FlightBinding::Land { .. });
+        if landing && !armed && self.mode_seen && self.airborne_seen {
+            // Disarmed by its landing: over, whatever mode follows (PX4 switches back to the mode before
+            // AUTO.LAND / AUTO.RTL at the disarm, UserModeIntention::onDisarm).
+            return Some(self.landed(ctx));
+        }
         if self.modes.contains(&h.custom_mode) {
             self.mode_seen = true;
         } else if self.mode_seen {
@@ -418,7 +424,6 @@ impl Flight {
         }
         // A landing disarms the vehicle (ArduCopter's ModeLand, RTL); anything else disarmed in the air
         // has lost its flight.
-        let landing = matches!(self.binding, FlightBinding::Land { .. });
         if !armed && self.mode_seen && self.airborne_seen && !landing {
             return Some(FlightEnd::Failed("the vehicle disarmed".into()));
         }
@@ -453,23 +458,29 @@ impl Flight {
                     && (alt - g.up).abs() <= *vertical_acceptance_m)
                     .then_some(FlightEnd::Nominal)
             }
-            FlightBinding::Land {
-                acceptance_radius_m,
-                ..
-            } => {
-                if !(on_ground && self.airborne_seen && self.mode_seen) {
-                    return None;
-                }
-                let off = match (self.goal, ctx.tel.position) {
-                    (Some(g), Some(p)) => p.horizontal_distance(&g),
-                    _ => 0.0,
-                };
-                Some(if off <= *acceptance_radius_m {
-                    FlightEnd::Nominal
-                } else {
-                    FlightEnd::Failed(format!("landed {off:.1} m from home"))
-                })
+            FlightBinding::Land { .. } => {
+                (on_ground && self.airborne_seen && self.mode_seen).then(|| self.landed(ctx))
             }
+        }
+    }
+
+    /// A landing over: nominal where it was to land (home for a return), else failed with how far off.
+    fn landed(&self, ctx: &Ctx) -> FlightEnd {
+        let FlightBinding::Land {
+            acceptance_radius_m,
+            ..
+        } = self.binding
+        else {
+            return FlightEnd::Nominal;
+        };
+        let off = match (self.goal, ctx.tel.position) {
+            (Some(g), Some(p)) => p.horizontal_distance(&g),
+            _ => 0.0,
+        };
+        if off <= acceptance_radius_m {
+            FlightEnd::Nominal
+        } else {
+            FlightEnd::Failed(format!("landed {off:.1} m from home"))
         }
     }
 
@@ -511,7 +522,7 @@ mod tests {
             position_variable: "position".into(),
         };
         assert_eq!(land.invalid(&modes).map(|(k, _)| k), Some("kind"));
-        modes.land = Some(Mode::Number(9));
+        modes.land = Some(crate::config::Mode::Number(9));
         assert_eq!(land.invalid(&modes), None);
         let takeoff = FlightBinding::Takeoff {
             altitude_m: 0.0,
