@@ -247,3 +247,31 @@ async fn without_a_camera_component_image_start_capture_is_unsupported() {
         |m| matches!(m, MavMessage::CAMERA_IMAGE_CAPTURED(c) if c.capture_result.bits() == 1)
     ));
 }
+
+#[tokio::test]
+async fn a_mission_is_flown_from_item_0_with_no_home_item() {
+    let (sim, mut gcs) = start(PX4_READY).await;
+    // Item 0 is a real waypoint on PX4 (ArduPilot would replace it with home).
+    let items = vec![waypoint(HOME, 30.0, 0.0), waypoint(HOME, 30.0, 30.0)];
+    assert_eq!(
+        gcs.upload(&items).await,
+        MavMissionResult::MAV_MISSION_ACCEPTED
+    );
+    assert_eq!(sim.snapshot().mission_total, 2);
+    assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
+    assert_eq!(
+        set_px4_mode(&mut gcs, (4, 4)).await,
+        MavResult::MAV_RESULT_ACCEPTED,
+        "Mission"
+    );
+    let s = run_until(&sim, 120, |s| s.mission_complete).await;
+    assert!(
+        (s.north_m - 30.0).abs() < 3.5 && (s.east_m - 30.0).abs() < 3.5,
+        "{s:?}"
+    );
+    let mut reached = Vec::new();
+    while reached.last() != Some(&1) {
+        reached.push(expect_msg!(gcs, MISSION_ITEM_REACHED).await.seq);
+    }
+    assert_eq!(reached, vec![0, 1], "item 0 flown first");
+}

@@ -41,11 +41,12 @@ impl Exec {
 impl Autopilot {
     /// Starts (or resumes) the mission, as entering AUTO armed does.
     pub(super) fn start_mission(&mut self) {
-        if self.mission.len() <= 1 {
+        if self.mission_items() == 0 {
             return;
         }
-        if self.exec.complete || self.exec.current == 0 {
-            self.exec.restart_at(1);
+        let first = self.first_item();
+        if self.exec.complete || (first == 1 && self.exec.current == 0) {
+            self.exec.restart_at(first);
         } else {
             let cur = self.exec.current;
             self.exec.restart_at(cur);
@@ -91,7 +92,7 @@ impl Autopilot {
 
     /// Finds the NAV command at or after `current` (running DO commands met before it).
     fn load_nav(&mut self) {
-        let mut seq = self.exec.current.max(1);
+        let mut seq = self.exec.current.max(self.first_item());
         while usize::from(seq) < self.mission.len() && !self.mission[usize::from(seq)].is_nav() {
             let it = self.mission[usize::from(seq)].clone();
             self.run_do(seq, &it);

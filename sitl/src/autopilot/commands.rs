@@ -141,7 +141,7 @@ impl Autopilot {
                 }
             }
             MavCmd::MAV_CMD_MISSION_START => {
-                if self.mission.len() <= 1 {
+                if self.mission_items() == 0 {
                     self.text(
                         MavSeverity::MAV_SEVERITY_NOTICE,
                         "No Mission. Can't set AUTO.",
@@ -224,7 +224,7 @@ impl Autopilot {
 
     fn set_mission_current(&mut self, seq: i64) -> MavResult {
         // ArduPilot's DO_SET_MISSION_CURRENT counts home as 0; seq 0 means the first item.
-        let seq = seq.max(1);
+        let seq = seq.max(i64::from(self.first_item()));
         if seq as usize >= self.mission.len() {
             return MavResult::MAV_RESULT_DENIED;
         }

@@ -262,8 +262,10 @@ impl Autopilot {
             self.mission_ack_of(from, MavMissionResult::MAV_MISSION_ACCEPTED, mission_type);
             return;
         }
-        // Item 0 is always home on ArduPilot.
-        done.items[0] = self.home_item();
+        // Item 0 is always home on ArduPilot; PX4 keeps it as sent.
+        if !self.is_px4() {
+            done.items[0] = self.home_item();
+        }
         self.install_mission(done.items);
         self.mission_ack(from, MavMissionResult::MAV_MISSION_ACCEPTED);
         self.text(MavSeverity::MAV_SEVERITY_INFO, "Flight plan received");
@@ -326,7 +328,7 @@ impl Autopilot {
     fn install_mission(&mut self, items: Vec<Item>) {
         let running = self.mode == Mode::Auto && self.exec.started;
         self.mission = items;
-        if self.mission.len() <= 1 {
+        if self.mission_items() == 0 {
             self.exec = Default::default();
         } else if running && usize::from(self.exec.current) < self.mission.len() {
             // As ArduPilot's mission-change detector: restart the current command.
@@ -346,7 +348,7 @@ impl Autopilot {
             );
             return;
         }
-        self.mission = vec![self.home_item()];
+        self.mission = self.empty_mission();
         self.exec = Default::default();
         self.mission_ack(from, MavMissionResult::MAV_MISSION_ACCEPTED);
     }
@@ -470,7 +472,7 @@ impl Autopilot {
     }
 
     pub(super) fn mission_current_msg(&self) -> MavMessage {
-        let total = self.mission.len().saturating_sub(1) as u16;
+        let total = self.mission_items() as u16;
         let state = if total == 0 {
             MissionState::MISSION_STATE_NO_MISSION
         } else if self.exec.complete {

@@ -184,7 +184,7 @@ impl Autopilot {
             events: Vec::new(),
         };
         ap.streams = ap.default_streams();
-        ap.mission = vec![ap.home_item()];
+        ap.mission = ap.empty_mission();
         ap.fence = ap.fence_items(&s.fence);
         ap.mode = ap.boot_mode();
         ap
@@ -282,7 +282,7 @@ impl Autopilot {
             MavMessage::MISSION_CLEAR_ALL(m) => self.on_clear_all(from, m),
             MavMessage::MISSION_SET_CURRENT(m) => {
                 if usize::from(m.seq) < self.mission.len() {
-                    self.exec.restart_at(m.seq.max(1));
+                    self.exec.restart_at(m.seq.max(self.first_item()));
                 }
                 self.broadcast_mission_current();
             }
@@ -338,7 +338,7 @@ impl Autopilot {
     }
 
     pub(crate) fn set_mode(&mut self, m: Mode) -> Result<(), &'static str> {
-        if m == Mode::Auto && self.mission.len() <= 1 {
+        if m == Mode::Auto && self.mission_items() == 0 {
             self.text(
                 MavSeverity::MAV_SEVERITY_NOTICE,
                 "No Mission. Can't set AUTO.",
@@ -547,7 +547,7 @@ impl Autopilot {
             pictures_failed: self.pictures_failed,
             samples: self.sampler.samples,
             downlink_active: self.downlink.is_some(),
-            mission_total: self.mission.len().saturating_sub(1) as u16,
+            mission_total: self.mission_items() as u16,
             mission_current: self.exec.current,
             mission_complete: self.exec.complete,
             link_blackout: self.link_faults.in_blackout(self.now_ms),

@@ -97,6 +97,33 @@ impl Autopilot {
         }
     }
 
+    /// The first mission item flown: ArduPilot's item 0 is home, PX4 flies every item from 0
+    /// (src/modules/mavlink/mavlink_mission.cpp stores item 0 as sent; the navigator starts at
+    /// `current_seq` 0).
+    pub(super) fn first_item(&self) -> u16 {
+        if self.is_px4() {
+            0
+        } else {
+            1
+        }
+    }
+
+    /// The mission's items, home excluded (ArduPilot's item 0).
+    pub(super) fn mission_items(&self) -> usize {
+        self.mission
+            .len()
+            .saturating_sub(usize::from(self.first_item()))
+    }
+
+    /// The mission with no item: home alone on ArduPilot, nothing on PX4.
+    pub(super) fn empty_mission(&self) -> Vec<super::mission::Item> {
+        if self.is_px4() {
+            Vec::new()
+        } else {
+            vec![self.home_item()]
+        }
+    }
+
     /// The custom_mode the HEARTBEAT reports: the mode's, or PX4's AUTO.TAKEOFF while a copter takes off.
     pub(super) fn reported_mode(&self) -> u32 {
         if self.is_px4() && self.copter.taking_off.is_some() {

@@ -151,6 +151,17 @@ const DISARM_GRACE_MS: u64 = 1_500;
 /// An action is commanded again after at most this many autopilot restarts; the next one fails it.
 pub const MAX_RESUMES: u32 = 3;
 
+
+/// What a survey mission starts with. ArduPilot replaces item 0 with home (AP_Mission): a placeholder keeps
+/// the survey's numbering. PX4 stores and flies every item from 0 (src/modules/mavlink/mavlink_mission.cpp
+/// has no home item; the navigator starts at `current_seq` 0): a placeholder there would be a waypoint at
+/// home, flown first.
+fn survey_head(autopilot: Autopilot, home: &super::geo::Home) -> Vec<MissionItem> {
+    match autopilot {
+        Autopilot::Ardupilot => vec![MissionItem::waypoint(home.lat, home.lon, 0.0)],
+        Autopilot::Px4 => Vec::new(),
+    }
+}
 /// How long (vehicle ms) a picture's report waits for STORAGE_INFORMATION.
 const STORAGE_WAIT_MS: u64 = 2_000;
 
@@ -240,8 +251,7 @@ impl Run {
                 let center = location_arg(start, area)?;
                 let pts = lawnmower(center, *width_m, *height_m, *spacing_m);
                 let home = ctx.cfg.home;
-                // Item 0 is replaced by home on ArduPilot: a placeholder keeps the numbering.
-                let mut items = vec![MissionItem::waypoint(home.lat, home.lon, 0.0)];
+                let mut items = survey_head(ctx.cfg.autopilot, &home);
                 items.extend(pts.iter().map(|p| {
                     let (lat, lon, _) = home.to_global(*p);
                     MissionItem::waypoint(lat, lon, p.up as f32)
@@ -953,5 +963,23 @@ pub(crate) fn result_name(r: MavResult) -> &'static str {
         MavResult::MAV_RESULT_COMMAND_LONG_ONLY => "COMMAND_LONG_ONLY",
         MavResult::MAV_RESULT_COMMAND_UNSUPPORTED_MAV_FRAME => "UNSUPPORTED_MAV_FRAME",
         _ => "refused",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_survey_mission_has_a_home_placeholder_on_ardupilot_only() {
+        let home = super::super::geo::Home {
+            lat: -35.363261,
+            lon: 149.16523,
+            alt: 584.0,
+        };
+        let ap = survey_head(Autopilot::Ardupilot, &home);
+        assert_eq!(ap.len(), 1);
+        assert_eq!((ap[0].x, ap[0].y), (home.lat, home.lon));
+        assert!(survey_head(Autopilot::Px4, &home).is_empty());
     }
 }
