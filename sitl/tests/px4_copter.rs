@@ -60,10 +60,7 @@ async fn at_rest_on_the_ground_the_estimator_says_constant_position_with_its_abs
     let fused = EstimatorStatusFlags::ESTIMATOR_PRED_POS_HORIZ_ABS;
     let constant = EstimatorStatusFlags::ESTIMATOR_CONST_POS_MODE;
     let on_ground = estimator_flags(&sim, &mut gcs).await;
-    assert!(
-        on_ground.contains(abs | fused | constant),
-        "{on_ground:?}"
-    );
+    assert!(on_ground.contains(abs | fused | constant), "{on_ground:?}");
     // Airborne: no longer at rest.
     assert_eq!(gcs.arm().await, MavResult::MAV_RESULT_ACCEPTED);
     let r = gcs

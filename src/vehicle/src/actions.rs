@@ -151,7 +151,6 @@ const DISARM_GRACE_MS: u64 = 1_500;
 /// An action is commanded again after at most this many autopilot restarts; the next one fails it.
 pub const MAX_RESUMES: u32 = 3;
 
-
 /// What a survey mission starts with. ArduPilot replaces item 0 with home (AP_Mission): a placeholder keeps
 /// the survey's numbering. PX4 stores and flies every item from 0 (src/modules/mavlink/mavlink_mission.cpp
 /// has no home item; the navigator starts at `current_seq` 0): a placeholder there would be a waypoint at
@@ -652,15 +651,13 @@ impl Run {
                     if h.custom_mode == m {
                         self.mode_seen = true;
                     } else if self.mode_seen {
-                        return Some(
-                            self.failed(
-                                ctx,
-                                format!(
-                                    "foreign mode change to {}",
-                                    super::mode_names::mode_name(h.custom_mode, Some(h.mavtype))
-                                ),
+                        return Some(self.failed(
+                            ctx,
+                            format!(
+                                "foreign mode change to {}",
+                                super::mode_names::mode_name(h.custom_mode, Some(h.mavtype))
                             ),
-                        );
+                        ));
                     }
                 }
                 None

@@ -491,10 +491,7 @@ mod tests {
             command: MavCmd::MAV_CMD_NAV_TAKEOFF,
             ..Default::default()
         });
-        assert_eq!(
-            commanded_mode(&cmd, &modes, Autopilot::Px4),
-            Some(takeoff)
-        );
+        assert_eq!(commanded_mode(&cmd, &modes, Autopilot::Px4), Some(takeoff));
         assert_eq!(commanded_mode(&cmd, &modes, Autopilot::Ardupilot), None);
         a.on_heartbeat(hold, true, 41_000);
         a.commanded(takeoff);

@@ -124,7 +124,11 @@ mod tests {
         let rover = Some(MavType::MAV_TYPE_GROUND_ROVER);
         assert_eq!(mode_name(6, rover), "FOLLOW");
         assert_eq!(mode_name(4, rover), "HOLD");
-        assert_eq!(mode_name(4, None), "HOLD", "a vehicle not heard from: Rover's");
+        assert_eq!(
+            mode_name(4, None),
+            "HOLD",
+            "a vehicle not heard from: Rover's"
+        );
         assert_eq!(mode_name(9, Some(MavType::MAV_TYPE_SUBMARINE)), "SURFACE");
         assert_eq!(mode_name(99, quad), "mode 99");
     }
