@@ -31,26 +31,32 @@ async fn px4_copter() -> (sitl::SimHandle, Gcs) {
     start_with(cfg).await
 }
 
+/// What `pick` reads from the last message it reads anything from, over the next `over` of sim time.
+async fn last_sent<T>(
+    sim: &sitl::SimHandle,
+    gcs: &mut Gcs,
+    over: Duration,
+    pick: impl Fn(&MavMessage) -> Option<T>,
+) -> Option<T> {
+    sent_over(sim, gcs, over).await.iter().rev().find_map(pick)
+}
+
 async fn estimator_flags(sim: &sitl::SimHandle, gcs: &mut Gcs) -> EstimatorStatusFlags {
-    let msgs = sent_over(sim, gcs, Duration::from_secs(2)).await;
-    msgs.iter()
-        .rev()
-        .find_map(|m| match m {
-            MavMessage::ESTIMATOR_STATUS(e) => Some(e.flags),
-            _ => None,
-        })
-        .expect("ESTIMATOR_STATUS on the PX4 profile")
+    last_sent(sim, gcs, Duration::from_secs(2), |m| match m {
+        MavMessage::ESTIMATOR_STATUS(e) => Some(e.flags),
+        _ => None,
+    })
+    .await
+    .expect("ESTIMATOR_STATUS on the PX4 profile")
 }
 
 async fn heartbeat_mode(sim: &sitl::SimHandle, gcs: &mut Gcs) -> u32 {
-    let msgs = sent_over(sim, gcs, Duration::from_millis(1_100)).await;
-    msgs.iter()
-        .rev()
-        .find_map(|m| match m {
-            MavMessage::HEARTBEAT(h) => Some(h.custom_mode),
-            _ => None,
-        })
-        .expect("a HEARTBEAT")
+    last_sent(sim, gcs, Duration::from_millis(1_100), |m| match m {
+        MavMessage::HEARTBEAT(h) => Some(h.custom_mode),
+        _ => None,
+    })
+    .await
+    .expect("a HEARTBEAT")
 }
 
 #[tokio::test]

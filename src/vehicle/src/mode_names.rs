@@ -79,15 +79,10 @@ fn copter(mode: u32) -> Option<&'static str> {
     })
 }
 
-/// ArduSub's `Mode::Number` (ArduSub/mode.h).
+/// ArduSub's `Mode::Number` (ArduSub/mode.h): STABILIZE to GUIDED and CIRCLE are ArduCopter's numbers.
 fn sub(mode: u32) -> Option<&'static str> {
     Some(match mode {
-        0 => "STABILIZE",
-        1 => "ACRO",
-        2 => "ALT_HOLD",
-        3 => "AUTO",
-        4 => "GUIDED",
-        7 => "CIRCLE",
+        0..=4 | 7 => return copter(mode),
         9 => "SURFACE",
         16 => "POSHOLD",
         19 => "MANUAL",
