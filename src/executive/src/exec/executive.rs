@@ -11,10 +11,10 @@ use super::config::ExecConfig;
 use super::cycle_log::CycleLog;
 use super::dispatch_policy::PlanDispatch;
 use super::failures::FailureMemory;
-use super::goal_insertion::Insertion;
+use super::insertion::{Insertion, Parked};
 use super::outcome::{AbortReason, FateReason};
 use super::p_t::State;
-use super::repair::Repair;
+use super::repair_tree::Repair;
 use super::trace::{CycleRecord, TraceEvent};
 use mavtempo_temporal::model::{GoalId, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
@@ -75,8 +75,8 @@ pub struct Executive {
     pub(crate) cfg: ExecConfig,
     pub(crate) policy: PlanDispatch,
     pub(crate) hierarchy: Hierarchy,
-    /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
-    pub(crate) past: Vec<(f64, f64)>,
+    /// The aggregated level of each resource due to the actions that left the plan, and its rules.
+    pub(crate) ledger: super::ledger::ResourceLedger,
     /// LgcS_t.
     pub(crate) state: State,
     /// Started actions, their `i_a`, and those an `END i_a` was sent to.
@@ -111,7 +111,7 @@ pub struct Executive {
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
     pub(crate) insertions: VecDeque<Insertion>,
     /// New goals rejected for a reason that may stop holding, waiting to be tried again.
-    pub(crate) parked: Vec<super::goal_retry::Parked>,
+    pub(crate) parked: Vec<Parked>,
     /// Uploads not answered yet, or with goals still being inserted, by number.
     pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
     pub(crate) next_batch: u64,
@@ -119,7 +119,7 @@ pub struct Executive {
     /// order they were refused.
     pub(crate) refused: Vec<GoalFate>,
     /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
-    pub(crate) replannings: Vec<super::replan::ReplanRecord>,
+    pub(crate) replannings: Vec<super::replan_record::ReplanRecord>,
     /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
     pub(crate) insertion_stale: bool,
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
@@ -142,12 +142,7 @@ pub struct Executive {
 impl Executive {
     /// An executive over a solution plan (the planner's output, or a hand-built plan in tests).
     pub fn new(plan: PartialPlan, cfg: ExecConfig) -> Self {
-        let past = plan
-            .problem()
-            .resources
-            .iter()
-            .map(|s| (s.level, s.level))
-            .collect();
+        let ledger = super::ledger::ResourceLedger::new(plan.problem());
         let mut fates = BTreeMap::new();
         for pg in plan.goals() {
             if let Some(g) = plan.problem().goals.get(pg.goal.index()) {
@@ -170,7 +165,7 @@ impl Executive {
             cfg,
             policy,
             hierarchy,
-            past,
+            ledger,
             state: State::default(),
             dispatched: Default::default(),
             vehicle_origin_ms: 0,
@@ -401,7 +396,7 @@ impl Executive {
     }
 
     /// The complete replannings of this mission.
-    pub fn replannings(&self) -> &[super::replan::ReplanRecord] {
+    pub fn replannings(&self) -> &[super::replan_record::ReplanRecord] {
         &self.replannings
     }
 
@@ -412,7 +407,7 @@ impl Executive {
 
     /// The aggregated level `[lev_lb, lev_ub]` of each resource due to the actions that left the plan.
     pub fn past_levels(&self) -> &[(f64, f64)] {
-        &self.past
+        self.ledger.levels()
     }
 
     /// Whether action `a` was started (`START` sent) and is still remembered as such.
@@ -475,9 +470,7 @@ impl Executive {
 
     /// The aggregated past level of resource `r` is `[lb, ub]` (e.g. a level measured before the start).
     pub fn set_past_level(&mut self, r: ResourceId, level: (f64, f64)) {
-        if let Some(p) = self.past.get_mut(r.index()) {
-            *p = level;
-        }
+        self.ledger.set(r, level);
     }
 
     /// Seed 1 §3.3 "Goal request" straight into *ExecutingPlan* (no insertion attempt beside it): the

@@ -18,52 +18,16 @@
 
 use super::executive::{Executive, Fate, GoalFate};
 use super::goal_request::request;
+pub use super::insertion::Insertion;
 use super::outcome::FateReason;
 use super::p_t::classify;
-use super::repair::RepairOutcome;
+use super::repair_tree::RepairOutcome;
 use super::trace::{RepairWork, TraceEvent};
-use mavtempo_temporal::model::{Goal, GoalId, Time};
+use mavtempo_temporal::model::Time;
 use mavtempo_temporal::plan::TimeFloor;
 use mavtempo_temporal::planner::{FailReason, Search, StepOutcome};
 use mavtempo_vehicle::goals::GoalBatch;
 use mavtempo_vehicle::GoalVerdict;
-
-/// A requested goal waiting for, or in, its insertion attempt.
-pub struct Insertion {
-    pub goal: Goal,
-    /// The upload it came in (its number) and its index there: where the verdict goes.
-    pub reply: (u64, usize),
-    /// The attempt's search, rooted at a copy of *ExecutingPlan* with the goal; `None` before the attempt
-    /// starts and when *ExecutingPlan* changed under it.
-    search: Option<Search>,
-    /// Planning steps spent, over all the attempt's cycles.
-    pub steps: u64,
-    /// Cycles in which the attempt was developed.
-    pub cycles: u32,
-    /// The goal's id in the attempt's plan.
-    id: Option<GoalId>,
-    /// Where its end is told once accepted.
-    watch: Option<mavtempo_vehicle::goals::GoalWatch>,
-    /// Insertion attempts so far, this one included (src/executive/src/exec/goal_retry.rs).
-    pub tries: u32,
-}
-
-impl Insertion {
-    fn started(&self) -> bool {
-        self.search.is_some() || self.cycles > 0
-    }
-
-    /// The same goal, request and watch, for a new attempt from scratch.
-    pub(crate) fn again(self) -> Insertion {
-        Insertion {
-            search: None,
-            steps: 0,
-            cycles: 0,
-            id: None,
-            ..self
-        }
-    }
-}
 
 impl Executive {
     /// An upload (or the goals requested at the start): each goal the mapping can read waits for its

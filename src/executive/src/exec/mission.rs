@@ -9,6 +9,7 @@ use std::time::Duration;
 use serde::Serialize;
 
 use super::cycle::CycleOutcome;
+pub use super::cycle_log::CycleTimes;
 use super::executive::{Counters, Executive, Fate, GoalFate};
 use super::interrupt::{signal_name, Interrupt};
 use super::outcome::FateReason;
@@ -150,16 +151,6 @@ pub struct Place {
     /// The goals whose proposition names this place.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub goals: Vec<String>,
-}
-
-/// Cycle times of the executive's CPU (sense + repair + act), µs.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct CycleTimes {
-    pub count: usize,
-    pub p50_us: u64,
-    pub p99_us: u64,
-    pub max_us: u64,
-    pub total_us: u64,
 }
 
 /// Everything a mission did: the `--report` JSON.
@@ -608,8 +599,8 @@ pub fn resource_bounds_now(ex: &Executive, now: Time) -> Vec<(String, f64, f64)>
         .iter()
         .enumerate()
         .map(|(i, res)| {
-            let past = ex.past.get(i).copied().unwrap_or((0.0, 0.0));
-            let b = level_bounds(&ex.plan, ResourceId::from_index(i), now, &running, past);
+            let r = ResourceId::from_index(i);
+            let b = level_bounds(&ex.plan, r, now, &running, ex.ledger.past(r));
             (res.name.clone(), b.lb, b.ub)
         })
         .collect()

@@ -51,15 +51,19 @@ pub mod goal_insertion;
 pub mod goal_request;
 pub mod goal_retry;
 pub mod goal_support;
+pub mod insertion;
 pub mod instantiate;
 pub mod interrupt;
+pub mod ledger;
 pub mod mission;
 pub mod operator_text;
 pub mod outcome;
 pub mod p_t;
 pub mod pacer;
 pub mod repair;
+pub mod repair_tree;
 pub mod replan;
+pub mod replan_record;
 pub mod report_timing;
 pub mod reserve;
 pub mod resource_bounds;
@@ -72,5 +76,8 @@ pub mod still;
 pub mod t_exec;
 pub mod trace;
 pub mod trip_needs;
+
+#[cfg(test)]
+mod import_graph;
 
 pub use mavtempo_vehicle::mapping::DomainMapping;

@@ -12,47 +12,11 @@
 use super::executive::Executive;
 use super::outcome::AbortReason;
 use super::p_t::classify;
+pub use super::repair_tree::{NotExecutable, Repair, RepairOutcome};
 use super::trace::{RepairWork, TraceEvent};
 use mavtempo_temporal::model::Time;
 use mavtempo_temporal::plan::{PartialPlan, TimeFloor};
 use mavtempo_temporal::planner::{FailReason, Search, StepOutcome};
-
-/// A repair search in progress.
-pub struct Repair {
-    pub search: Search,
-    /// The last labelled (executable) node's plan.
-    pub labelled: Option<PartialPlan>,
-}
-
-/// The result of one cycle's repair part.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RepairOutcome {
-    /// Nothing to repair.
-    Idle,
-    /// A flawless plan was found and became *ExecutingPlan*.
-    Solved,
-    /// The budget ran out; the last labelled node is *ExecutingPlan*.
-    InProgress,
-    /// Dead end: execution is aborted.
-    Failed(AbortReason),
-}
-
-/// The repair tree cannot be rooted: timepoints not executed yet cannot all be after now.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("plan not executable at {now_ms} ms: {source}")]
-pub struct NotExecutable {
-    pub now_ms: Time,
-    pub source: mavtempo_temporal::stn::Inconsistent,
-}
-
-impl From<NotExecutable> for AbortReason {
-    fn from(e: NotExecutable) -> Self {
-        AbortReason::NotExecutable {
-            now_ms: e.now_ms,
-            error: e.source.to_string(),
-        }
-    }
-}
 
 /// Timepoints not executed yet cannot happen before `now`: the search must not move them into the past
 /// (e.g. a goal supported again by an effect that was executed before now).

@@ -18,10 +18,11 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use serde::{Deserialize, Serialize};
-
 use super::executive::{Executive, Fate};
 use super::outcome::{AbortReason, FateReason};
+pub use super::replan_record::{
+    AttemptEnd, AttemptRecord, ReplanOutcome, ReplanRecord, ReplanRejection,
+};
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::{Fact, GoalId, Problem, Time};
 use mavtempo_temporal::plan::{PartialPlan, PlanError, TimeFloor};
@@ -55,9 +56,7 @@ pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
         }
     }
     p.exogenous.retain(|tf| tf.at > now);
-    for (s, past) in p.resources.iter_mut().zip(&ex.past) {
-        s.level = past.0.max(0.0);
-    }
+    ex.ledger.hand_to_planner(&mut p);
     p
 }
 
@@ -124,100 +123,6 @@ pub fn attempt_cap(first: u64, attempt: usize) -> u64 {
         .unwrap_or(0)
         .max(first / 16)
         .max(1)
-}
-
-/// How a replanning attempt's search ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AttemptEnd {
-    /// A flawless plan.
-    Solved,
-    /// Dead end: the search is exhausted.
-    DeadEnd,
-    /// The time limit l = T_end_ub − d was reached (and the next step was no backtrack raising it).
-    TimeLimit,
-    /// The attempt's hard step cap.
-    StepCap,
-    /// The attempt's share of the replanning's wall-time budget (`replan_max_wall_ms`).
-    WallBudget,
-    /// The attempt's plan reached `plan_max_actions` (its memory budget).
-    SizeCap,
-}
-
-impl std::fmt::Display for AttemptEnd {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            AttemptEnd::Solved => "solved",
-            AttemptEnd::DeadEnd => "dead end",
-            AttemptEnd::TimeLimit => "time limit l reached",
-            AttemptEnd::StepCap => "step cap reached",
-            AttemptEnd::WallBudget => "wall-time budget spent",
-            AttemptEnd::SizeCap => "plan size cap reached",
-        })
-    }
-}
-
-/// How a complete replanning ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ReplanOutcome {
-    /// A new plan was adopted.
-    NewPlan,
-    /// No goal was left to plan for.
-    NoGoals,
-    /// No problem could be extracted.
-    Error,
-}
-
-impl std::fmt::Display for ReplanOutcome {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            ReplanOutcome::NewPlan => "new plan",
-            ReplanOutcome::NoGoals => "no goal left",
-            ReplanOutcome::Error => "error",
-        })
-    }
-}
-
-/// One attempt of a complete replanning.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct AttemptRecord {
-    pub attempt: u32,
-    /// The goals it planned for.
-    pub goals: Vec<String>,
-    pub steps: u64,
-    pub end: AttemptEnd,
-    /// Why a plan it found was not adopted (it needs a banned action; found after T_end).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub not_adopted: Option<String>,
-}
-
-/// A goal rejected by a complete replanning, and why.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Rejection {
-    pub goal: String,
-    #[serde(serialize_with = "super::outcome::text")]
-    pub reason: FateReason,
-}
-
-/// One complete replanning, as the `--report` JSON keeps it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ReplanRecord {
-    /// Mission time when it started and ended, ms since origin.
-    pub time_ms: Time,
-    pub end_ms: Time,
-    /// What aborted execution.
-    #[serde(serialize_with = "super::outcome::text")]
-    pub abort: AbortReason,
-    pub attempts: Vec<AttemptRecord>,
-    /// Planning steps of the whole replanning: its attempts and the single-goal searches.
-    pub steps: u64,
-    pub outcome: ReplanOutcome,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub error: Option<String>,
-    /// The goals of the new plan.
-    pub kept: Vec<String>,
-    pub rejected: Vec<Rejection>,
 }
 
 /// §3.6: plans one step at a time until a solution, a dead end, or the time limit `l = T_end_ub − d`
@@ -354,12 +259,12 @@ impl Executive {
         let mut attempts = Vec::new();
         let mut steps = 0;
         let result = self.replan_attempts(now, refresh, &mut attempts, &mut steps);
-        let rejected: Vec<Rejection> = pending
+        let rejected: Vec<ReplanRejection> = pending
             .iter()
             .filter_map(|g| self.fates.get(g))
             .filter(|f| f.fate == Fate::Rejected)
             .filter_map(|f| {
-                Some(Rejection {
+                Some(ReplanRejection {
                     goal: f.name.clone(),
                     reason: f.reason.clone()?,
                 })

@@ -7,9 +7,9 @@ use super::capacity::{alter, CapacityOutcome};
 use super::executable::{flawed_actions, plan_executable};
 use super::executive::Executive;
 use super::outcome::AbortReason;
-use super::p_t::{classify, remove_past};
+use super::p_t::classify;
 use super::report_timing::{integrate, timing};
-use super::resource_bounds::{fold_removed, level_bounds};
+use super::resource_bounds::level_bounds;
 use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::{integrate_late_state, integrate_state};
 use super::trace::TraceEvent;
@@ -30,10 +30,14 @@ impl Executive {
                     return;
                 };
                 let running = classify(&self.plan, now).running;
-                let outcome = alter(&mut self.plan, r, c.capacity, now, &running);
-                let p = &mut self.past[r.index()];
-                p.0 = p.0.min(c.capacity);
-                p.1 = p.1.min(c.capacity);
+                let outcome = alter(
+                    &mut self.plan,
+                    &mut self.ledger,
+                    r,
+                    c.capacity,
+                    now,
+                    &running,
+                );
                 self.trace(TraceEvent::Capacity {
                     resource: c.resource.clone(),
                     capacity: c.capacity,
@@ -111,12 +115,9 @@ impl Executive {
         self.state.refresh(&self.plan, t);
     }
 
-    /// The actions wholly in the past at `t` leave the plan (P_t's past part), their resource usages folded
-    /// into the aggregated past level: the two go together, or the levels forget what those actions did.
+    /// The actions wholly in the past at `t` leave the plan, their usages folded into the ledger.
     pub(crate) fn drop_past(&mut self, t: Time) {
-        for p in remove_past(&mut self.plan, t) {
-            fold_removed(&self.plan, p, &mut self.past);
-        }
+        self.ledger.drop_past(&mut self.plan, t);
     }
 
     /// A resource level: compared with `[RscL_lb, RscL_ub]` and adjusted (resource_report).
@@ -129,7 +130,7 @@ impl Executive {
         }
         self.drop_past(t);
         let running = classify(&self.plan, t).running;
-        let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
+        let b = level_bounds(&self.plan, r, t, &running, self.ledger.past(r));
         let kind = self.plan.domain().resource(r).kind;
         let tol = self.level_tolerances.get(r.index()).copied();
         let u = integrate_level(
@@ -140,17 +141,9 @@ impl Executive {
         );
         // The constraint on the level is posted on the past part: every still-counted usage is subtracted
         // back out so that eq. (1) gives the new level.
-        let counted = (
-            b.past_lb - self.past[r.index()].0,
-            b.past_ub - self.past[r.index()].1,
-        );
-        self.past[r.index()] = (u.past.0 - counted.0, u.past.1 - counted.1);
-        // The reservoir envelope starts from the (pessimistic) aggregated level.
-        let mut problem = (**self.plan.problem()).clone();
-        if let Some(s) = problem.resources.get_mut(r.index()) {
-            s.level = self.past[r.index()].0;
-        }
-        let problem = std::sync::Arc::new(problem);
+        let past = self.ledger.past(r);
+        let counted = (b.past_lb - past.0, b.past_ub - past.1);
+        let problem = self.ledger.post_level(&self.plan, r, u.past, counted);
         if u.verdict == LevelVerdict::Consistent {
             // In bounds: the plan's resource conflicts stand as they were.
             self.plan.set_problem(problem);
