@@ -71,7 +71,7 @@ pub struct Counters {
 
 pub struct Executive {
     /// *ExecutingPlan*.
-    pub(crate) plan: PartialPlan,
+    pub(crate) plan: super::executing_plan::ExecutingPlan,
     pub(crate) cfg: ExecConfig,
     pub(crate) policy: PlanDispatch,
     pub(crate) hierarchy: Hierarchy,
@@ -95,9 +95,6 @@ pub struct Executive {
     pub(crate) counters: Counters,
     /// Events of the current cycle.
     pub(crate) pending_trace: Vec<TraceEvent>,
-    /// Something changed since the repair tree was last developed (message or timepoint executed): the
-    /// repair search restarts (§3.2).
-    pub(crate) changed: bool,
     /// Per resource: reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the
     /// vehicle's resolution and tolerance, `[resources]`).
     pub(crate) level_tolerances: Vec<f64>,
@@ -120,8 +117,6 @@ pub struct Executive {
     pub(crate) refused: Vec<GoalFate>,
     /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
     pub(crate) replannings: Vec<super::replan_record::ReplanRecord>,
-    /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
-    pub(crate) insertion_stale: bool,
     /// The last level the vehicle reported for each resource and when (ms since origin): the report's
     /// `resources[].reported`.
     pub(crate) last_reported: Vec<Option<(Time, f64)>>,
@@ -161,7 +156,7 @@ impl Executive {
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
         Executive {
-            plan,
+            plan: super::executing_plan::ExecutingPlan::new(plan),
             cfg,
             policy,
             hierarchy,
@@ -177,7 +172,6 @@ impl Executive {
             cycles: CycleLog::default(),
             counters: Counters::default(),
             pending_trace: Vec::new(),
-            changed: false,
             level_tolerances: vec![super::resource_report::EPS; last_reported.len()],
             failures,
             repair_episode_steps: 0,
@@ -188,7 +182,6 @@ impl Executive {
             next_batch: 0,
             refused: Vec::new(),
             replannings: Vec::new(),
-            insertion_stale: false,
             last_reported,
             paused: None,
             limits: None,
@@ -208,7 +201,7 @@ impl Executive {
         if let Some(l) = &self.limits {
             let mut problem = (**self.plan.problem()).clone();
             problem.legs = mavtempo_temporal::model::Legs(Some(std::sync::Arc::new(l.clone())));
-            self.plan.set_problem(std::sync::Arc::new(problem));
+            self.plan.edit().set_problem(std::sync::Arc::new(problem));
             // A plan made before the limits were known (the autopilot's fence is read at readiness) may
             // hold a move that leaves them: it is made again, complete replanning, before any launch.
             let outside = self
@@ -217,7 +210,7 @@ impl Executive {
                 .filter(|&a| !self.plan.action(a).num_cons.is_empty())
                 .collect::<Vec<_>>()
                 .into_iter()
-                .find(|&a| self.plan.repropagate_action(a).is_err());
+                .find(|&a| self.plan.edit().repropagate_action(a).is_err());
             if let Some(a) = outside {
                 let error = format!("{} leaves the vehicle's limits", self.action_text(a));
                 tracing::warn!("{error}: the plan is made again");
@@ -325,13 +318,6 @@ impl Executive {
             .chain(self.refused.iter().cloned())
             .chain(inserting)
             .collect()
-    }
-
-    /// Something changed in *ExecutingPlan* (a message integrated, a timepoint executed): the repair tree
-    /// and the insertion in progress start again from it (§3.2).
-    pub fn mark_changed(&mut self) {
-        self.changed = true;
-        self.insertion_stale = true;
     }
 
     pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: Option<FateReason>) {
@@ -482,7 +468,7 @@ impl Executive {
     ) -> Result<GoalId, super::goal_request::Rejection> {
         let name = goal.name.clone();
         let running = super::p_t::classify(&self.plan, now).running;
-        let g = super::goal_request::request(&mut self.plan, goal, now, &running)?;
+        let g = super::goal_request::request(self.plan.edit(), goal, now, &running)?;
         self.fates.insert(
             g,
             GoalFate {
@@ -492,7 +478,6 @@ impl Executive {
             },
         );
         self.repair_requested = true;
-        self.mark_changed();
         Ok(g)
     }
 

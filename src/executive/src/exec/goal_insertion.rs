@@ -191,7 +191,7 @@ impl Executive {
 
     /// (Re)roots the attempt in progress at *ExecutingPlan*: the acceptance test of §3.3 on a copy of it.
     fn root_insertion(&mut self, now: Time) -> Result<(), FateReason> {
-        let stale = std::mem::take(&mut self.insertion_stale);
+        let stale = self.plan.take_insertion_stale();
         let needs_root = self
             .insertions
             .front()
@@ -234,8 +234,7 @@ impl Executive {
         };
         let mut plan = search.into_plan();
         plan.set_time_floor(TimeFloor::None);
-        self.plan = plan;
-        self.insertion_stale = true;
+        self.plan.replace(plan);
         self.counters.repairs += 1;
         self.fates.insert(
             id,
@@ -261,7 +260,7 @@ impl Executive {
         let Some(ins) = self.insertions.pop_front() else {
             return;
         };
-        self.insertion_stale = true;
+        self.plan.restart_insertion();
         tracing::info!(goal = %ins.goal.name, steps = ins.steps, "new goal rejected: {reason}");
         self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.operator_text()));
         self.refuse(&ins.goal.name, reason.clone());

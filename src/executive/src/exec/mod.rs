@@ -45,6 +45,7 @@ pub mod deferral;
 pub mod dispatch_policy;
 mod dispatched;
 pub mod executable;
+pub mod executing_plan;
 pub mod executive;
 pub mod failures;
 pub mod goal_insertion;

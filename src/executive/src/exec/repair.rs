@@ -80,14 +80,14 @@ impl Executive {
     /// the plan's origin), read to stop at `μ·ts` after the phase starts.
     pub fn repair_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
         let running = classify(&self.plan, now).running;
-        if self.repair.is_none() && !self.repair_requested && self.plan.flaws().is_empty() {
+        if self.repair.is_none() && !self.repair_requested && self.plan.is_flawless() {
             // Nothing to repair: the cycle's repair share goes to a new goal's insertion, if any.
             return self.insertion_phase(now, clock);
         }
         self.repair_requested = false;
         // `changed` covers everything since the tree was last developed, the previous cycle's act part
         // included (a timepoint it executed is not in the tree's nodes).
-        let changed = std::mem::take(&mut self.changed);
+        let changed = self.plan.take_repair_stale();
         if self.repair.is_none() || changed {
             let root = match self.repair_root(now) {
                 Ok(r) => r,
@@ -109,7 +109,7 @@ impl Executive {
         let (max_steps, deadline) = self.cycle_budget(clock);
         let wall = self.cycle_wall_deadline();
         // ExecutingPlan is about to change: an insertion rooted at it starts again.
-        self.insertion_stale = true;
+        self.plan.restart_insertion();
         let Some(rep) = self.repair.as_mut() else {
             return RepairOutcome::Idle;
         };
@@ -155,8 +155,9 @@ impl Executive {
                     return RepairOutcome::Idle;
                 };
                 let total = rep.search.steps();
-                self.plan = rep.search.into_plan();
-                self.plan.set_time_floor(TimeFloor::None);
+                let mut plan = rep.search.into_plan();
+                plan.set_time_floor(TimeFloor::None);
+                self.plan.replace(plan);
                 self.counters.repairs += 1;
                 self.trace(TraceEvent::RepairDone { steps: total });
                 RepairOutcome::Solved
@@ -167,10 +168,7 @@ impl Executive {
                     .repair
                     .take()
                     .and_then(|rep| rep.search.last_rejection().map(str::to_string));
-                let flaws: Vec<String> = {
-                    let plan = &mut self.plan;
-                    plan.flaws().iter().map(|f| plan.flaw_text(f)).collect()
-                };
+                let flaws = self.plan.flaw_texts();
                 tracing::debug!(?flaws, "plan repair failed on the executing plan's flaws");
                 let reason = AbortReason::RepairFailed {
                     failure: r.to_string(),
@@ -181,7 +179,7 @@ impl Executive {
             }
             _ => {
                 if let Some(p) = self.repair.as_mut().and_then(|r| r.labelled.take()) {
-                    self.plan = p;
+                    self.plan.replace(p);
                 }
                 self.trace(TraceEvent::RepairStep {
                     steps,

@@ -514,15 +514,13 @@ impl Executive {
 
     /// Adopts a plan from complete replanning: running actions are forgotten (P_ts has none).
     pub fn adopt(&mut self, plan: PartialPlan) {
-        self.plan = plan;
+        self.plan.replace(plan);
         // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
         self.dispatched.forget_plan();
         self.repair = None;
         self.repair_episode_steps = 0;
         self.repair_requested = false;
         self.abort = None;
-        // A new goal's insertion attempt starts again from the new plan.
-        self.insertion_stale = true;
         self.hierarchy = super::abstraction::Hierarchy::new(self.plan.domain());
         self.check_reserves();
     }

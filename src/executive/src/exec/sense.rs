@@ -4,7 +4,7 @@
 //! then a bounded plan repair beside the plan).
 
 use super::capacity::{alter, CapacityOutcome};
-use super::executable::{flawed_actions, plan_executable};
+use super::executable::plan_executable;
 use super::executive::Executive;
 use super::outcome::AbortReason;
 use super::p_t::classify;
@@ -20,7 +20,7 @@ use mavtempo_vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, V
 impl Executive {
     /// Integrates one message received at time `now`.
     pub fn integrate(&mut self, event: VehicleEvent, now: Time) {
-        self.mark_changed();
+        self.plan.message_integrated();
         match event {
             VehicleEvent::Report(r) => self.integrate_report(r, now),
             VehicleEvent::Resource(l) => self.integrate_level(&l, now),
@@ -31,7 +31,7 @@ impl Executive {
                 };
                 let running = classify(&self.plan, now).running;
                 let outcome = alter(
-                    &mut self.plan,
+                    self.plan.edit(),
                     &mut self.ledger,
                     r,
                     c.capacity,
@@ -89,7 +89,7 @@ impl Executive {
             ReportStatus::Nominal => self.action_succeeded(a),
             ReportStatus::Interrupted => {}
         }
-        match integrate(&mut self.plan, a, t) {
+        match integrate(self.plan.edit(), a, t) {
             Ok(true) => {}
             Ok(false) => {
                 integrate_late_state(self, a, &r, t);
@@ -117,7 +117,7 @@ impl Executive {
 
     /// The actions wholly in the past at `t` leave the plan, their usages folded into the ledger.
     pub(crate) fn drop_past(&mut self, t: Time) {
-        self.ledger.drop_past(&mut self.plan, t);
+        self.ledger.drop_past(self.plan.edit(), t);
     }
 
     /// A resource level: compared with `[RscL_lb, RscL_ub]` and adjusted (resource_report).
@@ -146,9 +146,9 @@ impl Executive {
         let problem = self.ledger.post_level(&self.plan, r, u.past, counted);
         if u.verdict == LevelVerdict::Consistent {
             // In bounds: the plan's resource conflicts stand as they were.
-            self.plan.set_problem(problem);
+            self.plan.edit().set_problem(problem);
         } else {
-            self.plan.set_resource_problem(problem);
+            self.plan.edit().set_resource_problem(problem);
             self.trace(TraceEvent::Level {
                 resource: l.resource.clone(),
                 level: l.level,
@@ -158,7 +158,7 @@ impl Executive {
             });
         }
         if u.check_executable {
-            let flawed = flawed_actions(&mut self.plan);
+            let flawed = self.plan.flawed_actions();
             if !plan_executable(&running, &flawed) {
                 self.abort_with(AbortReason::LevelOutOfBounds {
                     resource: l.resource.clone(),
