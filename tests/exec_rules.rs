@@ -16,7 +16,7 @@ use mavtempo::exec::report_timing::{integrate, timing, Timing};
 use mavtempo::exec::resource_bounds::{fold_removed, level_bounds, LevelCase};
 use mavtempo::exec::resource_report::{integrate_level, LevelVerdict, EPS};
 use mavtempo::lang::load_problem_and_domain;
-use mavtempo::model::{Goal, GoalId, GoalKind, ObjectId, ResourceKind, TimeInterval, Value};
+use mavtempo::model::{Goal, GoalId, GoalOrigin, ObjectId, ResourceKind, TimeInterval, Value};
 use mavtempo::plan::{ActionId, EventId, PartialPlan, STerm};
 
 fn fig2() -> PartialPlan {
@@ -240,7 +240,7 @@ fn picture_goal(plan: &PartialPlan, name: &str, loc: &str, window_s: (i64, i64))
     let attr = plan.domain().attr_id("PICTURE").unwrap();
     Goal {
         name: name.into(),
-        kind: GoalKind::External,
+        kind: GoalOrigin::External,
         priority: 1,
         attr,
         args: vec![plan.problem().object_id(loc).unwrap()],

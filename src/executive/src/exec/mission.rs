@@ -21,7 +21,7 @@ use mavtempo_temporal::model::{ResourceId, Time};
 use mavtempo_vehicle::goals::GoalBatch;
 use mavtempo_vehicle::safe_stop::SafeStopReport;
 use mavtempo_vehicle::{
-    ActionId as Vid, ActionStart, GoalRequest, ReportStatus, Vehicle, VehicleError, VehicleEvent,
+    ActionStart, GoalRequest, ReportStatus, Vehicle, VehicleActionId, VehicleError, VehicleEvent,
 };
 
 /// How mission time passes: the executive's clock and its sleep between cycles.
@@ -116,7 +116,7 @@ impl std::fmt::Display for MissionEnd {
 
 /// A change of *ExecutingPlan*.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PlanChange {
+pub struct PlanChangeRecord {
     pub time_ms: Time,
     /// `repair`, `replan` or `goal_added`.
     pub cause: String,
@@ -162,7 +162,7 @@ pub struct MissionReport {
     pub goals: Vec<GoalFate>,
     pub counters: Counters,
     pub cycle_times: CycleTimes,
-    pub plan_changes: Vec<PlanChange>,
+    pub plan_changes: Vec<PlanChangeRecord>,
     pub resources: Vec<ResourceSample>,
     /// The resources that are reservoirs (levels produced and consumed, e.g. battery, storage): the ones
     /// whose level against its bounds the report draws.
@@ -245,7 +245,7 @@ impl<V: Vehicle> Vehicle for Held<'_, V> {
     fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         self.inner.start_still(action)
     }
-    fn stop(&mut self, id: Vid) -> Result<(), VehicleError> {
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError> {
         self.inner.stop(id)
     }
     fn try_event(&mut self) -> Option<VehicleEvent> {
@@ -466,7 +466,7 @@ fn collect_stop_reports<V: Vehicle>(
 /// What the report collects beyond the executive's own trace.
 #[derive(Default)]
 struct Log {
-    changes: Vec<PlanChange>,
+    changes: Vec<PlanChangeRecord>,
     resources: Vec<ResourceSample>,
     last_bounds: Vec<Option<(f64, f64)>>,
     /// The reported level of each resource already in `resources`.
@@ -476,7 +476,7 @@ struct Log {
 
 impl Log {
     fn change(&mut self, time_ms: Time, cause: &str, actions: usize) {
-        self.changes.push(PlanChange {
+        self.changes.push(PlanChangeRecord {
             time_ms,
             cause: cause.into(),
             actions,

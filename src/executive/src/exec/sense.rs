@@ -13,7 +13,7 @@ use super::resource_bounds::level_bounds;
 use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::{integrate_late_state, integrate_state};
 use super::trace::TraceEvent;
-use mavtempo_temporal::model::{Goal, GoalKind, Time, TimeInterval, Value};
+use mavtempo_temporal::model::{Goal, GoalOrigin, Time, TimeInterval, Value};
 use mavtempo_vehicle::mapping::{GoalShape, MappingError};
 use mavtempo_vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
 
@@ -248,7 +248,7 @@ impl Executive {
         };
         Ok(Goal {
             name: g.name.clone(),
-            kind: GoalKind::External,
+            kind: GoalOrigin::External,
             priority: i64::from(g.priority),
             attr,
             args,
