@@ -98,7 +98,7 @@ impl Executive {
 
     /// The repair part of a cycle with nothing else to repair: the insertion attempt in progress, for this
     /// cycle's repair budget.
-    pub fn insertion_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
+    pub fn insertion_phase(&mut self, now: Time, clock: &dyn super::clock::Clock) -> RepairOutcome {
         self.unpark(now);
         if self.insertions.is_empty() {
             return RepairOutcome::Idle;
@@ -118,7 +118,7 @@ impl Executive {
         let first = search.steps();
         let outcome = loop {
             if search.steps() - first >= max_steps
-                || deadline.is_some_and(|d| clock() >= d)
+                || deadline.is_some_and(|d| clock.now() >= d)
                 || std::time::Instant::now() >= wall
             {
                 break None;

@@ -38,6 +38,7 @@ pub mod act;
 pub mod authority;
 pub mod cancel;
 pub mod capacity;
+pub mod clock;
 pub mod config;
 pub mod cycle;
 pub mod cycle_log;

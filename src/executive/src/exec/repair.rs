@@ -57,7 +57,7 @@ impl Executive {
 
     /// This cycle's repair budget: μ·n steps with deterministic budgets, else until μ·ts of mission time on
     /// `clock`; never more than the hard cap of steps per cycle.
-    pub fn cycle_budget(&self, clock: &dyn Fn() -> Time) -> (u64, Option<Time>) {
+    pub fn cycle_budget(&self, clock: &dyn super::clock::Clock) -> (u64, Option<Time>) {
         let cap = self.cfg.repair_cycle_max_steps;
         match self.cfg.repair_max_steps {
             Some(n) => (
@@ -66,7 +66,11 @@ impl Executive {
             ),
             None => (
                 cap,
-                Some(clock().saturating_add(self.cfg.repair_budget_ms().max(0))),
+                Some(
+                    clock
+                        .now()
+                        .saturating_add(self.cfg.repair_budget_ms().max(0)),
+                ),
             ),
         }
     }
@@ -78,7 +82,7 @@ impl Executive {
 
     /// The plan repair part of a cycle at `now`; `clock` is the executive's clock (mission time, ms since
     /// the plan's origin), read to stop at `μ·ts` after the phase starts.
-    pub fn repair_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
+    pub fn repair_phase(&mut self, now: Time, clock: &dyn super::clock::Clock) -> RepairOutcome {
         let running = classify(&self.plan, now).running;
         if self.repair.is_none() && !self.repair_requested && self.plan.is_flawless() {
             // Nothing to repair: the cycle's repair share goes to a new goal's insertion, if any.
@@ -116,7 +120,7 @@ impl Executive {
         let first = rep.search.steps();
         let outcome = loop {
             if rep.search.steps() - first >= max_steps
-                || deadline.is_some_and(|d| clock() >= d)
+                || deadline.is_some_and(|d| clock.now() >= d)
                 || std::time::Instant::now() >= wall
             {
                 break None;

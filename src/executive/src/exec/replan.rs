@@ -135,14 +135,14 @@ pub fn plan_until_limit(
     t_end: Timepoint,
     slack: Time,
     max_steps: u64,
-    now: &dyn Fn() -> Time,
+    clock: &dyn super::clock::Clock,
 ) -> AttemptEnd {
     let bounds = AttemptBounds {
         max_steps,
         wall: None,
         max_actions: usize::MAX,
     };
-    plan_within(search, t_end, slack, bounds, now)
+    plan_within(search, t_end, slack, bounds, clock)
 }
 
 /// What bounds a replanning attempt besides the time limit l: steps, wall time, and the plan's size (its
@@ -160,7 +160,7 @@ pub fn plan_within(
     t_end: Timepoint,
     slack: Time,
     bounds: AttemptBounds,
-    now: &dyn Fn() -> Time,
+    clock: &dyn super::clock::Clock,
 ) -> AttemptEnd {
     let limit = |s: &Search| s.plan().latest(t_end).saturating_sub(slack);
     loop {
@@ -174,7 +174,7 @@ pub fn plan_within(
             return AttemptEnd::SizeCap;
         }
         let l = limit(search);
-        let past = now() >= l;
+        let past = clock.now() >= l;
         if past && !search.next_is_solution() && !search.next_is_backtrack() {
             return AttemptEnd::TimeLimit;
         }
@@ -246,19 +246,19 @@ impl SoloPlans {
 }
 
 impl Executive {
-    /// Complete replanning at `now()`; `refresh` updates S_t between attempts (vehicle levels). Every
+    /// Complete replanning at the clock's time; `refresh` updates S_t between attempts (vehicle levels). Every
     /// attempt, the goals it kept and rejected are traced and kept in [`Executive::replannings`].
     pub fn replan(
         &mut self,
-        now: &dyn Fn() -> Time,
+        clock: &dyn super::clock::Clock,
         refresh: &mut dyn FnMut(&mut Executive),
     ) -> ReplanResult {
-        let started = now();
+        let started = clock.now();
         let abort = self.abort.clone().unwrap_or(AbortReason::Unstated);
         let pending = self.pending_goals();
         let mut attempts = Vec::new();
         let mut steps = 0;
-        let result = self.replan_attempts(now, refresh, &mut attempts, &mut steps);
+        let result = self.replan_attempts(clock, refresh, &mut attempts, &mut steps);
         let rejected: Vec<ReplanRejection> = pending
             .iter()
             .filter_map(|g| self.fates.get(g))
@@ -287,7 +287,7 @@ impl Executive {
         }
         self.replannings.push(ReplanRecord {
             time_ms: started,
-            end_ms: now(),
+            end_ms: clock.now(),
             abort,
             attempts,
             steps,
@@ -310,7 +310,7 @@ impl Executive {
     /// budget is spent with goals left, the plan found for the best of them alone is adopted, if any.
     fn replan_attempts(
         &mut self,
-        now: &dyn Fn() -> Time,
+        clock: &dyn super::clock::Clock,
         refresh: &mut dyn FnMut(&mut Executive),
         attempts: &mut Vec<AttemptRecord>,
         steps: &mut u64,
@@ -326,7 +326,7 @@ impl Executive {
         // current time are rejected, and only if there are none is one goal abandoned.
         let mut abandon: Option<(AttemptEnd, u64)> = None;
         for attempt in 1.. {
-            let t = now();
+            let t = clock.now();
             if t >= self.plan.horizon() {
                 // Nothing can be planned past the mission's end: what is left is settled here.
                 for g in self.pending_goals() {
@@ -399,7 +399,7 @@ impl Executive {
                     abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
                     steps: spent,
                 };
-                return self.fall_back(&solo, &mut dropped, t_end, reason, now, ext.plan);
+                return self.fall_back(&solo, &mut dropped, t_end, reason, clock, ext.plan);
             }
             let alone = goals.len() == 1;
             let mut search = Search::new(ext.plan).bounded_regress();
@@ -410,7 +410,7 @@ impl Executive {
                 wall: Some(Instant::now() + if alone { left } else { left / 2 }),
                 max_actions: self.cfg.plan_max_actions,
             };
-            let end = plan_within(&mut search, t_end, slack, bounds, now);
+            let end = plan_within(&mut search, t_end, slack, bounds, clock);
             *steps += search.steps();
             let mut record = AttemptRecord {
                 attempt: attempt as u32,
@@ -443,7 +443,7 @@ impl Executive {
             if let Some(mut plan) = solution {
                 plan.set_time_floor(TimeFloor::None);
                 // T_end happens now: planning is over, the new plan's first timepoints may follow it.
-                if plan.execute_at(t_end, now()).is_ok() {
+                if plan.execute_at(t_end, clock.now()).is_ok() {
                     self.attempt_done(attempts, record);
                     return ReplanResult::Plan(plan);
                 }
@@ -457,7 +457,14 @@ impl Executive {
                     end,
                     steps: search.steps(),
                 };
-                return self.fall_back(&solo, &mut dropped, t_end, reason, now, search.into_plan());
+                return self.fall_back(
+                    &solo,
+                    &mut dropped,
+                    t_end,
+                    reason,
+                    clock,
+                    search.into_plan(),
+                );
             }
             if goal_to_reject(search.plan()).is_none() {
                 return ReplanResult::NoGoals(search.into_plan());
@@ -477,12 +484,14 @@ impl Executive {
         dropped: &mut Vec<GoalId>,
         t_end: Timepoint,
         reason: FateReason,
-        now: &dyn Fn() -> Time,
+        clock: &dyn super::clock::Clock,
         left: PartialPlan,
     ) -> ReplanResult {
         let kept = solo.best(dropped).and_then(|(g, mut plan)| {
             plan.set_time_floor(TimeFloor::None);
-            plan.execute_at(t_end, now()).is_ok().then_some((g, plan))
+            plan.execute_at(t_end, clock.now())
+                .is_ok()
+                .then_some((g, plan))
         });
         let reason = match &kept {
             Some((g, _)) => FateReason::OtherKept {
