@@ -95,9 +95,6 @@ pub struct Executive {
     pub(crate) counters: Counters,
     /// Events of the current cycle.
     pub(crate) pending_trace: Vec<TraceEvent>,
-    /// Per resource: reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the
-    /// vehicle's resolution and tolerance, `[resources]`).
-    pub(crate) level_tolerances: Vec<f64>,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
     pub(crate) failures: FailureMemory,
     /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
@@ -117,9 +114,6 @@ pub struct Executive {
     pub(crate) refused: Vec<GoalFate>,
     /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
     pub(crate) replannings: Vec<super::replan_record::ReplanRecord>,
-    /// The last level the vehicle reported for each resource and when (ms since origin): the report's
-    /// `resources[].reported`.
-    pub(crate) last_reported: Vec<Option<(Time, f64)>>,
     /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
     pub(crate) paused: Option<String>,
     /// Where the vehicle may go: goals at places outside are refused at intake.
@@ -151,7 +145,6 @@ impl Executive {
                 );
             }
         }
-        let last_reported = vec![None; plan.problem().resources.len()];
         let hierarchy = Hierarchy::new(plan.domain());
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
@@ -172,7 +165,6 @@ impl Executive {
             cycles: CycleLog::default(),
             counters: Counters::default(),
             pending_trace: Vec::new(),
-            level_tolerances: vec![super::resource_report::EPS; last_reported.len()],
             failures,
             repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
@@ -182,7 +174,6 @@ impl Executive {
             next_batch: 0,
             refused: Vec::new(),
             replannings: Vec::new(),
-            last_reported,
             paused: None,
             limits: None,
             watches: BTreeMap::new(),
@@ -419,13 +410,14 @@ impl Executive {
     /// `demo`, `soak` and `run`) of `[RscL_lb, RscL_ub]` are in bounds: noise, not news.
     pub fn with_resource_levels(mut self, r: &mavtempo_vehicle::config::ResourceNames) -> Self {
         let eps = super::resource_report::EPS;
-        self.level_tolerances = self
+        let tolerances = self
             .plan
             .domain()
             .resources
             .iter()
             .map(|res| r.level_tolerance(&res.name).unwrap_or(eps).max(eps))
             .collect();
+        self.ledger.set_tolerances(tolerances);
         self
     }
 

@@ -16,22 +16,56 @@ use super::resource_bounds::fold_removed;
 use mavtempo_temporal::model::{Problem, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
 
-/// The aggregated past level of each resource, by resource.
+/// The aggregated past level of each resource, by resource, with what the vehicle last reported of it.
 #[derive(Clone, Debug, Default)]
 pub struct ResourceLedger {
     past: Vec<(f64, f64)>,
+    /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
+    /// resolution and tolerance, `[resources]`).
+    tolerances: Vec<f64>,
+    /// The last level the vehicle reported and when (ms since origin): the report's
+    /// `resources[].reported`.
+    reported: Vec<Option<(Time, f64)>>,
 }
 
 impl ResourceLedger {
     /// Each resource's initial level, exact.
     pub fn new(problem: &Problem) -> Self {
+        let n = problem.resources.len();
         ResourceLedger {
             past: problem
                 .resources
                 .iter()
                 .map(|s| (s.level, s.level))
                 .collect(),
+            tolerances: vec![super::resource_report::EPS; n],
+            reported: vec![None; n],
         }
+    }
+
+    /// The in-bounds distance of a reported level of `r`.
+    pub fn tolerance(&self, r: ResourceId) -> f64 {
+        self.tolerances
+            .get(r.index())
+            .copied()
+            .unwrap_or(super::resource_report::EPS)
+    }
+
+    /// Each resource's in-bounds distance, by resource index.
+    pub fn set_tolerances(&mut self, tolerances: Vec<f64>) {
+        self.tolerances = tolerances;
+    }
+
+    /// The vehicle reported `level` for `r` at `t`.
+    pub fn reported(&mut self, r: ResourceId, t: Time, level: f64) {
+        if let Some(slot) = self.reported.get_mut(r.index()) {
+            *slot = Some((t, level));
+        }
+    }
+
+    /// The last level reported for resource `i` and when, if any.
+    pub fn last_reported(&self, i: usize) -> Option<(Time, f64)> {
+        self.reported.get(i).copied().flatten()
     }
 
     /// `[lev_lb, lev_ub]` of every resource, by resource index.

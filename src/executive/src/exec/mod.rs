@@ -22,6 +22,11 @@
 //! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
+//! | §3.4 the aggregated past levels and every write of the level the planner sees | [`ledger`] |
+//! | §3.2 *ExecutingPlan* behind a handle recording each edit (the repair tree and an insertion restart) | [`executing_plan`] |
+//! | §3.2 time injected: mission time read by repair and replanning | [`clock`] |
+//! | started actions, their `i_a`, the stops sent | `dispatched` |
+//! | data only: the repair tree, insertions and parked goals, replanning records | [`repair_tree`], [`insertion`], [`replan_record`] |
 //! | §3.3 message routing | [`sense`] |
 //! | §3.3 state values from non-nominal reports, new locations | [`state_update`] |
 //! | the domain's names given a vehicle meaning (position, locations, goals) | [`mavtempo_vehicle::mapping`] |

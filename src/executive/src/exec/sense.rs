@@ -125,20 +125,12 @@ impl Executive {
         let Some(r) = self.resource(&l.resource) else {
             return;
         };
-        if let Some(slot) = self.last_reported.get_mut(r.index()) {
-            *slot = Some((t, l.level));
-        }
+        self.ledger.reported(r, t, l.level);
         self.drop_past(t);
         let running = classify(&self.plan, t).running;
         let b = level_bounds(&self.plan, r, t, &running, self.ledger.past(r));
         let kind = self.plan.domain().resource(r).kind;
-        let tol = self.level_tolerances.get(r.index()).copied();
-        let u = integrate_level(
-            &b,
-            l.level,
-            kind,
-            tol.unwrap_or(super::resource_report::EPS),
-        );
+        let u = integrate_level(&b, l.level, kind, self.ledger.tolerance(r));
         // The constraint on the level is posted on the past part: every still-counted usage is subtracted
         // back out so that eq. (1) gives the new level.
         let past = self.ledger.past(r);
