@@ -56,8 +56,7 @@ impl Executive {
             }
         }
         // The search in progress was rooted in the plan with the goal.
-        self.repair = None;
-        self.repair_requested = true;
+        self.repair.restart();
         self.trace(TraceEvent::GoalCancelled {
             goal: name.to_string(),
             reason: reason.clone(),

@@ -14,7 +14,7 @@ use super::failures::FailureMemory;
 use super::insertion::{Insertion, Parked};
 use super::outcome::{AbortReason, FateReason};
 use super::p_t::State;
-use super::repair_tree::Repair;
+use super::repair_tree::RepairState;
 use super::trace::{CycleRecord, TraceEvent};
 use mavtempo_temporal::model::{GoalId, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
@@ -85,9 +85,8 @@ pub struct Executive {
     pub(crate) vehicle_origin_ms: u64,
     /// Interruptions requested by message integration (sent in the act part).
     pub(crate) interrupt: Vec<ActionId>,
-    pub(crate) repair: Option<Repair>,
-    /// Plan repair requested by message integration.
-    pub(crate) repair_requested: bool,
+    /// Plan repair between cycles: the tree, the request, the episode's steps.
+    pub(crate) repair: RepairState,
     /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
     pub(crate) abort: Option<AbortReason>,
     pub(crate) fates: BTreeMap<GoalId, GoalFate>,
@@ -97,8 +96,6 @@ pub struct Executive {
     pub(crate) pending_trace: Vec<TraceEvent>,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
     pub(crate) failures: FailureMemory,
-    /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
-    pub(crate) repair_episode_steps: u64,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
     pub(crate) mapping: mavtempo_vehicle::mapping::DomainMapping,
@@ -158,15 +155,13 @@ impl Executive {
             dispatched: Default::default(),
             vehicle_origin_ms: 0,
             interrupt: Vec::new(),
-            repair: None,
-            repair_requested: false,
+            repair: RepairState::default(),
             abort: None,
             fates,
             cycles: CycleLog::default(),
             counters: Counters::default(),
             pending_trace: Vec::new(),
             failures,
-            repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
             insertions: VecDeque::new(),
             parked: Vec::new(),
@@ -469,7 +464,7 @@ impl Executive {
                 reason: None,
             },
         );
-        self.repair_requested = true;
+        self.repair.request();
         Ok(g)
     }
 

@@ -84,15 +84,15 @@ impl Executive {
     /// the plan's origin), read to stop at `μ·ts` after the phase starts.
     pub fn repair_phase(&mut self, now: Time, clock: &dyn super::clock::Clock) -> RepairOutcome {
         let running = classify(&self.plan, now).running;
-        if self.repair.is_none() && !self.repair_requested && self.plan.is_flawless() {
+        if self.repair.tree.is_none() && !self.repair.requested && self.plan.is_flawless() {
             // Nothing to repair: the cycle's repair share goes to a new goal's insertion, if any.
             return self.insertion_phase(now, clock);
         }
-        self.repair_requested = false;
+        self.repair.requested = false;
         // `changed` covers everything since the tree was last developed, the previous cycle's act part
         // included (a timepoint it executed is not in the tree's nodes).
         let changed = self.plan.take_repair_stale();
-        if self.repair.is_none() || changed {
+        if self.repair.tree.is_none() || changed {
             let root = match self.repair_root(now) {
                 Ok(r) => r,
                 Err(e) => {
@@ -105,7 +105,7 @@ impl Executive {
             // plan moves on: chronological depth-first, as in seed 1 — discrepancy iterations would
             // redo the tree from its root every cycle. A repair that thrashes is cut off by its episode
             // budget and replaced by a complete replanning, which searches by discrepancies.
-            self.repair = Some(Repair {
+            self.repair.tree = Some(Repair {
                 search: Search::depth_first(root).bounded_regress(),
                 labelled: None,
             });
@@ -114,7 +114,7 @@ impl Executive {
         let wall = self.cycle_wall_deadline();
         // ExecutingPlan is about to change: an insertion rooted at it starts again.
         self.plan.restart_insertion();
-        let Some(rep) = self.repair.as_mut() else {
+        let Some(rep) = self.repair.tree.as_mut() else {
             return RepairOutcome::Idle;
         };
         let first = rep.search.steps();
@@ -136,26 +136,26 @@ impl Executive {
         };
         let steps = rep.search.steps() - first;
         self.counters.repair_steps += steps;
-        self.repair_episode_steps += steps;
+        self.repair.episode_steps += steps;
         let finished = match &outcome {
             Some(StepOutcome::Solved) => true,
             Some(StepOutcome::Failed(r)) => !matches!(r, FailReason::Deadline { .. }),
             _ => false,
         };
         if finished {
-            self.repair_episode_steps = 0;
-        } else if self.repair_episode_steps > self.cfg.repair_episode_max_steps {
+            self.repair.episode_steps = 0;
+        } else if self.repair.episode_steps > self.cfg.repair_episode_max_steps {
             let reason = AbortReason::RepairDiverged {
-                steps: self.repair_episode_steps,
+                steps: self.repair.episode_steps,
             };
-            self.repair = None;
-            self.repair_episode_steps = 0;
+            self.repair.tree = None;
+            self.repair.episode_steps = 0;
             self.abort_with(reason.clone());
             return RepairOutcome::Failed(reason);
         }
         match outcome {
             Some(StepOutcome::Solved) => {
-                let Some(rep) = self.repair.take() else {
+                let Some(rep) = self.repair.tree.take() else {
                     return RepairOutcome::Idle;
                 };
                 let total = rep.search.steps();
@@ -170,6 +170,7 @@ impl Executive {
                 // The search's last dead end says why, before the search is dropped.
                 let dead_end = self
                     .repair
+                    .tree
                     .take()
                     .and_then(|rep| rep.search.last_rejection().map(str::to_string));
                 let flaws = self.plan.flaw_texts();
@@ -182,7 +183,7 @@ impl Executive {
                 RepairOutcome::Failed(reason)
             }
             _ => {
-                if let Some(p) = self.repair.as_mut().and_then(|r| r.labelled.take()) {
+                if let Some(p) = self.repair.tree.as_mut().and_then(|r| r.labelled.take()) {
                     self.plan.replace(p);
                 }
                 self.trace(TraceEvent::RepairStep {

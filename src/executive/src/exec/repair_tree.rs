@@ -42,3 +42,37 @@ impl From<NotExecutable> for AbortReason {
         }
     }
 }
+
+/// Plan repair between cycles: the tree in progress, whether a repair was asked for, and the steps of the
+/// episode (bounded by `repair_episode_max_steps`; an episode ends when a tree finishes or is dropped by a
+/// new plan).
+#[derive(Default)]
+pub struct RepairState {
+    pub(super) tree: Option<Repair>,
+    pub(super) requested: bool,
+    pub(super) episode_steps: u64,
+}
+
+impl RepairState {
+    /// Message integration asks for plan repair in the next cycle.
+    pub fn request(&mut self) {
+        self.requested = true;
+    }
+
+    /// The tree was rooted in a plan that is no more (a goal withdrawn): repair starts again from the plan.
+    pub fn restart(&mut self) {
+        self.tree = None;
+        self.requested = true;
+    }
+
+    /// No repair while the operator has the vehicle: the tree and the request are dropped.
+    pub fn hold(&mut self) {
+        self.tree = None;
+        self.requested = false;
+    }
+
+    /// A new plan from complete replanning: no tree, no request, a new episode.
+    pub fn reset(&mut self) {
+        *self = RepairState::default();
+    }
+}

@@ -526,9 +526,7 @@ impl Executive {
         self.plan.replace(plan);
         // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
         self.dispatched.forget_plan();
-        self.repair = None;
-        self.repair_episode_steps = 0;
-        self.repair_requested = false;
+        self.repair.reset();
         self.abort = None;
         self.hierarchy = super::abstraction::Hierarchy::new(self.plan.domain());
         self.check_reserves();

@@ -47,7 +47,7 @@ impl Executive {
                     CapacityOutcome::Abort => self.abort_with(AbortReason::CapacityAltered {
                         resource: c.resource.clone(),
                     }),
-                    CapacityOutcome::Repair => self.repair_requested = true,
+                    CapacityOutcome::Repair => self.repair.request(),
                     CapacityOutcome::Nothing => {}
                 }
             }
@@ -160,7 +160,7 @@ impl Executive {
             }
         }
         if u.repair {
-            self.repair_requested = true;
+            self.repair.request();
         }
     }
 

@@ -440,5 +440,5 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     if n > 0 {
         ex.trace(TraceEvent::LinksBroken { count: n });
     }
-    ex.repair_requested = true;
+    ex.repair.request();
 }
