@@ -23,7 +23,7 @@ use mavtempo::exec::p_t::classify;
 use mavtempo::exec::replan::ReplanResult;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
-use mavtempo::model::{Domain, Goal, GoalKind, Time, TimeInterval, Value};
+use mavtempo::model::{Domain, Goal, GoalOrigin, Time, TimeInterval, Value};
 use mavtempo::plan::{ActionId, PartialPlan};
 use mavtempo::planner::{Budget, Search, StepOutcome};
 use mavtempo::vehicle::mock::Outcome;
@@ -396,7 +396,7 @@ fn shopping_goal_driven_serves_the_shirt_request_proactively() {
             let d = ex.plan().domain().clone();
             let shirt = Goal {
                 name: "have_shirt".into(),
-                kind: GoalKind::External,
+                kind: GoalOrigin::External,
                 priority: 2,
                 attr: d.attr_id("HAVE").expect("HAVE"),
                 args: vec![p.object_id("shirt").expect("shirt")],

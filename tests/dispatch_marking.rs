@@ -7,7 +7,7 @@ use mavtempo::dispatch::{
     search_for_goal, ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey,
     MarkLevel, Marking, Node,
 };
-use mavtempo::model::GoalKind;
+use mavtempo::model::GoalOrigin;
 use proptest::prelude::*;
 
 #[derive(Clone, Debug)]
@@ -49,7 +49,7 @@ fn op() -> impl Strategy<Value = Op> {
 #[derive(Clone, Debug, Default)]
 struct Model {
     actions: BTreeSet<u32>,
-    goals: BTreeMap<u32, GoalKind>,
+    goals: BTreeMap<u32, GoalOrigin>,
     links: BTreeMap<u32, Link>,
 }
 
@@ -154,7 +154,7 @@ fn check(marking: &Marking, model: &Model) -> Result<(), TestCaseError> {
     let external: BTreeSet<u32> = model
         .goals
         .iter()
-        .filter(|(_, k)| **k == GoalKind::External)
+        .filter(|(_, k)| **k == GoalOrigin::External)
         .map(|(g, _)| *g)
         .collect();
     prop_assert_eq!(marked_goals, external);
@@ -195,7 +195,7 @@ proptest! {
                     .unwrap_or_default(),
                 Op::AddGoal(external) => {
                     next_goal += 1;
-                    let kind = if external { GoalKind::External } else { GoalKind::Internal };
+                    let kind = if external { GoalOrigin::External } else { GoalOrigin::Internal };
                     vec![Change::GoalAdded(GoalKey(next_goal), kind)]
                 }
                 Op::RemoveGoal(i) => nth(model.goals.keys().copied(), i)

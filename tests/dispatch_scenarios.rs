@@ -14,7 +14,7 @@ use mavtempo::dispatch::{
     ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey, Marking, Node, PolicyKind,
     StartWindow, SupportForm, Tick,
 };
-use mavtempo::model::GoalKind;
+use mavtempo::model::GoalOrigin;
 use mavtempo::stn::{Stn, Time, Timepoint, INF};
 
 const MIN: Time = 60_000;
@@ -90,7 +90,7 @@ impl Sim {
         i
     }
 
-    fn goal(&mut self, g: u32, kind: GoalKind) {
+    fn goal(&mut self, g: u32, kind: GoalOrigin) {
         self.change(Change::GoalAdded(GoalKey(g), kind));
     }
 
@@ -212,7 +212,7 @@ impl Sim {
 /// releases of action starts. Applied in that order, so the marking sees the changes a planner would send.
 struct Fragment {
     remove: &'static [usize],
-    goals: &'static [(u32, GoalKind)],
+    goals: &'static [(u32, GoalOrigin)],
     actions: &'static [(usize, &'static str, Time)],
     links: &'static [(Option<usize>, Node)],
     orders: &'static [(usize, usize)],
@@ -288,8 +288,8 @@ const GO_H_ANY: usize = 4;
 /// Go(grocery, home) changes: the threat is resolved by ordering.
 const SHOPPING: Fragment = Fragment {
     goals: &[
-        (HAVE_APPLE, GoalKind::External),
-        (AT_HOME, GoalKind::Internal),
+        (HAVE_APPLE, GoalOrigin::External),
+        (AT_HOME, GoalOrigin::Internal),
     ],
     actions: &[
         (GO_H_C, "Go(home, clothing)", 20 * MIN),
@@ -321,7 +321,7 @@ const GO_C_H: usize = 7;
 /// Go(grocery, clothing), Buy(shirt), Go(clothing, home).
 const SHIRT_REQUEST: Fragment = Fragment {
     remove: &[GO_G_H],
-    goals: &[(HAVE_SHIRT, GoalKind::External)],
+    goals: &[(HAVE_SHIRT, GoalOrigin::External)],
     actions: &[
         (GO_G_C, "Go(grocery, clothing)", 10 * MIN),
         (BUY_SHIRT, "Buy(shirt)", 10 * MIN),
@@ -432,8 +432,8 @@ const GO_V2_S: usize = 3;
 /// at the surface by 20:00 (internal).
 const VENTS: Fragment = Fragment {
     goals: &[
-        (SAMPLED, GoalKind::External),
-        (AT_SURFACE, GoalKind::Internal),
+        (SAMPLED, GoalOrigin::External),
+        (AT_SURFACE, GoalOrigin::Internal),
     ],
     actions: &[
         (GO_S_V1, "Go(surface, vent1)", 30 * MIN),

@@ -18,7 +18,7 @@ use mavtempo::exec::report_timing::Timing;
 use mavtempo::exec::resource_report::LevelVerdict;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
-use mavtempo::model::{Goal, GoalKind, Time, TimeInterval, Value};
+use mavtempo::model::{Goal, GoalOrigin, Time, TimeInterval, Value};
 use mavtempo::plan::{ActionId, PartialPlan};
 use mavtempo::vehicle::mock::{Outcome, Scripted};
 use mavtempo::vehicle::{CapacityChange, Enu, MockVehicle};
@@ -34,7 +34,7 @@ fn world(goal_loc: &str) -> PartialPlan {
     g.args = vec![p.object_id(goal_loc).expect("loc")];
     g.value = Value::Obj(mavtempo::model::Domain::TRUE);
     g.start_window = TimeInterval::closed(0, 30 * 60_000);
-    g.kind = GoalKind::External;
+    g.kind = GoalOrigin::External;
     p.goals = vec![g];
     PartialPlan::new(Arc::new(d), Arc::new(p)).expect("root plan")
 }

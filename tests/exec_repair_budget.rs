@@ -12,7 +12,9 @@ use mavtempo::exec::executive::Executive;
 use mavtempo::exec::trace::TraceEvent;
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::plan::PartialPlan;
-use mavtempo::vehicle::{ActionId, ActionStart, MockVehicle, Vehicle, VehicleError, VehicleEvent};
+use mavtempo::vehicle::{
+    ActionStart, MockVehicle, Vehicle, VehicleActionId, VehicleError, VehicleEvent,
+};
 
 /// A vehicle whose clock moves `tick_ms` each time it is read (mission time passes while planning).
 struct Ticking {
@@ -25,7 +27,7 @@ impl Vehicle for Ticking {
     fn start(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         self.inner.start(action)
     }
-    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError> {
         self.inner.stop(id)
     }
     fn try_event(&mut self) -> Option<VehicleEvent> {

@@ -10,12 +10,13 @@ use mavtempo::exec::executable::{
     action_executable, flawed_actions, goal_achievable, plan_executable, timepoint_executable,
 };
 use mavtempo::exec::goal_request::{request, Rejection};
+use mavtempo::exec::ledger::ResourceLedger;
 use mavtempo::exec::p_t::{classify, goals, remove_past, State};
 use mavtempo::exec::report_timing::{integrate, timing, Timing};
 use mavtempo::exec::resource_bounds::{fold_removed, level_bounds, LevelCase};
 use mavtempo::exec::resource_report::{integrate_level, LevelVerdict, EPS};
 use mavtempo::lang::load_problem_and_domain;
-use mavtempo::model::{Goal, GoalId, GoalKind, ObjectId, ResourceKind, TimeInterval, Value};
+use mavtempo::model::{Goal, GoalId, GoalOrigin, ObjectId, ResourceKind, TimeInterval, Value};
 use mavtempo::plan::{ActionId, EventId, PartialPlan, STerm};
 
 fn fig2() -> PartialPlan {
@@ -239,7 +240,7 @@ fn picture_goal(plan: &PartialPlan, name: &str, loc: &str, window_s: (i64, i64))
     let attr = plan.domain().attr_id("PICTURE").unwrap();
     Goal {
         name: name.into(),
-        kind: GoalKind::External,
+        kind: GoalOrigin::External,
         priority: 1,
         attr,
         args: vec![plan.problem().object_id(loc).unwrap()],
@@ -299,11 +300,15 @@ fn section_3_3_capacity_alteration_repair_or_abort() {
     picture(&mut plan, "p2");
     // Two future pictures (up to 2 slots) and the storage drops to 1: repair.
     let mut future = plan.clone();
-    assert_eq!(alter(&mut future, r, 1.0, 0, &[]), CapacityOutcome::Repair);
+    let mut ledger = ResourceLedger::new(plan.problem());
+    assert_eq!(
+        alter(&mut future, &mut ledger, r, 1.0, 0, &[]),
+        CapacityOutcome::Repair
+    );
     // The same drop while one of them runs: the conflict involves a running action, abort.
     plan.execute_at(plan.action(a).start, 0).unwrap();
     assert_eq!(
-        alter(&mut plan, r, 1.0, 1_000, &[a]),
+        alter(&mut plan, &mut ledger, r, 1.0, 1_000, &[a]),
         CapacityOutcome::Abort
     );
 }

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use mavtempo::lang;
 use mavtempo::model::{
-    Bound, Domain, Goal, GoalKind, NumConstraint, Object, ObjectId, Position, Preemption, Problem,
-    ResourceId, ResourceKind, Task, Term, TypeId, UsageKind, Value,
+    Bound, Domain, Goal, GoalOrigin, NumConstraint, Object, ObjectId, Position, Preemption,
+    Problem, ResourceId, ResourceKind, Task, Term, TypeId, UsageKind, Value,
 };
 
 fn root() -> PathBuf {
@@ -202,7 +202,7 @@ fn fig2_goals_follow_the_paper() {
     assert!(p
         .goals
         .iter()
-        .all(|g| g.kind == GoalKind::External && g.is_instantaneous()));
+        .all(|g| g.kind == GoalOrigin::External && g.is_instantaneous()));
     let t = Value::Obj(Domain::TRUE);
     assert!(p
         .goals
@@ -250,7 +250,7 @@ fn dala_targets_windows_and_return_home() {
         coords,
         vec![(0.0, 0.0), (8.0, -5.0), (9.0, 0.0), (10.0, -3.0)]
     );
-    let home = p.goals.iter().find(|g| g.kind == GoalKind::Internal);
+    let home = p.goals.iter().find(|g| g.kind == GoalOrigin::Internal);
     let home = home.unwrap_or_else(|| panic!("no internal goal"));
     assert_eq!(
         home.value,
@@ -295,10 +295,10 @@ fn auv_vents_travel_times_and_goal_kinds() {
     let ext = p
         .goals
         .iter()
-        .find(|g| g.kind == GoalKind::External)
+        .find(|g| g.kind == GoalOrigin::External)
         .map(|g| g.name.as_str());
     assert_eq!(ext, Some("sample_vent2"));
-    let int = p.goals.iter().find(|g| g.kind == GoalKind::Internal);
+    let int = p.goals.iter().find(|g| g.kind == GoalOrigin::Internal);
     // "at the surface by 20:00": st^g at 20:00, i.e. 12 h after the 08:00 origin.
     assert_eq!(
         int.map(|g| (g.start_window.min_ms(), g.start_window.max_ms())),
@@ -310,10 +310,10 @@ fn auv_vents_travel_times_and_goal_kinds() {
 fn shopping_day_and_a_goal_sent_at_run_time() {
     let (d, p) = load("shopping", "day");
     let apple = goal(&p, "have_apple");
-    assert_eq!(apple.kind, GoalKind::External);
+    assert_eq!(apple.kind, GoalOrigin::External);
     assert_eq!(apple.start_window.max_ms(), Some(4 * 3_600_000));
     let home = goal(&p, "at_home");
-    assert_eq!(home.kind, GoalKind::Internal);
+    assert_eq!(home.kind, GoalOrigin::Internal);
     // The 09:00 shirt request of Fig. 5, as a ground station would send it.
     let text = "goal have_shirt external priority 2 { hold(HAVE(shirt): true, (st, et)); st in [09:00, 20:00]; achieve 25min; }";
     let g = lang::parse_goal("<gcs>", text, &d, &p);

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use mavtempo::lang;
-use mavtempo::model::{Bound, Domain, Goal, GoalKind, Problem, TimeInterval, Value};
+use mavtempo::model::{Bound, Domain, Goal, GoalOrigin, Problem, TimeInterval, Value};
 use proptest::prelude::*;
 
 fn load(d: &str, p: &str) -> (Domain, Problem) {
@@ -95,7 +95,7 @@ proptest! {
         let achieve = lo * achieve_frac / 100;
         let g = Goal {
             name: "gx".into(),
-            kind: if internal { GoalKind::Internal } else { GoalKind::External },
+            kind: if internal { GoalOrigin::Internal } else { GoalOrigin::External },
             priority,
             attr: mavtempo::model::AttrId::from_index(attr),
             args,

@@ -15,7 +15,7 @@ use crate::dispatch::graph::{
 };
 use crate::dispatch::marking::Marking;
 use crate::dispatch::policy::{PolicyKind, StartWindow, SupportForm, Tick};
-use crate::model::GoalKind;
+use crate::model::GoalOrigin;
 
 /// Decisions are timed in batches of this many (one `Instant` read is as long as a marking lookup).
 const BATCH: usize = 16;
@@ -89,9 +89,9 @@ pub fn plan_like(n: usize, seed: u64) -> PlanLikeGraph {
         .collect();
     for g in 0..(n / 10).max(1) as u32 {
         let kind = if g % 2 == 0 {
-            GoalKind::External
+            GoalOrigin::External
         } else {
-            GoalKind::Internal
+            GoalOrigin::Internal
         };
         changes.push(Change::GoalAdded(GoalKey(g), kind));
         if let Some(&a) = candidates.choose(&mut rng) {

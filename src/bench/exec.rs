@@ -45,7 +45,7 @@ pub struct CycleFigures {
 
 /// Why a bench's plan or run could not be made.
 #[derive(Debug, thiserror::Error)]
-pub enum BenchError {
+pub enum ExecBenchError {
     /// The bench's shipped domain, problem or config does not load.
     #[error("{file}: {reason}")]
     Load { file: &'static str, reason: String },
@@ -70,9 +70,9 @@ pub enum BenchError {
     NoCycle,
 }
 
-impl BenchError {
+impl ExecBenchError {
     pub fn load(file: &'static str, reason: impl std::fmt::Display) -> Self {
-        BenchError::Load {
+        ExecBenchError::Load {
             file,
             reason: reason.to_string(),
         }
@@ -80,14 +80,18 @@ impl BenchError {
 }
 
 /// The chain plan of `n` steps (a solution: every condition supported, steps ordered).
-pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
-    let d = parse_domain("bench.ixt", DOMAIN).map_err(|e| BenchError::load("bench.ixt", e))?;
-    let p =
-        parse_problem("chain.ixt", PROBLEM, &d).map_err(|e| BenchError::load("chain.ixt", e))?;
-    let task = d.task_id("step").ok_or(BenchError::Missing("step task"))?;
+pub fn chain_plan(n: usize) -> Result<PartialPlan, ExecBenchError> {
+    let d = parse_domain("bench.ixt", DOMAIN).map_err(|e| ExecBenchError::load("bench.ixt", e))?;
+    let p = parse_problem("chain.ixt", PROBLEM, &d)
+        .map_err(|e| ExecBenchError::load("chain.ixt", e))?;
+    let task = d
+        .task_id("step")
+        .ok_or(ExecBenchError::Missing("step task"))?;
     let (a, b) = (
-        p.object_id("a").ok_or(BenchError::Missing("object a"))?,
-        p.object_id("b").ok_or(BenchError::Missing("object b"))?,
+        p.object_id("a")
+            .ok_or(ExecBenchError::Missing("object a"))?,
+        p.object_id("b")
+            .ok_or(ExecBenchError::Missing("object b"))?,
     );
     let mut plan = PartialPlan::new(Arc::new(d), Arc::new(p))?;
     let mut prev_event = *plan
@@ -97,7 +101,7 @@ pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
         .find(|(_, e)| e.owner == crate::plan::Owner::Initial)
         .map(|(i, _)| i)
         .as_ref()
-        .ok_or(BenchError::Missing("initial event"))?;
+        .ok_or(ExecBenchError::Missing("initial event"))?;
     let mut prev_end = None;
     for i in 0..n {
         let act = plan.insert_action(task)?;
@@ -113,19 +117,19 @@ pub fn chain_plan(n: usize) -> Result<PartialPlan, BenchError> {
         let cond = plan
             .event(ev)
             .cond
-            .ok_or(BenchError::Missing("condition of a step's event"))?;
+            .ok_or(ExecBenchError::Missing("condition of a step's event"))?;
         plan.add_link(crate::plan::EventId(prev_event as u32), cond)?;
         prev_event = ev.index();
         prev_end = Some(plan.action(act).end);
     }
     if !plan.flaws().is_empty() {
-        return Err(BenchError::Flawed);
+        return Err(ExecBenchError::Flawed);
     }
     Ok(plan)
 }
 
 /// Runs `cycles` cycles (every 500 ms of manual time) over the chain of `n` steps.
-pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, BenchError> {
+pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, ExecBenchError> {
     let plan = chain_plan(n)?;
     let cfg = ExecConfig {
         timestep_ms: 1_000,
@@ -146,13 +150,13 @@ pub fn run(n: usize, cycles: usize) -> Result<CycleFigures, BenchError> {
         match ex.cycle(&mut v, t) {
             CycleOutcome::Continue { .. } => {}
             CycleOutcome::Finished => break,
-            CycleOutcome::Aborted(r) => return Err(BenchError::Aborted(r)),
+            CycleOutcome::Aborted(r) => return Err(ExecBenchError::Aborted(r)),
         }
         t += 500;
     }
     let t = ex.cycles().times();
     if t.count == 0 {
-        return Err(BenchError::NoCycle);
+        return Err(ExecBenchError::NoCycle);
     }
     Ok(CycleFigures {
         actions: n,

@@ -28,7 +28,7 @@ pub struct PlanFigures {
 /// Why a benchmark could not run (a domain or problem file missing or invalid).
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
-pub struct BenchError(String);
+pub struct PlanBenchError(String);
 
 fn measure(
     name: &str,
@@ -76,12 +76,12 @@ pub fn run(
     domains: &Path,
     max_steps: u64,
     grids: &[usize],
-) -> Result<Vec<PlanFigures>, BenchError> {
-    let load_d = |name: &str| -> Result<Arc<Domain>, BenchError> {
+) -> Result<Vec<PlanFigures>, PlanBenchError> {
+    let load_d = |name: &str| -> Result<Arc<Domain>, PlanBenchError> {
         let path = domains.join(name).join(format!("{name}.ixt"));
         load_domain(&path)
             .map(Arc::new)
-            .map_err(|e| BenchError(e.to_string()))
+            .map_err(|e| PlanBenchError(e.to_string()))
     };
     let mut out = Vec::new();
     let rover = load_d("rover")?;
@@ -95,7 +95,7 @@ pub fn run(
             .join(dom)
             .join("problems")
             .join(format!("{prob}.ixt"));
-        let p = load_problem(&path, &d).map_err(|e| BenchError(e.to_string()))?;
+        let p = load_problem(&path, &d).map_err(|e| PlanBenchError(e.to_string()))?;
         out.push(measure(
             &format!("{dom}/{prob}"),
             &d,
@@ -106,7 +106,7 @@ pub fn run(
     for &n in grids {
         let text = crate::lang::generate::rover_grid_problem(n);
         let p = parse_problem(&format!("grid{n}"), &text, &rover)
-            .map_err(|e| BenchError(e.to_string()))?;
+            .map_err(|e| PlanBenchError(e.to_string()))?;
         out.push(measure(
             &format!("rover/grid{n}"),
             &rover,

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::exec::BenchError;
+use super::exec::ExecBenchError;
 use crate::exec::config::ExecConfig;
 use crate::exec::cycle::CycleOutcome;
 use crate::exec::executive::Executive;
@@ -51,17 +51,18 @@ pub const EVENTS: [&str; 4] = [
     "goal_request",
 ];
 
-fn plan() -> Result<PartialPlan, BenchError> {
-    let d =
-        Arc::new(parse_domain("rover.ixt", DOMAIN).map_err(|e| BenchError::load("rover.ixt", e))?);
+fn plan() -> Result<PartialPlan, ExecBenchError> {
+    let d = Arc::new(
+        parse_domain("rover.ixt", DOMAIN).map_err(|e| ExecBenchError::load("rover.ixt", e))?,
+    );
     let p = Arc::new(
         parse_problem("rover_two.ixt", PROBLEM, &d)
-            .map_err(|e| BenchError::load("rover_two.ixt", e))?,
+            .map_err(|e| ExecBenchError::load("rover_two.ixt", e))?,
     );
     let mut s = Search::new(PartialPlan::new(d, p)?);
     match s.run(Budget::steps(20_000)) {
         StepOutcome::Solved => Ok(s.into_plan()),
-        o => Err(BenchError::NotPlanned {
+        o => Err(ExecBenchError::NotPlanned {
             problem: "rover_two",
             outcome: format!("{o:?}"),
         }),
@@ -208,10 +209,10 @@ fn measure(
 }
 
 /// Repair and replanning figures on each event kind.
-pub fn run() -> Result<Vec<RepairFigures>, BenchError> {
+pub fn run() -> Result<Vec<RepairFigures>, ExecBenchError> {
     let plan = plan()?;
     let cfg = VehicleConfig::parse(CONFIG, "config/demo-rover.toml")
-        .map_err(|e| BenchError::load("config/demo-rover.toml", e))?;
+        .map_err(|e| ExecBenchError::load("config/demo-rover.toml", e))?;
     let mapping = resolve_mapping(
         &cfg.mapping,
         plan.domain(),
@@ -220,7 +221,7 @@ pub fn run() -> Result<Vec<RepairFigures>, BenchError> {
     )
     .map_err(|issues| {
         let lines: Vec<String> = issues.iter().map(|i| i.to_string()).collect();
-        BenchError::load("config/demo-rover.toml", lines.join("\n"))
+        ExecBenchError::load("config/demo-rover.toml", lines.join("\n"))
     })?;
     Ok(EVENTS
         .iter()

@@ -110,23 +110,23 @@ pub struct StnFigures {
 
 /// Why a benchmark could not run.
 #[derive(Debug, thiserror::Error)]
-pub enum BenchError {
+pub enum StnBenchError {
     #[error("generated network of {0} timepoints is inconsistent (generator bug)")]
     Inconsistent(usize),
 }
 
 /// Measures each size in `sizes` (timepoints); Floyd–Warshall only for sizes `<= fw_max`.
-pub fn run(sizes: &[usize], fw_max: usize) -> Result<Vec<StnFigures>, BenchError> {
+pub fn run(sizes: &[usize], fw_max: usize) -> Result<Vec<StnFigures>, StnBenchError> {
     sizes.iter().map(|&n| measure(n, fw_max)).collect()
 }
 
-fn measure(n: usize, fw_max: usize) -> Result<StnFigures, BenchError> {
+fn measure(n: usize, fw_max: usize) -> Result<StnFigures, StnBenchError> {
     let plan = plan_like(n, 42 + n as u64);
     let (mut stn, tp) = plan.timepoints();
     let start = Instant::now();
     for &(f, t, lb, ub) in &plan.constraints {
         stn.add_constraint(tp[f as usize], tp[t as usize], lb, ub)
-            .map_err(|_| BenchError::Inconsistent(n))?;
+            .map_err(|_| StnBenchError::Inconsistent(n))?;
     }
     let insert_mean_us = micros(start) / plan.constraints.len() as f64;
 
@@ -146,7 +146,7 @@ fn measure(n: usize, fw_max: usize) -> Result<StnFigures, BenchError> {
         let at = plan.schedule[i].clamp(stn.lb(t), stn.ub(t));
         let start = Instant::now();
         stn.execute(t, at)
-            .map_err(|_| BenchError::Inconsistent(n))?;
+            .map_err(|_| StnBenchError::Inconsistent(n))?;
         times.push(micros(start));
     }
     let execute_mean_us = times.iter().sum::<f64>() / times.len().max(1) as f64;

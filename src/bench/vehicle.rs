@@ -27,7 +27,7 @@ pub struct LinkBench {
 }
 
 #[derive(Debug, thiserror::Error)]
-pub enum BenchError {
+pub enum VehicleBenchError {
     #[error("{0}")]
     Io(#[from] std::io::Error),
     #[error("{0}")]
@@ -40,7 +40,10 @@ pub enum BenchError {
 
 const BENCH_CONFIG: &str = include_str!("../../tests/fixtures/vehicle/bindings.toml");
 
-pub fn run_link_bench(upload_runs: usize, telemetry_msgs: u64) -> Result<LinkBench, BenchError> {
+pub fn run_link_bench(
+    upload_runs: usize,
+    telemetry_msgs: u64,
+) -> Result<LinkBench, VehicleBenchError> {
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -57,7 +60,7 @@ pub fn run_link_bench(upload_runs: usize, telemetry_msgs: u64) -> Result<LinkBen
     })
 }
 
-async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
+async fn bench_upload(runs: usize) -> Result<f64, VehicleBenchError> {
     let home = crate::vehicle::geo::Home {
         lat: 43.56,
         lon: 1.48,
@@ -66,7 +69,7 @@ async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
     let server = GoalServer::syntactic("tcpin:127.0.0.1:0", home).await?;
     let addr = server
         .local_addr
-        .ok_or_else(|| BenchError::Protocol("no local address".into()))?;
+        .ok_or_else(|| VehicleBenchError::Protocol("no local address".into()))?;
     let mut transport = Transport::bind(Address::TcpOut(addr.to_string())).await?;
     let mut ep = transport.open().await?;
     let items: Vec<MissionItem> = (0..100)
@@ -93,9 +96,9 @@ async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
             }
             let n = tokio::time::timeout(Duration::from_secs(5), ep.recv(&mut buf))
                 .await
-                .map_err(|_| BenchError::Protocol("upload stalled".into()))??;
+                .map_err(|_| VehicleBenchError::Protocol("upload stalled".into()))??;
             if n == 0 {
-                return Err(BenchError::Protocol("server closed".into()));
+                return Err(VehicleBenchError::Protocol("server closed".into()));
             }
             dec.push(&buf[..n]);
             while let Some(f) = dec.next_frame() {
@@ -106,7 +109,9 @@ async fn bench_upload(runs: usize) -> Result<f64, BenchError> {
                     match outcome {
                         MissionOutcome::Uploaded => break 'run,
                         other => {
-                            return Err(BenchError::Protocol(format!("upload failed: {other:?}")))
+                            return Err(VehicleBenchError::Protocol(format!(
+                                "upload failed: {other:?}"
+                            )))
                         }
                     }
                 }
@@ -149,13 +154,13 @@ fn telemetry_stream(n: u64) -> Vec<u8> {
     bytes
 }
 
-async fn bench_telemetry(n: u64) -> Result<f64, BenchError> {
+async fn bench_telemetry(n: u64) -> Result<f64, VehicleBenchError> {
     let mut cfg = VehicleConfig::parse(BENCH_CONFIG, "tests/fixtures/vehicle/bindings.toml")?;
     cfg.link.address = "tcpin:127.0.0.1:0".into();
     let vehicle = MavlinkVehicle::connect(cfg, LinkOptions::default()).await?;
     let addr = vehicle
         .local_addr()
-        .ok_or_else(|| BenchError::Protocol("no local address".into()))?;
+        .ok_or_else(|| VehicleBenchError::Protocol("no local address".into()))?;
     let stream = telemetry_stream(n);
     let mut sock = tokio::net::TcpStream::connect(addr).await?;
     let t0 = Instant::now();
@@ -166,7 +171,7 @@ async fn bench_telemetry(n: u64) -> Result<f64, BenchError> {
     let deadline = t0 + Duration::from_secs(60);
     while vehicle.stats().frames_in.load(Ordering::Relaxed) < n {
         if Instant::now() > deadline {
-            return Err(BenchError::Protocol(
+            return Err(VehicleBenchError::Protocol(
                 "telemetry not all processed within 60 s".into(),
             ));
         }
@@ -175,7 +180,7 @@ async fn bench_telemetry(n: u64) -> Result<f64, BenchError> {
     let elapsed = t0.elapsed().as_secs_f64();
     let (_sock, r) = writer
         .await
-        .map_err(|e| BenchError::Protocol(e.to_string()))?;
+        .map_err(|e| VehicleBenchError::Protocol(e.to_string()))?;
     r?;
     Ok(n as f64 / elapsed)
 }

@@ -177,7 +177,7 @@ fn text(sol: &Solution, p: &crate::model::Problem) -> String {
     out
 }
 
-fn action_name(sol: &Solution, a: crate::plan::solution::ActionId) -> String {
+fn action_name(sol: &Solution, a: crate::plan::solution::PlanActionId) -> String {
     sol.action(a)
         .map_or("?".into(), |x| format!("{}:{}", x.name, x.task_name))
 }

@@ -15,7 +15,7 @@ use crate::exec::mission::Pacer;
 use crate::model::Time;
 use crate::vehicle::mock::{Outcome, Scripted};
 use crate::vehicle::{
-    ActionId, ActionStart, Enu, GoalRequest, MockVehicle, ReportStatus, StateValue, Vehicle,
+    ActionStart, Enu, GoalRequest, MockVehicle, ReportStatus, StateValue, Vehicle, VehicleActionId,
     VehicleError, VehicleEvent,
 };
 
@@ -58,7 +58,7 @@ pub struct KinematicVehicle {
     mock: MockVehicle,
     rng: ChaCha8Rng,
     times: HashMap<String, TaskTime>,
-    running: BTreeMap<ActionId, Running>,
+    running: BTreeMap<VehicleActionId, Running>,
     goals: BTreeMap<u64, Vec<GoalRequest>>,
     pub log: Vec<Done>,
     /// Whether a stopped walk reports where it stopped (a vehicle without a position sensor does not).
@@ -114,7 +114,7 @@ impl KinematicVehicle {
 
     /// Logs the actions whose nominal reports the mock has just made ready.
     fn log_finished(&mut self) {
-        let done: Vec<ActionId> = self
+        let done: Vec<VehicleActionId> = self
             .mock
             .ready()
             .filter_map(|e| match e {
@@ -129,7 +129,7 @@ impl KinematicVehicle {
     }
 
     /// Logs an action's end (nominal, or stopped now); a stopped travel's state is where it stopped.
-    fn finish(&mut self, id: ActionId, status: ReportStatus) -> Vec<(String, StateValue)> {
+    fn finish(&mut self, id: VehicleActionId, status: ReportStatus) -> Vec<(String, StateValue)> {
         let Some(r) = self.running.remove(&id) else {
             return Vec::new();
         };
@@ -211,7 +211,7 @@ impl Vehicle for KinematicVehicle {
         self.mock.start_with(a, Outcome::nominal(duration))
     }
 
-    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError> {
         if !self.running.contains_key(&id) {
             return Err(VehicleError::NotRunning(id));
         }

@@ -3,8 +3,8 @@
 
 use mavtempo::model::{Domain, GoalId, Problem, Term, Time, Value};
 use mavtempo::plan::solution::{
-    ActionId, CausalLink, Consumer, Establisher, NumBounds, PlanAction, PlanConstraint, PlanGoal,
-    PlanTerm, PlanTp, PlanVar, PlanVarId, Solution, Timepoint,
+    CausalLink, Consumer, Establisher, NumBounds, PlanAction, PlanActionId, PlanConstraint,
+    PlanGoal, PlanTerm, PlanTp, PlanVar, PlanVarId, Solution, Timepoint,
 };
 
 pub struct Builder<'a> {
@@ -72,10 +72,10 @@ impl<'a> Builder<'a> {
 
     /// An action of task `task`; `args` bind the first symbolic variables by object name, the rest become
     /// plan variables over every object of their type. Adds the task's temporal constraints.
-    pub fn action(&mut self, task: &str, args: &[&str]) -> ActionId {
+    pub fn action(&mut self, task: &str, args: &[&str]) -> PlanActionId {
         let tid = self.d.task_id(task).expect("test task");
         let t = self.d.task(tid);
-        let id = ActionId(self.s.actions.len() as u32 + 1);
+        let id = PlanActionId(self.s.actions.len() as u32 + 1);
         let name = format!("a{}", id.0);
         let mut plan_args = Vec::new();
         for (i, v) in t.sym_vars.iter().enumerate() {
@@ -115,21 +115,21 @@ impl<'a> Builder<'a> {
         id
     }
 
-    pub fn act(&self, id: ActionId) -> &PlanAction {
+    pub fn act(&self, id: PlanActionId) -> &PlanAction {
         self.s.action(id).expect("test action")
     }
 
-    pub fn st(&self, id: ActionId) -> PlanTp {
+    pub fn st(&self, id: PlanActionId) -> PlanTp {
         let a = self.act(id);
         a.timepoints[self.d.task(a.task).start.index()]
     }
 
-    pub fn et(&self, id: ActionId) -> PlanTp {
+    pub fn et(&self, id: PlanActionId) -> PlanTp {
         let a = self.act(id);
         a.timepoints[self.d.task(a.task).end.index()]
     }
 
-    fn term(&self, id: ActionId, t: Term) -> PlanTerm {
+    fn term(&self, id: PlanActionId, t: Term) -> PlanTerm {
         match t {
             Term::Obj(o) => PlanTerm::Obj(o),
             Term::Unknown => PlanTerm::Unknown,
@@ -196,7 +196,13 @@ impl<'a> Builder<'a> {
     }
 
     /// A causal link from event `event` of `from` to hold `hold` of `to`.
-    pub fn event_to_hold(&mut self, from: ActionId, event: usize, to: ActionId, hold: usize) {
+    pub fn event_to_hold(
+        &mut self,
+        from: PlanActionId,
+        event: usize,
+        to: PlanActionId,
+        hold: usize,
+    ) {
         self.link(
             Establisher::Event {
                 action: from,
@@ -207,7 +213,13 @@ impl<'a> Builder<'a> {
     }
 
     /// Places goal `name` after `after` (as [`Builder::goal`]), supported by event `event` of `action`.
-    pub fn achieve(&mut self, name: &str, after: PlanTp, action: ActionId, event: usize) -> GoalId {
+    pub fn achieve(
+        &mut self,
+        name: &str,
+        after: PlanTp,
+        action: PlanActionId,
+        event: usize,
+    ) -> GoalId {
         let goal = self.goal(name, after);
         self.link(
             Establisher::Event { action, event },

@@ -2,12 +2,12 @@
 //! pictures (unary camera, a storage of 2 free slots); `calibrate` also borrows the camera.
 
 use mavtempo::model::{
-    Binding, Domain, Event, Fact, Goal, GoalKind, Hold, LogicalAttr, NumConstraint, NumInterval,
+    Binding, Domain, Event, Fact, Goal, GoalOrigin, Hold, LogicalAttr, NumConstraint, NumInterval,
     NumTerm, NumVar, NumVarId, Object, Position, Preemption, Problem, ResourceAttr, ResourceKind,
     ResourceUsage, SymVar, SymVarId, Task, TemporalConstraint, Term, TimeInterval, TpId, TypeKind,
     UsageKind, Value,
 };
-use mavtempo::plan::solution::{ActionId, Consumer, Establisher, PlanTp, Solution};
+use mavtempo::plan::solution::{Consumer, Establisher, PlanActionId, PlanTp, Solution};
 
 use super::builder::Builder;
 
@@ -231,7 +231,7 @@ pub fn problem(d: &Domain, deadline: i64) -> Problem {
     }
     p.goals.push(Goal {
         name: "g1".into(),
-        kind: GoalKind::External,
+        kind: GoalOrigin::External,
         priority: 1,
         attr: seen,
         args: vec![p.object_id("b").expect("b")],
@@ -252,7 +252,7 @@ pub enum Step {
 
 /// The minimal duration of a move at top speed `vmax`, rounded up to the millisecond (what a planner's
 /// numeric propagation adds to the network).
-pub fn move_window(b: &mut Builder, id: ActionId, from: &str, to: &str, vmin: f64, vmax: f64) {
+pub fn move_window(b: &mut Builder, id: PlanActionId, from: &str, to: &str, vmin: f64, vmax: f64) {
     let (p, q) = (
         b.p.object_id(from).expect("from"),
         b.p.object_id(to).expect("to"),
@@ -266,7 +266,7 @@ pub fn move_window(b: &mut Builder, id: ActionId, from: &str, to: &str, vmin: f6
 
 /// Appends action `id` to a sequential plan: it starts after `prev`, and `at` (what last set the robot's
 /// place) supports its use of that place, `robot_at`.
-fn append(b: &mut Builder, prev: PlanTp, at: Establisher, id: ActionId, robot_at: Consumer) {
+fn append(b: &mut Builder, prev: PlanTp, at: Establisher, id: PlanActionId, robot_at: Consumer) {
     let st = b.st(id);
     b.before(prev, st);
     b.link(at, robot_at);

@@ -11,7 +11,7 @@ use super::flight::{Flight, FlightEnd};
 use super::items::MissionItem;
 use super::mission_client::{MissionClient, MissionOutcome};
 use super::telemetry::Telemetry;
-use super::types::{ActionId, ActionStart, Enu, ReportStatus, StateValue};
+use super::types::{ActionStart, Enu, ReportStatus, StateValue, VehicleActionId};
 use geodesy::deg_to_e7;
 
 /// What an action run needs from the driver.
@@ -30,11 +30,11 @@ pub struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    pub(crate) fn command(&mut self, id: ActionId, cmd: Command) {
+    pub(crate) fn command(&mut self, id: VehicleActionId, cmd: Command) {
         self.cmds.send(id, cmd, self.now, self.out);
     }
 
-    pub(crate) fn set_mode(&mut self, id: ActionId, mode: Mode) {
+    pub(crate) fn set_mode(&mut self, id: VehicleActionId, mode: Mode) {
         let (p2, p3) = mode.set_mode_params();
         // p1 = MAV_MODE_FLAG_CUSTOM_MODE_ENABLED.
         let cmd = Command::long(
@@ -45,7 +45,7 @@ impl Ctx<'_> {
         self.command(id, cmd);
     }
 
-    pub(crate) fn arm(&mut self, id: ActionId) {
+    pub(crate) fn arm(&mut self, id: VehicleActionId) {
         let cmd = Command::long(
             MavCmd::MAV_CMD_COMPONENT_ARM_DISARM,
             self.target,
@@ -111,7 +111,7 @@ enum Phase {
 /// One running action instance.
 #[derive(Debug)]
 pub struct Run {
-    pub id: ActionId,
+    pub id: VehicleActionId,
     pub task: String,
     binding: Binding,
     phase: Phase,
@@ -926,7 +926,7 @@ impl Run {
 
 /// ArduPilot: a motion's ground speed by DO_CHANGE_SPEED (speed type 1), once the destination is set
 /// (nothing on PX4, which takes the speed with the destination, or for the autopilot's own speed).
-pub(crate) fn change_speed(ctx: &mut Ctx, id: ActionId, speed_m_s: f64) {
+pub(crate) fn change_speed(ctx: &mut Ctx, id: VehicleActionId, speed_m_s: f64) {
     if ctx.cfg.autopilot == Autopilot::Ardupilot && speed_m_s > 0.0 {
         let cmd = Command::long(
             MavCmd::MAV_CMD_DO_CHANGE_SPEED,
@@ -938,7 +938,7 @@ pub(crate) fn change_speed(ctx: &mut Ctx, id: ActionId, speed_m_s: f64) {
 }
 
 /// The downlink's start: its command with p1 = 1.
-fn start_download(ctx: &mut Ctx, id: ActionId, command: u16) -> Result<(), StartError> {
+fn start_download(ctx: &mut Ctx, id: VehicleActionId, command: u16) -> Result<(), StartError> {
     let Some(cmd) = num_traits::FromPrimitive::from_u16(command) else {
         return Err(StartError::UnknownCommand(command));
     };

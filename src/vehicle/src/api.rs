@@ -4,7 +4,7 @@ use std::time::Duration;
 
 use super::goals::{GoalBatch, GoalCancel};
 use super::types::{
-    ActionId, ActionReport, ActionStart, CapacityChange, LinkStatus, ResourceLevel,
+    ActionReport, ActionStart, CapacityChange, LinkStatus, ResourceLevel, VehicleActionId,
 };
 
 /// Why a command to the vehicle could not even be issued (its outcome comes later, as a report).
@@ -13,9 +13,9 @@ pub enum VehicleError {
     #[error("no binding for task `{0}` in the vehicle configuration")]
     UnknownTask(String),
     #[error("action {0} is already running")]
-    AlreadyRunning(ActionId),
+    AlreadyRunning(VehicleActionId),
     #[error("action {0} is not running")]
-    NotRunning(ActionId),
+    NotRunning(VehicleActionId),
     #[error("task `{task}`: {reason}")]
     BadArguments { task: String, reason: String },
     #[error("vehicle link closed")]
@@ -37,7 +37,7 @@ pub trait Vehicle {
     }
     /// `END i_a`: stop an action (preemptive ones at their end; any running one when execution is aborted);
     /// an `Interrupted` report follows.
-    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError>;
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError>;
     /// The next pending event, without waiting.
     fn try_event(&mut self) -> Option<VehicleEvent>;
     /// The next event, waiting at most `timeout` (a mock never waits: it has a manual clock).

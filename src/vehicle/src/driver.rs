@@ -21,7 +21,7 @@ use super::mission_client::MissionClient;
 use super::readiness::{Readiness, ReadyAction, Seen};
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome};
 use super::telemetry::Telemetry;
-use super::types::{ActionId, ActionReport, ActionStart, LinkStatus};
+use super::types::{ActionReport, ActionStart, LinkStatus, VehicleActionId};
 
 /// The context of an action run: borrows the driver's parts beside `runs` (a macro, as a method would
 /// borrow all of `self`).
@@ -65,7 +65,7 @@ pub struct Driver {
     tel: Telemetry,
     cmds: CommandClient,
     mission: MissionClient,
-    runs: BTreeMap<ActionId, Run>,
+    runs: BTreeMap<VehicleActionId, Run>,
     out: Vec<MavMessage>,
     events: Vec<VehicleEvent>,
     link: Link,
@@ -135,7 +135,7 @@ impl Driver {
         self.target
     }
 
-    pub fn running(&self) -> impl Iterator<Item = &ActionId> {
+    pub fn running(&self) -> impl Iterator<Item = &VehicleActionId> {
         self.runs.keys()
     }
 
@@ -182,7 +182,7 @@ impl Driver {
     fn authority_changed(&mut self, change: Change, now: u64) {
         match change {
             Change::Paused { why } => {
-                let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+                let ids: Vec<VehicleActionId> = self.runs.keys().copied().collect();
                 for id in ids {
                     let why = why.clone();
                     self.with_run(id, now, |run, ctx| Some(run.yield_control(ctx, &why)));
@@ -263,7 +263,7 @@ impl Driver {
 
     /// `END` to every running motion (HOLD is commanded): a pause asked by the operator.
     fn stop_all_motion(&mut self, now: u64) {
-        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        let ids: Vec<VehicleActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| Some(run.stop(ctx)));
         }
@@ -298,7 +298,7 @@ impl Driver {
         std::mem::take(&mut self.events)
     }
 
-    fn report(&mut self, id: ActionId, end: End) {
+    fn report(&mut self, id: VehicleActionId, end: End) {
         self.cmds.cancel(id);
         let run = self.runs.remove(&id);
         tracing::info!(id, task = run.as_ref().map(|r| r.task.as_str()), status = %end.status, reason = ?end.reason, "action report");
@@ -315,7 +315,7 @@ impl Driver {
     /// Runs `f` on one run with a context; a returned end becomes its report.
     fn with_run(
         &mut self,
-        id: ActionId,
+        id: VehicleActionId,
         now: u64,
         f: impl FnOnce(&mut Run, &mut Ctx) -> Option<End>,
     ) {
@@ -367,7 +367,7 @@ impl Driver {
     }
 
     /// `END i_a`.
-    pub fn stop(&mut self, id: ActionId, now: u64) -> Result<(), VehicleError> {
+    pub fn stop(&mut self, id: VehicleActionId, now: u64) -> Result<(), VehicleError> {
         if !self.runs.contains_key(&id) {
             return Err(VehicleError::NotRunning(id));
         }
@@ -392,7 +392,7 @@ impl Driver {
             return;
         };
         let mut stopped = Vec::new();
-        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        let ids: Vec<VehicleActionId> = self.runs.keys().copied().collect();
         for id in ids {
             if let Some(run) = self.runs.get(&id) {
                 stopped.push(run.task.clone());
@@ -655,7 +655,7 @@ impl Driver {
             self.mission_outcome(token, outcome, now);
         }
         self.authority_tick(now);
-        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        let ids: Vec<VehicleActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_message(ctx, msg));
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
@@ -672,7 +672,7 @@ impl Driver {
             "autopilot restarted: resuming the running actions"
         );
         self.events.push(VehicleEvent::Link(LinkStatus::Restarted));
-        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        let ids: Vec<VehicleActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.resume(ctx));
         }
@@ -722,7 +722,7 @@ impl Driver {
         self.expire_commands(now);
         self.expire_mission(now);
         self.authority_tick(now);
-        let ids: Vec<ActionId> = self.runs.keys().copied().collect();
+        let ids: Vec<VehicleActionId> = self.runs.keys().copied().collect();
         for id in ids {
             self.with_run(id, now, |run, ctx| run.on_tick(ctx));
         }

@@ -26,7 +26,7 @@ use super::readiness::ReadyReport;
 use super::safe_stop::{OnShutdown, SafeStop, SafeStopOutcome, SafeStopReport};
 use super::status::{link_state, StatusProbe, VehicleStatus};
 use super::tlog::TlogWriter;
-use super::types::{ActionId, ActionStart};
+use super::types::{ActionStart, VehicleActionId};
 
 #[derive(Debug, thiserror::Error)]
 pub enum LinkError {
@@ -858,7 +858,7 @@ impl Vehicle for MavlinkVehicle {
         self.drive(|d, now| d.start_still(action, now))
     }
 
-    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError> {
         self.drive(|d, now| d.stop(id, now))
     }
 

@@ -8,8 +8,8 @@ use std::time::Duration;
 use super::api::{Vehicle, VehicleError, VehicleEvent};
 use super::goals::GoalBatch;
 use super::types::{
-    ActionId, ActionReport, ActionStart, CapacityChange, GoalRequest, LinkStatus, ReportStatus,
-    ResourceLevel, StateValue,
+    ActionReport, ActionStart, CapacityChange, GoalRequest, LinkStatus, ReportStatus,
+    ResourceLevel, StateValue, VehicleActionId,
 };
 
 /// How a started action of a task ends.
@@ -69,7 +69,7 @@ pub enum Scripted {
 
 #[derive(Debug)]
 enum Due {
-    Report(ActionId),
+    Report(VehicleActionId),
     Event(Scripted),
 }
 
@@ -81,7 +81,7 @@ pub struct MockVehicle {
     outcomes: HashMap<String, VecDeque<Outcome>>,
     /// State values reported when an action of the task is stopped (e.g. the reached position).
     on_stop: HashMap<String, Vec<(String, StateValue)>>,
-    running: BTreeMap<ActionId, (String, Outcome)>,
+    running: BTreeMap<VehicleActionId, (String, Outcome)>,
     /// How long a stopped action takes to report (an autopilot that takes time to stop), ms.
     stop_delay_ms: u64,
     due: BTreeMap<(u64, u64), Due>,
@@ -92,7 +92,7 @@ pub struct MockVehicle {
     /// Every START and END received, for assertions.
     pub log: Vec<String>,
     /// The actions started to end still ([`Vehicle::start_still`]).
-    pub still_starts: Vec<ActionId>,
+    pub still_starts: Vec<VehicleActionId>,
 }
 
 impl MockVehicle {
@@ -184,7 +184,7 @@ impl MockVehicle {
         self.advance_to(self.now_ms + ms);
     }
 
-    pub fn is_running(&self, id: ActionId) -> bool {
+    pub fn is_running(&self, id: VehicleActionId) -> bool {
         self.running.contains_key(&id)
     }
 
@@ -219,7 +219,7 @@ impl MockVehicle {
     /// Stops an action now; its report carries `state` (e.g. where a stopped motion is).
     pub fn stop_with(
         &mut self,
-        id: ActionId,
+        id: VehicleActionId,
         state: Vec<(String, StateValue)>,
     ) -> Result<(), VehicleError> {
         self.running
@@ -240,7 +240,7 @@ impl MockVehicle {
 
     fn make_report(
         &mut self,
-        id: ActionId,
+        id: VehicleActionId,
         t: u64,
         status: ReportStatus,
         state: Vec<(String, StateValue)>,
@@ -297,7 +297,7 @@ impl Vehicle for MockVehicle {
         self.start_with(action, outcome)
     }
 
-    fn stop(&mut self, id: ActionId) -> Result<(), VehicleError> {
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError> {
         let (task, _) = self.running.get(&id).ok_or(VehicleError::NotRunning(id))?;
         let state = self.on_stop.get(task).cloned().unwrap_or_default();
         if self.stop_delay_ms == 0 {

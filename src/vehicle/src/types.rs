@@ -5,8 +5,8 @@
 
 use std::fmt;
 
-/// `i_a`: the identifier of an action instance, chosen by the executive.
-pub type ActionId = u64;
+/// `i_a` (seed 1 §3.5): the identifier the vehicle knows an action instance by, chosen by the executive.
+pub type VehicleActionId = u64;
 
 /// A point in the local East-North-Up frame of the problem's home, in metres.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
@@ -72,7 +72,7 @@ impl Arg {
 /// `START a p_a i_a`: the task name `a` (as in the domain), its parameters by name, and `i_a`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ActionStart {
-    pub id: ActionId,
+    pub id: VehicleActionId,
     pub task: String,
     pub args: Vec<(String, Arg)>,
 }
@@ -120,7 +120,7 @@ pub enum StateValue {
 /// The report sent upon an action's completion.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ActionReport {
-    pub id: ActionId,
+    pub id: VehicleActionId,
     pub status: ReportStatus,
     /// Vehicle time of the completion, in ms.
     pub time_ms: u64,

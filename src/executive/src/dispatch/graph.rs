@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use serde::Serialize;
 use thiserror::Error;
 
-use mavtempo_temporal::model::GoalKind;
+use mavtempo_temporal::model::GoalOrigin;
 
 macro_rules! key {
     ($(#[$doc:meta])* $name:ident) => {
@@ -62,7 +62,7 @@ pub enum Change {
     ActionAdded(ActionKey),
     /// Also removes the links still attached to the action (Europa's deactivate splits merged tokens).
     ActionRemoved(ActionKey),
-    GoalAdded(GoalKey, GoalKind),
+    GoalAdded(GoalKey, GoalOrigin),
     /// Also removes the links still supporting the goal.
     GoalRemoved(GoalKey),
     LinkAdded(LinkKey, Link),
@@ -96,7 +96,7 @@ pub trait CausalView {
     /// initial state is left out).
     fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionKey));
     /// The kind of goal `g`, `None` if it is not in the plan.
-    fn goal_kind(&self, g: GoalKey) -> Option<GoalKind>;
+    fn goal_kind(&self, g: GoalKey) -> Option<GoalOrigin>;
 }
 
 #[derive(Clone, Debug, Default)]
@@ -111,7 +111,7 @@ struct Adjacent {
 #[derive(Clone, Debug, Default)]
 pub struct CausalGraph {
     actions: HashMap<ActionKey, Adjacent>,
-    goals: HashMap<GoalKey, (GoalKind, Adjacent)>,
+    goals: HashMap<GoalKey, (GoalOrigin, Adjacent)>,
     links: HashMap<LinkKey, Link>,
 }
 
@@ -128,7 +128,7 @@ impl CausalGraph {
         self.actions.keys().copied()
     }
 
-    pub fn goals(&self) -> impl Iterator<Item = (GoalKey, GoalKind)> + '_ {
+    pub fn goals(&self) -> impl Iterator<Item = (GoalKey, GoalOrigin)> + '_ {
         self.goals.iter().map(|(g, (k, _))| (*g, *k))
     }
 
@@ -269,7 +269,7 @@ impl CausalView for CausalGraph {
         }
     }
 
-    fn goal_kind(&self, g: GoalKey) -> Option<GoalKind> {
+    fn goal_kind(&self, g: GoalKey) -> Option<GoalOrigin> {
         self.goals.get(&g).map(|(k, _)| *k)
     }
 }
@@ -277,7 +277,7 @@ impl CausalView for CausalGraph {
 /// The changes that build a test plan: actions `0..actions`, goal `i` of kind `goals[i]`, then link `k`
 /// from action `links[k].0` to `links[k].1`.
 #[cfg(test)]
-pub(crate) fn test_plan(actions: u32, goals: &[GoalKind], links: &[(u32, Node)]) -> Vec<Change> {
+pub(crate) fn test_plan(actions: u32, goals: &[GoalOrigin], links: &[(u32, Node)]) -> Vec<Change> {
     let actions = (0..actions).map(|a| Change::ActionAdded(ActionKey(a)));
     let goals = (0..)
         .zip(goals)

@@ -33,7 +33,7 @@ use super::graph::{
     ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, Node,
 };
 use super::search::GoalSearch;
-use mavtempo_temporal::model::GoalKind;
+use mavtempo_temporal::model::GoalOrigin;
 
 #[derive(Clone, Debug)]
 enum Undo {
@@ -161,8 +161,8 @@ impl Marking {
     }
 
     /// Algorithm 3.
-    fn notify_added(&mut self, g: GoalKey, kind: GoalKind) {
-        if kind == GoalKind::External {
+    fn notify_added(&mut self, g: GoalKey, kind: GoalOrigin) {
+        if kind == GoalOrigin::External {
             self.mark(Node::Goal(g));
         }
     }
@@ -294,7 +294,7 @@ mod tests {
             (2, Node::Goal(GoalKey(0))),
             (1, Node::Goal(GoalKey(1))),
         ];
-        for c in test_plan(3, &[GoalKind::External, GoalKind::External], &links) {
+        for c in test_plan(3, &[GoalOrigin::External, GoalOrigin::External], &links) {
             m.apply(&c).unwrap();
         }
         m

@@ -18,7 +18,7 @@ use super::graph::{
     ActionKey, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
 };
 use super::marking::Marking;
-use mavtempo_temporal::model::{GoalId, GoalKind};
+use mavtempo_temporal::model::{GoalId, GoalOrigin};
 use mavtempo_temporal::plan::{
     ActionId, ChangeCursor, LinkEnds, LinkId, Owner, PartialPlan, PlanChange,
 };
@@ -96,7 +96,7 @@ impl CausalView for PlanView<'_> {
         }
     }
 
-    fn goal_kind(&self, g: GoalKey) -> Option<GoalKind> {
+    fn goal_kind(&self, g: GoalKey) -> Option<GoalOrigin> {
         let plan = self.0;
         plan.goals()
             .iter()
@@ -199,7 +199,7 @@ impl PlanMarking {
                     .problem()
                     .goals
                     .get(g.index())
-                    .map_or(GoalKind::Internal, |goal| goal.kind);
+                    .map_or(GoalOrigin::Internal, |goal| goal.kind);
                 self.marking.apply(&Change::GoalAdded(k, kind))?;
                 self.attach(Node::Goal(k))
             }

@@ -12,7 +12,7 @@
 use std::collections::{HashSet, VecDeque};
 
 use super::graph::{ActionKey, CausalView, Node};
-use mavtempo_temporal::model::GoalKind;
+use mavtempo_temporal::model::GoalOrigin;
 
 /// Algorithm 2 with reusable scratch space (one per dispatcher, so a decision allocates nothing once warm).
 #[derive(Clone, Debug, Default)]
@@ -36,7 +36,7 @@ impl GoalSearch {
             let mut found = false;
             let (visited, queue) = (&mut self.visited, &mut self.queue);
             view.for_each_supported(x, &mut |n| match n {
-                Node::Goal(g) => found |= view.goal_kind(g) == Some(GoalKind::External),
+                Node::Goal(g) => found |= view.goal_kind(g) == Some(GoalOrigin::External),
                 Node::Action(b) => {
                     if visited.insert(b) {
                         queue.push_back(b);
@@ -60,9 +60,9 @@ pub fn search_for_goal(view: &dyn CausalView, a: ActionKey) -> bool {
 mod tests {
     use super::*;
     use crate::dispatch::graph::{test_plan, CausalGraph, GoalKey};
-    use mavtempo_temporal::model::GoalKind;
+    use mavtempo_temporal::model::GoalOrigin;
 
-    fn graph(actions: u32, goals: &[GoalKind], links: &[(u32, Node)]) -> CausalGraph {
+    fn graph(actions: u32, goals: &[GoalOrigin], links: &[(u32, Node)]) -> CausalGraph {
         let mut g = CausalGraph::new();
         for c in test_plan(actions, goals, links) {
             g.apply(&c).unwrap();
@@ -75,7 +75,7 @@ mod tests {
     fn every_effect_is_followed_not_only_the_first() {
         let g = graph(
             3,
-            &[GoalKind::Internal, GoalKind::External],
+            &[GoalOrigin::Internal, GoalOrigin::External],
             &[
                 (0, Node::Action(ActionKey(1))),
                 (1, Node::Goal(GoalKey(0))),

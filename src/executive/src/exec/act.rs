@@ -10,7 +10,7 @@
 //! passes unexecuted.
 
 use super::dispatch_policy::Candidate;
-use super::executable::{action_executable, flawed_actions, goal_achievable, timepoint_executable};
+use super::executable::{action_executable, goal_achievable, timepoint_executable};
 use super::executive::{Executive, Fate};
 use super::outcome::AbortReason;
 use super::p_t::classify;
@@ -38,7 +38,7 @@ impl Executive {
         let mut postponed: Vec<ActionId> = Vec::new();
         // A_t^f once per act part: executing timepoints only adds constraints, which can resolve flaws but
         // never create one, so this set stays a (conservative) superset while ExecTPs is recomputed.
-        let flawed = flawed_actions(&mut self.plan);
+        let flawed = self.plan.flawed_actions();
         loop {
             let running = self.dispatched.started_actions();
             let mut executed = false;
@@ -117,7 +117,7 @@ impl Executive {
                     {
                         continue;
                     }
-                    if self.plan.execute_at(pg.st, now).is_err() {
+                    if self.plan.edit().execute_at(pg.st, now).is_err() {
                         continue;
                     }
                     executed = true;
@@ -126,7 +126,7 @@ impl Executive {
                 if c.lb > now {
                     wake(c.lb, &mut next);
                 } else if timepoint_executable(self.plan.temporal_network(), pg.et, now)
-                    && self.plan.execute_at(pg.et, now).is_ok()
+                    && self.plan.edit().execute_at(pg.et, now).is_ok()
                 {
                     executed = true;
                     let name = self.plan.problem().goals[pg.goal.index()].name.clone();
@@ -137,7 +137,6 @@ impl Executive {
             if !executed {
                 break;
             }
-            self.mark_changed();
         }
         for a in postponed {
             if !self.plan.is_executed(self.plan.action(a).start) {
@@ -164,7 +163,7 @@ impl Executive {
         if !timepoint_executable(self.plan.temporal_network(), st, now) {
             return false;
         }
-        if let Err(e) = super::instantiate::instantiate_at_start(&mut self.plan, a) {
+        if let Err(e) = super::instantiate::instantiate_at_start(self.plan.edit(), a) {
             self.action_failed(a, &format!("cannot be instantiated ({e})"), now);
             let action = self.action_text(a);
             self.abort_with(AbortReason::CannotInstantiate { action, error: e });
@@ -190,7 +189,7 @@ impl Executive {
             });
             return false;
         }
-        if let Err(e) = self.plan.execute_at(st, now) {
+        if let Err(e) = self.plan.edit().execute_at(st, now) {
             self.abort_with(AbortReason::StartInconsistent {
                 action,
                 error: e.to_string(),
@@ -227,9 +226,9 @@ impl Executive {
         for tp in tps {
             let at = self.plan.earliest(tp);
             if at <= now {
-                match self.plan.execute_at(tp, at) {
+                match self.plan.edit().execute_at(tp, at) {
                     // A timepoint executed: the repair in progress restarts from the plan as it is (§3.2).
-                    Ok(()) => self.mark_changed(),
+                    Ok(()) => {}
                     Err(e) => tracing::warn!("timed fact at {at} ms: {e}"),
                 }
             } else if next.is_none_or(|n| at < n) {

@@ -43,8 +43,7 @@ impl Executive {
                 self.trace(TraceEvent::Paused { why: why.clone() });
                 self.paused = Some(why);
                 // A repair under way was for a plan the operator's control overtakes.
-                self.repair = None;
-                self.repair_requested = false;
+                self.repair.hold();
             }
             AuthorityEvent::Resumed {
                 how,

@@ -32,7 +32,7 @@ impl Executive {
             let Some(ins) = self.insertions.remove(k) else {
                 return false;
             };
-            self.insertion_stale = true;
+            self.plan.restart_insertion();
             self.decide_goal(ins.reply, GoalVerdict::Cancelled(by.to_string()));
             self.never_held(name, Fate::Cancelled, reason);
             return true;
@@ -49,16 +49,14 @@ impl Executive {
         let (started, not_started): (Vec<_>, Vec<_>) = serving.into_iter().partition(|&a| {
             self.has_started(a) || self.plan.is_executed(self.plan.action(a).start)
         });
-        self.plan.withdraw_goal(g, &not_started);
+        self.plan.edit().withdraw_goal(g, &not_started);
         for a in started {
             if !self.interrupt.contains(&a) {
                 self.interrupt.push(a);
             }
         }
         // The search in progress was rooted in the plan with the goal.
-        self.repair = None;
-        self.repair_requested = true;
-        self.mark_changed();
+        self.repair.restart();
         self.trace(TraceEvent::GoalCancelled {
             goal: name.to_string(),
             reason: reason.clone(),

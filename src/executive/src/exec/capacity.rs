@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use super::executable::{flawed_actions, plan_executable};
+use super::ledger::ResourceLedger;
 use mavtempo_temporal::model::{ResourceId, ResourceKind, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
 
@@ -27,9 +28,10 @@ impl std::fmt::Display for CapacityOutcome {
     }
 }
 
-/// Sets r's capacity to `capacity` from time t on.
+/// Sets r's capacity to `capacity` from time t on; the ledger's level and the problem's are clipped to it.
 pub fn alter(
     plan: &mut PartialPlan,
+    ledger: &mut ResourceLedger,
     r: ResourceId,
     capacity: f64,
     t: Time,
@@ -42,8 +44,7 @@ pub fn alter(
     let old = setup.capacity_at(t);
     setup.profile.retain(|&(from, _)| from < t);
     setup.profile.push((t, capacity));
-    // The aggregated level cannot exceed the new capacity (the lost part is gone).
-    setup.level = setup.level.min(capacity);
+    ledger.clip_to_capacity(&mut problem, r, capacity);
     plan.set_resource_problem(Arc::new(problem));
     let flawed = flawed_actions(plan);
     if !plan_executable(running, &flawed) {

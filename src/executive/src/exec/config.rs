@@ -86,7 +86,7 @@ impl Default for ExecConfig {
 
 /// A bad `[exec]` table.
 #[derive(Debug, thiserror::Error, PartialEq)]
-pub enum ConfigError {
+pub enum ExecConfigError {
     #[error("exec.timestep_ms must be in ]0, 3600000] (an hour), got {0}")]
     Timestep(Time),
     #[error("exec.repair_share must be in ]0, 1], got {0}")]
@@ -103,37 +103,37 @@ pub enum ConfigError {
 
 const HOUR_MS: Time = 3_600_000;
 
-impl ConfigError {
+impl ExecConfigError {
     /// The key of `[exec]` the error is about.
     pub fn key(&self) -> &'static str {
         match self {
-            ConfigError::Timestep(_) => "timestep_ms",
-            ConfigError::Share(_) => "repair_share",
-            ConfigError::Slack(_) => "replan_slack_ms",
-            ConfigError::Positive(k) | ConfigError::StepCap(k) => k,
-            ConfigError::Reserve(_) => "reserve",
+            ExecConfigError::Timestep(_) => "timestep_ms",
+            ExecConfigError::Share(_) => "repair_share",
+            ExecConfigError::Slack(_) => "replan_slack_ms",
+            ExecConfigError::Positive(k) | ExecConfigError::StepCap(k) => k,
+            ExecConfigError::Reserve(_) => "reserve",
         }
     }
 }
 
 impl ExecConfig {
-    pub fn validate(&self) -> Result<(), ConfigError> {
+    pub fn validate(&self) -> Result<(), ExecConfigError> {
         // An hour at most: a cycle or a slack past it is a typo, and huge values overflow time sums.
         if self.timestep_ms <= 0 || self.timestep_ms > HOUR_MS {
-            return Err(ConfigError::Timestep(self.timestep_ms));
+            return Err(ExecConfigError::Timestep(self.timestep_ms));
         }
         if !(self.repair_share > 0.0 && self.repair_share <= 1.0) {
-            return Err(ConfigError::Share(self.repair_share));
+            return Err(ExecConfigError::Share(self.repair_share));
         }
         if !(0..=HOUR_MS).contains(&self.replan_slack_ms) {
-            return Err(ConfigError::Slack(self.replan_slack_ms));
+            return Err(ExecConfigError::Slack(self.replan_slack_ms));
         }
         if let Some((_, &v)) = self
             .reserve
             .iter()
             .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
         {
-            return Err(ConfigError::Reserve(v));
+            return Err(ExecConfigError::Reserve(v));
         }
         let counts = [
             ("same_failure_limit", self.same_failure_limit),
@@ -141,7 +141,7 @@ impl ExecConfig {
             ("max_plan_changes_per_min", self.max_plan_changes_per_min),
         ];
         if let Some((key, _)) = counts.into_iter().find(|&(_, n)| n == 0) {
-            return Err(ConfigError::Positive(key));
+            return Err(ExecConfigError::Positive(key));
         }
         let step_caps = [
             ("repair_cycle_max_steps", self.repair_cycle_max_steps),
@@ -152,7 +152,7 @@ impl ExecConfig {
             ("plan_max_actions", self.plan_max_actions as u64),
         ];
         if let Some((key, _)) = step_caps.into_iter().find(|&(_, n)| n == 0) {
-            return Err(ConfigError::StepCap(key));
+            return Err(ExecConfigError::StepCap(key));
         }
         Ok(())
     }
@@ -270,7 +270,7 @@ mod tests {
         assert_eq!(cfg.repair_cycle_max_steps, 5);
         assert_eq!(
             cfg.validate(),
-            Err(ConfigError::StepCap("replan_max_steps"))
+            Err(ExecConfigError::StepCap("replan_max_steps"))
         );
     }
 
@@ -281,7 +281,7 @@ mod tests {
         let cfg: ExecConfig = toml::from_str("goal_insertion_cycles = 0").expect("parses");
         assert_eq!(
             cfg.validate(),
-            Err(ConfigError::Positive("goal_insertion_cycles"))
+            Err(ExecConfigError::Positive("goal_insertion_cycles"))
         );
     }
 
@@ -290,25 +290,28 @@ mod tests {
         let cases = [
             (
                 "same_failure_limit",
-                ConfigError::Positive("same_failure_limit"),
+                ExecConfigError::Positive("same_failure_limit"),
             ),
             (
                 "goal_insertion_cycles",
-                ConfigError::Positive("goal_insertion_cycles"),
+                ExecConfigError::Positive("goal_insertion_cycles"),
             ),
             (
                 "max_plan_changes_per_min",
-                ConfigError::Positive("max_plan_changes_per_min"),
+                ExecConfigError::Positive("max_plan_changes_per_min"),
             ),
             (
                 "repair_cycle_max_steps",
-                ConfigError::StepCap("repair_cycle_max_steps"),
+                ExecConfigError::StepCap("repair_cycle_max_steps"),
             ),
             (
                 "repair_episode_max_steps",
-                ConfigError::StepCap("repair_episode_max_steps"),
+                ExecConfigError::StepCap("repair_episode_max_steps"),
             ),
-            ("replan_max_steps", ConfigError::StepCap("replan_max_steps")),
+            (
+                "replan_max_steps",
+                ExecConfigError::StepCap("replan_max_steps"),
+            ),
         ];
         for (key, expected) in cases {
             let cfg: ExecConfig = toml::from_str(&format!("{key} = 0")).expect("parses");

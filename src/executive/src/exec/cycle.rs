@@ -7,7 +7,7 @@ use std::time::Instant;
 use super::executive::{Executive, Fate};
 use super::failures::PlanChangeKind;
 use super::outcome::AbortReason;
-use super::repair::RepairOutcome;
+use super::repair_tree::RepairOutcome;
 use super::trace::{CycleRecord, TraceEvent};
 use mavtempo_temporal::model::Time;
 use mavtempo_vehicle::Vehicle;

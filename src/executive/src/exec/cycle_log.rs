@@ -5,21 +5,18 @@
 //! The cycle times are a fixed-size histogram: count, total and max exact, p50 / p99 exact below 1,024 µs
 //! and within 1/64 above.
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-use super::mission::CycleTimes;
-use super::trace::CycleRecord;
-use mavtempo_temporal::model::Time;
+use super::trace::{CycleRecord, IdleRun};
 
-/// Consecutive cycles with no event, recorded as one: the record's `index` and `time_ms` are the first's,
-/// its `sense_us`, `repair_us`, `act_us` the sums over the run.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct IdleRun {
-    pub cycles: u64,
-    pub last_index: u64,
-    pub last_time_ms: Time,
-    /// The longest cycle of the run (sense + repair + act), µs.
+/// Cycle times of the executive's CPU (sense + repair + act), µs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CycleTimes {
+    pub count: usize,
+    pub p50_us: u64,
+    pub p99_us: u64,
     pub max_us: u64,
+    pub total_us: u64,
 }
 
 /// The cycles run so far: busy ones whole, idle runs aggregated, the latest as it ran.
@@ -173,6 +170,7 @@ impl TimeHistogram {
 mod tests {
     use super::*;
     use crate::exec::trace::TraceEvent;
+    use mavtempo_temporal::model::Time;
 
     fn cycle(index: u64, busy: bool, us: u64) -> CycleRecord {
         CycleRecord {

@@ -11,10 +11,10 @@ use super::config::ExecConfig;
 use super::cycle_log::CycleLog;
 use super::dispatch_policy::PlanDispatch;
 use super::failures::FailureMemory;
-use super::goal_insertion::Insertion;
+use super::insertion::{Insertion, Parked};
 use super::outcome::{AbortReason, FateReason};
 use super::p_t::State;
-use super::repair::Repair;
+use super::repair_tree::RepairState;
 use super::trace::{CycleRecord, TraceEvent};
 use mavtempo_temporal::model::{GoalId, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
@@ -71,12 +71,12 @@ pub struct Counters {
 
 pub struct Executive {
     /// *ExecutingPlan*.
-    pub(crate) plan: PartialPlan,
+    pub(crate) plan: super::executing_plan::ExecutingPlan,
     pub(crate) cfg: ExecConfig,
     pub(crate) policy: PlanDispatch,
     pub(crate) hierarchy: Hierarchy,
-    /// The aggregated level of each resource due to the actions that left the plan (`[lev_lb, lev_ub]`).
-    pub(crate) past: Vec<(f64, f64)>,
+    /// The aggregated level of each resource due to the actions that left the plan, and its rules.
+    pub(crate) ledger: super::ledger::ResourceLedger,
     /// LgcS_t.
     pub(crate) state: State,
     /// Started actions, their `i_a`, and those an `END i_a` was sent to.
@@ -85,9 +85,8 @@ pub struct Executive {
     pub(crate) vehicle_origin_ms: u64,
     /// Interruptions requested by message integration (sent in the act part).
     pub(crate) interrupt: Vec<ActionId>,
-    pub(crate) repair: Option<Repair>,
-    /// Plan repair requested by message integration.
-    pub(crate) repair_requested: bool,
+    /// Plan repair between cycles: the tree, the request, the episode's steps.
+    pub(crate) repair: RepairState,
     /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
     pub(crate) abort: Option<AbortReason>,
     pub(crate) fates: BTreeMap<GoalId, GoalFate>,
@@ -95,23 +94,15 @@ pub struct Executive {
     pub(crate) counters: Counters,
     /// Events of the current cycle.
     pub(crate) pending_trace: Vec<TraceEvent>,
-    /// Something changed since the repair tree was last developed (message or timepoint executed): the
-    /// repair search restarts (§3.2).
-    pub(crate) changed: bool,
-    /// Per resource: reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the
-    /// vehicle's resolution and tolerance, `[resources]`).
-    pub(crate) level_tolerances: Vec<f64>,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
     pub(crate) failures: FailureMemory,
-    /// Steps of the plan repair in progress, over all its cycles (bounded by `repair_episode_max_steps`).
-    pub(crate) repair_episode_steps: u64,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
     pub(crate) mapping: mavtempo_vehicle::mapping::DomainMapping,
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
     pub(crate) insertions: VecDeque<Insertion>,
     /// New goals rejected for a reason that may stop holding, waiting to be tried again.
-    pub(crate) parked: Vec<super::goal_retry::Parked>,
+    pub(crate) parked: Vec<Parked>,
     /// Uploads not answered yet, or with goals still being inserted, by number.
     pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
     pub(crate) next_batch: u64,
@@ -119,12 +110,7 @@ pub struct Executive {
     /// order they were refused.
     pub(crate) refused: Vec<GoalFate>,
     /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
-    pub(crate) replannings: Vec<super::replan::ReplanRecord>,
-    /// *ExecutingPlan* changed since the insertion in progress was rooted (its search must start again).
-    pub(crate) insertion_stale: bool,
-    /// The last level the vehicle reported for each resource and when (ms since origin): the report's
-    /// `resources[].reported`.
-    pub(crate) last_reported: Vec<Option<(Time, f64)>>,
+    pub(crate) replannings: Vec<super::replan_record::ReplanRecord>,
     /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
     pub(crate) paused: Option<String>,
     /// Where the vehicle may go: goals at places outside are refused at intake.
@@ -142,12 +128,7 @@ pub struct Executive {
 impl Executive {
     /// An executive over a solution plan (the planner's output, or a hand-built plan in tests).
     pub fn new(plan: PartialPlan, cfg: ExecConfig) -> Self {
-        let past = plan
-            .problem()
-            .resources
-            .iter()
-            .map(|s| (s.level, s.level))
-            .collect();
+        let ledger = super::ledger::ResourceLedger::new(plan.problem());
         let mut fates = BTreeMap::new();
         for pg in plan.goals() {
             if let Some(g) = plan.problem().goals.get(pg.goal.index()) {
@@ -161,31 +142,26 @@ impl Executive {
                 );
             }
         }
-        let last_reported = vec![None; plan.problem().resources.len()];
         let hierarchy = Hierarchy::new(plan.domain());
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
         Executive {
-            plan,
+            plan: super::executing_plan::ExecutingPlan::new(plan),
             cfg,
             policy,
             hierarchy,
-            past,
+            ledger,
             state: State::default(),
             dispatched: Default::default(),
             vehicle_origin_ms: 0,
             interrupt: Vec::new(),
-            repair: None,
-            repair_requested: false,
+            repair: RepairState::default(),
             abort: None,
             fates,
             cycles: CycleLog::default(),
             counters: Counters::default(),
             pending_trace: Vec::new(),
-            changed: false,
-            level_tolerances: vec![super::resource_report::EPS; last_reported.len()],
             failures,
-            repair_episode_steps: 0,
             mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
             insertions: VecDeque::new(),
             parked: Vec::new(),
@@ -193,8 +169,6 @@ impl Executive {
             next_batch: 0,
             refused: Vec::new(),
             replannings: Vec::new(),
-            insertion_stale: false,
-            last_reported,
             paused: None,
             limits: None,
             watches: BTreeMap::new(),
@@ -213,7 +187,7 @@ impl Executive {
         if let Some(l) = &self.limits {
             let mut problem = (**self.plan.problem()).clone();
             problem.legs = mavtempo_temporal::model::Legs(Some(std::sync::Arc::new(l.clone())));
-            self.plan.set_problem(std::sync::Arc::new(problem));
+            self.plan.edit().set_problem(std::sync::Arc::new(problem));
             // A plan made before the limits were known (the autopilot's fence is read at readiness) may
             // hold a move that leaves them: it is made again, complete replanning, before any launch.
             let outside = self
@@ -222,7 +196,7 @@ impl Executive {
                 .filter(|&a| !self.plan.action(a).num_cons.is_empty())
                 .collect::<Vec<_>>()
                 .into_iter()
-                .find(|&a| self.plan.repropagate_action(a).is_err());
+                .find(|&a| self.plan.edit().repropagate_action(a).is_err());
             if let Some(a) = outside {
                 let error = format!("{} leaves the vehicle's limits", self.action_text(a));
                 tracing::warn!("{error}: the plan is made again");
@@ -332,13 +306,6 @@ impl Executive {
             .collect()
     }
 
-    /// Something changed in *ExecutingPlan* (a message integrated, a timepoint executed): the repair tree
-    /// and the insertion in progress start again from it (§3.2).
-    pub fn mark_changed(&mut self) {
-        self.changed = true;
-        self.insertion_stale = true;
-    }
-
     pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: Option<FateReason>) {
         if let Some(f) = self.fates.get_mut(&g) {
             f.fate = fate.clone();
@@ -401,7 +368,7 @@ impl Executive {
     }
 
     /// The complete replannings of this mission.
-    pub fn replannings(&self) -> &[super::replan::ReplanRecord] {
+    pub fn replannings(&self) -> &[super::replan_record::ReplanRecord] {
         &self.replannings
     }
 
@@ -412,7 +379,7 @@ impl Executive {
 
     /// The aggregated level `[lev_lb, lev_ub]` of each resource due to the actions that left the plan.
     pub fn past_levels(&self) -> &[(f64, f64)] {
-        &self.past
+        self.ledger.levels()
     }
 
     /// Whether action `a` was started (`START` sent) and is still remembered as such.
@@ -438,13 +405,14 @@ impl Executive {
     /// `demo`, `soak` and `run`) of `[RscL_lb, RscL_ub]` are in bounds: noise, not news.
     pub fn with_resource_levels(mut self, r: &mavtempo_vehicle::config::ResourceNames) -> Self {
         let eps = super::resource_report::EPS;
-        self.level_tolerances = self
+        let tolerances = self
             .plan
             .domain()
             .resources
             .iter()
             .map(|res| r.level_tolerance(&res.name).unwrap_or(eps).max(eps))
             .collect();
+        self.ledger.set_tolerances(tolerances);
         self
     }
 
@@ -475,9 +443,7 @@ impl Executive {
 
     /// The aggregated past level of resource `r` is `[lb, ub]` (e.g. a level measured before the start).
     pub fn set_past_level(&mut self, r: ResourceId, level: (f64, f64)) {
-        if let Some(p) = self.past.get_mut(r.index()) {
-            *p = level;
-        }
+        self.ledger.set(r, level);
     }
 
     /// Seed 1 §3.3 "Goal request" straight into *ExecutingPlan* (no insertion attempt beside it): the
@@ -489,7 +455,7 @@ impl Executive {
     ) -> Result<GoalId, super::goal_request::Rejection> {
         let name = goal.name.clone();
         let running = super::p_t::classify(&self.plan, now).running;
-        let g = super::goal_request::request(&mut self.plan, goal, now, &running)?;
+        let g = super::goal_request::request(self.plan.edit(), goal, now, &running)?;
         self.fates.insert(
             g,
             GoalFate {
@@ -498,8 +464,7 @@ impl Executive {
                 reason: None,
             },
         );
-        self.repair_requested = true;
-        self.mark_changed();
+        self.repair.request();
         Ok(g)
     }
 

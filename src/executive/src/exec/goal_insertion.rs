@@ -18,52 +18,16 @@
 
 use super::executive::{Executive, Fate, GoalFate};
 use super::goal_request::request;
+pub use super::insertion::Insertion;
 use super::outcome::FateReason;
 use super::p_t::classify;
-use super::repair::RepairOutcome;
+use super::repair_tree::RepairOutcome;
 use super::trace::{RepairWork, TraceEvent};
-use mavtempo_temporal::model::{Goal, GoalId, Time};
+use mavtempo_temporal::model::Time;
 use mavtempo_temporal::plan::TimeFloor;
 use mavtempo_temporal::planner::{FailReason, Search, StepOutcome};
 use mavtempo_vehicle::goals::GoalBatch;
 use mavtempo_vehicle::GoalVerdict;
-
-/// A requested goal waiting for, or in, its insertion attempt.
-pub struct Insertion {
-    pub goal: Goal,
-    /// The upload it came in (its number) and its index there: where the verdict goes.
-    pub reply: (u64, usize),
-    /// The attempt's search, rooted at a copy of *ExecutingPlan* with the goal; `None` before the attempt
-    /// starts and when *ExecutingPlan* changed under it.
-    search: Option<Search>,
-    /// Planning steps spent, over all the attempt's cycles.
-    pub steps: u64,
-    /// Cycles in which the attempt was developed.
-    pub cycles: u32,
-    /// The goal's id in the attempt's plan.
-    id: Option<GoalId>,
-    /// Where its end is told once accepted.
-    watch: Option<mavtempo_vehicle::goals::GoalWatch>,
-    /// Insertion attempts so far, this one included (src/executive/src/exec/goal_retry.rs).
-    pub tries: u32,
-}
-
-impl Insertion {
-    fn started(&self) -> bool {
-        self.search.is_some() || self.cycles > 0
-    }
-
-    /// The same goal, request and watch, for a new attempt from scratch.
-    pub(crate) fn again(self) -> Insertion {
-        Insertion {
-            search: None,
-            steps: 0,
-            cycles: 0,
-            id: None,
-            ..self
-        }
-    }
-}
 
 impl Executive {
     /// An upload (or the goals requested at the start): each goal the mapping can read waits for its
@@ -134,7 +98,7 @@ impl Executive {
 
     /// The repair part of a cycle with nothing else to repair: the insertion attempt in progress, for this
     /// cycle's repair budget.
-    pub fn insertion_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
+    pub fn insertion_phase(&mut self, now: Time, clock: &dyn super::clock::Clock) -> RepairOutcome {
         self.unpark(now);
         if self.insertions.is_empty() {
             return RepairOutcome::Idle;
@@ -154,7 +118,7 @@ impl Executive {
         let first = search.steps();
         let outcome = loop {
             if search.steps() - first >= max_steps
-                || deadline.is_some_and(|d| clock() >= d)
+                || deadline.is_some_and(|d| clock.now() >= d)
                 || std::time::Instant::now() >= wall
             {
                 break None;
@@ -227,7 +191,7 @@ impl Executive {
 
     /// (Re)roots the attempt in progress at *ExecutingPlan*: the acceptance test of §3.3 on a copy of it.
     fn root_insertion(&mut self, now: Time) -> Result<(), FateReason> {
-        let stale = std::mem::take(&mut self.insertion_stale);
+        let stale = self.plan.take_insertion_stale();
         let needs_root = self
             .insertions
             .front()
@@ -270,8 +234,7 @@ impl Executive {
         };
         let mut plan = search.into_plan();
         plan.set_time_floor(TimeFloor::None);
-        self.plan = plan;
-        self.insertion_stale = true;
+        self.plan.replace(plan);
         self.counters.repairs += 1;
         self.fates.insert(
             id,
@@ -297,7 +260,7 @@ impl Executive {
         let Some(ins) = self.insertions.pop_front() else {
             return;
         };
-        self.insertion_stale = true;
+        self.plan.restart_insertion();
         tracing::info!(goal = %ins.goal.name, steps = ins.steps, "new goal rejected: {reason}");
         self.decide_goal(ins.reply, GoalVerdict::Rejected(reason.operator_text()));
         self.refuse(&ins.goal.name, reason.clone());

@@ -8,7 +8,8 @@
 //! the trace; its fate is the last attempt's.
 
 use super::executive::Executive;
-use super::goal_insertion::Insertion;
+use super::insertion::Insertion;
+pub use super::insertion::Parked;
 use super::outcome::FateReason;
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::Time;
@@ -18,15 +19,6 @@ pub const MAX_TRIES: u32 = 3;
 
 /// Mission time after which a parked goal is tried again even while actions run, ms.
 pub const RETRY_AFTER_MS: Time = 60_000;
-
-/// A rejected goal waiting to be tried again.
-pub struct Parked {
-    pub insertion: Insertion,
-    /// When it was rejected, ms since origin.
-    pub at: Time,
-    /// The plan's actions then.
-    actions: usize,
-}
 
 /// Whether a rejection says only that the attempt ran out, not that the goal cannot be had.
 pub fn may_stop_holding(reason: &FateReason) -> bool {

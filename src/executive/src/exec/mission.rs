@@ -9,6 +9,7 @@ use std::time::Duration;
 use serde::Serialize;
 
 use super::cycle::CycleOutcome;
+pub use super::cycle_log::CycleTimes;
 use super::executive::{Counters, Executive, Fate, GoalFate};
 use super::interrupt::{signal_name, Interrupt};
 use super::outcome::FateReason;
@@ -20,7 +21,7 @@ use mavtempo_temporal::model::{ResourceId, Time};
 use mavtempo_vehicle::goals::GoalBatch;
 use mavtempo_vehicle::safe_stop::SafeStopReport;
 use mavtempo_vehicle::{
-    ActionId as Vid, ActionStart, GoalRequest, ReportStatus, Vehicle, VehicleError, VehicleEvent,
+    ActionStart, GoalRequest, ReportStatus, Vehicle, VehicleActionId, VehicleError, VehicleEvent,
 };
 
 /// How mission time passes: the executive's clock and its sleep between cycles.
@@ -115,7 +116,7 @@ impl std::fmt::Display for MissionEnd {
 
 /// A change of *ExecutingPlan*.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PlanChange {
+pub struct PlanChangeRecord {
     pub time_ms: Time,
     /// `repair`, `replan` or `goal_added`.
     pub cause: String,
@@ -152,16 +153,6 @@ pub struct Place {
     pub goals: Vec<String>,
 }
 
-/// Cycle times of the executive's CPU (sense + repair + act), µs.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct CycleTimes {
-    pub count: usize,
-    pub p50_us: u64,
-    pub p99_us: u64,
-    pub max_us: u64,
-    pub total_us: u64,
-}
-
 /// Everything a mission did: the `--report` JSON.
 #[derive(Clone, Debug, Serialize)]
 pub struct MissionReport {
@@ -171,7 +162,7 @@ pub struct MissionReport {
     pub goals: Vec<GoalFate>,
     pub counters: Counters,
     pub cycle_times: CycleTimes,
-    pub plan_changes: Vec<PlanChange>,
+    pub plan_changes: Vec<PlanChangeRecord>,
     pub resources: Vec<ResourceSample>,
     /// The resources that are reservoirs (levels produced and consumed, e.g. battery, storage): the ones
     /// whose level against its bounds the report draws.
@@ -254,7 +245,7 @@ impl<V: Vehicle> Vehicle for Held<'_, V> {
     fn start_still(&mut self, action: ActionStart) -> Result<(), VehicleError> {
         self.inner.start_still(action)
     }
-    fn stop(&mut self, id: Vid) -> Result<(), VehicleError> {
+    fn stop(&mut self, id: VehicleActionId) -> Result<(), VehicleError> {
         self.inner.stop(id)
     }
     fn try_event(&mut self) -> Option<VehicleEvent> {
@@ -475,7 +466,7 @@ fn collect_stop_reports<V: Vehicle>(
 /// What the report collects beyond the executive's own trace.
 #[derive(Default)]
 struct Log {
-    changes: Vec<PlanChange>,
+    changes: Vec<PlanChangeRecord>,
     resources: Vec<ResourceSample>,
     last_bounds: Vec<Option<(f64, f64)>>,
     /// The reported level of each resource already in `resources`.
@@ -485,7 +476,7 @@ struct Log {
 
 impl Log {
     fn change(&mut self, time_ms: Time, cause: &str, actions: usize) {
-        self.changes.push(PlanChange {
+        self.changes.push(PlanChangeRecord {
             time_ms,
             cause: cause.into(),
             actions,
@@ -592,7 +583,7 @@ pub fn moved_on(last: Option<(f64, f64)>, at: (f64, f64)) -> bool {
 /// The level the vehicle reported for resource `i` (telemetry or an action's report) if it is newer than
 /// `seen`, which then becomes it.
 pub fn fresh_level(ex: &Executive, i: usize, seen: &mut Option<(Time, f64)>) -> Option<f64> {
-    let last = ex.last_reported.get(i).copied().flatten()?;
+    let last = ex.ledger.last_reported(i)?;
     (*seen != Some(last)).then(|| {
         *seen = Some(last);
         last.1
@@ -608,8 +599,8 @@ pub fn resource_bounds_now(ex: &Executive, now: Time) -> Vec<(String, f64, f64)>
         .iter()
         .enumerate()
         .map(|(i, res)| {
-            let past = ex.past.get(i).copied().unwrap_or((0.0, 0.0));
-            let b = level_bounds(&ex.plan, ResourceId::from_index(i), now, &running, past);
+            let r = ResourceId::from_index(i);
+            let b = level_bounds(&ex.plan, r, now, &running, ex.ledger.past(r));
             (res.name.clone(), b.lb, b.ub)
         })
         .collect()

@@ -22,6 +22,11 @@
 //! | §3.2 time injected: the caller gives each cycle its time (the vehicle's clock live, a script in tests) | [`pacer`] |
 //! | §3.2 ts and μ | [`config`] |
 //! | §3.2 the cycle: sense / repair ≤ μ·ts / act | [`cycle`] (state in [`executive`]) |
+//! | §3.4 the aggregated past levels and every write of the level the planner sees | [`ledger`] |
+//! | §3.2 *ExecutingPlan* behind a handle recording each edit (the repair tree and an insertion restart) | [`executing_plan`] |
+//! | §3.2 time injected: mission time read by repair and replanning | [`clock`] |
+//! | started actions, their `i_a`, the stops sent | `dispatched` |
+//! | data only: the repair tree, insertions and parked goals, replanning records | [`repair_tree`], [`insertion`], [`replan_record`] |
 //! | §3.3 message routing | [`sense`] |
 //! | §3.3 state values from non-nominal reports, new locations | [`state_update`] |
 //! | the domain's names given a vehicle meaning (position, locations, goals) | [`mavtempo_vehicle::mapping`] |
@@ -38,6 +43,7 @@ pub mod act;
 pub mod authority;
 pub mod cancel;
 pub mod capacity;
+pub mod clock;
 pub mod config;
 pub mod cycle;
 pub mod cycle_log;
@@ -45,21 +51,26 @@ pub mod deferral;
 pub mod dispatch_policy;
 mod dispatched;
 pub mod executable;
+pub mod executing_plan;
 pub mod executive;
 pub mod failures;
 pub mod goal_insertion;
 pub mod goal_request;
 pub mod goal_retry;
 pub mod goal_support;
+pub mod insertion;
 pub mod instantiate;
 pub mod interrupt;
+pub mod ledger;
 pub mod mission;
 pub mod operator_text;
 pub mod outcome;
 pub mod p_t;
 pub mod pacer;
 pub mod repair;
+pub mod repair_tree;
 pub mod replan;
+pub mod replan_record;
 pub mod report_timing;
 pub mod reserve;
 pub mod resource_bounds;
@@ -72,5 +83,8 @@ pub mod still;
 pub mod t_exec;
 pub mod trace;
 pub mod trip_needs;
+
+#[cfg(test)]
+mod import_graph;
 
 pub use mavtempo_vehicle::mapping::DomainMapping;

@@ -4,7 +4,6 @@
 use serde::{Deserialize, Serialize};
 
 use super::goal_request::Rejection;
-use super::replan::AttemptEnd;
 use mavtempo_temporal::model::Time;
 
 /// Why execution was aborted (the cycle stops, a complete replanning follows, seed 1 §3.6).
@@ -219,4 +218,35 @@ pub fn text<T: std::fmt::Display, S: serde::Serializer>(r: &T, s: S) -> Result<S
 /// A fate's reason as the JSON report writes it: its text, empty when there is none.
 pub fn reason_text<S: serde::Serializer>(r: &Option<FateReason>, s: S) -> Result<S::Ok, S::Error> {
     s.collect_str(&r.as_ref().map_or(String::new(), |r| r.to_string()))
+}
+
+/// How a replanning attempt's search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AttemptEnd {
+    /// A flawless plan.
+    Solved,
+    /// Dead end: the search is exhausted.
+    DeadEnd,
+    /// The time limit l = T_end_ub − d was reached (and the next step was no backtrack raising it).
+    TimeLimit,
+    /// The attempt's hard step cap.
+    StepCap,
+    /// The attempt's share of the replanning's wall-time budget (`replan_max_wall_ms`).
+    WallBudget,
+    /// The attempt's plan reached `plan_max_actions` (its memory budget).
+    SizeCap,
+}
+
+impl std::fmt::Display for AttemptEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            AttemptEnd::Solved => "solved",
+            AttemptEnd::DeadEnd => "dead end",
+            AttemptEnd::TimeLimit => "time limit l reached",
+            AttemptEnd::StepCap => "step cap reached",
+            AttemptEnd::WallBudget => "wall-time budget spent",
+            AttemptEnd::SizeCap => "plan size cap reached",
+        })
+    }
 }

@@ -193,7 +193,7 @@ impl StepGate {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mavtempo_vehicle::{ActionId, ActionStart, VehicleError};
+    use mavtempo_vehicle::{ActionStart, VehicleActionId, VehicleError};
 
     /// A vehicle whose clock stopped at `ms`, `age` ago.
     struct Stopped {
@@ -205,7 +205,7 @@ mod tests {
         fn start(&mut self, _: ActionStart) -> Result<(), VehicleError> {
             Ok(())
         }
-        fn stop(&mut self, _: ActionId) -> Result<(), VehicleError> {
+        fn stop(&mut self, _: VehicleActionId) -> Result<(), VehicleError> {
             Ok(())
         }
         fn try_event(&mut self) -> Option<VehicleEvent> {
@@ -241,7 +241,7 @@ mod tests {
         fn start(&mut self, _: ActionStart) -> Result<(), VehicleError> {
             Ok(())
         }
-        fn stop(&mut self, _: ActionId) -> Result<(), VehicleError> {
+        fn stop(&mut self, _: VehicleActionId) -> Result<(), VehicleError> {
             Ok(())
         }
         fn try_event(&mut self) -> Option<VehicleEvent> {

@@ -12,47 +12,11 @@
 use super::executive::Executive;
 use super::outcome::AbortReason;
 use super::p_t::classify;
+pub use super::repair_tree::{NotExecutable, Repair, RepairOutcome};
 use super::trace::{RepairWork, TraceEvent};
 use mavtempo_temporal::model::Time;
 use mavtempo_temporal::plan::{PartialPlan, TimeFloor};
 use mavtempo_temporal::planner::{FailReason, Search, StepOutcome};
-
-/// A repair search in progress.
-pub struct Repair {
-    pub search: Search,
-    /// The last labelled (executable) node's plan.
-    pub labelled: Option<PartialPlan>,
-}
-
-/// The result of one cycle's repair part.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RepairOutcome {
-    /// Nothing to repair.
-    Idle,
-    /// A flawless plan was found and became *ExecutingPlan*.
-    Solved,
-    /// The budget ran out; the last labelled node is *ExecutingPlan*.
-    InProgress,
-    /// Dead end: execution is aborted.
-    Failed(AbortReason),
-}
-
-/// The repair tree cannot be rooted: timepoints not executed yet cannot all be after now.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("plan not executable at {now_ms} ms: {source}")]
-pub struct NotExecutable {
-    pub now_ms: Time,
-    pub source: mavtempo_temporal::stn::Inconsistent,
-}
-
-impl From<NotExecutable> for AbortReason {
-    fn from(e: NotExecutable) -> Self {
-        AbortReason::NotExecutable {
-            now_ms: e.now_ms,
-            error: e.source.to_string(),
-        }
-    }
-}
 
 /// Timepoints not executed yet cannot happen before `now`: the search must not move them into the past
 /// (e.g. a goal supported again by an effect that was executed before now).
@@ -93,7 +57,7 @@ impl Executive {
 
     /// This cycle's repair budget: μ·n steps with deterministic budgets, else until μ·ts of mission time on
     /// `clock`; never more than the hard cap of steps per cycle.
-    pub fn cycle_budget(&self, clock: &dyn Fn() -> Time) -> (u64, Option<Time>) {
+    pub fn cycle_budget(&self, clock: &dyn super::clock::Clock) -> (u64, Option<Time>) {
         let cap = self.cfg.repair_cycle_max_steps;
         match self.cfg.repair_max_steps {
             Some(n) => (
@@ -102,7 +66,11 @@ impl Executive {
             ),
             None => (
                 cap,
-                Some(clock().saturating_add(self.cfg.repair_budget_ms().max(0))),
+                Some(
+                    clock
+                        .now()
+                        .saturating_add(self.cfg.repair_budget_ms().max(0)),
+                ),
             ),
         }
     }
@@ -114,17 +82,17 @@ impl Executive {
 
     /// The plan repair part of a cycle at `now`; `clock` is the executive's clock (mission time, ms since
     /// the plan's origin), read to stop at `μ·ts` after the phase starts.
-    pub fn repair_phase(&mut self, now: Time, clock: &dyn Fn() -> Time) -> RepairOutcome {
+    pub fn repair_phase(&mut self, now: Time, clock: &dyn super::clock::Clock) -> RepairOutcome {
         let running = classify(&self.plan, now).running;
-        if self.repair.is_none() && !self.repair_requested && self.plan.flaws().is_empty() {
+        if self.repair.tree.is_none() && !self.repair.requested && self.plan.is_flawless() {
             // Nothing to repair: the cycle's repair share goes to a new goal's insertion, if any.
             return self.insertion_phase(now, clock);
         }
-        self.repair_requested = false;
+        self.repair.requested = false;
         // `changed` covers everything since the tree was last developed, the previous cycle's act part
         // included (a timepoint it executed is not in the tree's nodes).
-        let changed = std::mem::take(&mut self.changed);
-        if self.repair.is_none() || changed {
+        let changed = self.plan.take_repair_stale();
+        if self.repair.tree.is_none() || changed {
             let root = match self.repair_root(now) {
                 Ok(r) => r,
                 Err(e) => {
@@ -137,7 +105,7 @@ impl Executive {
             // plan moves on: chronological depth-first, as in seed 1 — discrepancy iterations would
             // redo the tree from its root every cycle. A repair that thrashes is cut off by its episode
             // budget and replaced by a complete replanning, which searches by discrepancies.
-            self.repair = Some(Repair {
+            self.repair.tree = Some(Repair {
                 search: Search::depth_first(root).bounded_regress(),
                 labelled: None,
             });
@@ -145,14 +113,14 @@ impl Executive {
         let (max_steps, deadline) = self.cycle_budget(clock);
         let wall = self.cycle_wall_deadline();
         // ExecutingPlan is about to change: an insertion rooted at it starts again.
-        self.insertion_stale = true;
-        let Some(rep) = self.repair.as_mut() else {
+        self.plan.restart_insertion();
+        let Some(rep) = self.repair.tree.as_mut() else {
             return RepairOutcome::Idle;
         };
         let first = rep.search.steps();
         let outcome = loop {
             if rep.search.steps() - first >= max_steps
-                || deadline.is_some_and(|d| clock() >= d)
+                || deadline.is_some_and(|d| clock.now() >= d)
                 || std::time::Instant::now() >= wall
             {
                 break None;
@@ -168,31 +136,32 @@ impl Executive {
         };
         let steps = rep.search.steps() - first;
         self.counters.repair_steps += steps;
-        self.repair_episode_steps += steps;
+        self.repair.episode_steps += steps;
         let finished = match &outcome {
             Some(StepOutcome::Solved) => true,
             Some(StepOutcome::Failed(r)) => !matches!(r, FailReason::Deadline { .. }),
             _ => false,
         };
         if finished {
-            self.repair_episode_steps = 0;
-        } else if self.repair_episode_steps > self.cfg.repair_episode_max_steps {
+            self.repair.episode_steps = 0;
+        } else if self.repair.episode_steps > self.cfg.repair_episode_max_steps {
             let reason = AbortReason::RepairDiverged {
-                steps: self.repair_episode_steps,
+                steps: self.repair.episode_steps,
             };
-            self.repair = None;
-            self.repair_episode_steps = 0;
+            self.repair.tree = None;
+            self.repair.episode_steps = 0;
             self.abort_with(reason.clone());
             return RepairOutcome::Failed(reason);
         }
         match outcome {
             Some(StepOutcome::Solved) => {
-                let Some(rep) = self.repair.take() else {
+                let Some(rep) = self.repair.tree.take() else {
                     return RepairOutcome::Idle;
                 };
                 let total = rep.search.steps();
-                self.plan = rep.search.into_plan();
-                self.plan.set_time_floor(TimeFloor::None);
+                let mut plan = rep.search.into_plan();
+                plan.set_time_floor(TimeFloor::None);
+                self.plan.replace(plan);
                 self.counters.repairs += 1;
                 self.trace(TraceEvent::RepairDone { steps: total });
                 RepairOutcome::Solved
@@ -201,12 +170,10 @@ impl Executive {
                 // The search's last dead end says why, before the search is dropped.
                 let dead_end = self
                     .repair
+                    .tree
                     .take()
                     .and_then(|rep| rep.search.last_rejection().map(str::to_string));
-                let flaws: Vec<String> = {
-                    let plan = &mut self.plan;
-                    plan.flaws().iter().map(|f| plan.flaw_text(f)).collect()
-                };
+                let flaws = self.plan.flaw_texts();
                 tracing::debug!(?flaws, "plan repair failed on the executing plan's flaws");
                 let reason = AbortReason::RepairFailed {
                     failure: r.to_string(),
@@ -216,8 +183,8 @@ impl Executive {
                 RepairOutcome::Failed(reason)
             }
             _ => {
-                if let Some(p) = self.repair.as_mut().and_then(|r| r.labelled.take()) {
-                    self.plan = p;
+                if let Some(p) = self.repair.tree.as_mut().and_then(|r| r.labelled.take()) {
+                    self.plan.replace(p);
                 }
                 self.trace(TraceEvent::RepairStep {
                     steps,

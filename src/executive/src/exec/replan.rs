@@ -18,10 +18,11 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use serde::{Deserialize, Serialize};
-
 use super::executive::{Executive, Fate};
 use super::outcome::{AbortReason, FateReason};
+pub use super::replan_record::{
+    AttemptEnd, AttemptRecord, ReplanOutcome, ReplanRecord, ReplanRejection,
+};
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::{Fact, GoalId, Problem, Time};
 use mavtempo_temporal::plan::{PartialPlan, PlanError, TimeFloor};
@@ -55,9 +56,7 @@ pub fn extract_problem(ex: &Executive, now: Time) -> Problem {
         }
     }
     p.exogenous.retain(|tf| tf.at > now);
-    for (s, past) in p.resources.iter_mut().zip(&ex.past) {
-        s.level = past.0.max(0.0);
-    }
+    ex.ledger.hand_to_planner(&mut p);
     p
 }
 
@@ -126,100 +125,6 @@ pub fn attempt_cap(first: u64, attempt: usize) -> u64 {
         .max(1)
 }
 
-/// How a replanning attempt's search ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AttemptEnd {
-    /// A flawless plan.
-    Solved,
-    /// Dead end: the search is exhausted.
-    DeadEnd,
-    /// The time limit l = T_end_ub − d was reached (and the next step was no backtrack raising it).
-    TimeLimit,
-    /// The attempt's hard step cap.
-    StepCap,
-    /// The attempt's share of the replanning's wall-time budget (`replan_max_wall_ms`).
-    WallBudget,
-    /// The attempt's plan reached `plan_max_actions` (its memory budget).
-    SizeCap,
-}
-
-impl std::fmt::Display for AttemptEnd {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            AttemptEnd::Solved => "solved",
-            AttemptEnd::DeadEnd => "dead end",
-            AttemptEnd::TimeLimit => "time limit l reached",
-            AttemptEnd::StepCap => "step cap reached",
-            AttemptEnd::WallBudget => "wall-time budget spent",
-            AttemptEnd::SizeCap => "plan size cap reached",
-        })
-    }
-}
-
-/// How a complete replanning ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ReplanOutcome {
-    /// A new plan was adopted.
-    NewPlan,
-    /// No goal was left to plan for.
-    NoGoals,
-    /// No problem could be extracted.
-    Error,
-}
-
-impl std::fmt::Display for ReplanOutcome {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            ReplanOutcome::NewPlan => "new plan",
-            ReplanOutcome::NoGoals => "no goal left",
-            ReplanOutcome::Error => "error",
-        })
-    }
-}
-
-/// One attempt of a complete replanning.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct AttemptRecord {
-    pub attempt: u32,
-    /// The goals it planned for.
-    pub goals: Vec<String>,
-    pub steps: u64,
-    pub end: AttemptEnd,
-    /// Why a plan it found was not adopted (it needs a banned action; found after T_end).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub not_adopted: Option<String>,
-}
-
-/// A goal rejected by a complete replanning, and why.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Rejection {
-    pub goal: String,
-    #[serde(serialize_with = "super::outcome::text")]
-    pub reason: FateReason,
-}
-
-/// One complete replanning, as the `--report` JSON keeps it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ReplanRecord {
-    /// Mission time when it started and ended, ms since origin.
-    pub time_ms: Time,
-    pub end_ms: Time,
-    /// What aborted execution.
-    #[serde(serialize_with = "super::outcome::text")]
-    pub abort: AbortReason,
-    pub attempts: Vec<AttemptRecord>,
-    /// Planning steps of the whole replanning: its attempts and the single-goal searches.
-    pub steps: u64,
-    pub outcome: ReplanOutcome,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub error: Option<String>,
-    /// The goals of the new plan.
-    pub kept: Vec<String>,
-    pub rejected: Vec<Rejection>,
-}
-
 /// §3.6: plans one step at a time until a solution, a dead end, or the time limit `l = T_end_ub − d`
 /// (re-read after each step: inserting timepoints lowers T_end_ub). Once `now() ≥ l`, planning stops unless
 /// the next step is a backtrack and that step raises l (backtracking can relax T_end); a next step that
@@ -230,14 +135,14 @@ pub fn plan_until_limit(
     t_end: Timepoint,
     slack: Time,
     max_steps: u64,
-    now: &dyn Fn() -> Time,
+    clock: &dyn super::clock::Clock,
 ) -> AttemptEnd {
     let bounds = AttemptBounds {
         max_steps,
         wall: None,
         max_actions: usize::MAX,
     };
-    plan_within(search, t_end, slack, bounds, now)
+    plan_within(search, t_end, slack, bounds, clock)
 }
 
 /// What bounds a replanning attempt besides the time limit l: steps, wall time, and the plan's size (its
@@ -255,7 +160,7 @@ pub fn plan_within(
     t_end: Timepoint,
     slack: Time,
     bounds: AttemptBounds,
-    now: &dyn Fn() -> Time,
+    clock: &dyn super::clock::Clock,
 ) -> AttemptEnd {
     let limit = |s: &Search| s.plan().latest(t_end).saturating_sub(slack);
     loop {
@@ -269,7 +174,7 @@ pub fn plan_within(
             return AttemptEnd::SizeCap;
         }
         let l = limit(search);
-        let past = now() >= l;
+        let past = clock.now() >= l;
         if past && !search.next_is_solution() && !search.next_is_backtrack() {
             return AttemptEnd::TimeLimit;
         }
@@ -341,25 +246,25 @@ impl SoloPlans {
 }
 
 impl Executive {
-    /// Complete replanning at `now()`; `refresh` updates S_t between attempts (vehicle levels). Every
+    /// Complete replanning at the clock's time; `refresh` updates S_t between attempts (vehicle levels). Every
     /// attempt, the goals it kept and rejected are traced and kept in [`Executive::replannings`].
     pub fn replan(
         &mut self,
-        now: &dyn Fn() -> Time,
+        clock: &dyn super::clock::Clock,
         refresh: &mut dyn FnMut(&mut Executive),
     ) -> ReplanResult {
-        let started = now();
+        let started = clock.now();
         let abort = self.abort.clone().unwrap_or(AbortReason::Unstated);
         let pending = self.pending_goals();
         let mut attempts = Vec::new();
         let mut steps = 0;
-        let result = self.replan_attempts(now, refresh, &mut attempts, &mut steps);
-        let rejected: Vec<Rejection> = pending
+        let result = self.replan_attempts(clock, refresh, &mut attempts, &mut steps);
+        let rejected: Vec<ReplanRejection> = pending
             .iter()
             .filter_map(|g| self.fates.get(g))
             .filter(|f| f.fate == Fate::Rejected)
             .filter_map(|f| {
-                Some(Rejection {
+                Some(ReplanRejection {
                     goal: f.name.clone(),
                     reason: f.reason.clone()?,
                 })
@@ -382,7 +287,7 @@ impl Executive {
         }
         self.replannings.push(ReplanRecord {
             time_ms: started,
-            end_ms: now(),
+            end_ms: clock.now(),
             abort,
             attempts,
             steps,
@@ -405,7 +310,7 @@ impl Executive {
     /// budget is spent with goals left, the plan found for the best of them alone is adopted, if any.
     fn replan_attempts(
         &mut self,
-        now: &dyn Fn() -> Time,
+        clock: &dyn super::clock::Clock,
         refresh: &mut dyn FnMut(&mut Executive),
         attempts: &mut Vec<AttemptRecord>,
         steps: &mut u64,
@@ -421,7 +326,7 @@ impl Executive {
         // current time are rejected, and only if there are none is one goal abandoned.
         let mut abandon: Option<(AttemptEnd, u64)> = None;
         for attempt in 1.. {
-            let t = now();
+            let t = clock.now();
             if t >= self.plan.horizon() {
                 // Nothing can be planned past the mission's end: what is left is settled here.
                 for g in self.pending_goals() {
@@ -494,7 +399,7 @@ impl Executive {
                     abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
                     steps: spent,
                 };
-                return self.fall_back(&solo, &mut dropped, t_end, reason, now, ext.plan);
+                return self.fall_back(&solo, &mut dropped, t_end, reason, clock, ext.plan);
             }
             let alone = goals.len() == 1;
             let mut search = Search::new(ext.plan).bounded_regress();
@@ -505,7 +410,7 @@ impl Executive {
                 wall: Some(Instant::now() + if alone { left } else { left / 2 }),
                 max_actions: self.cfg.plan_max_actions,
             };
-            let end = plan_within(&mut search, t_end, slack, bounds, now);
+            let end = plan_within(&mut search, t_end, slack, bounds, clock);
             *steps += search.steps();
             let mut record = AttemptRecord {
                 attempt: attempt as u32,
@@ -538,7 +443,7 @@ impl Executive {
             if let Some(mut plan) = solution {
                 plan.set_time_floor(TimeFloor::None);
                 // T_end happens now: planning is over, the new plan's first timepoints may follow it.
-                if plan.execute_at(t_end, now()).is_ok() {
+                if plan.execute_at(t_end, clock.now()).is_ok() {
                     self.attempt_done(attempts, record);
                     return ReplanResult::Plan(plan);
                 }
@@ -552,7 +457,14 @@ impl Executive {
                     end,
                     steps: search.steps(),
                 };
-                return self.fall_back(&solo, &mut dropped, t_end, reason, now, search.into_plan());
+                return self.fall_back(
+                    &solo,
+                    &mut dropped,
+                    t_end,
+                    reason,
+                    clock,
+                    search.into_plan(),
+                );
             }
             if goal_to_reject(search.plan()).is_none() {
                 return ReplanResult::NoGoals(search.into_plan());
@@ -572,12 +484,14 @@ impl Executive {
         dropped: &mut Vec<GoalId>,
         t_end: Timepoint,
         reason: FateReason,
-        now: &dyn Fn() -> Time,
+        clock: &dyn super::clock::Clock,
         left: PartialPlan,
     ) -> ReplanResult {
         let kept = solo.best(dropped).and_then(|(g, mut plan)| {
             plan.set_time_floor(TimeFloor::None);
-            plan.execute_at(t_end, now()).is_ok().then_some((g, plan))
+            plan.execute_at(t_end, clock.now())
+                .is_ok()
+                .then_some((g, plan))
         });
         let reason = match &kept {
             Some((g, _)) => FateReason::OtherKept {
@@ -609,15 +523,11 @@ impl Executive {
 
     /// Adopts a plan from complete replanning: running actions are forgotten (P_ts has none).
     pub fn adopt(&mut self, plan: PartialPlan) {
-        self.plan = plan;
+        self.plan.replace(plan);
         // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
         self.dispatched.forget_plan();
-        self.repair = None;
-        self.repair_episode_steps = 0;
-        self.repair_requested = false;
+        self.repair.reset();
         self.abort = None;
-        // A new goal's insertion attempt starts again from the new plan.
-        self.insertion_stale = true;
         self.hierarchy = super::abstraction::Hierarchy::new(self.plan.domain());
         self.check_reserves();
     }

@@ -49,7 +49,7 @@ impl Executive {
             let Some(r) = self.resource(&name) else {
                 continue;
             };
-            let past = self.past.get(r.index()).map_or(0.0, |p| p.0);
+            let past = self.ledger.past(r).0;
             let lowest = lowest_level(&self.plan, r, past);
             if lowest < reserve {
                 tracing::warn!(resource = %name, lowest, reserve, "plan margin below the declared fault size");

@@ -50,7 +50,7 @@ pub struct LevelUpdate {
 }
 
 /// Default numeric tolerance on levels.
-pub const EPS: f64 = 1e-6;
+pub const EPS: f64 = mavtempo_temporal::model::LEVEL_TOLERANCE;
 
 /// `tol`: the vehicle's resolution (e.g. a battery reported in whole percents): a level within `tol` of
 /// the bounds is in them.

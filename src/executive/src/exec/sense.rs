@@ -4,23 +4,23 @@
 //! then a bounded plan repair beside the plan).
 
 use super::capacity::{alter, CapacityOutcome};
-use super::executable::{flawed_actions, plan_executable};
+use super::executable::plan_executable;
 use super::executive::Executive;
 use super::outcome::AbortReason;
-use super::p_t::{classify, remove_past};
+use super::p_t::classify;
 use super::report_timing::{integrate, timing};
-use super::resource_bounds::{fold_removed, level_bounds};
+use super::resource_bounds::level_bounds;
 use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::{integrate_late_state, integrate_state};
 use super::trace::TraceEvent;
-use mavtempo_temporal::model::{Goal, GoalKind, Time, TimeInterval, Value};
+use mavtempo_temporal::model::{Goal, GoalOrigin, Time, TimeInterval, Value};
 use mavtempo_vehicle::mapping::{GoalShape, MappingError};
 use mavtempo_vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
 
 impl Executive {
     /// Integrates one message received at time `now`.
     pub fn integrate(&mut self, event: VehicleEvent, now: Time) {
-        self.mark_changed();
+        self.plan.message_integrated();
         match event {
             VehicleEvent::Report(r) => self.integrate_report(r, now),
             VehicleEvent::Resource(l) => self.integrate_level(&l, now),
@@ -30,10 +30,14 @@ impl Executive {
                     return;
                 };
                 let running = classify(&self.plan, now).running;
-                let outcome = alter(&mut self.plan, r, c.capacity, now, &running);
-                let p = &mut self.past[r.index()];
-                p.0 = p.0.min(c.capacity);
-                p.1 = p.1.min(c.capacity);
+                let outcome = alter(
+                    self.plan.edit(),
+                    &mut self.ledger,
+                    r,
+                    c.capacity,
+                    now,
+                    &running,
+                );
                 self.trace(TraceEvent::Capacity {
                     resource: c.resource.clone(),
                     capacity: c.capacity,
@@ -43,7 +47,7 @@ impl Executive {
                     CapacityOutcome::Abort => self.abort_with(AbortReason::CapacityAltered {
                         resource: c.resource.clone(),
                     }),
-                    CapacityOutcome::Repair => self.repair_requested = true,
+                    CapacityOutcome::Repair => self.repair.request(),
                     CapacityOutcome::Nothing => {}
                 }
             }
@@ -85,7 +89,7 @@ impl Executive {
             ReportStatus::Nominal => self.action_succeeded(a),
             ReportStatus::Interrupted => {}
         }
-        match integrate(&mut self.plan, a, t) {
+        match integrate(self.plan.edit(), a, t) {
             Ok(true) => {}
             Ok(false) => {
                 integrate_late_state(self, a, &r, t);
@@ -111,12 +115,9 @@ impl Executive {
         self.state.refresh(&self.plan, t);
     }
 
-    /// The actions wholly in the past at `t` leave the plan (P_t's past part), their resource usages folded
-    /// into the aggregated past level: the two go together, or the levels forget what those actions did.
+    /// The actions wholly in the past at `t` leave the plan, their usages folded into the ledger.
     pub(crate) fn drop_past(&mut self, t: Time) {
-        for p in remove_past(&mut self.plan, t) {
-            fold_removed(&self.plan, p, &mut self.past);
-        }
+        self.ledger.drop_past(self.plan.edit(), t);
     }
 
     /// A resource level: compared with `[RscL_lb, RscL_ub]` and adjusted (resource_report).
@@ -124,38 +125,22 @@ impl Executive {
         let Some(r) = self.resource(&l.resource) else {
             return;
         };
-        if let Some(slot) = self.last_reported.get_mut(r.index()) {
-            *slot = Some((t, l.level));
-        }
+        self.ledger.reported(r, t, l.level);
         self.drop_past(t);
         let running = classify(&self.plan, t).running;
-        let b = level_bounds(&self.plan, r, t, &running, self.past[r.index()]);
+        let b = level_bounds(&self.plan, r, t, &running, self.ledger.past(r));
         let kind = self.plan.domain().resource(r).kind;
-        let tol = self.level_tolerances.get(r.index()).copied();
-        let u = integrate_level(
-            &b,
-            l.level,
-            kind,
-            tol.unwrap_or(super::resource_report::EPS),
-        );
+        let u = integrate_level(&b, l.level, kind, self.ledger.tolerance(r));
         // The constraint on the level is posted on the past part: every still-counted usage is subtracted
         // back out so that eq. (1) gives the new level.
-        let counted = (
-            b.past_lb - self.past[r.index()].0,
-            b.past_ub - self.past[r.index()].1,
-        );
-        self.past[r.index()] = (u.past.0 - counted.0, u.past.1 - counted.1);
-        // The reservoir envelope starts from the (pessimistic) aggregated level.
-        let mut problem = (**self.plan.problem()).clone();
-        if let Some(s) = problem.resources.get_mut(r.index()) {
-            s.level = self.past[r.index()].0;
-        }
-        let problem = std::sync::Arc::new(problem);
+        let past = self.ledger.past(r);
+        let counted = (b.past_lb - past.0, b.past_ub - past.1);
+        let problem = self.ledger.post_level(&self.plan, r, u.past, counted);
         if u.verdict == LevelVerdict::Consistent {
             // In bounds: the plan's resource conflicts stand as they were.
-            self.plan.set_problem(problem);
+            self.plan.edit().set_problem(problem);
         } else {
-            self.plan.set_resource_problem(problem);
+            self.plan.edit().set_resource_problem(problem);
             self.trace(TraceEvent::Level {
                 resource: l.resource.clone(),
                 level: l.level,
@@ -165,7 +150,7 @@ impl Executive {
             });
         }
         if u.check_executable {
-            let flawed = flawed_actions(&mut self.plan);
+            let flawed = self.plan.flawed_actions();
             if !plan_executable(&running, &flawed) {
                 self.abort_with(AbortReason::LevelOutOfBounds {
                     resource: l.resource.clone(),
@@ -175,7 +160,7 @@ impl Executive {
             }
         }
         if u.repair {
-            self.repair_requested = true;
+            self.repair.request();
         }
     }
 
@@ -255,7 +240,7 @@ impl Executive {
         };
         Ok(Goal {
             name: g.name.clone(),
-            kind: GoalKind::External,
+            kind: GoalOrigin::External,
             priority: i64::from(g.priority),
             attr,
             args,

@@ -82,7 +82,7 @@ pub fn location_object(
     if let Some(f) = from {
         way_back(&mut problem, &statics, id, f);
     }
-    ex.plan.set_problem(Arc::new(problem));
+    ex.plan.edit().set_problem(Arc::new(problem));
     Ok(id)
 }
 
@@ -424,17 +424,21 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
     );
     broken.sort();
     broken.dedup();
-    for e in ex.plan.integrate_observations(&broken, observed, t + 1) {
+    for e in ex
+        .plan
+        .edit()
+        .integrate_observations(&broken, observed, t + 1)
+    {
         tracing::warn!("observed value not inserted: {e}");
     }
     // Causal-link removal via the abstraction hierarchy.
-    let att_f = flawed_attributes(&mut ex.plan);
+    let att_f = flawed_attributes(ex.plan.edit());
     let att_i = ex.hierarchy.closure(&att_f);
     let more = links_to_break(&ex.plan, &att_i, &running);
     let n = broken.len() + more.len();
-    ex.plan.break_links(&more);
+    ex.plan.edit().break_links(&more);
     if n > 0 {
         ex.trace(TraceEvent::LinksBroken { count: n });
     }
-    ex.repair_requested = true;
+    ex.repair.request();
 }

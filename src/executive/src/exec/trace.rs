@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::capacity::CapacityOutcome;
 use super::outcome::{AbortReason, FateReason};
-use super::replan::{AttemptEnd, AttemptRecord, ReplanOutcome};
+use super::replan_record::{AttemptEnd, AttemptRecord, ReplanOutcome};
 use super::report_timing::Timing;
 use super::resource_report::LevelVerdict;
 use mavtempo_temporal::model::Time;
@@ -177,7 +177,18 @@ pub struct CycleRecord {
     pub events: Vec<TraceEvent>,
     /// Set when this record stands for a run of cycles with no event ([`super::cycle_log`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub idle: Option<super::cycle_log::IdleRun>,
+    pub idle: Option<IdleRun>,
+}
+
+/// Consecutive cycles with no event, recorded as one: the record's `index` and `time_ms` are the first's,
+/// its `sense_us`, `repair_us`, `act_us` the sums over the run.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct IdleRun {
+    pub cycles: u64,
+    pub last_index: u64,
+    pub last_time_ms: Time,
+    /// The longest cycle of the run (sense + repair + act), µs.
+    pub max_us: u64,
 }
 
 impl TraceEvent {

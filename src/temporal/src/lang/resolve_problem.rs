@@ -3,8 +3,8 @@
 use std::collections::HashMap;
 
 use crate::model::{
-    combinations, AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalKind, NumConstraint, Object,
-    ObjectId, Problem, ResourceKind, Term, Time, TimeInterval, TypeId, Value,
+    combinations, AttrId, Bound, DefaultFact, Domain, Fact, Goal, GoalOrigin, NumConstraint,
+    Object, ObjectId, Problem, ResourceKind, Term, Time, TimeInterval, TypeId, Value,
 };
 
 use super::ast::{
@@ -460,8 +460,8 @@ pub fn goal(ctx: &mut Ctx<'_>, domain: &Domain, p: &Problem, g: &GoalAst) -> Opt
     let errors_before = ctx.diags.len();
     let clock = Clock(Some(p.start_clock.unwrap_or(0)));
     let kind = match g.kind.as_ref().map(|k| k.name.as_str()) {
-        Some("internal") => GoalKind::Internal,
-        _ => GoalKind::External,
+        Some("internal") => GoalOrigin::Internal,
+        _ => GoalOrigin::External,
     };
     let priority = match &g.priority {
         Some(e) => match eval::num(ctx, e, false) {

@@ -1,6 +1,6 @@
 //! Printing helpers: facts, goals and dates written the way the language writes them.
 
-use super::{AttrId, Domain, Fact, Goal, GoalKind, ObjectId, Problem, Time, TimeInterval, Value};
+use super::{AttrId, Domain, Fact, Goal, GoalOrigin, ObjectId, Problem, Time, TimeInterval, Value};
 use super::{Bound, MS_PER_S};
 
 impl Problem {
@@ -50,8 +50,8 @@ impl Problem {
     /// The goal in the language's syntax (parseable by `mavtempo::lang::parse_goal` against this problem).
     pub fn goal_string(&self, d: &Domain, g: &Goal) -> String {
         let kind = match g.kind {
-            GoalKind::External => "external",
-            GoalKind::Internal => "internal",
+            GoalOrigin::External => "external",
+            GoalOrigin::Internal => "internal",
         };
         let mut s = format!(
             "goal {} {kind} priority {} {{ hold({}: {}, (st, et)); st in {};",

@@ -7,7 +7,7 @@ use super::{AttrId, ObjectId, Time, TimeInterval, Value};
 /// Who wants the goal (seed 2): an operator (external, Φ_ge, dispatched proactively) or the mission itself
 /// (internal, Φ_gi, e.g. "back at the surface by 20:00", deferred).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum GoalKind {
+pub enum GoalOrigin {
     External,
     Internal,
 }
@@ -18,7 +18,7 @@ pub enum GoalKind {
 pub struct Goal {
     /// `g1` ... (unique within a problem).
     pub name: String,
-    pub kind: GoalKind,
+    pub kind: GoalOrigin,
     /// Higher is more important; complete replanning rejects the lowest first.
     pub priority: i64,
     pub attr: AttrId,

@@ -27,7 +27,7 @@ pub use attr::{LogicalAttr, ResourceAttr, ResourceKind, Value, LEVEL_TOLERANCE};
 pub use display::interval_string;
 pub use domain::Domain;
 pub use geo::{GeoPoint, Position};
-pub use goal::{Goal, GoalKind};
+pub use goal::{Goal, GoalOrigin};
 pub use ids::{AttrId, GoalId, NumVarId, ObjectId, ResourceId, SymVarId, TaskId, TpId, TypeId};
 pub use interval::{show_bounds, Bound, Interval, NumInterval, TimeInterval};
 pub use problem::{
@@ -39,9 +39,9 @@ pub use task::{
 };
 pub use types::{Object, Type, TypeKind};
 
-/// A date or a duration in integer milliseconds (the unit of `mavtempo::stn`). Dates are relative to the
-/// problem's origin (its start, timepoint 0).
-pub type Time = i64;
+/// A date or a duration in integer milliseconds: the temporal network's one time type. Dates are relative to
+/// the problem's origin (its start, timepoint 0).
+pub use crate::stn::Time;
 
 /// Milliseconds per second: numeric variables bound to durations are in seconds.
 pub const MS_PER_S: Time = 1_000;

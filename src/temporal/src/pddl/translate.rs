@@ -13,7 +13,7 @@ use super::sexpr::Span;
 use super::task;
 use super::{PddlError, Src};
 use crate::model::{
-    AttrId, Domain, Fact, Goal, GoalKind, LogicalAttr, Object, ObjectId, Problem, ResourceAttr,
+    AttrId, Domain, Fact, Goal, GoalOrigin, LogicalAttr, Object, ObjectId, Problem, ResourceAttr,
     ResourceId, ResourceKind, Term, Time, TimeInterval, TypeId, TypeKind, Value, MS_PER_S,
 };
 
@@ -931,7 +931,7 @@ fn problem(cx: &Cx, model: &Domain, p: &ast::Problem, base: usize) -> Result<Pro
         // PDDL goals hold at the end of the plan: at the horizon, after every action.
         pr.goals.push(Goal {
             name: format!("g{}", i + 1),
-            kind: GoalKind::External,
+            kind: GoalOrigin::External,
             priority: 1,
             attr,
             args,

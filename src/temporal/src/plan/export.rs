@@ -120,7 +120,7 @@ impl PartialPlan {
                 })
                 .collect();
             actions.push(solution::PlanAction {
-                id: solution::ActionId(a.0),
+                id: solution::PlanActionId(a.0),
                 name: format!("a{}", a.0),
                 task_name: task.name.clone(),
                 task: act.task,
@@ -155,7 +155,7 @@ impl PartialPlan {
                         continue;
                     };
                     Consumer::EventFrom {
-                        action: solution::ActionId(a.0),
+                        action: solution::PlanActionId(a.0),
                         event: k,
                     }
                 }
@@ -165,7 +165,7 @@ impl PartialPlan {
                         continue;
                     };
                     Consumer::Hold {
-                        action: solution::ActionId(a.0),
+                        action: solution::PlanActionId(a.0),
                         hold: k - act.events.len(),
                     }
                 }
@@ -230,7 +230,7 @@ impl PartialPlan {
                 }
                 let k = act.events.iter().position(|&x| x == e)?;
                 Some(Establisher::Event {
-                    action: solution::ActionId(a.0),
+                    action: solution::PlanActionId(a.0),
                     event: k,
                 })
             }

@@ -29,7 +29,7 @@ impl PlanTp {
 
 /// An action of the plan: [`PlanAction::id`] (stable across repairs, not necessarily an index).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-pub struct ActionId(pub u32);
+pub struct PlanActionId(pub u32);
 
 /// A symbolic variable of the plan: index into [`Solution::variables`]. Variables unified by the
 /// planner (e.g. `a1.?to` and `a2.?from` after a causal link) are one plan variable.
@@ -124,7 +124,7 @@ pub struct NumBounds {
 /// An action: an instance of a task of the domain.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlanAction {
-    pub id: ActionId,
+    pub id: PlanActionId,
     /// For printing: `a3`.
     pub name: String,
     /// The task's name (redundant with `task`, checked by readers).
@@ -164,16 +164,16 @@ pub enum Establisher {
     /// A predicted exogenous change: index into [`crate::model::Problem::exogenous`].
     Timed { index: usize },
     /// Event number `event` (index into the task's `events`) of an action.
-    Event { action: ActionId, event: usize },
+    Event { action: PlanActionId, event: usize },
 }
 
 /// What a causal link supports (an open condition that the link closed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Consumer {
     /// Hold number `hold` (index into the task's `holds`) of an action.
-    Hold { action: ActionId, hold: usize },
+    Hold { action: PlanActionId, hold: usize },
     /// The `from` value required by event number `event` of an action.
-    EventFrom { action: ActionId, event: usize },
+    EventFrom { action: PlanActionId, event: usize },
     /// A goal's `hold(attr(args): value, (st^g, et^g))`.
     Goal { goal: GoalId },
 }
@@ -212,7 +212,7 @@ pub struct PlanGoal {
 
 impl Solution {
     /// The action with id `id`.
-    pub fn action(&self, id: ActionId) -> Option<&PlanAction> {
+    pub fn action(&self, id: PlanActionId) -> Option<&PlanAction> {
         self.actions.iter().find(|a| a.id == id)
     }
 

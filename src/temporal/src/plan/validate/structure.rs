@@ -5,7 +5,7 @@ use std::collections::HashSet;
 
 use crate::model::{Domain, GoalId, Problem, Task};
 use crate::plan::solution::{
-    ActionId, CausalLink, Consumer, Establisher, PlanTerm, PlanTp, Solution,
+    CausalLink, Consumer, Establisher, PlanActionId, PlanTerm, PlanTp, Solution,
 };
 
 use super::Violation;
@@ -191,7 +191,7 @@ fn link_ok(d: &Domain, p: &Problem, s: &Solution, l: &CausalLink) -> Result<(), 
 fn part(
     d: &Domain,
     s: &Solution,
-    action: ActionId,
+    action: PlanActionId,
     index: usize,
     what: &'static str,
     count: impl Fn(&Task) -> usize,
