@@ -10,7 +10,7 @@
 //! the reason — timed initial literals, goals beyond literals, `?duration` in an effect of an action
 //! without `(= ?duration e)` — and the POCL planner alone plans those problems.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Init, Lit, NExpr, When};
 use crate::planner::forward::{
@@ -101,7 +101,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
             }
         }
     }
-    let numeric = Numeric::of(d);
+    let numeric = Numeric::of(d, p);
     let mut values: HashMap<(String, Vec<u32>), f64> = HashMap::new();
     let mut init: HashSet<Key> = HashSet::new();
     for i in &p.init {
@@ -334,7 +334,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
                 Effect::Del(x) => h
                     .del
                     .push(id(ground_atom(&mut names, d, ai, x, &b)?, &names)),
-                Effect::Num(_, f, _, _) if !numeric.read.contains(f.pred.name.as_str()) => {}
+                Effect::Num(_, f, _, _) if !numeric.read.contains(&f.pred.name) => {}
                 Effect::Num(op, f, e, _) => {
                     let var = gx.var(&names, f)?;
                     let expr = gx.expr(&names, e)?;
@@ -344,9 +344,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
         }
         let mut duration = None;
         if a.effects.iter().any(|(_, e)| match e {
-            Effect::Num(_, f, e, _) => {
-                numeric.read.contains(f.pred.name.as_str()) && e.uses_duration()
-            }
+            Effect::Num(_, f, e, _) => numeric.read.contains(&f.pred.name) && e.uses_duration(),
             _ => false,
         }) {
             let Some((_, e, _)) = a.duration.iter().find(|(c, _, _)| *c == Cmp::Eq) else {
@@ -380,56 +378,31 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
 
 /// Which functions are numeric state: changed by some action (`changed`) and read by a condition, a
 /// duration or an effect (`read`, a subset of `changed`; the others are costs, left out).
-struct Numeric<'d> {
-    changed: HashSet<&'d str>,
-    read: HashSet<&'d str>,
+struct Numeric {
+    changed: BTreeSet<String>,
+    read: BTreeSet<String>,
 }
 
-impl<'d> Numeric<'d> {
-    fn of(d: &'d ast::Domain) -> Self {
-        let mut changed = HashSet::new();
-        let mut reads = HashSet::new();
+impl Numeric {
+    fn of(d: &ast::Domain, p: &ast::Problem) -> Self {
+        let mut changed = BTreeSet::new();
         for a in &d.actions {
             for (_, e) in &a.effects {
-                if let Effect::Num(_, f, x, _) = e {
-                    changed.insert(f.pred.name.as_str());
-                    fluents(x, &mut reads);
+                if let Effect::Num(_, f, _, _) = e {
+                    changed.insert(f.pred.name.clone());
                 }
-            }
-            for (_, l) in &a.conditions {
-                if let Lit::Compare(_, x, y, _) = l {
-                    fluents(x, &mut reads);
-                    fluents(y, &mut reads);
-                }
-            }
-            for (_, x, _) in &a.duration {
-                fluents(x, &mut reads);
             }
         }
-        let read = changed.intersection(&reads).copied().collect();
+        let read = changed
+            .intersection(&super::fluents::read_functions(d, p))
+            .cloned()
+            .collect();
         Numeric { changed, read }
     }
 
     /// Whether `e` reads a function that actions change.
     fn reads_state(&self, e: &NExpr) -> bool {
-        let mut fs = HashSet::new();
-        fluents(e, &mut fs);
-        fs.iter().any(|f| self.changed.contains(f))
-    }
-}
-
-/// The functions `e` reads, into `out`.
-fn fluents<'d>(e: &'d NExpr, out: &mut HashSet<&'d str>) {
-    match e {
-        NExpr::Num(..) | NExpr::Duration(_) => {}
-        NExpr::Fluent(f) => {
-            out.insert(f.pred.name.as_str());
-        }
-        NExpr::Neg(x, _) => fluents(x, out),
-        NExpr::Bin(_, x, y, _) => {
-            fluents(x, out);
-            fluents(y, out);
-        }
+        super::fluents::mentions(e, &self.changed)
     }
 }
 
@@ -446,7 +419,7 @@ struct Grounder<'a> {
     action: &'a ast::Action,
     binding: &'a [u32],
     values: &'a HashMap<(String, Vec<u32>), f64>,
-    numeric: &'a Numeric<'a>,
+    numeric: &'a Numeric,
     vars: &'a mut Vars,
 }
 
@@ -493,7 +466,7 @@ impl Grounder<'_> {
             NExpr::Fluent(f) if f.pred.name == "total-time" => {
                 return Err(GroundError::Unsupported("`total-time` outside the metric"))
             }
-            NExpr::Fluent(f) if self.numeric.changed.contains(f.pred.name.as_str()) => {
+            NExpr::Fluent(f) if self.numeric.changed.contains(&f.pred.name) => {
                 NumExpr::Var(self.var(names, f)?)
             }
             NExpr::Fluent(f) => {
@@ -512,7 +485,7 @@ struct Cx<'a> {
     values: &'a HashMap<(String, Vec<u32>), f64>,
     names: &'a Names,
     action: &'a ast::Action,
-    numeric: &'a Numeric<'a>,
+    numeric: &'a Numeric,
 }
 
 impl Cx<'_> {
