@@ -16,7 +16,7 @@ Usage: devset.py [--planners mavtempo,lpg,kairos] [--mavtempo BIN] [--dir DIR] [
                  [--time-limit 10] [--domains a,b] [--out FILE.jsonl] [--plans-out DIR] [--merge FILE ...]
        devset.py --report --out FILE.jsonl [--merge FILE ...]   (the table again, from saved results)
 --merge adds the rows of saved runs (e.g. the peers' of an earlier run) for the planners not run now.
-Without unified-planning importable (the peers' virtualenv, benches/peers/devset.sh) only mavtempo can run
+Without unified-planning importable (the peers' virtualenv, benches/peers/devset.sh) mavtempo runs alone
 and its plans are left unchecked. Output: one JSON line per (instance, planner) in --out (folder, set,
 instance, planner, outcome, secs, makespan, actions, valid, check, reason); the Markdown table on standard
 output: per domain and planner solved / instances (median time, median makespan of the solved), the median
@@ -250,7 +250,7 @@ def read_rows(paths):
 
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--planners", default=",".join(PLANNERS))
+    ap.add_argument("--planners", help=f"default {','.join(PLANNERS)}; mavtempo alone without unified-planning")
     ap.add_argument("--mavtempo", default=str(ROOT / "target/release/mavtempo"))
     # ../shared/benchmarks beside the checkout (a worktree under wt/ looks one level further up).
     near = [d / "shared/benchmarks" for d in (ROOT.parent, ROOT.parent.parent)]
@@ -270,11 +270,13 @@ def main():
     if a.report:
         report(read_rows(a.merge + [a.out]))
         return 0
+    can_check = importlib.util.find_spec("unified_planning") is not None
+    if a.planners is None:
+        a.planners = ",".join(PLANNERS) if can_check else "mavtempo"
     planners = [p for p in a.planners.split(",") if p]
     unknown = [p for p in planners if p not in PLANNERS + ["aries"]]
     if unknown:
         sys.exit(f"devset.py: unknown planner {', '.join(unknown)} (known: {', '.join(PLANNERS)}, aries)")
-    can_check = importlib.util.find_spec("unified_planning") is not None
     peers = [p for p in planners if p != "mavtempo"]
     if peers:
         if not can_check:
