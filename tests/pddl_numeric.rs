@@ -78,6 +78,42 @@ fn a_battery_with_a_recharge_at_a_rate_is_planned_checked_and_replayed() {
     );
 }
 
+/// The forward search reads numeric fluents as state: from 3, `go s1 s2` (4) does not apply until the
+/// recharge (to 10 at rate 2, `?duration` evaluated in the state at its start) has run; its plan, deordered
+/// and completed with the reservoirs, passes the checker and the replay. Before, the forward search stepped
+/// aside on any numeric effect and the POCL searches planned such domains alone.
+#[test]
+fn the_forward_search_plans_numeric_fluents_as_state() {
+    let l = read(&fixture_text("charge.pddl"), &fixture_text("charge-1.pddl"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut hybrid = pddl::Hybrid::new(&l, None);
+    let planned = hybrid.slice(100_000, std::time::Duration::MAX);
+    assert!(planned.is_ok(), "stepped aside: {:?}", hybrid.aside);
+    let task = pddl::ground::ground(&l.domain, &l.problem).unwrap_or_else(|e| panic!("{e}"));
+    // `walked` only feeds the metric: not a state variable; `charge r1` is.
+    assert_eq!(task.nums, vec!["(charge r1)".to_string()]);
+    let go = task
+        .actions
+        .iter()
+        .position(|a| a.name == "go" && a.args == ["r1", "s1", "s2"])
+        .unwrap_or_else(|| panic!("no go r1 s1 s2"));
+    let recharge = task
+        .actions
+        .iter()
+        .position(|a| a.name == "recharge" && a.args == ["r1", "s1"])
+        .unwrap_or_else(|| panic!("no recharge r1 s1"));
+    let init = task.initial_state();
+    assert!(task.actions[go].successor(&init).is_none(), "3 < 4");
+    let full = task.actions[recharge]
+        .successor(&init)
+        .unwrap_or_else(|| panic!("the recharge applies"));
+    assert_eq!(&full.nums[..], &[10.0]);
+    let there = task.actions[go]
+        .successor(&full)
+        .unwrap_or_else(|| panic!("10 >= 4"));
+    assert_eq!(&there.nums[..], &[6.0]);
+}
+
 #[test]
 fn the_replay_simulates_numeric_fluents() {
     use simulate::SimulateError as E;

@@ -67,27 +67,8 @@ def label(b):
 
 
 def check_plan(b, text, problem=None):
-    """unified-planning's verdict on an IPC plan text of benchmark `b`: a dict with "valid" (True, False, or None
-    when it could not check), "validator" and "error". `problem`: the benchmark already read (else read here)."""
-    import unified_planning.shortcuts as up
-
-    res = {"valid": None, "validator": None, "error": None}
-    try:
-        steps = peerslib.ipc_steps(text)
-        if problem is None:
-            problem = peerslib.read_problem(b.domain_file, b.problem_file)
-        plan = peerslib.ipc_plan(problem, text)
-    except peerslib.PlanFormatError as e:
-        res.update(valid=False, error=f"malformed plan: {e}")
-        return res
-    except Exception as e:
-        res["error"] = f"unified-planning cannot read it: {type(e).__name__}: {str(e)[:200]}"
-        return res
-    res["actions"], res["makespan"] = len(steps), peerslib.ipc_makespan(steps)
-    peerslib.validate(up, problem, plan, res)
-    if res["validator"] is None:
-        res["error"] = "no validator could check it: " + "; ".join(res.get("validator_errors", []))
-    return res
+    """unified-planning's verdict on an IPC plan text of benchmark `b` (peerslib.check_text)."""
+    return peerslib.check_text(b.domain_file, b.problem_file, text, problem)
 
 
 def bench_rows(rows, benches, plans_dir=None):

@@ -83,20 +83,47 @@ def ipc_makespan(steps):
     return float(max(s + d for s, _, _, d in steps)) if steps else 0.0
 
 
+# A written duration this close to the one the domain fixes on static values is taken as that value: the IPC
+# format writes decimals, and 11/9 s (Depots Time's `(/ (weight ?y) (power ?x))`) has none; unified-planning's
+# validator compares durations exactly (VAL allows a tolerance too).
+DURATION_TOLERANCE = Fraction(1, 1000)
+
+
 def ipc_plan(problem, text):
     """The unified-planning TimeTriggeredPlan of an IPC plan text, for `problem`."""
     import unified_planning as upf
 
     timed = []
+    static = set(problem.get_static_fluents())
     for start, name, args, dur in ipc_steps(text):
         if not problem.has_action(name):
             raise PlanFormatError(f"no action {name!r} in the domain")
         missing = [a for a in args if not problem.has_object(a)]
         if missing:
             raise PlanFormatError(f"({name} {' '.join(args)}): no object {', '.join(missing)} in the problem")
-        act = upf.plans.ActionInstance(problem.action(name), [problem.object(a) for a in args])
-        timed.append((start, act, dur))
+        objects = [problem.object(a) for a in args]
+        exact = fixed_duration(problem, static, problem.action(name), objects)
+        if exact is not None and abs(exact - dur) <= DURATION_TOLERANCE:
+            dur = exact
+        timed.append((start, upf.plans.ActionInstance(problem.action(name), objects), dur))
     return upf.plans.TimeTriggeredPlan(timed)
+
+
+def fixed_duration(problem, static, action, objects):
+    """The duration the domain fixes for `action` on `objects` (a Fraction), when `(= ?duration e)` reads only
+    static functions; else None."""
+    d = getattr(action, "duration", None)
+    if d is None or d.lower is not d.upper or d.is_left_open() or d.is_right_open():
+        return None
+    env = problem.environment
+    if any(f.fluent() not in static for f in env.free_vars_extractor.get(d.lower)):
+        return None
+    em = env.expression_manager
+    e = d.lower.substitute({em.ParameterExp(p): em.ObjectExp(o) for p, o in zip(action.parameters, objects)})
+    e = env.simplifier.simplify(e.substitute(problem.initial_values))
+    if not (e.is_int_constant() or e.is_real_constant()):
+        return None
+    return Fraction(e.constant_value())
 
 
 def _decimal(q):
@@ -249,11 +276,17 @@ def solve_one(planner, domain_file, problem_file, limit, queue):
 def run_one(planner, domain_file, problem_file, limit):
     """One planner on one problem in a child process, killed 5 s past the limit (reading the PDDL and starting
     the engine come on top of it; not every engine keeps its limit)."""
+    return in_child(solve_one, (planner, domain_file, problem_file, limit), limit + 5)
+
+
+def in_child(target, args, limit):
+    """`target(*args, queue)` in a child process that puts one result dict on the queue; killed past `limit`
+    seconds (a result dict with status KILLED), or CRASHED when it ended without a result."""
     q = mp.Queue()
-    p = mp.Process(target=solve_one, args=(planner, domain_file, problem_file, limit, q))
+    p = mp.Process(target=target, args=(*args, q))
     t0 = time.perf_counter()
     p.start()
-    deadline = time.monotonic() + limit + 5
+    deadline = time.monotonic() + limit
     # The queue is read before joining: a child blocks on exit until a large result (a plan) is drained.
     result, gone = None, False
     while result is None and time.monotonic() < deadline and not gone:
@@ -275,6 +308,41 @@ def run_one(planner, domain_file, problem_file, limit):
     else:
         res.update({"status": "CRASHED", "error": f"exit code {p.exitcode}"})
     return res
+
+
+def check_text(domain_file, problem_file, text, problem=None):
+    """unified-planning's verdict on an IPC plan text: a dict with "valid" (True, False, or None when it could
+    not check: it cannot read the domain, or no validator could), "validator", "error", and "actions" and
+    "makespan" of a well-formed plan. `problem`: the files already read (else read here)."""
+    import unified_planning.shortcuts as up
+
+    res = {"valid": None, "validator": None, "error": None}
+    try:
+        steps = ipc_steps(text)
+        if problem is None:
+            problem = read_problem(domain_file, problem_file)
+        plan = ipc_plan(problem, text)
+    except PlanFormatError as e:
+        res.update(valid=False, error=f"malformed plan: {e}")
+        return res
+    except Exception as e:
+        res["error"] = f"unified-planning cannot read it: {type(e).__name__}: {str(e)[:200]}"
+        return res
+    res["actions"], res["makespan"] = len(steps), ipc_makespan(steps)
+    validate(up, problem, plan, res)
+    if res["validator"] is None:
+        res["error"] = "no validator could check it: " + "; ".join(res.get("validator_errors", []))
+    return res
+
+
+def check_one(domain_file, problem_file, text, queue):
+    """check_text in a child process (see in_child): unified-planning may take long on a large problem."""
+    warnings.filterwarnings("ignore")
+    try:
+        res = check_text(domain_file, problem_file, text)
+    except Exception as e:
+        res = {"valid": None, "validator": None, "error": f"{type(e).__name__}: {str(e)[:300]}"}
+    queue.put(res)
 
 
 def solved(r, limit):

@@ -186,14 +186,8 @@ fn same_atom(x: &Atom, y: &Atom) -> bool {
             .all(|(a, b)| a.name().name == b.name().name)
 }
 
-/// Finds the numeric fluents (changed and read), the ones only the metric reads, each instance's capacity
-/// (from its fills) and makes their resources. Returns notes.
-pub(super) fn analyse(
-    cx: &mut Cx,
-    d: &ast::Domain,
-    p: &ast::Problem,
-    model: &mut Domain,
-) -> Result<Vec<String>, PddlError> {
+/// The functions a condition, a duration, a numeric effect's amount or a goal reads.
+pub(super) fn read_functions(d: &ast::Domain, p: &ast::Problem) -> BTreeSet<String> {
     let mut read = BTreeSet::new();
     for a in &d.actions {
         for (_, l) in &a.conditions {
@@ -217,6 +211,18 @@ pub(super) fn analyse(
             reads(y, &mut read);
         }
     }
+    read
+}
+
+/// Finds the numeric fluents (changed and read), the ones only the metric reads, each instance's capacity
+/// (from its fills) and makes their resources. Returns notes.
+pub(super) fn analyse(
+    cx: &mut Cx,
+    d: &ast::Domain,
+    p: &ast::Problem,
+    model: &mut Domain,
+) -> Result<Vec<String>, PddlError> {
+    let read = read_functions(d, p);
     let changed = cx.fluent_functions.clone();
     cx.numeric = changed.intersection(&read).cloned().collect();
     cx.metric_only = changed.difference(&read).cloned().collect();

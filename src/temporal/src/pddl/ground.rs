@@ -3,13 +3,19 @@
 //! from the initial atoms, the instances whose static conditions hold in the initial state and whose
 //! positive conditions are reachable are generated, their additions become reachable, until nothing new
 //! appears. Static atoms (no action changes them) are decided at grounding and left out of the ground
-//! conditions. What the forward search does not model is refused with the reason — numeric fluents,
-//! timed initial literals, goals beyond literals — and the POCL planner alone plans those problems.
+//! conditions. Numeric fluents that actions change are numeric state variables (one per ground instance);
+//! comparisons on them are left to the search (relaxed reachability takes them as satisfiable), and a
+//! function changed by actions but read by nothing (a cost such as `total-fuel-used`, read by the metric
+//! alone) is left out, as the translation does. What the forward search does not model is refused with
+//! the reason — timed initial literals, goals beyond literals, `?duration` in an effect of an action
+//! without `(= ?duration e)` — and the POCL planner alone plans those problems.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 use super::ast::{self, Arg, Atom, Cmp, Effect, Init, Lit, NExpr, When};
-use crate::planner::forward::{AtomId, Cond, GroundAction, GroundTask, Happening};
+use crate::planner::forward::{
+    AtomId, Cond, GroundAction, GroundTask, Happening, NumCond, NumEffect, NumExpr,
+};
 
 /// Ground actions beyond which grounding gives up (the forward search would not get far either).
 const MAX_GROUND_ACTIONS: usize = 200_000;
@@ -70,11 +76,6 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
             return Err(GroundError::Unsupported("timed initial literals"));
         }
     }
-    for a in &d.actions {
-        if a.effects.iter().any(|(_, e)| matches!(e, Effect::Num(..))) {
-            return Err(GroundError::Unsupported("numeric effects"));
-        }
-    }
     let mut names = Names {
         preds: HashMap::new(),
         objects: HashMap::new(),
@@ -100,6 +101,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
             }
         }
     }
+    let numeric = Numeric::of(d, p);
     let mut values: HashMap<(String, Vec<u32>), f64> = HashMap::new();
     let mut init: HashSet<Key> = HashSet::new();
     for i in &p.init {
@@ -147,6 +149,13 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
                     let (x, y) = (arg(&names, a, x)?, arg(&names, a, y)?);
                     (Check::Equal(x, y, *eq), depth_of(&[x, y]))
                 }
+                Lit::Compare(_, x, y, _) if numeric.reads_state(x) || numeric.reads_state(y) => {
+                    // A condition on numeric state: decided by the search.
+                    for e in [x, y] {
+                        expr_depth(&names, a, e)?;
+                    }
+                    continue;
+                }
                 Lit::Compare(c, x, y, _) => {
                     let mut depth = 0;
                     for e in [x, y] {
@@ -192,6 +201,7 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
                 values: &values,
                 names: &names,
                 action: a,
+                numeric: &numeric,
             };
             cx.enumerate(&mut binding, &mut |b| instances.push((ai, b.to_vec())))?;
             if instances.len() > MAX_GROUND_ACTIONS {
@@ -262,16 +272,37 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
             goal.neg.push(a);
         }
     }
+    let mut vars = Vars::default();
     let mut actions = Vec::with_capacity(instances.len());
     for (ai, b) in instances {
         let a = &d.actions[ai];
         let mut start = Happening::default();
         let mut over_all = Cond::default();
         let mut end = Happening::default();
+        let mut gx = Grounder {
+            action: a,
+            binding: &b,
+            values: &values,
+            numeric: &numeric,
+            vars: &mut vars,
+        };
         for (w, l) in &a.conditions {
             let (x, positive) = match l {
                 Lit::Pos(x) => (x, true),
                 Lit::Neg(x) => (x, false),
+                Lit::Compare(cmp, x, y, _) if numeric.reads_state(x) || numeric.reads_state(y) => {
+                    let c = NumCond {
+                        cmp: *cmp,
+                        lhs: gx.expr(&names, x)?,
+                        rhs: gx.expr(&names, y)?,
+                    };
+                    match w {
+                        When::Start => start.pre.num.push(c),
+                        When::OverAll => over_all.num.push(c),
+                        When::End => end.pre.num.push(c),
+                    }
+                    continue;
+                }
                 _ => continue,
             };
             if !changed.contains(x.pred.name.as_str()) {
@@ -303,8 +334,25 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
                 Effect::Del(x) => h
                     .del
                     .push(id(ground_atom(&mut names, d, ai, x, &b)?, &names)),
-                Effect::Num(..) => return Err(GroundError::Unsupported("numeric effects")),
+                Effect::Num(_, f, _, _) if !numeric.read.contains(&f.pred.name) => {}
+                Effect::Num(op, f, e, _) => {
+                    let var = gx.var(&names, f)?;
+                    let expr = gx.expr(&names, e)?;
+                    h.num.push(NumEffect { op: *op, var, expr });
+                }
             }
+        }
+        let mut duration = None;
+        if a.effects.iter().any(|(_, e)| match e {
+            Effect::Num(_, f, e, _) => numeric.read.contains(&f.pred.name) && e.uses_duration(),
+            _ => false,
+        }) {
+            let Some((_, e, _)) = a.duration.iter().find(|(c, _, _)| *c == Cmp::Eq) else {
+                return Err(GroundError::Unsupported(
+                    "`?duration` in effects of actions without `(= ?duration e)`",
+                ));
+            };
+            duration = Some(gx.expr(&names, e)?);
         }
         actions.push(GroundAction {
             name: a.name.name.clone(),
@@ -315,14 +363,118 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
             start,
             over_all,
             end,
+            duration,
         });
     }
     Ok(GroundTask {
         atoms: atom_names,
         init: task_init,
+        nums: vars.names,
+        init_nums: vars.init,
         goal,
         actions,
     })
+}
+
+/// Which functions are numeric state: changed by some action (`changed`) and read by a condition, a
+/// duration or an effect (`read`, a subset of `changed`; the others are costs, left out).
+struct Numeric {
+    changed: BTreeSet<String>,
+    read: BTreeSet<String>,
+}
+
+impl Numeric {
+    fn of(d: &ast::Domain, p: &ast::Problem) -> Self {
+        let mut changed = BTreeSet::new();
+        for a in &d.actions {
+            for (_, e) in &a.effects {
+                if let Effect::Num(_, f, _, _) = e {
+                    changed.insert(f.pred.name.clone());
+                }
+            }
+        }
+        let read = changed
+            .intersection(&super::fluents::read_functions(d, p))
+            .cloned()
+            .collect();
+        Numeric { changed, read }
+    }
+
+    /// Whether `e` reads a function that actions change.
+    fn reads_state(&self, e: &NExpr) -> bool {
+        super::fluents::mentions(e, &self.changed)
+    }
+}
+
+/// The numeric state variables met so far: one per ground instance of a function that is state.
+#[derive(Default)]
+struct Vars {
+    ids: HashMap<(String, Vec<u32>), u32>,
+    names: Vec<String>,
+    init: Vec<f64>,
+}
+
+/// Grounds the numeric expressions of one action instance.
+struct Grounder<'a> {
+    action: &'a ast::Action,
+    binding: &'a [u32],
+    values: &'a HashMap<(String, Vec<u32>), f64>,
+    numeric: &'a Numeric,
+    vars: &'a mut Vars,
+}
+
+impl Grounder<'_> {
+    fn key(&self, names: &Names, f: &Atom) -> Result<(String, Vec<u32>), GroundError> {
+        let mut args = Vec::with_capacity(f.args.len());
+        for x in &f.args {
+            args.push(value(arg(names, self.action, x)?, self.binding));
+        }
+        Ok((f.pred.name.clone(), args))
+    }
+
+    /// The state variable of a ground instance of a numeric-state function.
+    fn var(&mut self, names: &Names, f: &Atom) -> Result<u32, GroundError> {
+        let k = self.key(names, f)?;
+        if let Some(&i) = self.vars.ids.get(&k) {
+            return Ok(i);
+        }
+        let i = self.vars.names.len() as u32;
+        let text: Vec<&str> =
+            k.1.iter()
+                .map(|&o| names.object_names[o as usize].as_str())
+                .collect();
+        self.vars
+            .names
+            .push(format!("({} {})", k.0, text.join(" ")));
+        self.vars
+            .init
+            .push(self.values.get(&k).copied().unwrap_or(f64::NAN));
+        self.vars.ids.insert(k, i);
+        Ok(i)
+    }
+
+    fn expr(&mut self, names: &Names, e: &NExpr) -> Result<NumExpr, GroundError> {
+        Ok(match e {
+            NExpr::Num(v, _) => NumExpr::Const(*v),
+            NExpr::Duration(_) => NumExpr::Duration,
+            NExpr::Neg(x, _) => NumExpr::Neg(Box::new(self.expr(names, x)?)),
+            NExpr::Bin(op, x, y, _) => NumExpr::Bin(
+                *op,
+                Box::new(self.expr(names, x)?),
+                Box::new(self.expr(names, y)?),
+            ),
+            NExpr::Fluent(f) if f.pred.name == "total-time" => {
+                return Err(GroundError::Unsupported("`total-time` outside the metric"))
+            }
+            NExpr::Fluent(f) if self.numeric.changed.contains(&f.pred.name) => {
+                NumExpr::Var(self.var(names, f)?)
+            }
+            NExpr::Fluent(f) => {
+                let k = self.key(names, f)?;
+                NumExpr::Const(self.values.get(&k).copied().unwrap_or(f64::NAN))
+            }
+        })
+    }
 }
 
 struct Cx<'a> {
@@ -333,6 +485,7 @@ struct Cx<'a> {
     values: &'a HashMap<(String, Vec<u32>), f64>,
     names: &'a Names,
     action: &'a ast::Action,
+    numeric: &'a Numeric,
 }
 
 impl Cx<'_> {
@@ -375,12 +528,14 @@ impl Cx<'_> {
         })
     }
 
-    /// Whether every duration bound has a value for these arguments (a static function may have none:
-    /// the action does not apply there, as the translation decides too).
+    /// Whether every duration bound on static functions has a value for these arguments (a static
+    /// function may have none: the action does not apply there, as the translation decides too); a bound
+    /// on numeric state is the search's to evaluate.
     fn duration_defined(&self, b: &[u32]) -> bool {
         self.action
             .duration
             .iter()
+            .filter(|(_, e, _)| !self.numeric.reads_state(e))
             .all(|(_, e, _)| self.eval(e, b).is_some_and(|v| v >= 0.0))
     }
 

@@ -10,7 +10,7 @@
 pub mod ast;
 mod finalise;
 mod fluents;
-mod ground;
+pub mod ground;
 pub mod hybrid;
 mod invariants;
 mod parse;

@@ -19,13 +19,11 @@ pub fn precedences(task: &GroundTask, steps: &[u32]) -> Vec<(usize, usize)> {
         let Some(a) = task.actions.get(s as usize) else {
             continue;
         };
-        let mut writes: Vec<AtomId> = a.writes().collect();
+        let mut writes: Vec<AtomId> = a.writes(task.atoms.len());
         writes.sort_unstable();
         writes.dedup();
-        let mut reads: Vec<AtomId> = a
-            .reads()
-            .filter(|x| writes.binary_search(x).is_err())
-            .collect();
+        let mut reads: Vec<AtomId> = a.reads(task.atoms.len());
+        reads.retain(|x| writes.binary_search(x).is_err());
         reads.sort_unstable();
         reads.dedup();
         for x in reads.iter().chain(&writes) {
@@ -60,13 +58,15 @@ mod tests {
             start: Happening {
                 pre: Cond {
                     pos: pre.to_vec(),
-                    neg: Vec::new(),
+                    ..Cond::default()
                 },
                 add: add.to_vec(),
                 del: del.to_vec(),
+                ..Happening::default()
             },
             over_all: Cond::default(),
             end: Happening::default(),
+            duration: None,
         }
     }
 
@@ -84,6 +84,7 @@ mod tests {
                 act(&[0, 2], &[], &[2]),
                 act(&[], &[2], &[]),
             ],
+            ..GroundTask::default()
         };
         assert_eq!(precedences(&task, &[0, 1, 2, 3]), vec![(0, 2), (2, 3)]);
     }

@@ -6,11 +6,19 @@
 //! the goals through each atom's cheapest achiever, and h_FF is its number of actions. Its actions that
 //! apply in the state are the *helpful* ones (FF's helpful actions, Fast Downward's preferred operators):
 //! the search tries them first.
+//!
+//! A numeric condition is a fact of the relaxation of its own, true where it holds in the state and
+//! achieved by every action that can move its variable the way it needs (up for `v >= c` and `v > c`,
+//! down for `<=` and `<`; any change of a variable it reads for other shapes). An action that changes a
+//! variable by an amount that depends on the state, assigns or scales it may move it either way. Its
+//! achievers and their conditions are counted like any other's, so a rover short of energy is estimated
+//! to need a recharge; a condition no achiever reaches is a dead end, soundly (nothing else changes it).
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::{AtomId, GroundTask, State};
+use super::{AtomId, GroundTask, NumCond, NumExpr, State};
+use crate::pddl::ast::{Cmp, NumOp};
 
 const UNREACHED: u32 = u32::MAX;
 const NO_ACTION: u32 = u32::MAX;
@@ -33,17 +41,117 @@ pub struct Relaxed {
     /// Per atom, the actions that need it.
     users: Vec<Vec<u32>>,
     goal: Vec<AtomId>,
+    /// Facts: the task's atoms, then one per distinct numeric condition (`n_atoms + k`).
+    n_facts: usize,
     n_atoms: usize,
+    conds: Vec<NumCond>,
+}
+
+/// Which way a numeric condition needs its variable to move, or an action may move one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Way {
+    Up,
+    Down,
+    Either,
+}
+
+/// The value of an expression that reads no variable and no `?duration`.
+fn constant(e: &NumExpr) -> Option<f64> {
+    match e {
+        NumExpr::Const(v) => Some(*v),
+        NumExpr::Var(_) | NumExpr::Duration => None,
+        NumExpr::Neg(x) => constant(x).map(|v| -v),
+        NumExpr::Bin(op, x, y) => Some(crate::pddl::ast::arithmetic(
+            *op,
+            constant(x)?,
+            constant(y)?,
+        )),
+    }
+}
+
+/// The variables a numeric condition needs moved and which way (a variable compared with a constant),
+/// or every variable it reads, either way.
+fn needs(c: &NumCond) -> Vec<(u32, Way)> {
+    let flip = |w: Way| match w {
+        Way::Up => Way::Down,
+        Way::Down => Way::Up,
+        Way::Either => Way::Either,
+    };
+    let way = match c.cmp {
+        Cmp::Ge | Cmp::Gt => Way::Up,
+        Cmp::Le | Cmp::Lt => Way::Down,
+        Cmp::Eq => Way::Either,
+    };
+    match (&c.lhs, &c.rhs) {
+        (NumExpr::Var(v), r) if constant(r).is_some() => vec![(*v, way)],
+        (l, NumExpr::Var(v)) if constant(l).is_some() => vec![(*v, flip(way))],
+        _ => {
+            let mut vars = Vec::new();
+            c.lhs.vars(&mut vars);
+            c.rhs.vars(&mut vars);
+            vars.into_iter().map(|v| (v, Way::Either)).collect()
+        }
+    }
+}
+
+/// Which way an effect may move its variable.
+fn moves(op: NumOp, amount: &NumExpr) -> Way {
+    let by = |up: bool| match constant(amount) {
+        Some(c) if c >= 0.0 => {
+            if up {
+                Way::Up
+            } else {
+                Way::Down
+            }
+        }
+        Some(c) if c < 0.0 => {
+            if up {
+                Way::Down
+            } else {
+                Way::Up
+            }
+        }
+        _ => Way::Either,
+    };
+    match op {
+        NumOp::Increase => by(true),
+        NumOp::Decrease => by(false),
+        NumOp::Assign | NumOp::ScaleUp | NumOp::ScaleDown => Way::Either,
+    }
 }
 
 impl Relaxed {
     pub fn new(task: &GroundTask) -> Self {
         let n_atoms = task.atoms.len();
+        let mut conds: Vec<NumCond> = Vec::new();
+        // Keyed by their text: f64 has no Hash, and a constant is written exactly by Debug.
+        let mut known: std::collections::HashMap<String, usize> = Default::default();
+        let mut cond_of = |c: &NumCond| -> AtomId {
+            let k = *known.entry(format!("{c:?}")).or_insert_with(|| {
+                conds.push(c.clone());
+                conds.len() - 1
+            });
+            (n_atoms + k) as AtomId
+        };
+        let mut num_pre: Vec<Vec<AtomId>> = Vec::with_capacity(task.actions.len());
+        for a in &task.actions {
+            let all = a
+                .start
+                .pre
+                .num
+                .iter()
+                .chain(&a.over_all.num)
+                .chain(&a.end.pre.num);
+            num_pre.push(all.map(&mut cond_of).collect());
+        }
+        let n_facts = n_atoms + conds.len();
+        let wanted: Vec<Vec<(u32, Way)>> = conds.iter().map(needs).collect();
         let mut pre = Vec::with_capacity(task.actions.len());
         let mut add = Vec::with_capacity(task.actions.len());
-        let mut users = vec![Vec::new(); n_atoms];
+        let mut users = vec![Vec::new(); n_facts];
         for (i, a) in task.actions.iter().enumerate() {
             let mut p: Vec<AtomId> = a.start.pre.pos.clone();
+            p.extend(&num_pre[i]);
             p.extend(
                 a.over_all
                     .pos
@@ -59,6 +167,17 @@ impl Relaxed {
                 }
             }
             let mut e: Vec<AtomId> = a.start.add.iter().chain(&a.end.add).copied().collect();
+            for eff in a.start.num.iter().chain(&a.end.num) {
+                let way = moves(eff.op, &eff.expr);
+                for (k, w) in wanted.iter().enumerate() {
+                    let helps = w.iter().any(|&(v, need)| {
+                        v == eff.var && (way == Way::Either || need == Way::Either || way == need)
+                    });
+                    if helps {
+                        e.push((n_atoms + k) as AtomId);
+                    }
+                }
+            }
             e.sort_unstable();
             e.dedup();
             pre.push(p);
@@ -72,23 +191,35 @@ impl Relaxed {
             add,
             users,
             goal,
+            n_facts,
             n_atoms,
+            conds,
         }
     }
 
     /// h_add, h_FF and the helpful actions of `state`.
     pub fn estimate(&self, state: &State) -> Option<Estimate> {
-        let n = self.n_atoms;
+        let n = self.n_facts;
         let mut cost = vec![UNREACHED; n];
         let mut supporter = vec![NO_ACTION; n];
         let mut done = vec![false; n];
         let mut waiting: Vec<u32> = self.pre.iter().map(|p| p.len() as u32).collect();
         let mut sum: Vec<u32> = vec![0; self.pre.len()];
         let mut queue: BinaryHeap<Reverse<(u32, AtomId)>> = BinaryHeap::new();
-        for a in 0..n as AtomId {
+        for a in 0..self.n_atoms as AtomId {
             if state.has(a) {
                 cost[a as usize] = 0;
                 queue.push(Reverse((0, a)));
+            }
+        }
+        for (k, c) in self.conds.iter().enumerate() {
+            let (x, y) = (
+                c.lhs.eval(&state.nums, f64::NAN),
+                c.rhs.eval(&state.nums, f64::NAN),
+            );
+            if c.cmp.holds(x, y) {
+                cost[self.n_atoms + k] = 0;
+                queue.push(Reverse((0, (self.n_atoms + k) as AtomId)));
             }
         }
         let mut goals_left = self.goal.iter().filter(|g| !state.has(**g)).count();
@@ -161,7 +292,11 @@ impl Relaxed {
         let helpful = plan
             .iter()
             .copied()
-            .filter(|&act| self.pre[act as usize].iter().all(|&p| state.has(p)))
+            .filter(|&act| {
+                self.pre[act as usize]
+                    .iter()
+                    .all(|&p| cost[p as usize] == 0)
+            })
             .collect();
         Some(Estimate {
             h_add,
@@ -188,16 +323,17 @@ mod tests {
             start: Happening {
                 pre: Cond {
                     pos: pre.to_vec(),
-                    neg: Vec::new(),
+                    ..Cond::default()
                 },
                 add: start_add.to_vec(),
-                del: Vec::new(),
+                ..Happening::default()
             },
             over_all: Cond::default(),
             end: Happening {
                 add: end_add.to_vec(),
                 ..Happening::default()
             },
+            duration: None,
         }
     }
 
@@ -209,7 +345,7 @@ mod tests {
             init: Vec::new(),
             goal: Cond {
                 pos: vec![2],
-                neg: Vec::new(),
+                ..Cond::default()
             },
             actions: vec![
                 action("get-a", &[], &[], &[0]),
@@ -217,6 +353,7 @@ mod tests {
                 action("finish", &[0, 1], &[], &[2]),
                 action("shortcut", &[3], &[2], &[]),
             ],
+            ..GroundTask::default()
         }
     }
 

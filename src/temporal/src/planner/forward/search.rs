@@ -40,6 +40,7 @@ type Open = BinaryHeap<Reverse<(u32, u32, u32)>>;
 /// A resumable greedy best-first search.
 pub struct Forward {
     task: GroundTask,
+    successors: Successors,
     relaxed: Relaxed,
     nodes: Vec<Node>,
     seen: HashMap<State, u32>,
@@ -60,6 +61,7 @@ impl Forward {
         let init = task.initial_state();
         let mut f = Forward {
             relaxed,
+            successors: Successors::new(&task),
             nodes: Vec::new(),
             seen: HashMap::new(),
             open: BinaryHeap::new(),
@@ -149,8 +151,8 @@ impl Forward {
             self.expanded += 1;
             let helpful = std::mem::take(&mut node.helpful);
             let state = node.state.clone();
-            for (i, a) in self.task.actions.iter().enumerate() {
-                let Some(next) = a.successor(&state) else {
+            for i in self.successors.candidates(&state) {
+                let Some(next) = self.task.actions[i].successor(&state) else {
                     continue;
                 };
                 if self.seen.contains_key(&next) {
@@ -187,5 +189,40 @@ impl Forward {
             }
         }
         ForwardOutcome::Paused
+    }
+}
+
+/// The actions that may apply in a state, found without testing every action (Fast Downward's
+/// successor generator, in its simplest form): each action is filed under one atom its start requires,
+/// and only the actions filed under true atoms (and those that require none) are tested.
+struct Successors {
+    by_atom: Vec<Vec<usize>>,
+    always: Vec<usize>,
+}
+
+impl Successors {
+    fn new(task: &GroundTask) -> Self {
+        let mut by_atom = vec![Vec::new(); task.atoms.len()];
+        let mut always = Vec::new();
+        for (i, a) in task.actions.iter().enumerate() {
+            match a.start.pre.pos.first() {
+                Some(&x) if (x as usize) < by_atom.len() => by_atom[x as usize].push(i),
+                _ => always.push(i),
+            }
+        }
+        Successors { by_atom, always }
+    }
+
+    /// The candidates in `state`, in action order (the search's tie-breaking does not depend on the
+    /// filing).
+    fn candidates(&self, state: &State) -> Vec<usize> {
+        let mut out = self.always.clone();
+        for (x, acts) in self.by_atom.iter().enumerate() {
+            if !acts.is_empty() && state.has(x as u32) {
+                out.extend(acts);
+            }
+        }
+        out.sort_unstable();
+        out
     }
 }
