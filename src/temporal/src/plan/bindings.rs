@@ -6,6 +6,10 @@
 //! forward checking (a singleton class removes its value from the other side). Every change is trailed:
 //! [`Bindings::save`] / [`Bindings::restore`].
 //!
+//! Each class also lists the other ends of the inequalities of its members, so "is there a `≠` between
+//! these two classes" scans that class's own inequalities, not every one of the plan (each move of a tour
+//! posts its `?from ≠ ?to`: a scan of them all made every binding test grow with the plan).
+//!
 //! This is the *minimal domain* view IxTeT keeps for least commitment: nothing is bound unless a resolver
 //! requires it. Forward checking is not complete for ≠ (a pigeonhole of ≠ may pass); the checker instantiates
 //! the final plan and would catch it.
@@ -41,9 +45,11 @@ enum Entry {
     NewVar,
     /// Old domain of a class root.
     Domain(u32, Vec<ObjectId>),
-    /// `child` was attached under a root: undo by making it a root again.
-    Union(u32),
-    NewNe,
+    /// `child` was attached under a root: undo by making it a root again, and by cutting the root's
+    /// inequality list back to its length before the union.
+    Union(u32, u32),
+    /// An inequality between the classes of these two roots (each got the other end in its list).
+    NewNe(u32, u32),
 }
 
 /// The binding constraint network.
@@ -54,6 +60,9 @@ pub struct Bindings {
     domain: Vec<Vec<ObjectId>>,
     size: Vec<u32>,
     ne: Vec<(u32, u32)>,
+    /// Per class root, the other end of every inequality of a member of the class (stale for non-roots,
+    /// kept as they were for undoing a union).
+    ne_of: Vec<Vec<u32>>,
     trail: Trail<Entry>,
     /// Variables whose class domain changed since the last [`Bindings::take_changed`] (for the numeric CSP).
     changed: Vec<u32>,
@@ -73,6 +82,7 @@ impl Bindings {
         self.parent.push(v);
         self.domain.push(domain);
         self.size.push(1);
+        self.ne_of.push(Vec::new());
         self.trail.push(Entry::NewVar);
         VarId(v)
     }
@@ -107,10 +117,13 @@ impl Bindings {
 
     fn has_ne(&self, a: u32, b: u32) -> bool {
         let (a, b) = (self.root(a), self.root(b));
-        self.ne.iter().any(|&(x, y)| {
-            let (x, y) = (self.root(x), self.root(y));
-            (x == a && y == b) || (x == b && y == a)
-        })
+        // The shorter of the two lists: each holds the pair.
+        let (list, other) = if self.ne_of[a as usize].len() <= self.ne_of[b as usize].len() {
+            (&self.ne_of[a as usize], b)
+        } else {
+            (&self.ne_of[b as usize], a)
+        };
+        list.iter().any(|&z| self.root(z) == other)
     }
 
     /// Whether `a = b` is consistent with the current constraints (forward-checking view).
@@ -182,7 +195,10 @@ impl Bindings {
                 self.restrict(big, &other)?;
                 self.parent[small as usize] = big;
                 self.size[big as usize] += self.size[small as usize];
-                self.trail.push(Entry::Union(small));
+                let before = self.ne_of[big as usize].len() as u32;
+                let moved = self.ne_of[small as usize].clone();
+                self.ne_of[big as usize].extend(moved);
+                self.trail.push(Entry::Union(small, before));
                 self.changed.push(small);
                 self.propagate()
             }
@@ -196,8 +212,11 @@ impl Bindings {
                 if self.root(x.0) == self.root(y.0) {
                     return Err(BindingConflict);
                 }
+                let (rx, ry) = (self.root(x.0), self.root(y.0));
                 self.ne.push((x.0, y.0));
-                self.trail.push(Entry::NewNe);
+                self.ne_of[rx as usize].push(y.0);
+                self.ne_of[ry as usize].push(x.0);
+                self.trail.push(Entry::NewNe(rx, ry));
                 self.propagate()
             }
             (STerm::Var(v), STerm::Obj(o)) | (STerm::Obj(o), STerm::Var(v)) => {
@@ -302,26 +321,31 @@ impl Bindings {
 
     /// Undoes every change made after `level`, and forgets the changed domains not yet taken.
     pub fn restore(&mut self, level: Level) {
-        let (parent, domain, size, ne) = (
+        let (parent, domain, size, ne, ne_of) = (
             &mut self.parent,
             &mut self.domain,
             &mut self.size,
             &mut self.ne,
+            &mut self.ne_of,
         );
         self.trail.restore(level, |entry| match entry {
             Entry::NewVar => {
                 parent.pop();
                 domain.pop();
                 size.pop();
+                ne_of.pop();
             }
             Entry::Domain(r, old) => domain[r as usize] = old,
-            Entry::Union(child) => {
+            Entry::Union(child, before) => {
                 let root = parent[child as usize];
                 size[root as usize] -= size[child as usize];
+                ne_of[root as usize].truncate(before as usize);
                 parent[child as usize] = child;
             }
-            Entry::NewNe => {
+            Entry::NewNe(ra, rb) => {
                 ne.pop();
+                ne_of[ra as usize].pop();
+                ne_of[rb as usize].pop();
             }
         });
         self.changed.clear();
@@ -378,3 +402,7 @@ mod tests {
         assert!(b.unify(STerm::Var(y), STerm::Obj(o(1))).is_err());
     }
 }
+
+#[cfg(test)]
+#[path = "bindings_tests.rs"]
+mod ne_index_tests;
