@@ -10,7 +10,7 @@
 //!   benchmarks (`bench`), the dispatch experiment (`experiment`), the fuzz targets (`fuzz`) and the stepped
 //!   SITL (`sitl_pacer`). It names the layers' modules at its root, so a user writes `mavtempo::model`.
 
-pub use mavtempo_executive::{dispatch, exec};
+pub use mavtempo_executive::{config_check, dispatch, exec, mapping};
 pub use mavtempo_temporal::{lang, model, pddl, plan, planner, stn};
 pub use mavtempo_vehicle as vehicle;
 

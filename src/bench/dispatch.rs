@@ -9,7 +9,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::dispatcher::Dispatcher;
+use crate::dispatch::dispatcher::Dispatcher;
 use crate::dispatch::graph::{
     ActionKey, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
 };

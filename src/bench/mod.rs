@@ -2,7 +2,6 @@
 //! measures one layer from outside it.
 
 pub mod dispatch;
-pub mod dispatcher;
 pub mod exec;
 pub mod plan;
 pub mod repair;

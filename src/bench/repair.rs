@@ -11,17 +11,17 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::exec::ExecBenchError;
+use crate::config_check::resolve_mapping;
 use crate::exec::config::ExecConfig;
 use crate::exec::cycle::CycleOutcome;
 use crate::exec::executive::Executive;
 use crate::exec::resource_report::LevelVerdict;
 use crate::exec::trace::TraceEvent;
 use crate::lang::{parse_domain, parse_problem};
+use crate::mapping::DomainMapping;
 use crate::plan::PartialPlan;
 use crate::planner::{Budget, Search, StepOutcome};
 use crate::vehicle::config::VehicleConfig;
-use crate::vehicle::config_check::resolve_mapping;
-use crate::vehicle::mapping::DomainMapping;
 use crate::vehicle::mock::{Outcome, Scripted};
 use crate::vehicle::{
     Enu, GoalKind, GoalLocation, GoalRequest, MockVehicle, ReportStatus, ResourceLevel, StateValue,
@@ -69,7 +69,7 @@ fn plan() -> Result<PartialPlan, ExecBenchError> {
     }
 }
 
-/// The mock rover scripted for `event` (as in tests/exec_rover.rs).
+/// The mock rover scripted for `event` (as in src/executive/tests/it/exec_rover.rs).
 fn vehicle(event: &str) -> MockVehicle {
     let mut v = MockVehicle::new();
     v.set_level("BATTERY", 90.0).set_level("STORAGE", 3.0);

@@ -2,7 +2,7 @@
 //! the same name given on the command line, else the one its `domain NAME;` header names beside it.
 //! `mavtempo check DOMAIN.pddl [PROBLEM.pddl...]`: PDDL, read as `plan` reads it ([`super::check_pddl`]).
 //! `mavtempo check --config FILE DOMAIN [PROBLEM]`: checks a vehicle configuration against its domain (and
-//! problem), printing every mismatch ([`crate::vehicle::config_check`]).
+//! problem), printing every mismatch ([`crate::config_check`]).
 
 use super::error::CliError;
 use std::collections::HashMap;
@@ -12,10 +12,10 @@ use std::process::ExitCode;
 use clap::Args;
 
 use crate::cli::out::outln;
+use crate::config_check::{self, CheckedConfig, HomeSource};
 use crate::lang::{self, Diagnostics, FileKind};
 use crate::model::{Domain, Problem};
 use crate::vehicle::config::VehicleConfig;
-use crate::vehicle::config_check::{self, CheckedConfig, HomeSource};
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {

@@ -117,4 +117,4 @@ fn init_tracing() {
 
 /// The log's filter when `RUST_LOG` says nothing: warnings, but not the configuration check's, which the
 /// subcommands print themselves.
-const DEFAULT_LOG_FILTER: &str = "warn,mavtempo_vehicle::config_check=error";
+const DEFAULT_LOG_FILTER: &str = "warn,mavtempo_executive::config_check=error";

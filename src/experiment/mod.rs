@@ -20,6 +20,7 @@ use serde::Serialize;
 
 use self::arrivals::{arrivals, Arrival, ArrivalModel, Target};
 use self::vehicle::{Done, KinematicPacer, KinematicVehicle, TaskTime};
+use crate::config_check::resolve_mapping;
 use crate::dispatch::PolicyKind;
 use crate::exec::config::ExecConfig;
 use crate::exec::executive::{Executive, Fate};
@@ -33,7 +34,6 @@ use crate::model::{Position, Problem, Time};
 use crate::plan::PartialPlan;
 use crate::planner::{Budget, Search, StepOutcome};
 use crate::vehicle::config::Mapping;
-use crate::vehicle::config_check::resolve_mapping;
 use crate::vehicle::{Enu, GoalKind};
 
 const MIN: Time = 60_000;

@@ -172,7 +172,7 @@ pub fn config(bytes: &[u8]) -> Result<(), Oops> {
         }),
         Ok(cfg) => {
             for (d, p) in domains() {
-                let _ = crate::vehicle::config_check::check(&cfg.vehicle, d, Some(p));
+                let _ = crate::config_check::check(&cfg.vehicle, d, Some(p));
             }
             Ok(())
         }

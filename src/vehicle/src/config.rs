@@ -2,7 +2,7 @@
 //! its action binding — how the task is realised in MAVLink and how its end is recognised — and the
 //! `[mapping]` of the domain's names the executive needs (the position attribute, the location type, what an
 //! uploaded goal item becomes). Typed serde with unknown keys rejected; errors name the file, the key and the
-//! line. Whether the names match a domain is [`super::config_check`]'s business.
+//! line. Whether the names match a domain is for the executive crate's `config_check` to say.
 
 use std::collections::BTreeMap;
 use std::path::Path;

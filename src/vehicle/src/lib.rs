@@ -5,8 +5,8 @@
 //! - `commands`, `mission_client`, `telemetry`, `actions`, `driver`: the protocol core, pure (no I/O);
 //! - `intake`, `goals`, `item_goals`, `goal_files`, `goal_answers`: goal lists from a ground station or a file, and the
 //!   executive's answers;
-//! - `config`, `config_check`, `mapping`: a configuration, checked against its domain, and the domain's names
-//!   the executive gives a vehicle meaning to, resolved;
+//! - `config`: a configuration, in the vehicle's words (checked against a domain by the executive crate's
+//!   `config_check`: this crate knows nothing of the planner);
 //! - `readiness`: the autopilot ready (a fix, arming accepted) before the mission's first start;
 //! - `safe_stop`: the vehicle left safe when the companion is stopped by a signal;
 //! - `endpoint`, `peers`, `link`: tokio transports, their peers (one decoder per UDP sender), and the tasks
@@ -19,7 +19,6 @@ pub mod binding_table;
 pub mod capture_evidence;
 pub mod commands;
 pub mod config;
-pub mod config_check;
 pub mod driver;
 pub mod endpoint;
 pub mod fence;
@@ -36,7 +35,6 @@ pub mod item_goals;
 pub mod items;
 pub mod limits;
 pub mod link;
-pub mod mapping;
 pub mod mission_client;
 pub mod mock;
 pub mod mode_names;

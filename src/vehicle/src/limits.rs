@@ -242,14 +242,6 @@ fn zone_violation(what: &'static str, inclusion: bool, distance_m: f64) -> Limit
     }
 }
 
-/// The planner's view: a leg between two places (metres east, north of home) it may plan.
-impl mavtempo_temporal::model::LegLimits for Limits {
-    fn allows(&self, a: (f64, f64), b: (f64, f64)) -> bool {
-        self.check_leg(Enu::new(a.0, a.1, 0.0), Enu::new(b.0, b.1, 0.0))
-            .is_ok()
-    }
-}
-
 /// Whether segments `pq` and `rs` properly cross (touching at an end does not count).
 fn segments_cross(p: (f64, f64), q: (f64, f64), r: (f64, f64), s: (f64, f64)) -> bool {
     let side = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {

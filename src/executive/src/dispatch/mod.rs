@@ -8,7 +8,10 @@
 //!   [`PlanMarking`] (the marking kept from the plan's change log across backtracks, repairs and replans).
 //! - [`policy`]: the [`DispatchPolicy`] trait and the `earliest`, `latest` and `goal-driven` (Algorithm 1)
 //!   policies, named in config and on the command line by [`PolicyKind`].
+//! - [`dispatcher`]: Algorithm 1 over the standalone [`CausalGraph`] and its [`Marking`] (`mavtempo bench
+//!   dispatch` and the dispatch scenario tests); the executive's own works over the plan.
 
+pub mod dispatcher;
 pub mod graph;
 pub mod marking;
 pub mod plan_adapter;

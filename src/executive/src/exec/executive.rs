@@ -98,7 +98,7 @@ pub struct Executive {
     pub(crate) failures: FailureMemory,
     /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
     /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
-    pub(crate) mapping: mavtempo_vehicle::mapping::DomainMapping,
+    pub(crate) mapping: crate::mapping::DomainMapping,
     /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
     pub(crate) insertions: VecDeque<Insertion>,
     /// New goals rejected for a reason that may stop holding, waiting to be tried again.
@@ -162,7 +162,7 @@ impl Executive {
             counters: Counters::default(),
             pending_trace: Vec::new(),
             failures,
-            mapping: mavtempo_vehicle::mapping::DomainMapping::default(),
+            mapping: crate::mapping::DomainMapping::default(),
             insertions: VecDeque::new(),
             parked: Vec::new(),
             goal_batches: BTreeMap::new(),
@@ -186,7 +186,7 @@ impl Executive {
         self.limits = limits.filter(|l| !l.is_empty());
         if let Some(l) = &self.limits {
             let mut problem = (**self.plan.problem()).clone();
-            problem.legs = mavtempo_temporal::model::Legs(Some(std::sync::Arc::new(l.clone())));
+            problem.legs = crate::leg_limits::legs_within(l);
             self.plan.edit().set_problem(std::sync::Arc::new(problem));
             // A plan made before the limits were known (the autopilot's fence is read at readiness) may
             // hold a move that leaves them: it is made again, complete replanning, before any launch.
@@ -208,8 +208,8 @@ impl Executive {
     }
 
     /// The vehicle configuration's `[mapping]`, resolved against this plan's domain
-    /// ([`mavtempo_vehicle::config_check::check`]).
-    pub fn with_mapping(mut self, mapping: mavtempo_vehicle::mapping::DomainMapping) -> Self {
+    /// ([`crate::config_check::check`]).
+    pub fn with_mapping(mut self, mapping: crate::mapping::DomainMapping) -> Self {
         self.mapping = mapping;
         self
     }

@@ -29,7 +29,7 @@
 //! | data only: the repair tree, insertions and parked goals, replanning records | [`repair_tree`], [`insertion`], [`replan_record`] |
 //! | §3.3 message routing | [`sense`] |
 //! | §3.3 state values from non-nominal reports, new locations | [`state_update`] |
-//! | the domain's names given a vehicle meaning (position, locations, goals) | [`mavtempo_vehicle::mapping`] |
+//! | the domain's names given a vehicle meaning (position, locations, goals) | [`crate::mapping`] |
 //! | §3.2, §3.4 plan repair across cycles | [`repair`] |
 //! | §3.5 act: ExecTPs, launch / stop, postponement, timeouts | [`act`] |
 //! | §3.6 complete replanning: P_ti, T_end, slack d, goal rejection | [`replan`] |
@@ -87,4 +87,4 @@ pub mod trip_needs;
 #[cfg(test)]
 mod import_graph;
 
-pub use mavtempo_vehicle::mapping::DomainMapping;
+pub use crate::mapping::DomainMapping;

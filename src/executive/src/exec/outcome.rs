@@ -104,7 +104,7 @@ impl std::fmt::Display for PlanChurn {
 pub enum FateReason {
     /// The request cannot be read as a domain goal (the config's `[mapping]`).
     #[error("{0}")]
-    Unmapped(mavtempo_vehicle::mapping::MappingError),
+    Unmapped(crate::mapping::MappingError),
     /// §3.3 goal request acceptance test.
     #[error("{0}")]
     Acceptance(Rejection),

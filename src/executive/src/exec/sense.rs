@@ -13,8 +13,8 @@ use super::resource_bounds::level_bounds;
 use super::resource_report::{integrate_level, LevelVerdict};
 use super::state_update::{integrate_late_state, integrate_state};
 use super::trace::TraceEvent;
+use crate::mapping::{GoalShape, MappingError};
 use mavtempo_temporal::model::{Goal, GoalOrigin, Time, TimeInterval, Value};
-use mavtempo_vehicle::mapping::{GoalShape, MappingError};
 use mavtempo_vehicle::{ActionReport, GoalRequest, ReportStatus, ResourceLevel, VehicleEvent};
 
 impl Executive {

@@ -13,9 +13,9 @@ use super::abstraction::{flawed_attributes, links_to_break};
 use super::executive::Executive;
 use super::p_t::classify;
 use super::trace::TraceEvent;
+use crate::mapping::MappingError;
 use mavtempo_temporal::model::{AttrId, Object, ObjectId, Position, Preemption, Time, Value};
 use mavtempo_temporal::plan::{ActionId, CondKind, EventId, LinkId, STerm};
-use mavtempo_vehicle::mapping::MappingError;
 use mavtempo_vehicle::{ActionReport, Enu, StateValue};
 
 /// Distance under which a reported position names a known location, m.

@@ -296,7 +296,7 @@ mod tests {
     use super::*;
     use crate::exec::goal_request::Rejection;
     use crate::exec::outcome::PlanChurn;
-    use mavtempo_vehicle::mapping::MappingError;
+    use crate::mapping::MappingError;
 
     /// The report is read back into the same events (`mavtempo report RUN.json`), typed reasons included.
     #[test]

@@ -91,8 +91,8 @@ pub struct Problem {
     object_index: HashMap<String, ObjectId>,
 }
 
-/// Which straight legs between two places a vehicle may drive (a range from home, a fence, supplied by the
-/// vehicle layer).
+/// Which straight legs between two places a vehicle may drive (a range from home, a fence: the vehicle
+/// layer's limits, handed over by the executive).
 pub trait LegLimits: Send + Sync + std::fmt::Debug {
     /// Whether the straight leg from `a` to `b` (metres east, north of the problem's home) stays within.
     fn allows(&self, a: (f64, f64), b: (f64, f64)) -> bool;

@@ -1,5 +1,5 @@
 //! Scenario tests of the STN as the executive and the planner use it (the random ones are in
-//! `tests/stn_props.rs`).
+//! `src/temporal/tests/it/stn_props.rs`).
 
 use super::*;
 

@@ -1,0 +1,4 @@
+//! Helpers shared by this crate's tests.
+
+pub mod gcs_config;
+pub mod reports;

@@ -1,0 +1,3 @@
+//! Helpers shared by this binary's tests.
+
+pub mod live_run;
