@@ -8,6 +8,8 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use crate::support::live_run;
+
 use mavtempo::cli::demo::{run_demo, DemoRun, DemoSetup, TimedUpload, UploadItems};
 use mavtempo::exec::executive::Fate;
 use mavtempo::exec::mission::MissionEnd;
@@ -85,15 +87,7 @@ fn assert_flown_within_the_reserve(run: &DemoRun) {
         r.goals
     );
     // The actions launched, in order.
-    let launched: Vec<&str> = r
-        .cycles
-        .iter()
-        .flat_map(|c| &c.events)
-        .filter_map(|e| match e {
-            TraceEvent::Launch { action, .. } => Some(action.as_str()),
-            _ => None,
-        })
-        .collect();
+    let launched = live_run::launched(r.cycles.iter().flat_map(|c| &c.events));
     assert_eq!(launched.first(), Some(&"takeoff(home)"), "{launched:?}");
     assert_eq!(
         launched

@@ -6,6 +6,8 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use crate::support::live_run;
+
 use mavtempo::cli::demo::{run_demo, DemoSetup};
 use mavtempo::exec::executive::Fate;
 use mavtempo::exec::mission::MissionEnd;
@@ -42,15 +44,7 @@ fn the_auv_samples_vent2_and_is_back_at_the_surface() {
         "{:?}",
         r.goals
     );
-    let launched: Vec<&str> = r
-        .cycles
-        .iter()
-        .flat_map(|c| &c.events)
-        .filter_map(|e| match e {
-            TraceEvent::Launch { action, .. } => Some(action.as_str()),
-            _ => None,
-        })
-        .collect();
+    let launched = live_run::launched(r.cycles.iter().flat_map(|c| &c.events));
     // Down past vent1 to vent2, survey, sample, and back up the same way; nothing launched twice.
     for a in [
         "go(surface, vent1)",

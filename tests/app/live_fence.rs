@@ -8,6 +8,8 @@
 
 use std::path::PathBuf;
 
+use crate::support::live_run;
+
 use mavtempo::cli::demo::{run_demo, DemoSetup, TimedUpload, UploadItems};
 use mavtempo::exec::executive::Fate;
 use mavtempo::exec::trace::TraceEvent;
@@ -56,13 +58,7 @@ fn the_autopilots_fence_is_read_at_readiness_and_kept_at_intake_and_by_every_mov
             if reason.to_string().contains("move(p1, p4) leaves the vehicle's limits"))),
         "{events:?}"
     );
-    let launched: Vec<&str> = events
-        .iter()
-        .filter_map(|e| match e {
-            TraceEvent::Launch { action, .. } => Some(action.as_str()),
-            _ => None,
-        })
-        .collect();
+    let launched = live_run::launched(events.iter().copied());
     assert!(
         launched.iter().any(|a| a.starts_with("move(")),
         "{launched:?}"

@@ -30,6 +30,17 @@ pub fn run(config: &str, scenario: &str, goals: &str, upload_at_ms: i64) -> Demo
     run
 }
 
+/// The actions launched, in launch order.
+pub fn launched<'a>(events: impl IntoIterator<Item = &'a TraceEvent>) -> Vec<&'a str> {
+    events
+        .into_iter()
+        .filter_map(|e| match e {
+            TraceEvent::Launch { action, .. } => Some(action.as_str()),
+            _ => None,
+        })
+        .collect()
+}
+
 /// How many reports of actions of `task` (an action name's prefix, `"move("`) ended with `status`.
 pub fn reports(events: &[&TraceEvent], task: &str, status: ReportStatus) -> usize {
     events
