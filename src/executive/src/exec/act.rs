@@ -31,7 +31,7 @@ impl Executive {
                 *next = Some(next.map_or(t, |n: Time| n.min(t)));
             }
         };
-        for a in std::mem::take(&mut self.interrupt) {
+        for a in self.dispatched.take_stop_requests() {
             self.stop(vehicle, a);
         }
         self.execute_timed_facts(now, &mut next);
@@ -197,7 +197,7 @@ impl Executive {
             return false;
         }
         self.dispatched.started(a, vid);
-        self.counters.launches += 1;
+        self.journal.launched();
         let inst = super::failures::Instance::of(&self.plan, a);
         self.failures.launched(inst, now);
         let end = self.plan.action(a).end;

@@ -20,8 +20,8 @@ impl Executive {
     /// [`mavtempo_vehicle::limits::Limits::check_local`]).
     pub(crate) fn beyond_limits(&self, g: &mavtempo_vehicle::GoalRequest) -> Option<String> {
         let at = g.location.as_ref()?.at;
-        self.limits
-            .as_ref()?
+        self.vehicle
+            .limits()?
             .check_local(at)
             .err()
             .map(|v| v.to_string())
@@ -29,19 +29,19 @@ impl Executive {
 
     /// Whether the operator has the vehicle (the executive launches and stops nothing).
     pub fn is_paused(&self) -> bool {
-        self.paused.is_some()
+        self.operator.is_held()
     }
 
     /// Why the operator has the vehicle, while they have it.
     pub fn paused_why(&self) -> Option<&str> {
-        self.paused.as_deref()
+        self.operator.why()
     }
 
     pub(crate) fn authority_event(&mut self, e: AuthorityEvent, now: Time) {
         match e {
             AuthorityEvent::Paused { why } => {
                 self.trace(TraceEvent::Paused { why: why.clone() });
-                self.paused = Some(why);
+                self.operator.take_over(why);
                 // A repair under way was for a plan the operator's control overtakes.
                 self.repair.hold();
             }
@@ -50,7 +50,7 @@ impl Executive {
                 position,
                 radius_m,
             } => {
-                self.paused = None;
+                self.operator.hand_back();
                 self.trace(TraceEvent::Resumed { how: how.clone() });
                 if let Some(p) = position {
                     self.start_from(p, radius_m, now);
@@ -62,7 +62,7 @@ impl Executive {
 
     /// A paused cycle: the goals whose latest start passed are rejected (the operator had the vehicle).
     pub(crate) fn while_paused(&mut self, now: Time) {
-        let why = self.paused.clone().unwrap_or_default();
+        let why = self.operator.why().unwrap_or_default().to_string();
         let closed: Vec<_> = self
             .plan
             .goals()
@@ -72,7 +72,7 @@ impl Executive {
             .filter(|&(_, ub)| ub < now)
             .collect();
         for (g, ub) in closed {
-            if self.fates.get(&g).is_none_or(|f| f.fate != Fate::Pending) {
+            if !self.goals.is_pending(g) {
                 continue;
             }
             let reason = FateReason::ClosedWhilePaused {
@@ -89,7 +89,7 @@ impl Executive {
     /// of the vehicle, the plan starts from a new place there (a warning names the distance) and is made
     /// again (an abort: complete replanning). Returns the distance when it did.
     pub fn start_from(&mut self, at: Enu, radius_m: f64, now: Time) -> Option<f64> {
-        let attr = self.mapping.position?;
+        let attr = self.vehicle.mapping.position?;
         self.state.refresh(&self.plan, now);
         let key = (attr, Vec::new());
         let planned = self.state.get(&key).or_else(|| {
@@ -126,8 +126,7 @@ impl Executive {
         );
         self.state.set(key, now, Value::Obj(new));
         self.trace(TraceEvent::Elsewhere { distance_m, place });
-        self.abort
-            .get_or_insert(AbortReason::VehicleElsewhere { distance_m });
+        self.abort_with(AbortReason::VehicleElsewhere { distance_m });
         Some(distance_m)
     }
 }

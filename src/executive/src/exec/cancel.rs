@@ -28,17 +28,15 @@ impl Executive {
     /// Withdraws goal `name`; false when it is not held (already achieved, rejected, cancelled, unknown).
     pub fn cancel_goal(&mut self, name: &str, by: &str, now: Time) -> bool {
         let reason = FateReason::Cancelled { by: by.to_string() };
-        if let Some(k) = self.insertions.iter().position(|i| i.goal.name == name) {
-            let Some(ins) = self.insertions.remove(k) else {
-                return false;
-            };
+        if let Some(ins) = self.goals.take_insertion_named(name) {
             self.plan.restart_insertion();
             self.decide_goal(ins.reply, GoalVerdict::Cancelled(by.to_string()));
             self.never_held(name, Fate::Cancelled, reason);
             return true;
         }
         let Some(g) = self
-            .fates
+            .goals
+            .fates()
             .iter()
             .find(|(_, f)| f.name == name && f.fate == Fate::Pending)
             .map(|(&g, _)| g)
@@ -51,9 +49,7 @@ impl Executive {
         });
         self.plan.edit().withdraw_goal(g, &not_started);
         for a in started {
-            if !self.interrupt.contains(&a) {
-                self.interrupt.push(a);
-            }
+            self.dispatched.request_stop(a);
         }
         // The search in progress was rooted in the plan with the goal.
         self.repair.restart();

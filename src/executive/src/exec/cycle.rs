@@ -4,11 +4,12 @@
 
 use std::time::Instant;
 
-use super::executive::{Executive, Fate};
+use super::executive::Executive;
 use super::failures::PlanChangeKind;
 use super::outcome::AbortReason;
 use super::repair_tree::RepairOutcome;
-use super::trace::{CycleRecord, TraceEvent};
+use super::journal::PartTimes;
+use super::trace::TraceEvent;
 use mavtempo_temporal::model::Time;
 use mavtempo_vehicle::Vehicle;
 
@@ -37,12 +38,12 @@ impl Executive {
         }
         let t1 = Instant::now();
         let mut repairing = false;
-        if self.paused.is_some() {
+        if self.operator.is_held() {
             // The operator has the vehicle: time goes on, nothing is commanded, no plan is made.
             self.while_paused(now);
-        } else if self.abort.is_none() {
+        } else if !self.abort.is_raised() {
             // The repair's μ·ts is mission time: the vehicle's clock, as the pacer reads it.
-            let origin = self.vehicle_origin_ms;
+            let origin = self.vehicle.origin_ms();
             let v: &dyn Vehicle = vehicle;
             let clock = || mission_time(v.now_ms(), origin);
             match self.repair_phase(now, &clock) {
@@ -54,12 +55,12 @@ impl Executive {
         // Uploads are answered once this cycle's insertion attempt had its share (its verdict, or "to follow").
         self.answer_goal_batches();
         let t2 = Instant::now();
-        let next = if self.abort.is_none() && self.paused.is_none() {
+        let next = if !self.abort.is_raised() && !self.operator.is_held() {
             self.act(vehicle, now)
         } else {
             None
         };
-        let aborted = self.abort.clone();
+        let aborted = self.abort.reason().cloned();
         if let Some(reason) = &aborted {
             // P_ts keeps no action: every running one is told END, non-preemptive ones too (seed 1 lets
             // those run to their end; a vehicle must not go on doing what no plan accounts for;
@@ -77,24 +78,19 @@ impl Executive {
             });
         }
         let t3 = Instant::now();
-        let index = self.cycles.count() + 1;
-        let events = std::mem::take(&mut self.pending_trace);
-        self.cycles.push(CycleRecord {
-            index,
-            time_ms: now,
-            sense_us: (t1 - t0).as_micros() as u64,
-            repair_us: (t2 - t1).as_micros() as u64,
-            act_us: (t3 - t2).as_micros() as u64,
-            events,
-            idle: None,
-        });
+        self.journal.close_cycle(
+            now,
+            PartTimes {
+                sense_us: (t1 - t0).as_micros() as u64,
+                repair_us: (t2 - t1).as_micros() as u64,
+                act_us: (t3 - t2).as_micros() as u64,
+            },
+        );
         if let Some(reason) = aborted {
             return CycleOutcome::Aborted(reason);
         }
         let busy = self.plan.live_actions().next().is_some();
-        let pending =
-            self.fates.values().any(|f| f.fate == Fate::Pending) || !self.insertions.is_empty();
-        if !busy && !pending {
+        if !busy && !self.goals.any_open() {
             return CycleOutcome::Finished;
         }
         CycleOutcome::Continue { next, repairing }

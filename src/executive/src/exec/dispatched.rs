@@ -1,5 +1,6 @@
 //! The dispatched set (seed 1 §3.1): the actions started on the vehicle with `START a p_a i_a`, their
-//! identifiers `i_a`, and the preemptive ones an `END i_a` was sent to. The three move together, so they are
+//! identifiers `i_a`, the preemptive ones an `END i_a` was sent to, and those to be told END by the next act
+//! part (an interruption asked by message integration or a cancellation). They move together, so they are
 //! kept here and edited only through these methods.
 
 use std::collections::BTreeMap;
@@ -11,6 +12,8 @@ pub(crate) struct Dispatched {
     started: BTreeMap<ActionId, u64>,
     by_id: BTreeMap<u64, ActionId>,
     stop_sent: Vec<ActionId>,
+    /// Interruptions requested, sent in the act part.
+    stop_requested: Vec<ActionId>,
     next_id: u64,
 }
 
@@ -20,6 +23,7 @@ impl Default for Dispatched {
             started: BTreeMap::new(),
             by_id: BTreeMap::new(),
             stop_sent: Vec::new(),
+            stop_requested: Vec::new(),
             next_id: 1,
         }
     }
@@ -76,6 +80,18 @@ impl Dispatched {
             .iter()
             .copied()
             .filter(|a| self.started.contains_key(a))
+    }
+
+    /// `a` is to be told END by the next act part (once).
+    pub(crate) fn request_stop(&mut self, a: ActionId) {
+        if !self.stop_requested.contains(&a) {
+            self.stop_requested.push(a);
+        }
+    }
+
+    /// The interruptions requested since the last act part, in the order asked.
+    pub(crate) fn take_stop_requests(&mut self) -> Vec<ActionId> {
+        std::mem::take(&mut self.stop_requested)
     }
 
     /// `a` reported: an END sent to it is answered.

@@ -2,72 +2,28 @@
 //! [`super::cycle`], message integration in [`super::sense`], the act part in [`super::act`], plan repair in
 //! [`super::repair`] and complete replanning in [`super::replan`].
 
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::BTreeMap;
 
-use serde::Serialize;
-
+use super::abort::Abort;
 use super::abstraction::Hierarchy;
 use super::config::ExecConfig;
 use super::cycle_log::CycleLog;
 use super::dispatch_policy::PlanDispatch;
 use super::failures::FailureMemory;
-use super::insertion::{Insertion, Parked};
+use super::goal_book::GoalBook;
+use super::journal::Journal;
+use super::operator_hold::OperatorHold;
 use super::outcome::{AbortReason, FateReason};
 use super::p_t::State;
 use super::repair_tree::RepairState;
 use super::trace::{CycleRecord, TraceEvent};
+use super::vehicle_binding::VehicleBinding;
 use mavtempo_temporal::model::{GoalId, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
-use mavtempo_vehicle::goals::{GoalBatch, GoalWatch};
-use mavtempo_vehicle::GoalVerdict;
 use mavtempo_vehicle::{ActionStart, Arg, Enu};
 
-/// The fate of a goal at the end of a run.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Fate {
-    Achieved,
-    Rejected,
-    Pending,
-    /// Withdrawn by its ground station.
-    Cancelled,
-}
-
-/// A goal's fate and why (the report writes the reason's text, empty without one).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct GoalFate {
-    pub name: String,
-    pub fate: Fate,
-    #[serde(serialize_with = "super::outcome::reason_text")]
-    pub reason: Option<FateReason>,
-}
-
-impl GoalFate {
-    /// The reason's text (the planner's detail, for engineers), empty without one.
-    pub fn reason_text(&self) -> String {
-        self.reason
-            .as_ref()
-            .map_or(String::new(), |r| r.to_string())
-    }
-
-    /// The reason in the operator's words, empty without one.
-    pub fn operator_reason(&self) -> String {
-        self.reason
-            .as_ref()
-            .map_or(String::new(), |r| r.operator_text())
-    }
-}
-
-/// Counters for the summary.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct Counters {
-    pub repairs: u64,
-    pub repair_steps: u64,
-    /// The part of `repair_steps` spent inserting new goals (src/executive/src/exec/goal_insertion.rs).
-    pub insertion_steps: u64,
-    pub replans: u64,
-    pub launches: u64,
-}
+pub use super::goal_book::{Fate, GoalFate};
+pub use super::journal::Counters;
 
 pub struct Executive {
     /// *ExecutingPlan*.
@@ -79,69 +35,29 @@ pub struct Executive {
     pub(crate) ledger: super::ledger::ResourceLedger,
     /// LgcS_t.
     pub(crate) state: State,
-    /// Started actions, their `i_a`, and those an `END i_a` was sent to.
+    /// Started actions, their `i_a`, the stops sent and those requested.
     pub(crate) dispatched: super::dispatched::Dispatched,
-    /// The vehicle time (ms) of the plan's origin: report times are converted with it.
-    pub(crate) vehicle_origin_ms: u64,
-    /// Interruptions requested by message integration (sent in the act part).
-    pub(crate) interrupt: Vec<ActionId>,
+    /// The vehicle's time origin, mapping, limits and still attribute.
+    pub(crate) vehicle: VehicleBinding,
     /// Plan repair between cycles: the tree, the request, the episode's steps.
     pub(crate) repair: RepairState,
     /// Set when the plan is not executable any more: the cycle aborts and replans from scratch.
-    pub(crate) abort: Option<AbortReason>,
-    pub(crate) fates: BTreeMap<GoalId, GoalFate>,
-    pub(crate) cycles: CycleLog,
-    pub(crate) counters: Counters,
-    /// Events of the current cycle.
-    pub(crate) pending_trace: Vec<TraceEvent>,
+    pub(crate) abort: Abort,
+    /// Every goal requested and how it stands, with the uploads they came in.
+    pub(crate) goals: GoalBook,
+    /// The cycles, the events of this one, the counters, the complete replannings.
+    pub(crate) journal: Journal,
     /// Failures and plan changes of this mission: what repair cannot fix is settled (src/executive/src/exec/failures.rs).
     pub(crate) failures: FailureMemory,
-    /// The domain's names given a vehicle meaning (position attribute, location type, goal kinds); empty
-    /// until [`Executive::with_mapping`]: positions are then ignored and uploaded goals rejected.
-    pub(crate) mapping: crate::mapping::DomainMapping,
-    /// New goals waiting for, or in, their insertion attempt (the front one is in progress).
-    pub(crate) insertions: VecDeque<Insertion>,
-    /// New goals rejected for a reason that may stop holding, waiting to be tried again.
-    pub(crate) parked: Vec<Parked>,
-    /// Uploads not answered yet, or with goals still being inserted, by number.
-    pub(crate) goal_batches: BTreeMap<u64, GoalBatch>,
-    pub(crate) next_batch: u64,
-    /// Requested goals that never entered the plan (mapping, acceptance test or insertion failed), in the
-    /// order they were refused.
-    pub(crate) refused: Vec<GoalFate>,
-    /// The complete replannings of this mission: abort, attempts, steps, outcome, goals kept and rejected.
-    pub(crate) replannings: Vec<super::replan_record::ReplanRecord>,
     /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
-    pub(crate) paused: Option<String>,
-    /// Where the vehicle may go: goals at places outside are refused at intake.
-    pub(crate) limits: Option<mavtempo_vehicle::limits::Limits>,
-    /// Uploaded goals held in the plan: their ground station is told how each ends.
-    pub(crate) watches: BTreeMap<GoalId, GoalWatch>,
-    /// The observed moving/still attribute and its still value (`[state] moving`): a motion whose end a
-    /// later action holds still ends once the vehicle is still (src/executive/src/exec/still.rs).
-    pub(crate) still: Option<(
-        mavtempo_temporal::model::AttrId,
-        mavtempo_temporal::model::ObjectId,
-    )>,
+    pub(crate) operator: OperatorHold,
 }
 
 impl Executive {
     /// An executive over a solution plan (the planner's output, or a hand-built plan in tests).
     pub fn new(plan: PartialPlan, cfg: ExecConfig) -> Self {
         let ledger = super::ledger::ResourceLedger::new(plan.problem());
-        let mut fates = BTreeMap::new();
-        for pg in plan.goals() {
-            if let Some(g) = plan.problem().goals.get(pg.goal.index()) {
-                fates.insert(
-                    pg.goal,
-                    GoalFate {
-                        name: g.name.clone(),
-                        fate: Fate::Pending,
-                        reason: None,
-                    },
-                );
-            }
-        }
+        let goals = GoalBook::of_plan(&plan);
         let hierarchy = Hierarchy::new(plan.domain());
         let policy = PlanDispatch::new(cfg.dispatch);
         let failures = FailureMemory::new(cfg.same_failure_limit, cfg.max_plan_changes_per_min);
@@ -153,26 +69,13 @@ impl Executive {
             ledger,
             state: State::default(),
             dispatched: Default::default(),
-            vehicle_origin_ms: 0,
-            interrupt: Vec::new(),
+            vehicle: VehicleBinding::default(),
             repair: RepairState::default(),
-            abort: None,
-            fates,
-            cycles: CycleLog::default(),
-            counters: Counters::default(),
-            pending_trace: Vec::new(),
+            abort: Abort::default(),
+            goals,
+            journal: Journal::default(),
             failures,
-            mapping: crate::mapping::DomainMapping::default(),
-            insertions: VecDeque::new(),
-            parked: Vec::new(),
-            goal_batches: BTreeMap::new(),
-            next_batch: 0,
-            refused: Vec::new(),
-            replannings: Vec::new(),
-            paused: None,
-            limits: None,
-            watches: BTreeMap::new(),
-            still: None,
+            operator: OperatorHold::default(),
         }
     }
 
@@ -183,8 +86,8 @@ impl Executive {
     /// move whose straight leg leaves them gets no distance and is no resolver, in plan repair, goal
     /// insertion and complete replanning alike (the one place move durations come from).
     pub fn with_limits(mut self, limits: Option<mavtempo_vehicle::limits::Limits>) -> Self {
-        self.limits = limits.filter(|l| !l.is_empty());
-        if let Some(l) = &self.limits {
+        self.vehicle.set_limits(limits);
+        if let Some(l) = self.vehicle.limits() {
             let mut problem = (**self.plan.problem()).clone();
             problem.legs = crate::leg_limits::legs_within(l);
             self.plan.edit().set_problem(std::sync::Arc::new(problem));
@@ -200,8 +103,7 @@ impl Executive {
             if let Some(a) = outside {
                 let error = format!("{} leaves the vehicle's limits", self.action_text(a));
                 tracing::warn!("{error}: the plan is made again");
-                self.abort
-                    .get_or_insert(super::outcome::AbortReason::NotExecutable { now_ms: 0, error });
+                self.abort_with(AbortReason::NotExecutable { now_ms: 0, error });
             }
         }
         self
@@ -210,7 +112,7 @@ impl Executive {
     /// The vehicle configuration's `[mapping]`, resolved against this plan's domain
     /// ([`crate::config_check::check`]).
     pub fn with_mapping(mut self, mapping: crate::mapping::DomainMapping) -> Self {
-        self.mapping = mapping;
+        self.vehicle.mapping = mapping;
         self
     }
 
@@ -221,24 +123,13 @@ impl Executive {
     }
 
     pub fn trace(&mut self, e: TraceEvent) {
-        tracing::debug!("{}", e.line());
-        self.pending_trace.push(e);
+        self.journal.trace(e);
     }
 
     /// The events traced since the last cycle (an abort, a replanning and its rejections) as a record of
     /// their own at `now`, when there are any: how a mission that ends between cycles keeps them.
     pub fn flush_trace(&mut self, now: Time) -> Option<CycleRecord> {
-        if self.pending_trace.is_empty() {
-            return None;
-        }
-        let c = CycleRecord {
-            index: self.cycles.count() + 1,
-            time_ms: now,
-            events: std::mem::take(&mut self.pending_trace),
-            ..CycleRecord::default()
-        };
-        self.cycles.push(c.clone());
-        Some(c)
+        self.journal.flush(now)
     }
 
     /// The action's name with its grounded parameters, e.g. `move(base, p1)`.
@@ -293,36 +184,11 @@ impl Executive {
     /// Goal fates in the order of the problem, then the goals refused before they entered the plan, then
     /// those whose insertion is still in progress (pending).
     pub fn goal_fates(&self) -> Vec<GoalFate> {
-        let inserting = self.insertions.iter().map(|i| GoalFate {
-            name: i.goal.name.clone(),
-            fate: Fate::Pending,
-            reason: Some(FateReason::Inserting),
-        });
-        self.fates
-            .values()
-            .cloned()
-            .chain(self.refused.iter().cloned())
-            .chain(inserting)
-            .collect()
+        self.goals.goal_fates()
     }
 
     pub fn set_fate(&mut self, g: GoalId, fate: Fate, reason: Option<FateReason>) {
-        if let Some(f) = self.fates.get_mut(&g) {
-            f.fate = fate.clone();
-            f.reason = reason.clone();
-        }
-        // The ground station that uploaded it is told how it ended (its held list stays true).
-        if fate != Fate::Pending {
-            if let Some(w) = self.watches.remove(&g) {
-                w.tell(match (fate, reason) {
-                    (Fate::Achieved, _) => GoalVerdict::Achieved,
-                    (Fate::Cancelled, r) => {
-                        GoalVerdict::Cancelled(r.map_or(String::new(), |r| r.operator_text()))
-                    }
-                    (_, r) => GoalVerdict::Rejected(r.map_or(String::new(), |r| r.operator_text())),
-                });
-            }
-        }
+        self.goals.set_fate(g, fate, reason);
     }
 
     /// *ExecutingPlan*.
@@ -335,41 +201,37 @@ impl Executive {
     }
 
     pub fn counters(&self) -> &Counters {
-        &self.counters
+        self.journal.counters()
     }
 
     /// The cycles run so far: busy ones with their events, idle runs aggregated.
     pub fn cycles(&self) -> &CycleLog {
-        &self.cycles
+        self.journal.cycles()
     }
 
     /// The events traced since the last cycle record.
     pub fn pending_events(&self) -> &[TraceEvent] {
-        &self.pending_trace
+        self.journal.pending()
     }
 
     /// Why execution is aborted, when it is (the caller then replans).
     pub fn abort(&self) -> Option<&AbortReason> {
-        self.abort.as_ref()
+        self.abort.reason()
     }
 
     /// The goals still pending (held, neither achieved nor rejected), in goal order.
     pub fn pending_goals(&self) -> Vec<GoalId> {
-        self.fates
-            .iter()
-            .filter(|(_, f)| f.fate == Fate::Pending)
-            .map(|(&g, _)| g)
-            .collect()
+        self.goals.pending_goals()
     }
 
     /// The fates of the goals in the plan, by goal (see [`Self::goal_fates`] for every goal requested).
     pub fn fates(&self) -> &BTreeMap<GoalId, GoalFate> {
-        &self.fates
+        self.goals.fates()
     }
 
     /// The complete replannings of this mission.
     pub fn replannings(&self) -> &[super::replan_record::ReplanRecord] {
-        &self.replannings
+        self.journal.replannings()
     }
 
     /// LgcS_t: the last known values.
@@ -389,15 +251,15 @@ impl Executive {
 
     /// The names of the new goals waiting for, or in, their insertion attempt, in the order they are tried.
     pub fn insertion_queue(&self) -> Vec<&str> {
-        self.insertions
-            .iter()
+        self.goals
+            .insertions()
             .map(|i| i.goal.name.as_str())
             .collect()
     }
 
     /// Whether an upload is still waiting for a goal's verdict.
     pub fn has_unanswered_uploads(&self) -> bool {
-        !self.goal_batches.is_empty()
+        self.goals.has_unanswered_uploads()
     }
 
     /// Reported levels within their resource's `resolution + tolerance` (`[resources]` of the vehicle
@@ -418,7 +280,7 @@ impl Executive {
 
     /// The vehicle time (ms) of the plan's origin: report times are converted with it.
     pub fn set_vehicle_origin(&mut self, ms: u64) {
-        self.vehicle_origin_ms = ms;
+        self.vehicle.set_origin(ms);
     }
 
     /// The plan is not executable any more: this cycle aborts and a complete replanning follows (§3.6; the
@@ -426,9 +288,7 @@ impl Executive {
     /// reason is kept: what follows it before the replanning (a timeout, a failed repair) is its
     /// consequence, not its cause.
     pub fn abort_with(&mut self, reason: AbortReason) {
-        if self.abort.is_none() {
-            self.abort = Some(reason);
-        }
+        self.abort.raise(reason);
     }
 
     /// A value known from outside the messages (e.g. a state restored at start) enters LgcS_t at `t`.
@@ -456,14 +316,7 @@ impl Executive {
         let name = goal.name.clone();
         let running = super::p_t::classify(&self.plan, now).running;
         let g = super::goal_request::request(self.plan.edit(), goal, now, &running)?;
-        self.fates.insert(
-            g,
-            GoalFate {
-                name,
-                fate: Fate::Pending,
-                reason: None,
-            },
-        );
+        self.goals.hold(g, &name, None);
         self.repair.request();
         Ok(g)
     }

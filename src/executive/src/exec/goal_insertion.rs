@@ -16,7 +16,7 @@
 //! priority first (then in order of arrival); an attempt runs only in cycles with nothing else to repair,
 //! so that its failure is the new goal's alone.
 
-use super::executive::{Executive, Fate, GoalFate};
+use super::executive::{Executive, Fate};
 use super::goal_request::request;
 pub use super::insertion::Insertion;
 use super::outcome::FateReason;
@@ -34,8 +34,7 @@ impl Executive {
     /// insertion attempt; the others are refused with the reason. The upload is answered at the end of this
     /// cycle's repair part ([`Executive::answer_goal_batches`]).
     pub fn receive_goals(&mut self, mut batch: GoalBatch) {
-        let number = self.next_batch;
-        self.next_batch += 1;
+        let number = self.goals.next_batch_number();
         let requests = batch.goals.clone();
         for (i, g) in requests.iter().enumerate() {
             if let Some(why) = self.beyond_limits(g) {
@@ -56,7 +55,7 @@ impl Executive {
                     self.trace(TraceEvent::GoalReceived {
                         goal: g.name.clone(),
                     });
-                    self.queue_insertion(Insertion {
+                    self.goals.queue_insertion(Insertion {
                         goal,
                         reply: (number, i),
                         search: None,
@@ -74,33 +73,20 @@ impl Executive {
                 }
             }
         }
-        self.goal_batches.insert(number, batch);
-    }
-
-    /// Behind the attempt in progress and every waiting goal of at least its priority.
-    fn queue_insertion(&mut self, ins: Insertion) {
-        let at = self
-            .insertions
-            .iter()
-            .position(|q| !q.started() && q.goal.priority < ins.goal.priority)
-            .unwrap_or(self.insertions.len());
-        self.insertions.insert(at, ins);
+        self.goals.add_batch(number, batch);
     }
 
     /// Answers the uploads not answered yet (goals still being inserted: "verdict to follow") and forgets
     /// those whose every goal has its final verdict.
     pub fn answer_goal_batches(&mut self) {
-        for b in self.goal_batches.values_mut() {
-            b.answer_now();
-        }
-        self.goal_batches.retain(|_, b| !b.settled());
+        self.goals.answer_batches();
     }
 
     /// The repair part of a cycle with nothing else to repair: the insertion attempt in progress, for this
     /// cycle's repair budget.
     pub fn insertion_phase(&mut self, now: Time, clock: &dyn super::clock::Clock) -> RepairOutcome {
         self.unpark(now);
-        if self.insertions.is_empty() {
+        if !self.goals.is_inserting() {
             return RepairOutcome::Idle;
         }
         if let Err(reason) = self.root_insertion(now) {
@@ -109,7 +95,7 @@ impl Executive {
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
         let wall = self.cycle_wall_deadline();
-        let Some(ins) = self.insertions.front_mut() else {
+        let Some(ins) = self.goals.current_mut() else {
             return RepairOutcome::Idle;
         };
         let Some(search) = ins.search.as_mut() else {
@@ -136,8 +122,7 @@ impl Executive {
         let allowed = self.cfg.goal_insertion_cycles.saturating_mul(ins.tries);
         // What the search last ran into: the reason a rejection gives beside the budget.
         let dead_end = search.last_rejection().map(str::to_string);
-        self.counters.repair_steps += steps;
-        self.counters.insertion_steps += steps;
+        self.journal.insertion_steps(steps);
         match outcome {
             Some(StepOutcome::Solved) => {
                 self.accept_insertion();
@@ -167,7 +152,7 @@ impl Executive {
             _ => {
                 if cycles == 1 {
                     // Re-rooted next cycle with limited discrepancy search (see `root_insertion`).
-                    if let Some(ins) = self.insertions.front_mut().filter(|i| i.tries == 1) {
+                    if let Some(ins) = self.goals.current_mut().filter(|i| i.tries == 1) {
                         ins.search = None;
                     }
                 }
@@ -182,7 +167,7 @@ impl Executive {
 
     /// After an attempt ended: the next one waits for the next cycle, which comes as soon as a repair's.
     fn next_insertion(&self) -> RepairOutcome {
-        if self.insertions.is_empty() {
+        if !self.goals.is_inserting() {
             RepairOutcome::Idle
         } else {
             RepairOutcome::InProgress
@@ -193,8 +178,8 @@ impl Executive {
     fn root_insertion(&mut self, now: Time) -> Result<(), FateReason> {
         let stale = self.plan.take_insertion_stale();
         let needs_root = self
-            .insertions
-            .front()
+            .goals
+            .current()
             .is_some_and(|i| i.search.is_none() || stale);
         if !needs_root {
             return Ok(());
@@ -206,7 +191,7 @@ impl Executive {
                 error: e.source.to_string(),
             })?;
         let running = classify(&self.plan, now).running;
-        let Some(ins) = self.insertions.front_mut() else {
+        let Some(ins) = self.goals.current_mut() else {
             return Ok(());
         };
         let id =
@@ -226,7 +211,7 @@ impl Executive {
 
     /// The attempt in progress found a plan: it becomes *ExecutingPlan*, the goal is accepted.
     fn accept_insertion(&mut self) {
-        let Some(ins) = self.insertions.pop_front() else {
+        let Some(ins) = self.goals.take_current() else {
             return;
         };
         let (Some(search), Some(id)) = (ins.search, ins.id) else {
@@ -235,18 +220,8 @@ impl Executive {
         let mut plan = search.into_plan();
         plan.set_time_floor(TimeFloor::None);
         self.plan.replace(plan);
-        self.counters.repairs += 1;
-        self.fates.insert(
-            id,
-            GoalFate {
-                name: ins.goal.name.clone(),
-                fate: Fate::Pending,
-                reason: None,
-            },
-        );
-        if let Some(w) = ins.watch {
-            self.watches.insert(id, w);
-        }
+        self.journal.repaired();
+        self.goals.hold(id, &ins.goal.name, ins.watch);
         self.trace(TraceEvent::RepairDone { steps: ins.steps });
         self.trace(TraceEvent::GoalAccepted {
             goal: ins.goal.name.clone(),
@@ -257,7 +232,7 @@ impl Executive {
 
     /// The attempt in progress failed: the goal is rejected, *ExecutingPlan* was never touched.
     fn reject_insertion(&mut self, reason: FateReason, now: Time) {
-        let Some(ins) = self.insertions.pop_front() else {
+        let Some(ins) = self.goals.take_current() else {
             return;
         };
         self.plan.restart_insertion();
@@ -286,16 +261,10 @@ impl Executive {
                 reason: reason.clone(),
             },
         });
-        self.refused.push(GoalFate {
-            name: name.to_string(),
-            fate,
-            reason: Some(reason),
-        });
+        self.goals.never_held(name, fate, reason);
     }
 
     pub(crate) fn decide_goal(&mut self, (batch, i): (u64, usize), verdict: GoalVerdict) {
-        if let Some(b) = self.goal_batches.get_mut(&batch) {
-            b.decide(i, verdict);
-        }
+        self.goals.decide((batch, i), verdict);
     }
 }

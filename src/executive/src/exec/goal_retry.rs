@@ -33,7 +33,7 @@ impl Executive {
     pub(crate) fn park(&mut self, insertion: Insertion, reason: &FateReason, now: Time) {
         if may_stop_holding(reason) && insertion.tries < MAX_TRIES {
             let actions = self.plan.live_actions().count();
-            self.parked.push(Parked {
+            self.goals.park(Parked {
                 insertion,
                 at: now,
                 actions,
@@ -43,32 +43,27 @@ impl Executive {
 
     /// With no insertion in progress: the first parked goal whose situation changed is queued again.
     pub(crate) fn unpark(&mut self, now: Time) {
-        if !self.insertions.is_empty() || self.parked.is_empty() || self.paused.is_some() {
+        if self.goals.is_inserting() || !self.goals.has_parked() || self.operator.is_held() {
             return;
         }
         let actions = self.plan.live_actions().count();
-        let Some(i) = self
-            .parked
-            .iter()
-            .position(|p| actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS)
-        else {
+        let Some(p) = self.goals.unpark_first(|p| {
+            actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS
+        }) else {
             return;
         };
-        let p = self.parked.remove(i);
         let mut ins = p.insertion.again();
         ins.tries += 1;
         let name = ins.goal.name.clone();
         // Its refusal is withdrawn: the goal is pending again until this attempt's verdict.
-        if let Some(k) = self.refused.iter().rposition(|f| f.name == name) {
-            self.refused.remove(k);
-        }
+        self.goals.withdraw_refusal(&name);
         tracing::info!(goal = %name, tries = ins.tries, "rejected goal tried again");
         self.trace(TraceEvent::GoalReceived { goal: name });
-        self.insertions.push_back(ins);
+        self.goals.requeue(ins);
     }
 
     /// Goals parked for another attempt.
     pub fn parked_goals(&self) -> impl Iterator<Item = &str> {
-        self.parked.iter().map(|p| p.insertion.goal.name.as_str())
+        self.goals.parked().map(|p| p.insertion.goal.name.as_str())
     }
 }

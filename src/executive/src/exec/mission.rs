@@ -283,7 +283,7 @@ pub fn run_mission<V: Vehicle>(
         inner: vehicle,
         held: VecDeque::new(),
     };
-    ex.vehicle_origin_ms = pacer.origin_ms();
+    ex.vehicle.set_origin(pacer.origin_ms());
     if !opts.initial_goals.is_empty() {
         v.held.push_back(VehicleEvent::Goals(GoalBatch::detached(
             opts.initial_goals.clone(),
@@ -303,7 +303,7 @@ pub fn run_mission<V: Vehicle>(
         let outcome = ex.cycle(&mut v, now);
         log.after_cycle(ex, now);
         log.position(now, v.inner.position());
-        if let Some(c) = ex.cycles.last() {
+        if let Some(c) = ex.journal.cycles().last() {
             observe(ex, c);
         }
         let wake = match outcome {
@@ -328,7 +328,7 @@ pub fn run_mission<V: Vehicle>(
                 // §3.2: wake on a message, a due timepoint, or the next cycle while repairing; at the latest
                 // one timestep later (timeouts are checked every cycle).
                 let ts = ex.cfg.timestep_ms;
-                let stopped = ex.cycles.last().is_some_and(|c| {
+                let stopped = ex.journal.cycles().last().is_some_and(|c| {
                     c.events
                         .iter()
                         .any(|e| matches!(e, TraceEvent::Stop { .. }))
@@ -348,7 +348,7 @@ pub fn run_mission<V: Vehicle>(
         }
         if opts
             .max_cycles
-            .is_some_and(|m| ex.cycles.count() >= m as u64)
+            .is_some_and(|m| ex.journal.cycles().count() >= m as u64)
         {
             break MissionEnd::CycleLimit;
         }
@@ -404,7 +404,7 @@ fn replan<V: Vehicle>(
         ReplanResult::NoGoals(plan) => {
             ex.adopt(plan);
             // A new goal waiting for its insertion attempt still gets it, on the plan left.
-            if ex.insertions.is_empty() {
+            if !ex.goals.is_inserting() {
                 Err(MissionEnd::NoGoals)
             } else {
                 Ok(())
@@ -496,7 +496,7 @@ impl Log {
     }
 
     fn after_cycle(&mut self, ex: &Executive, now: Time) {
-        let Some(c) = ex.cycles.last() else { return };
+        let Some(c) = ex.journal.cycles().last() else { return };
         for e in &c.events {
             match e {
                 TraceEvent::RepairDone { .. } => self.change(now, "repair", ex.plan.num_actions()),
@@ -553,8 +553,8 @@ impl Log {
             end,
             duration_ms,
             goals,
-            counters: ex.counters.clone(),
-            cycle_times: ex.cycles.times(),
+            counters: ex.journal.counters().clone(),
+            cycle_times: ex.journal.cycles().times(),
             plan_changes: self.changes,
             resources: self.resources,
             reservoirs: ex
@@ -567,8 +567,8 @@ impl Log {
                 .collect(),
             track: self.track,
             places: places(ex),
-            cycles: ex.cycles.records().to_vec(),
-            replannings: ex.replannings.clone(),
+            cycles: ex.journal.cycles().records().to_vec(),
+            replannings: ex.journal.replannings().to_vec(),
             shutdown: None,
             ready: None,
         }

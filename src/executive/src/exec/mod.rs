@@ -38,6 +38,7 @@
 //! | a mission run live: cycles, replanning, the report | [`mission`] (time: [`pacer`]) |
 //! | (not in the papers) a mission stopped from outside (a signal) | [`interrupt`] |
 
+mod abort;
 pub mod abstraction;
 pub mod act;
 pub mod authority;
@@ -54,6 +55,7 @@ pub mod executable;
 pub mod executing_plan;
 pub mod executive;
 pub mod failures;
+pub mod goal_book;
 pub mod goal_insertion;
 pub mod goal_request;
 pub mod goal_retry;
@@ -61,8 +63,10 @@ pub mod goal_support;
 pub mod insertion;
 pub mod instantiate;
 pub mod interrupt;
+pub mod journal;
 pub mod ledger;
 pub mod mission;
+mod operator_hold;
 pub mod operator_text;
 pub mod outcome;
 pub mod p_t;
@@ -83,6 +87,7 @@ pub mod still;
 pub mod t_exec;
 pub mod trace;
 pub mod trip_needs;
+mod vehicle_binding;
 
 #[cfg(test)]
 mod import_graph;

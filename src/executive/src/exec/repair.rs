@@ -135,7 +135,7 @@ impl Executive {
             }
         };
         let steps = rep.search.steps() - first;
-        self.counters.repair_steps += steps;
+        self.journal.repair_steps(steps);
         self.repair.episode_steps += steps;
         let finished = match &outcome {
             Some(StepOutcome::Solved) => true,
@@ -162,7 +162,7 @@ impl Executive {
                 let mut plan = rep.search.into_plan();
                 plan.set_time_floor(TimeFloor::None);
                 self.plan.replace(plan);
-                self.counters.repairs += 1;
+                self.journal.repaired();
                 self.trace(TraceEvent::RepairDone { steps: total });
                 RepairOutcome::Solved
             }

@@ -68,10 +68,7 @@ pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracte
     let mut incoherent = Vec::new();
     for pg in plan.goals().to_vec() {
         let g = &problem.goals[pg.goal.index()];
-        let settled = ex
-            .fates
-            .get(&pg.goal)
-            .is_some_and(|f| f.fate != Fate::Pending);
+        let settled = ex.goals.fate(pg.goal).is_some_and(|f| f.fate != Fate::Pending);
         if settled || dropped.contains(&pg.goal) {
             plan.remove_goal(pg.goal);
             continue;
@@ -254,14 +251,14 @@ impl Executive {
         refresh: &mut dyn FnMut(&mut Executive),
     ) -> ReplanResult {
         let started = clock.now();
-        let abort = self.abort.clone().unwrap_or(AbortReason::Unstated);
+        let abort = self.abort.reason().cloned().unwrap_or(AbortReason::Unstated);
         let pending = self.pending_goals();
         let mut attempts = Vec::new();
         let mut steps = 0;
         let result = self.replan_attempts(clock, refresh, &mut attempts, &mut steps);
         let rejected: Vec<ReplanRejection> = pending
             .iter()
-            .filter_map(|g| self.fates.get(g))
+            .filter_map(|&g| self.goals.fate(g))
             .filter(|f| f.fate == Fate::Rejected)
             .filter_map(|f| {
                 Some(ReplanRejection {
@@ -285,7 +282,7 @@ impl Executive {
         if let Some(e) = &error {
             tracing::warn!("complete replanning: {e}");
         }
-        self.replannings.push(ReplanRecord {
+        self.journal.replanned(ReplanRecord {
             time_ms: started,
             end_ms: clock.now(),
             abort,
@@ -315,7 +312,7 @@ impl Executive {
         attempts: &mut Vec<AttemptRecord>,
         steps: &mut u64,
     ) -> ReplanResult {
-        self.counters.replans += 1;
+        self.journal.replanning();
         let wall_end = Instant::now() + Duration::from_millis(self.cfg.replan_max_wall_ms);
         let mut dropped: Vec<GoalId> = Vec::new();
         let first_cap = self.replan_step_cap();
@@ -355,7 +352,7 @@ impl Executive {
                 if ext.incoherent.is_empty() {
                     if let Some(g) = goal_to_reject(&ext.plan) {
                         let reason = FateReason::Abandoned {
-                            abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
+                            abort: self.abort.reason().cloned().unwrap_or(AbortReason::Unstated),
                             end,
                             steps,
                         };
@@ -396,7 +393,7 @@ impl Executive {
             let max_steps = attempt_cap(first_cap, attempt).min(budget.saturating_sub(spent));
             if max_steps == 0 {
                 let reason = FateReason::ReplanBudgetSpent {
-                    abort: self.abort.clone().unwrap_or(AbortReason::Unstated),
+                    abort: self.abort.reason().cloned().unwrap_or(AbortReason::Unstated),
                     steps: spent,
                 };
                 return self.fall_back(&solo, &mut dropped, t_end, reason, clock, ext.plan);
@@ -527,7 +524,7 @@ impl Executive {
         // Reports of the old plan's actions are ignored from now on (their ids mean nothing in the new plan).
         self.dispatched.forget_plan();
         self.repair.reset();
-        self.abort = None;
+        self.abort.clear();
         self.hierarchy = super::abstraction::Hierarchy::new(self.plan.domain());
         self.check_reserves();
     }

@@ -66,7 +66,7 @@ impl Executive {
         };
         // The report carries the vehicle time of the completion (a stopped action ended when the END was
         // obeyed, usually a cycle before the report is integrated).
-        let t = (r.time_ms.saturating_sub(self.vehicle_origin_ms) as Time).clamp(0, now);
+        let t = self.vehicle.mission_time_until(r.time_ms, now);
         // Nor before it started: a move already within its waypoint radius is reported done with the time
         // of the telemetry that showed it there, which may predate the START.
         let t = match self.plan.executed_at(self.plan.action(a).start) {
@@ -175,7 +175,7 @@ impl Executive {
         }
         let o = self.plan.problem().object_id(&l.name)?;
         let ty = self.plan.problem().object(o)?.ty;
-        (Some(ty) == self.mapping.location_type).then_some(o)
+        (Some(ty) == self.vehicle.mapping.location_type).then_some(o)
     }
 
     /// The domain goal for a request, as the config's `[mapping.goals]` says: `attr(L) = true` or
@@ -185,13 +185,14 @@ impl Executive {
         // A return home with no return-home mapping or no home object in the config is a "be at" the
         // problem's home position (the place there, or a new one named `home`).
         let home_as_waypoint = g.kind == mavtempo_vehicle::GoalKind::ReturnHome
-            && (self.mapping.home_object.is_none() || !self.mapping.goals.contains_key(&g.kind));
+            && (self.vehicle.mapping.home_object.is_none() || !self.vehicle.mapping.goals.contains_key(&g.kind));
         let kind = if home_as_waypoint {
             mavtempo_vehicle::GoalKind::BeAt
         } else {
             g.kind
         };
         let target = *self
+            .vehicle
             .mapping
             .goals
             .get(&kind)
@@ -199,7 +200,7 @@ impl Executive {
                 kind: what.to_string(),
             })?;
         let loc = match (&g.location, g.kind) {
-            (_, mavtempo_vehicle::GoalKind::ReturnHome) => match self.mapping.home_object {
+            (_, mavtempo_vehicle::GoalKind::ReturnHome) => match self.vehicle.mapping.home_object {
                 Some(o) if !home_as_waypoint => o,
                 _ => super::state_update::location_object(
                     self,

@@ -134,7 +134,7 @@ impl Executive {
 
     /// Rejects goal `g` (once) with `reason`.
     pub fn reject_goal(&mut self, g: GoalId, reason: FateReason) {
-        if self.fates.get(&g).is_some_and(|f| f.fate != Fate::Pending) {
+        if self.goals.fate(g).is_some_and(|f| f.fate != Fate::Pending) {
             return;
         }
         let name = self.plan.problem().goals[g.index()].name.clone();

@@ -32,7 +32,7 @@ pub fn location_object(
     from: Option<ObjectId>,
 ) -> Result<ObjectId, MappingError> {
     let home = ex.plan.problem().home;
-    let ty = ex.mapping.location_type;
+    let ty = ex.vehicle.mapping.location_type;
     let mut best: Option<(f64, ObjectId)> = None;
     for (i, o) in ex.plan.problem().objects.iter().enumerate() {
         if ty.is_some_and(|t| t != o.ty) {
@@ -157,6 +157,7 @@ fn reported_value(
     match v {
         StateValue::Position(p) => {
             let attr = ex
+                .vehicle
                 .mapping
                 .position
                 .ok_or(MappingError::NoPositionAttribute)?;
@@ -385,7 +386,7 @@ pub fn integrate_state(ex: &mut Executive, a: ActionId, r: &ActionReport, t: Tim
                         action: name,
                         reason: format!("reported {var} threatens it"),
                     });
-                    ex.interrupt.push(ra);
+                    ex.dispatched.request_stop(ra);
                 }
             }
             continue;

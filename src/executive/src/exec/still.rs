@@ -14,17 +14,18 @@ impl Executive {
     /// `[state] moving` of the vehicle configuration, resolved in the domain: its attribute and still
     /// value. Unknown names leave every motion ending within its radius, as before.
     pub fn with_still_state(mut self, moving: Option<&mavtempo_vehicle::observed::Flag>) -> Self {
-        self.still = moving.and_then(|f| {
+        let still = moving.and_then(|f| {
             let attr = self.plan.domain().attr_id(&f.attribute)?;
             let value = self.plan.problem().object_id(&f.no)?;
             Some((attr, value))
         });
+        self.vehicle.set_still(still);
         self
     }
 
     /// Whether action `a`'s end makes the vehicle still for a later action that holds it still.
     pub(crate) fn must_end_still(&self, a: ActionId) -> bool {
-        let Some((attr, still)) = self.still else {
+        let Some((attr, still)) = self.vehicle.still() else {
             return false;
         };
         let end = self.plan.action(a).end;
