@@ -69,10 +69,7 @@ pub fn measure(limit_ms: Option<Time>) -> Result<CpuFigures, CliError> {
     let mut session = SitlSession::start(&domain, &problem, spec)?;
     let cfg = exec_config();
     let (timestep_ms, repair_share) = (cfg.timestep_ms, cfg.repair_share);
-    let mut ex = Executive::new(plan, cfg)
-        .with_mapping(session.mapping.clone())
-        .with_resource_levels(&session.resources)
-        .with_still_state(session.moving.as_ref());
+    let mut ex = Executive::build(plan, cfg, session.vehicle_setup());
     let opts = MissionOptions {
         time_limit_ms: limit_ms.unwrap_or(problem.horizon + END_MARGIN_MS),
         ..MissionOptions::default()

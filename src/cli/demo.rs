@@ -367,12 +367,11 @@ pub fn run_demo(
         "SITL vehicle at {}, ground station endpoint tcp {gcs}; mission starts at vehicle time {origin} ms",
         session.sim.client_address()
     ));
-    let mut ex = Executive::new(plan, exec)
-        .with_policy(setup.dispatch)
-        .with_mapping(session.mapping.clone())
-        .with_resource_levels(&session.resources)
-        .with_still_state(session.moving.as_ref())
-        .with_limits(session.limits.clone());
+    let exec = ExecConfig {
+        dispatch: setup.dispatch,
+        ..exec
+    };
+    let mut ex = Executive::build(plan, exec, session.vehicle_setup());
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = crate::vehicle::Vehicle::position(&session.vehicle) {
         ex.start_from(Enu::new(e, n, 0.0), session.start_radius_m, 0);

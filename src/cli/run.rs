@@ -252,11 +252,13 @@ fn mission(
         outln!("goal intake listening on {a}");
     }
     let home = checked.home;
-    let mut ex = Executive::new(plan, exec_cfg)
-        .with_mapping(checked.mapping)
-        .with_resource_levels(&resources)
-        .with_still_state(moving.as_ref())
-        .with_limits(limits);
+    let setup = crate::exec::builder::VehicleSetup {
+        mapping: checked.mapping,
+        resources: &resources,
+        moving: moving.as_ref(),
+        limits,
+    };
+    let mut ex = Executive::build(plan, exec_cfg, setup);
     // The plan starts where the vehicle is (issue 30): beyond the acceptance radius, from a new place.
     if let Some((e, n)) = vehicle.position() {
         if let Some(d) = ex.start_from(crate::vehicle::Enu::new(e, n, 0.0), start_radius_m, 0) {

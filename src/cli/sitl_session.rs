@@ -77,6 +77,16 @@ impl SessionSpec {
 }
 
 impl SitlSession {
+    /// What the session's vehicle configuration gives the executive ([`crate::exec::builder`]).
+    pub fn vehicle_setup(&self) -> crate::exec::builder::VehicleSetup<'_> {
+        crate::exec::builder::VehicleSetup {
+            mapping: self.mapping.clone(),
+            resources: &self.resources,
+            moving: self.moving.as_ref(),
+            limits: self.limits.clone(),
+        }
+    }
+
     /// Checks `spec`'s configuration against `domain` and `problem` (the home is the problem's when it
     /// has one), spawns the SITL there, paced or stepped, and links the vehicle to it over real sockets.
     pub fn start(

@@ -524,10 +524,7 @@ fn run_one(
         dispatch: policy,
         ..exec_config()
     };
-    let mut ex = Executive::new(plan, config)
-        .with_mapping(session.mapping.clone())
-        .with_resource_levels(&session.resources)
-        .with_still_state(session.moving.as_ref());
+    let mut ex = Executive::build(plan, config, session.vehicle_setup());
     let (home, gcs) = (session.home, session.gcs.clone());
     let rt = session.rt.handle().clone();
     let mut pending: Vec<&Upload> = m.uploads.iter().collect();

@@ -42,6 +42,9 @@ mod tests {
         a.clear();
         assert!(!a.is_raised());
         a.raise(AbortReason::VehicleElsewhere { distance_m: 3.0 });
-        assert!(matches!(a.reason(), Some(AbortReason::VehicleElsewhere { .. })));
+        assert!(matches!(
+            a.reason(),
+            Some(AbortReason::VehicleElsewhere { .. })
+        ));
     }
 }

@@ -1,11 +1,13 @@
 //! The executive's clock (seed 1 §3.2: time is injected): mission time, ms since the plan's origin. The
-//! mission loop reads its pacer (the vehicle's clock, a SITL's, or a manual one); plan repair and complete
-//! replanning read it to stop at their budgets (μ·ts, the time limit l). Tests move a [`ManualClock`] by
-//! hand, or give a closure.
+//! mission loop reads its pacer (the vehicle's clock, a SITL's, or a manual one); a cycle's plan repair
+//! reads the vehicle's ([`VehicleClock`]), complete replanning the pacer's, to stop at their budgets (μ·ts,
+//! the time limit l). Tests move a [`ManualClock`] by hand, or give a closure. [`WallClock`] is the
+//! companion's own time, for the bounds that must hold when a vehicle's clock stops.
 
 use std::cell::Cell;
 
 use mavtempo_temporal::model::Time;
+use mavtempo_vehicle::Vehicle;
 
 /// Mission time, ms since the plan's origin.
 pub trait Clock {
@@ -16,6 +18,46 @@ pub trait Clock {
 impl<F: Fn() -> Time> Clock for F {
     fn now(&self) -> Time {
         self()
+    }
+}
+
+/// Vehicle ms → ms since the plan's origin (the vehicle time `origin_ms`).
+pub fn mission_time(vehicle_ms: u64, origin_ms: u64) -> Time {
+    vehicle_ms.saturating_sub(origin_ms).min(i64::MAX as u64) as Time
+}
+
+/// Mission time on a vehicle's clock (its last time, e.g. SYSTEM_TIME, or a mock's manual time).
+pub struct VehicleClock<'a> {
+    vehicle: &'a dyn Vehicle,
+    origin_ms: u64,
+}
+
+impl<'a> VehicleClock<'a> {
+    /// `origin_ms`: the vehicle time of the plan's origin.
+    pub fn new(vehicle: &'a dyn Vehicle, origin_ms: u64) -> Self {
+        VehicleClock { vehicle, origin_ms }
+    }
+}
+
+impl Clock for VehicleClock<'_> {
+    fn now(&self) -> Time {
+        mission_time(self.vehicle.now_ms(), self.origin_ms)
+    }
+}
+
+/// The companion's own time, ms since [`WallClock::start`]: what bounds a wait on a vehicle whose clock
+/// may stop (a vanished link), never what the plan is executed on.
+pub struct WallClock(std::time::Instant);
+
+impl WallClock {
+    pub fn start() -> Self {
+        WallClock(std::time::Instant::now())
+    }
+}
+
+impl Clock for WallClock {
+    fn now(&self) -> Time {
+        self.0.elapsed().as_millis().min(i64::MAX as u128) as Time
     }
 }
 

@@ -4,11 +4,12 @@
 
 use std::time::Instant;
 
+use super::clock::VehicleClock;
 use super::executive::Executive;
 use super::failures::PlanChangeKind;
+use super::journal::PartTimes;
 use super::outcome::AbortReason;
 use super::repair_tree::RepairOutcome;
-use super::journal::PartTimes;
 use super::trace::TraceEvent;
 use mavtempo_temporal::model::Time;
 use mavtempo_vehicle::Vehicle;
@@ -25,10 +26,7 @@ pub enum CycleOutcome {
     Finished,
 }
 
-/// Vehicle ms → ms since the plan's origin (the vehicle time `origin_ms`).
-pub fn mission_time(vehicle_ms: u64, origin_ms: u64) -> Time {
-    vehicle_ms.saturating_sub(origin_ms).min(i64::MAX as u64) as Time
-}
+pub use super::clock::mission_time;
 
 impl Executive {
     pub fn cycle(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> CycleOutcome {
@@ -43,9 +41,7 @@ impl Executive {
             self.while_paused(now);
         } else if !self.abort.is_raised() {
             // The repair's μ·ts is mission time: the vehicle's clock, as the pacer reads it.
-            let origin = self.vehicle.origin_ms();
-            let v: &dyn Vehicle = vehicle;
-            let clock = || mission_time(v.now_ms(), origin);
+            let clock = VehicleClock::new(vehicle, self.vehicle.origin_ms());
             match self.repair_phase(now, &clock) {
                 RepairOutcome::InProgress => repairing = true,
                 RepairOutcome::Solved => self.plan_changed(now, PlanChangeKind::Repair),

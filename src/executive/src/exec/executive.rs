@@ -116,12 +116,6 @@ impl Executive {
         self
     }
 
-    pub fn with_policy(mut self, kind: crate::dispatch::PolicyKind) -> Self {
-        self.cfg.dispatch = kind;
-        self.policy = PlanDispatch::new(kind);
-        self
-    }
-
     pub fn trace(&mut self, e: TraceEvent) {
         self.journal.trace(e);
     }

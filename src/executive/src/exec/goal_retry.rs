@@ -47,9 +47,10 @@ impl Executive {
             return;
         }
         let actions = self.plan.live_actions().count();
-        let Some(p) = self.goals.unpark_first(|p| {
-            actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS
-        }) else {
+        let Some(p) = self
+            .goals
+            .unpark_first(|p| actions != p.actions || actions == 0 || now - p.at >= RETRY_AFTER_MS)
+        else {
             return;
         };
         let mut ins = p.insertion.again();

@@ -8,6 +8,7 @@ use std::time::Duration;
 
 use serde::Serialize;
 
+use super::clock::{Clock, WallClock};
 use super::cycle::CycleOutcome;
 pub use super::cycle_log::CycleTimes;
 use super::executive::{Counters, Executive, Fate, GoalFate};
@@ -414,8 +415,9 @@ fn replan<V: Vehicle>(
     }
 }
 
-/// How long (wall) to wait for the reports of the actions stopped by an abort.
-const STOP_REPORT_WAIT: Duration = Duration::from_secs(2);
+/// How long (mission time, and wall time on the companion's clock) to wait for the reports of the actions
+/// stopped by an abort, ms.
+const STOP_REPORT_WAIT_MS: Time = 2_000;
 
 /// §3.6: S_ti = S_ts, the state once the running actions are stopped: their reports (e.g. the position a
 /// stopped move reached) are integrated into the aborted plan before P_ti is extracted, or the state would
@@ -427,12 +429,10 @@ fn collect_stop_reports<V: Vehicle>(
     pacer: &mut dyn Pacer<V>,
 ) {
     // Bounded in mission time (the pacer lets it pass, a stepped simulator's too) and in wall time.
-    let deadline = std::time::Instant::now() + STOP_REPORT_WAIT;
-    let until = pacer
-        .now(v.inner)
-        .saturating_add(STOP_REPORT_WAIT.as_millis() as Time);
+    let wall = WallClock::start();
+    let until = pacer.now(v.inner).saturating_add(STOP_REPORT_WAIT_MS);
     let waiting =
-        |pacer: &dyn Pacer<V>, v: &V| std::time::Instant::now() < deadline && pacer.now(v) < until;
+        |pacer: &dyn Pacer<V>, v: &V| wall.now() < STOP_REPORT_WAIT_MS && pacer.now(v) < until;
     let mut kept = VecDeque::new();
     let outstanding = |ex: &Executive| {
         ex.dispatched
@@ -496,7 +496,9 @@ impl Log {
     }
 
     fn after_cycle(&mut self, ex: &Executive, now: Time) {
-        let Some(c) = ex.journal.cycles().last() else { return };
+        let Some(c) = ex.journal.cycles().last() else {
+            return;
+        };
         for e in &c.events {
             match e {
                 TraceEvent::RepairDone { .. } => self.change(now, "repair", ex.plan.num_actions()),

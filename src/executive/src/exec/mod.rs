@@ -42,6 +42,7 @@ mod abort;
 pub mod abstraction;
 pub mod act;
 pub mod authority;
+pub mod builder;
 pub mod cancel;
 pub mod capacity;
 pub mod clock;

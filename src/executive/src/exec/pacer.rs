@@ -5,7 +5,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use super::cycle::mission_time as since;
+use super::clock::{mission_time as since, Clock, VehicleClock};
 use super::interrupt::Interrupt;
 use super::mission::Pacer;
 use mavtempo_temporal::model::Time;
@@ -24,7 +24,7 @@ impl Pacer<MockVehicle> for MockPacer {
         self.origin_ms
     }
     fn now(&self, v: &MockVehicle) -> Time {
-        since(v.now_ms(), self.origin_ms)
+        VehicleClock::new(v, self.origin_ms).now()
     }
 
     fn wait(&mut self, v: &mut MockVehicle, until: Time) -> Option<VehicleEvent> {

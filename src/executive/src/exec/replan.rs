@@ -68,7 +68,10 @@ pub fn extract(ex: &Executive, now: Time, dropped: &[GoalId]) -> Result<Extracte
     let mut incoherent = Vec::new();
     for pg in plan.goals().to_vec() {
         let g = &problem.goals[pg.goal.index()];
-        let settled = ex.goals.fate(pg.goal).is_some_and(|f| f.fate != Fate::Pending);
+        let settled = ex
+            .goals
+            .fate(pg.goal)
+            .is_some_and(|f| f.fate != Fate::Pending);
         if settled || dropped.contains(&pg.goal) {
             plan.remove_goal(pg.goal);
             continue;
@@ -251,7 +254,11 @@ impl Executive {
         refresh: &mut dyn FnMut(&mut Executive),
     ) -> ReplanResult {
         let started = clock.now();
-        let abort = self.abort.reason().cloned().unwrap_or(AbortReason::Unstated);
+        let abort = self
+            .abort
+            .reason()
+            .cloned()
+            .unwrap_or(AbortReason::Unstated);
         let pending = self.pending_goals();
         let mut attempts = Vec::new();
         let mut steps = 0;
@@ -352,7 +359,11 @@ impl Executive {
                 if ext.incoherent.is_empty() {
                     if let Some(g) = goal_to_reject(&ext.plan) {
                         let reason = FateReason::Abandoned {
-                            abort: self.abort.reason().cloned().unwrap_or(AbortReason::Unstated),
+                            abort: self
+                                .abort
+                                .reason()
+                                .cloned()
+                                .unwrap_or(AbortReason::Unstated),
                             end,
                             steps,
                         };
@@ -393,7 +404,11 @@ impl Executive {
             let max_steps = attempt_cap(first_cap, attempt).min(budget.saturating_sub(spent));
             if max_steps == 0 {
                 let reason = FateReason::ReplanBudgetSpent {
-                    abort: self.abort.reason().cloned().unwrap_or(AbortReason::Unstated),
+                    abort: self
+                        .abort
+                        .reason()
+                        .cloned()
+                        .unwrap_or(AbortReason::Unstated),
                     steps: spent,
                 };
                 return self.fall_back(&solo, &mut dropped, t_end, reason, clock, ext.plan);

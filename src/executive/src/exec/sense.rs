@@ -185,20 +185,22 @@ impl Executive {
         // A return home with no return-home mapping or no home object in the config is a "be at" the
         // problem's home position (the place there, or a new one named `home`).
         let home_as_waypoint = g.kind == mavtempo_vehicle::GoalKind::ReturnHome
-            && (self.vehicle.mapping.home_object.is_none() || !self.vehicle.mapping.goals.contains_key(&g.kind));
+            && (self.vehicle.mapping.home_object.is_none()
+                || !self.vehicle.mapping.goals.contains_key(&g.kind));
         let kind = if home_as_waypoint {
             mavtempo_vehicle::GoalKind::BeAt
         } else {
             g.kind
         };
-        let target = *self
-            .vehicle
-            .mapping
-            .goals
-            .get(&kind)
-            .ok_or_else(|| MappingError::NoGoalMapping {
-                kind: what.to_string(),
-            })?;
+        let target =
+            *self
+                .vehicle
+                .mapping
+                .goals
+                .get(&kind)
+                .ok_or_else(|| MappingError::NoGoalMapping {
+                    kind: what.to_string(),
+                })?;
         let loc = match (&g.location, g.kind) {
             (_, mavtempo_vehicle::GoalKind::ReturnHome) => match self.vehicle.mapping.home_object {
                 Some(o) if !home_as_waypoint => o,
