@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use crate::dispatch::dispatcher::Dispatcher;
 use crate::dispatch::graph::{
-    ActionKey, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
+    ActionId, Change, Establisher, GoalId, GraphError, Link, LinkId, Node,
 };
 use crate::dispatch::marking::Marking;
 use crate::dispatch::policy::{PolicyKind, StartWindow, SupportForm, Tick};
@@ -65,20 +65,20 @@ pub fn plan_like(n: usize, seed: u64) -> PlanLikeGraph {
     let mut last: Vec<Option<u32>> = vec![None; timelines];
     let mut link = 0u32;
     let mut add_link = |changes: &mut Vec<Change>, from: Establisher, to: Node| {
-        changes.push(Change::LinkAdded(LinkKey(link), Link { from, to }));
+        changes.push(Change::LinkAdded(LinkId(link), Link { from, to }));
         link += 1;
     };
     for a in 0..n as u32 {
         let t = rng.gen_range(0..timelines);
-        changes.push(Change::ActionAdded(ActionKey(a)));
-        let from = last[t].map_or(Establisher::Initial, |p| Establisher::Action(ActionKey(p)));
-        add_link(&mut changes, from, Node::Action(ActionKey(a)));
+        changes.push(Change::ActionAdded(ActionId(a)));
+        let from = last[t].map_or(Establisher::Initial, |p| Establisher::Action(ActionId(p)));
+        add_link(&mut changes, from, Node::Action(ActionId(a)));
         if a > 0 && rng.gen_bool(1.0 / 3.0) {
             let other = rng.gen_range(a.saturating_sub(40)..a);
             add_link(
                 &mut changes,
-                Establisher::Action(ActionKey(other)),
-                Node::Action(ActionKey(a)),
+                Establisher::Action(ActionId(other)),
+                Node::Action(ActionId(a)),
             );
         }
         last[t] = Some(a);
@@ -93,12 +93,12 @@ pub fn plan_like(n: usize, seed: u64) -> PlanLikeGraph {
         } else {
             GoalOrigin::Internal
         };
-        changes.push(Change::GoalAdded(GoalKey(g), kind));
+        changes.push(Change::GoalAdded(GoalId(g), kind));
         if let Some(&a) = candidates.choose(&mut rng) {
             add_link(
                 &mut changes,
-                Establisher::Action(ActionKey(a)),
-                Node::Goal(GoalKey(g)),
+                Establisher::Action(ActionId(a)),
+                Node::Goal(GoalId(g)),
             );
         }
     }
@@ -129,9 +129,9 @@ pub fn run(
         let links = marking.graph().links().count();
         let goals = marking.graph().goals().count();
         let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(n as u64));
-        let queries: Vec<(ActionKey, StartWindow, Tick)> = (0..decisions)
+        let queries: Vec<(ActionId, StartWindow, Tick)> = (0..decisions)
             .map(|_| {
-                let a = ActionKey(rng.gen_range(0..n as u32));
+                let a = ActionId(rng.gen_range(0..n as u32));
                 let lb = rng.gen_range(0..3_600_000);
                 let window = StartWindow {
                     lb,
@@ -188,7 +188,7 @@ fn repair_like_edits(
     seed: u64,
 ) -> Result<(), GraphError> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(31).wrapping_add(n as u64));
-    let mut links: Vec<(LinkKey, Link)> = marking.graph().links().collect();
+    let mut links: Vec<(LinkId, Link)> = marking.graph().links().collect();
     links.sort_by_key(|(l, _)| *l);
     for _ in 0..n {
         let Some(&(l, link)) = links.choose(&mut rng) else {
@@ -236,11 +236,11 @@ mod tests {
             m.apply(c).unwrap();
         }
         let marked = (0..200)
-            .filter(|&a| m.supports_external_goal(ActionKey(a)))
+            .filter(|&a| m.supports_external_goal(ActionId(a)))
             .count();
         assert!(marked > 10 && marked < 190, "{marked} of 200 marked");
         for a in 0..200 {
-            let a = ActionKey(a);
+            let a = ActionId(a);
             assert_eq!(m.supports_external_goal(a), search_for_goal(m.graph(), a));
         }
     }

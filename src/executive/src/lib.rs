@@ -4,5 +4,6 @@
 pub mod config_check;
 pub mod dispatch;
 pub mod exec;
+pub mod id_vec;
 pub mod leg_limits;
 pub mod mapping;

@@ -2,7 +2,7 @@
 //! [`Marking`]): the form `mavtempo bench dispatch` times and the dispatch scenario tests drive. The
 //! executive's own is `exec::dispatch_policy::PlanDispatch`, over the plan.
 
-use crate::dispatch::graph::{ActionKey, CausalView};
+use crate::dispatch::graph::{ActionId, CausalView};
 use crate::dispatch::marking::Marking;
 use crate::dispatch::policy::{
     Decision, DispatchPolicy, PolicyKind, StartWindow, SupportForm, Tick,
@@ -32,7 +32,7 @@ impl Dispatcher {
 
     /// Whether `a` supports an external goal, by the configured form (Algorithm 2 over `causal`, or the
     /// lookup in `marking`). False for policies that do not ask.
-    pub fn supports(&mut self, a: ActionKey, causal: &dyn CausalView, marking: &Marking) -> bool {
+    pub fn supports(&mut self, a: ActionId, causal: &dyn CausalView, marking: &Marking) -> bool {
         match self.kind {
             PolicyKind::GoalDriven(SupportForm::Search) => {
                 self.search.supports_external_goal(causal, a)
@@ -45,7 +45,7 @@ impl Dispatcher {
     /// The decision for action `a`'s start this cycle.
     pub fn decide(
         &mut self,
-        a: ActionKey,
+        a: ActionId,
         window: StartWindow,
         tick: Tick,
         causal: &dyn CausalView,

@@ -12,32 +12,16 @@ use thiserror::Error;
 
 use mavtempo_temporal::model::GoalOrigin;
 
-macro_rules! key {
-    ($(#[$doc:meta])* $name:ident) => {
-        $(#[$doc])*
-        #[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug, Serialize)]
-        pub struct $name(pub u32);
-    };
-}
-
-key!(
-    /// An action (task instance) of the plan, e.g. the plan's `ActionId.0`.
-    ActionKey
-);
-key!(
-    /// A goal of the plan (Φ_g = Φ_ge ∪ Φ_gi), e.g. the model's goal index.
-    GoalKey
-);
-key!(
-    /// A causal link of the plan, e.g. the plan's `LinkId.0`.
-    LinkKey
-);
+// The graph's nodes are the plan's own ids: an action, a goal (Φ_g = Φ_ge ∪ Φ_gi) and a causal link of the
+// plan are named as the plan names them, never by a second key of the same number.
+pub use mavtempo_temporal::model::GoalId;
+pub use mavtempo_temporal::plan::{ActionId, LinkId};
 
 /// What a causal link supports: a condition of an action, or a goal.
 #[derive(Copy, Clone, Eq, PartialEq, Ord, PartialOrd, Hash, Debug, Serialize)]
 pub enum Node {
-    Action(ActionKey),
-    Goal(GoalKey),
+    Action(ActionId),
+    Goal(GoalId),
 }
 
 /// What establishes a causal link: an effect of an action, or the initial state / a predicted timed fact
@@ -45,7 +29,7 @@ pub enum Node {
 #[derive(Copy, Clone, Eq, PartialEq, Hash, Debug, Serialize)]
 pub enum Establisher {
     Initial,
-    Action(ActionKey),
+    Action(ActionId),
 }
 
 /// A causal link `from → to`: an effect of `from` supports a condition of `to` (or the goal `to`).
@@ -59,60 +43,60 @@ pub struct Link {
 /// plan's change log does) or done with [`super::Marking::save`] / [`super::Marking::restore`].
 #[derive(Copy, Clone, Eq, PartialEq, Debug, Serialize)]
 pub enum Change {
-    ActionAdded(ActionKey),
+    ActionAdded(ActionId),
     /// Also removes the links still attached to the action (Europa's deactivate splits merged tokens).
-    ActionRemoved(ActionKey),
-    GoalAdded(GoalKey, GoalOrigin),
+    ActionRemoved(ActionId),
+    GoalAdded(GoalId, GoalOrigin),
     /// Also removes the links still supporting the goal.
-    GoalRemoved(GoalKey),
-    LinkAdded(LinkKey, Link),
-    LinkRemoved(LinkKey),
+    GoalRemoved(GoalId),
+    LinkAdded(LinkId, Link),
+    LinkRemoved(LinkId),
 }
 
 /// A change that does not fit the structure it is applied to (a bug of whoever sends it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
 pub enum GraphError {
     #[error("action {0:?} is already in the plan")]
-    DuplicateAction(ActionKey),
+    DuplicateAction(ActionId),
     #[error("action {0:?} is not in the plan")]
-    UnknownAction(ActionKey),
+    UnknownAction(ActionId),
     #[error("goal {0:?} is already in the plan")]
-    DuplicateGoal(GoalKey),
+    DuplicateGoal(GoalId),
     #[error("goal {0:?} is not in the plan")]
-    UnknownGoal(GoalKey),
+    UnknownGoal(GoalId),
     #[error("causal link {0:?} is already in the plan")]
-    DuplicateLink(LinkKey),
+    DuplicateLink(LinkId),
     #[error("causal link {0:?} is not in the plan")]
-    UnknownLink(LinkKey),
+    UnknownLink(LinkId),
     #[error("causal link {0:?} goes from a goal or to the initial state")]
-    MalformedLink(LinkKey),
+    MalformedLink(LinkId),
 }
 
 /// Read access to a plan's causal structure, all that Algorithms 2 and 5–8 need.
 pub trait CausalView {
     /// Calls `f` with every node a causal link from an effect of `a` supports (forward causal links).
-    fn for_each_supported(&self, a: ActionKey, f: &mut dyn FnMut(Node));
+    fn for_each_supported(&self, a: ActionId, f: &mut dyn FnMut(Node));
     /// Calls `f` with every action whose effect supports a condition of `n` (reverse causal links; the
     /// initial state is left out).
-    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionKey));
+    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionId));
     /// The kind of goal `g`, `None` if it is not in the plan.
-    fn goal_kind(&self, g: GoalKey) -> Option<GoalOrigin>;
+    fn goal_kind(&self, g: GoalId) -> Option<GoalOrigin>;
 }
 
 #[derive(Clone, Debug, Default)]
 struct Adjacent {
     /// Links from this node's effects (empty for goals).
-    out: Vec<LinkKey>,
+    out: Vec<LinkId>,
     /// Links into this node's conditions.
-    inc: Vec<LinkKey>,
+    inc: Vec<LinkId>,
 }
 
 /// An owned causal graph, kept up to date from [`Change`]s.
 #[derive(Clone, Debug, Default)]
 pub struct CausalGraph {
-    actions: HashMap<ActionKey, Adjacent>,
-    goals: HashMap<GoalKey, (GoalOrigin, Adjacent)>,
-    links: HashMap<LinkKey, Link>,
+    actions: HashMap<ActionId, Adjacent>,
+    goals: HashMap<GoalId, (GoalOrigin, Adjacent)>,
+    links: HashMap<LinkId, Link>,
 }
 
 impl CausalGraph {
@@ -120,23 +104,23 @@ impl CausalGraph {
         Self::default()
     }
 
-    pub fn contains_action(&self, a: ActionKey) -> bool {
+    pub fn contains_action(&self, a: ActionId) -> bool {
         self.actions.contains_key(&a)
     }
 
-    pub fn actions(&self) -> impl Iterator<Item = ActionKey> + '_ {
+    pub fn actions(&self) -> impl Iterator<Item = ActionId> + '_ {
         self.actions.keys().copied()
     }
 
-    pub fn goals(&self) -> impl Iterator<Item = (GoalKey, GoalOrigin)> + '_ {
+    pub fn goals(&self) -> impl Iterator<Item = (GoalId, GoalOrigin)> + '_ {
         self.goals.iter().map(|(g, (k, _))| (*g, *k))
     }
 
-    pub fn links(&self) -> impl Iterator<Item = (LinkKey, Link)> + '_ {
+    pub fn links(&self) -> impl Iterator<Item = (LinkId, Link)> + '_ {
         self.links.iter().map(|(l, k)| (*l, *k))
     }
 
-    pub fn link(&self, l: LinkKey) -> Option<Link> {
+    pub fn link(&self, l: LinkId) -> Option<Link> {
         self.links.get(&l).copied()
     }
 
@@ -145,12 +129,12 @@ impl CausalGraph {
     }
 
     /// The links attached to `n` (into it, and out of it for an action), each once.
-    pub fn links_of(&self, n: Node) -> Vec<LinkKey> {
+    pub fn links_of(&self, n: Node) -> Vec<LinkId> {
         let adj = match n {
             Node::Action(a) => self.actions.get(&a),
             Node::Goal(g) => self.goals.get(&g).map(|(_, adj)| adj),
         };
-        let mut links: Vec<LinkKey> = adj
+        let mut links: Vec<LinkId> = adj
             .map(|adj| adj.inc.iter().chain(&adj.out).copied().collect())
             .unwrap_or_default();
         // A link from an action's effect to its own condition is both in and out.
@@ -197,7 +181,7 @@ impl CausalGraph {
         Ok(())
     }
 
-    fn add_link(&mut self, l: LinkKey, link: Link) -> Result<(), GraphError> {
+    fn add_link(&mut self, l: LinkId, link: Link) -> Result<(), GraphError> {
         if self.links.contains_key(&l) {
             return Err(GraphError::DuplicateLink(l));
         }
@@ -217,7 +201,7 @@ impl CausalGraph {
     }
 
     /// Removes link `l` and returns it.
-    pub(crate) fn remove_link(&mut self, l: LinkKey) -> Result<Link, GraphError> {
+    pub(crate) fn remove_link(&mut self, l: LinkId) -> Result<Link, GraphError> {
         let link = self.links.remove(&l).ok_or(GraphError::UnknownLink(l))?;
         if let Ok(adj) = self.adjacent_mut(link.to) {
             adj.inc.retain(|x| *x != l);
@@ -243,7 +227,7 @@ impl CausalGraph {
 }
 
 impl CausalView for CausalGraph {
-    fn for_each_supported(&self, a: ActionKey, f: &mut dyn FnMut(Node)) {
+    fn for_each_supported(&self, a: ActionId, f: &mut dyn FnMut(Node)) {
         if let Some(adj) = self.actions.get(&a) {
             for l in &adj.out {
                 if let Some(link) = self.links.get(l) {
@@ -253,7 +237,7 @@ impl CausalView for CausalGraph {
         }
     }
 
-    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionKey)) {
+    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionId)) {
         let adj = match n {
             Node::Action(a) => self.actions.get(&a),
             Node::Goal(g) => self.goals.get(&g).map(|(_, adj)| adj),
@@ -269,7 +253,7 @@ impl CausalView for CausalGraph {
         }
     }
 
-    fn goal_kind(&self, g: GoalKey) -> Option<GoalOrigin> {
+    fn goal_kind(&self, g: GoalId) -> Option<GoalOrigin> {
         self.goals.get(&g).map(|(k, _)| *k)
     }
 }
@@ -278,13 +262,13 @@ impl CausalView for CausalGraph {
 /// from action `links[k].0` to `links[k].1`.
 #[cfg(test)]
 pub(crate) fn test_plan(actions: u32, goals: &[GoalOrigin], links: &[(u32, Node)]) -> Vec<Change> {
-    let actions = (0..actions).map(|a| Change::ActionAdded(ActionKey(a)));
+    let actions = (0..actions).map(|a| Change::ActionAdded(ActionId(a)));
     let goals = (0..)
         .zip(goals)
-        .map(|(g, &kind)| Change::GoalAdded(GoalKey(g), kind));
+        .map(|(g, &kind)| Change::GoalAdded(GoalId(g), kind));
     let links = (0..).zip(links).map(|(k, &(from, to))| {
-        let from = Establisher::Action(ActionKey(from));
-        Change::LinkAdded(LinkKey(k), Link { from, to })
+        let from = Establisher::Action(ActionId(from));
+        Change::LinkAdded(LinkId(k), Link { from, to })
     });
     actions.chain(goals).chain(links).collect()
 }
@@ -296,7 +280,7 @@ mod tests {
     #[test]
     fn bad_changes_are_errors_and_change_nothing() {
         let mut g = CausalGraph::new();
-        let a = ActionKey(1);
+        let a = ActionId(1);
         g.apply(&Change::ActionAdded(a)).unwrap();
         assert_eq!(
             g.apply(&Change::ActionAdded(a)),
@@ -304,40 +288,40 @@ mod tests {
         );
         let to_missing_goal = Link {
             from: Establisher::Action(a),
-            to: Node::Goal(GoalKey(9)),
+            to: Node::Goal(GoalId(9)),
         };
         assert_eq!(
-            g.apply(&Change::LinkAdded(LinkKey(0), to_missing_goal)),
-            Err(GraphError::UnknownGoal(GoalKey(9)))
+            g.apply(&Change::LinkAdded(LinkId(0), to_missing_goal)),
+            Err(GraphError::UnknownGoal(GoalId(9)))
         );
         assert_eq!(g.links().count(), 0);
         assert!(g.links_of(Node::Action(a)).is_empty());
         assert_eq!(
-            g.apply(&Change::LinkRemoved(LinkKey(0))),
-            Err(GraphError::UnknownLink(LinkKey(0)))
+            g.apply(&Change::LinkRemoved(LinkId(0))),
+            Err(GraphError::UnknownLink(LinkId(0)))
         );
         assert_eq!(
-            g.apply(&Change::GoalRemoved(GoalKey(0))),
-            Err(GraphError::UnknownGoal(GoalKey(0)))
+            g.apply(&Change::GoalRemoved(GoalId(0))),
+            Err(GraphError::UnknownGoal(GoalId(0)))
         );
     }
 
     #[test]
     fn removing_an_action_removes_its_links() {
         let mut g = CausalGraph::new();
-        let (a, b) = (ActionKey(0), ActionKey(1));
+        let (a, b) = (ActionId(0), ActionId(1));
         g.apply(&Change::ActionAdded(a)).unwrap();
         g.apply(&Change::ActionAdded(b)).unwrap();
         let ab = Link {
             from: Establisher::Action(a),
             to: Node::Action(b),
         };
-        g.apply(&Change::LinkAdded(LinkKey(0), ab)).unwrap();
+        g.apply(&Change::LinkAdded(LinkId(0), ab)).unwrap();
         let init = Link {
             from: Establisher::Initial,
             to: Node::Action(a),
         };
-        g.apply(&Change::LinkAdded(LinkKey(1), init)).unwrap();
+        g.apply(&Change::LinkAdded(LinkId(1), init)).unwrap();
         g.apply(&Change::ActionRemoved(a)).unwrap();
         assert_eq!(g.links().count(), 0);
         let mut est = Vec::new();
@@ -349,18 +333,18 @@ mod tests {
     #[test]
     fn removing_an_action_with_a_link_to_itself() {
         let mut g = CausalGraph::new();
-        let a = ActionKey(0);
+        let a = ActionId(0);
         g.apply(&Change::ActionAdded(a)).unwrap();
         let own = Link {
             from: Establisher::Action(a),
             to: Node::Action(a),
         };
-        g.apply(&Change::LinkAdded(LinkKey(0), own)).unwrap();
-        assert_eq!(g.links_of(Node::Action(a)), vec![LinkKey(0)]);
+        g.apply(&Change::LinkAdded(LinkId(0), own)).unwrap();
+        assert_eq!(g.links_of(Node::Action(a)), vec![LinkId(0)]);
         assert_eq!(g.apply(&Change::ActionRemoved(a)), Ok(()));
         let mut m = crate::dispatch::Marking::new();
         m.apply(&Change::ActionAdded(a)).unwrap();
-        m.apply(&Change::LinkAdded(LinkKey(0), own)).unwrap();
+        m.apply(&Change::LinkAdded(LinkId(0), own)).unwrap();
         assert_eq!(m.apply(&Change::ActionRemoved(a)), Ok(()));
     }
 }

@@ -30,7 +30,7 @@ use std::collections::HashSet;
 use backtrack::{Level, Trail};
 
 use super::graph::{
-    ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, Node,
+    ActionId, CausalGraph, CausalView, Change, Establisher, GoalId, GraphError, Link, Node,
 };
 use super::search::GoalSearch;
 use mavtempo_temporal::model::GoalOrigin;
@@ -65,7 +65,7 @@ impl Marking {
     }
 
     /// Whether `a` is in `List_goals`: it supports an external goal (the dispatch-time lookup).
-    pub fn supports_external_goal(&self, a: ActionKey) -> bool {
+    pub fn supports_external_goal(&self, a: ActionId) -> bool {
         self.marked.contains(&Node::Action(a))
     }
 
@@ -161,7 +161,7 @@ impl Marking {
     }
 
     /// Algorithm 3.
-    fn notify_added(&mut self, g: GoalKey, kind: GoalOrigin) {
+    fn notify_added(&mut self, g: GoalId, kind: GoalOrigin) {
         if kind == GoalOrigin::External {
             self.mark(Node::Goal(g));
         }
@@ -241,7 +241,7 @@ impl Marking {
     }
 
     /// Marks `a` and every action upstream of it by reverse causal links.
-    fn mark_upstream(&mut self, a: ActionKey) {
+    fn mark_upstream(&mut self, a: ActionId) {
         if !self.mark(Node::Action(a)) {
             return;
         }
@@ -283,16 +283,16 @@ backtrack::impl_backtrack!(Marking, Level);
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dispatch::graph::{test_plan, LinkKey};
+    use crate::dispatch::graph::{test_plan, LinkId};
 
     fn chain() -> Marking {
         // a0 → a1 → a2 → g0 (external), a1 → g1 (external)
         let mut m = Marking::new();
         let links = [
-            (0, Node::Action(ActionKey(1))),
-            (1, Node::Action(ActionKey(2))),
-            (2, Node::Goal(GoalKey(0))),
-            (1, Node::Goal(GoalKey(1))),
+            (0, Node::Action(ActionId(1))),
+            (1, Node::Action(ActionId(2))),
+            (2, Node::Goal(GoalId(0))),
+            (1, Node::Goal(GoalId(1))),
         ];
         for c in test_plan(3, &[GoalOrigin::External, GoalOrigin::External], &links) {
             m.apply(&c).unwrap();
@@ -304,7 +304,7 @@ mod tests {
     fn a_link_into_a_marked_node_marks_the_whole_chain_upstream() {
         let m = chain();
         for a in 0..3 {
-            assert!(m.supports_external_goal(ActionKey(a)), "a{a}");
+            assert!(m.supports_external_goal(ActionId(a)), "a{a}");
         }
     }
 
@@ -313,25 +313,25 @@ mod tests {
     #[test]
     fn removing_one_of_two_goals_keeps_what_still_supports_the_other() {
         let mut m = chain();
-        m.apply(&Change::GoalRemoved(GoalKey(0))).unwrap();
-        assert!(m.supports_external_goal(ActionKey(0)));
-        assert!(m.supports_external_goal(ActionKey(1)));
-        assert!(!m.supports_external_goal(ActionKey(2)));
-        m.apply(&Change::LinkRemoved(LinkKey(3))).unwrap();
-        assert!(!m.supports_external_goal(ActionKey(0)));
-        assert!(!m.supports_external_goal(ActionKey(1)));
+        m.apply(&Change::GoalRemoved(GoalId(0))).unwrap();
+        assert!(m.supports_external_goal(ActionId(0)));
+        assert!(m.supports_external_goal(ActionId(1)));
+        assert!(!m.supports_external_goal(ActionId(2)));
+        m.apply(&Change::LinkRemoved(LinkId(3))).unwrap();
+        assert!(!m.supports_external_goal(ActionId(0)));
+        assert!(!m.supports_external_goal(ActionId(1)));
     }
 
     #[test]
     fn restore_undoes_marks_and_structure() {
         let mut m = chain();
         let level = m.save();
-        m.apply(&Change::ActionRemoved(ActionKey(1))).unwrap();
-        assert!(!m.supports_external_goal(ActionKey(0)));
-        assert!(m.supports_external_goal(ActionKey(2)));
+        m.apply(&Change::ActionRemoved(ActionId(1))).unwrap();
+        assert!(!m.supports_external_goal(ActionId(0)));
+        assert!(m.supports_external_goal(ActionId(2)));
         m.restore(level);
         for a in 0..3 {
-            assert!(m.supports_external_goal(ActionKey(a)), "a{a}");
+            assert!(m.supports_external_goal(ActionId(a)), "a{a}");
         }
         assert_eq!(m.graph().links().count(), 4);
     }

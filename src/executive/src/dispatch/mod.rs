@@ -21,8 +21,7 @@ pub mod search;
 /// A trail level of the [`Marking`] (the one level type of every trailed store).
 pub use backtrack::Level as MarkLevel;
 pub use graph::{
-    ActionKey, CausalGraph, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey,
-    Node,
+    ActionId, CausalGraph, CausalView, Change, Establisher, GoalId, GraphError, Link, LinkId, Node,
 };
 pub use marking::Marking;
 pub use plan_adapter::{PlanMarking, PlanView};

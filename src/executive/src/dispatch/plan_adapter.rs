@@ -14,22 +14,12 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::graph::{
-    ActionKey, CausalView, Change, Establisher, GoalKey, GraphError, Link, LinkKey, Node,
-};
+use super::graph::{CausalView, Change, Establisher, GraphError, Link, Node};
 use super::marking::Marking;
 use mavtempo_temporal::model::{GoalId, GoalOrigin};
 use mavtempo_temporal::plan::{
     ActionId, ChangeCursor, LinkEnds, LinkId, Owner, PartialPlan, PlanChange,
 };
-
-fn action_key(a: ActionId) -> ActionKey {
-    ActionKey(a.0)
-}
-
-fn goal_key(g: GoalId) -> GoalKey {
-    GoalKey(g.0)
-}
 
 /// [`CausalView`] over the plan as it is: live actions, active goals and active links between them.
 pub struct PlanView<'a>(pub &'a PartialPlan);
@@ -42,20 +32,20 @@ impl PlanView<'_> {
             return None;
         }
         match plan.cond(link.cond).owner {
-            Owner::Action(b) => Some(Node::Action(action_key(b))),
-            Owner::Goal(g) => Some(Node::Goal(goal_key(g))),
+            Owner::Action(b) => Some(Node::Action(b)),
+            Owner::Goal(g) => Some(Node::Goal(g)),
             Owner::Initial | Owner::Exogenous(_) => None,
         }
     }
 
-    fn live_action(&self, a: ActionKey) -> Option<ActionId> {
-        let id = ActionId(a.0);
+    fn live_action(&self, a: ActionId) -> Option<ActionId> {
+        let id = a;
         (id.index() < self.0.actions().len() && !self.0.action(id).removed).then_some(id)
     }
 }
 
 impl CausalView for PlanView<'_> {
-    fn for_each_supported(&self, a: ActionKey, f: &mut dyn FnMut(Node)) {
+    fn for_each_supported(&self, a: ActionId, f: &mut dyn FnMut(Node)) {
         let Some(id) = self.live_action(a) else {
             return;
         };
@@ -71,7 +61,7 @@ impl CausalView for PlanView<'_> {
         }
     }
 
-    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionKey)) {
+    fn for_each_establisher(&self, n: Node, f: &mut dyn FnMut(ActionId)) {
         let plan = self.0;
         let conds: Vec<_> = match n {
             Node::Action(a) => match self.live_action(a) {
@@ -81,7 +71,7 @@ impl CausalView for PlanView<'_> {
             Node::Goal(g) => plan
                 .goals()
                 .iter()
-                .filter(|pg| pg.active && goal_key(pg.goal) == g)
+                .filter(|pg| pg.active && pg.goal == g)
                 .map(|pg| pg.cond)
                 .collect(),
         };
@@ -90,17 +80,17 @@ impl CausalView for PlanView<'_> {
             let link = plan.link(l);
             if let Owner::Action(a) = plan.event(link.event).owner {
                 if link.active && !plan.action(a).removed {
-                    f(action_key(a));
+                    f(a);
                 }
             }
         }
     }
 
-    fn goal_kind(&self, g: GoalKey) -> Option<GoalOrigin> {
+    fn goal_kind(&self, g: GoalId) -> Option<GoalOrigin> {
         let plan = self.0;
         plan.goals()
             .iter()
-            .find(|pg| pg.active && goal_key(pg.goal) == g)
+            .find(|pg| pg.active && pg.goal == g)
             .and_then(|pg| plan.problem().goals.get(pg.goal.index()))
             .map(|goal| goal.kind)
     }
@@ -113,12 +103,12 @@ pub struct PlanMarking {
     /// The log read so far and the position in it (`None`: nothing read yet).
     log: Option<(u64, ChangeCursor)>,
     /// Every active link of the plan with its ends, whether or not both ends are in the plan.
-    links: HashMap<LinkKey, Link>,
+    links: HashMap<LinkId, Link>,
     /// The links touching each node (into it, or out of it for an action).
-    touching: HashMap<Node, Vec<LinkKey>>,
-    actions: HashSet<ActionKey>,
+    touching: HashMap<Node, Vec<LinkId>>,
+    actions: HashSet<ActionId>,
     /// Active goals, counted (the same goal may be in the plan twice while a replanning swaps it).
-    goals: HashMap<GoalKey, u32>,
+    goals: HashMap<GoalId, u32>,
     rebuilds: u64,
 }
 
@@ -129,7 +119,7 @@ impl PlanMarking {
 
     /// Whether action `a` supports an external goal (is in `List_goals`), as of the last [`Self::sync`].
     pub fn supports_external_goal(&self, a: ActionId) -> bool {
-        self.marking.supports_external_goal(action_key(a))
+        self.marking.supports_external_goal(a)
     }
 
     pub fn marking(&self) -> &Marking {
@@ -177,19 +167,19 @@ impl PlanMarking {
     fn apply(&mut self, plan: &PartialPlan, c: &PlanChange) -> Result<(), GraphError> {
         match *c {
             PlanChange::ActionAdded(a) => {
-                let k = action_key(a);
+                let k = a;
                 self.marking.apply(&Change::ActionAdded(k))?;
                 self.actions.insert(k);
                 self.attach(Node::Action(k))
             }
             PlanChange::ActionRemoved(a) => {
-                let k = action_key(a);
+                let k = a;
                 self.marking.apply(&Change::ActionRemoved(k))?;
                 self.actions.remove(&k);
                 Ok(())
             }
             PlanChange::GoalAdded(g) => {
-                let k = goal_key(g);
+                let k = g;
                 let n = self.goals.entry(k).or_insert(0);
                 *n += 1;
                 if *n > 1 {
@@ -204,7 +194,7 @@ impl PlanMarking {
                 self.attach(Node::Goal(k))
             }
             PlanChange::GoalRemoved(g) => {
-                let k = goal_key(g);
+                let k = g;
                 let n = self.goals.get_mut(&k).ok_or(GraphError::UnknownGoal(k))?;
                 *n -= 1;
                 if *n == 0 {
@@ -227,7 +217,7 @@ impl PlanMarking {
                 Ok(())
             }
             PlanChange::LinkRemoved(ends) => {
-                let k = LinkKey(ends.link.0);
+                let k = ends.link;
                 let link = self.links.remove(&k).ok_or(GraphError::UnknownLink(k))?;
                 for n in ends_of(link) {
                     if let Some(v) = self.touching.get_mut(&n) {
@@ -269,16 +259,16 @@ impl PlanMarking {
     }
 }
 
-fn link_of(ends: LinkEnds) -> Result<(LinkKey, Link), GraphError> {
-    let k = LinkKey(ends.link.0);
+fn link_of(ends: LinkEnds) -> Result<(LinkId, Link), GraphError> {
+    let k = ends.link;
     let from = match ends.establisher {
         Owner::Initial | Owner::Exogenous(_) => Establisher::Initial,
-        Owner::Action(a) => Establisher::Action(action_key(a)),
+        Owner::Action(a) => Establisher::Action(a),
         Owner::Goal(_) => return Err(GraphError::MalformedLink(k)),
     };
     let to = match ends.consumer {
-        Owner::Action(a) => Node::Action(action_key(a)),
-        Owner::Goal(g) => Node::Goal(goal_key(g)),
+        Owner::Action(a) => Node::Action(a),
+        Owner::Goal(g) => Node::Goal(g),
         Owner::Initial | Owner::Exogenous(_) => return Err(GraphError::MalformedLink(k)),
     };
     Ok((k, Link { from, to }))

@@ -11,14 +11,14 @@
 
 use std::collections::{HashSet, VecDeque};
 
-use super::graph::{ActionKey, CausalView, Node};
+use super::graph::{ActionId, CausalView, Node};
 use mavtempo_temporal::model::GoalOrigin;
 
 /// Algorithm 2 with reusable scratch space (one per dispatcher, so a decision allocates nothing once warm).
 #[derive(Clone, Debug, Default)]
 pub struct GoalSearch {
-    visited: HashSet<ActionKey>,
-    queue: VecDeque<ActionKey>,
+    visited: HashSet<ActionId>,
+    queue: VecDeque<ActionId>,
 }
 
 impl GoalSearch {
@@ -27,7 +27,7 @@ impl GoalSearch {
     }
 
     /// Whether an external goal is reachable from `a` along causal links (`a` supports it).
-    pub fn supports_external_goal(&mut self, view: &dyn CausalView, a: ActionKey) -> bool {
+    pub fn supports_external_goal(&mut self, view: &dyn CausalView, a: ActionId) -> bool {
         self.visited.clear();
         self.queue.clear();
         self.visited.insert(a);
@@ -52,14 +52,14 @@ impl GoalSearch {
 }
 
 /// One-shot Algorithm 2.
-pub fn search_for_goal(view: &dyn CausalView, a: ActionKey) -> bool {
+pub fn search_for_goal(view: &dyn CausalView, a: ActionId) -> bool {
     GoalSearch::new().supports_external_goal(view, a)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dispatch::graph::{test_plan, CausalGraph, GoalKey};
+    use crate::dispatch::graph::{test_plan, CausalGraph, GoalId};
     use mavtempo_temporal::model::GoalOrigin;
 
     fn graph(actions: u32, goals: &[GoalOrigin], links: &[(u32, Node)]) -> CausalGraph {
@@ -77,24 +77,24 @@ mod tests {
             3,
             &[GoalOrigin::Internal, GoalOrigin::External],
             &[
-                (0, Node::Action(ActionKey(1))),
-                (1, Node::Goal(GoalKey(0))),
-                (0, Node::Action(ActionKey(2))),
-                (2, Node::Goal(GoalKey(1))),
+                (0, Node::Action(ActionId(1))),
+                (1, Node::Goal(GoalId(0))),
+                (0, Node::Action(ActionId(2))),
+                (2, Node::Goal(GoalId(1))),
             ],
         );
-        assert!(search_for_goal(&g, ActionKey(0)));
-        assert!(!search_for_goal(&g, ActionKey(1)));
-        assert!(search_for_goal(&g, ActionKey(2)));
+        assert!(search_for_goal(&g, ActionId(0)));
+        assert!(!search_for_goal(&g, ActionId(1)));
+        assert!(search_for_goal(&g, ActionId(2)));
     }
 
     #[test]
     fn cycles_terminate() {
         let links = [
-            (0, Node::Action(ActionKey(1))),
-            (1, Node::Action(ActionKey(0))),
+            (0, Node::Action(ActionId(1))),
+            (1, Node::Action(ActionId(0))),
         ];
         let g = graph(2, &[], &links);
-        assert!(!search_for_goal(&g, ActionKey(0)));
+        assert!(!search_for_goal(&g, ActionId(0)));
     }
 }

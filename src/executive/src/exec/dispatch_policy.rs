@@ -106,8 +106,7 @@ impl PlanDispatch {
                 Err(e) => tracing::warn!("dispatch marking out of step with the plan: {e}"),
             }
         }
-        self.search
-            .supports_external_goal(&view, crate::dispatch::ActionKey(a.0))
+        self.search.supports_external_goal(&view, a)
     }
 
     /// The upper bound a start may be deferred to: for a start the policy defers (not served as early as

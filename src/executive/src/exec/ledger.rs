@@ -13,19 +13,20 @@ use std::sync::Arc;
 
 use super::p_t::remove_past;
 use super::resource_bounds::fold_removed;
+use crate::id_vec::IdVec;
 use mavtempo_temporal::model::{Problem, ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan};
 
 /// The aggregated past level of each resource, by resource, with what the vehicle last reported of it.
 #[derive(Clone, Debug, Default)]
 pub struct ResourceLedger {
-    past: Vec<(f64, f64)>,
+    past: IdVec<ResourceId, (f64, f64)>,
     /// Reported levels within this distance of `[RscL_lb, RscL_ub]` are in bounds (the vehicle's
     /// resolution and tolerance, `[resources]`).
-    tolerances: Vec<f64>,
+    tolerances: IdVec<ResourceId, f64>,
     /// The last level the vehicle reported and when (ms since origin): the report's
     /// `resources[].reported`.
-    reported: Vec<Option<(Time, f64)>>,
+    reported: IdVec<ResourceId, Option<(Time, f64)>>,
 }
 
 impl ResourceLedger {
@@ -33,54 +34,56 @@ impl ResourceLedger {
     pub fn new(problem: &Problem) -> Self {
         let n = problem.resources.len();
         ResourceLedger {
-            past: problem
-                .resources
-                .iter()
-                .map(|s| (s.level, s.level))
-                .collect(),
-            tolerances: vec![super::resource_report::EPS; n],
-            reported: vec![None; n],
+            past: IdVec::from_items(
+                problem
+                    .resources
+                    .iter()
+                    .map(|s| (s.level, s.level))
+                    .collect(),
+            ),
+            tolerances: IdVec::from_items(vec![super::resource_report::EPS; n]),
+            reported: IdVec::from_items(vec![None; n]),
         }
     }
 
     /// The in-bounds distance of a reported level of `r`.
     pub fn tolerance(&self, r: ResourceId) -> f64 {
         self.tolerances
-            .get(r.index())
+            .get(r)
             .copied()
             .unwrap_or(super::resource_report::EPS)
     }
 
-    /// Each resource's in-bounds distance, by resource index.
+    /// Each resource's in-bounds distance, in resource order.
     pub fn set_tolerances(&mut self, tolerances: Vec<f64>) {
-        self.tolerances = tolerances;
+        self.tolerances = IdVec::from_items(tolerances);
     }
 
     /// The vehicle reported `level` for `r` at `t`.
     pub fn reported(&mut self, r: ResourceId, t: Time, level: f64) {
-        if let Some(slot) = self.reported.get_mut(r.index()) {
+        if let Some(slot) = self.reported.get_mut(r) {
             *slot = Some((t, level));
         }
     }
 
-    /// The last level reported for resource `i` and when, if any.
-    pub fn last_reported(&self, i: usize) -> Option<(Time, f64)> {
-        self.reported.get(i).copied().flatten()
+    /// The last level reported for resource `r` and when, if any.
+    pub fn last_reported(&self, r: ResourceId) -> Option<(Time, f64)> {
+        self.reported.get(r).copied().flatten()
     }
 
     /// `[lev_lb, lev_ub]` of every resource, by resource index.
     pub fn levels(&self) -> &[(f64, f64)] {
-        &self.past
+        self.past.as_slice()
     }
 
     /// `[lev_lb, lev_ub]` of `r` (`(0, 0)` for a resource the problem does not have).
     pub fn past(&self, r: ResourceId) -> (f64, f64) {
-        self.past.get(r.index()).copied().unwrap_or((0.0, 0.0))
+        self.past.get(r).copied().unwrap_or((0.0, 0.0))
     }
 
     /// The aggregate of `r` is `level` (e.g. a level measured before the start).
     pub fn set(&mut self, r: ResourceId, level: (f64, f64)) {
-        if let Some(p) = self.past.get_mut(r.index()) {
+        if let Some(p) = self.past.get_mut(r) {
             *p = level;
         }
     }
@@ -101,7 +104,7 @@ impl ResourceLedger {
         if let Some(setup) = problem.resources.get_mut(r.index()) {
             setup.level = setup.level.min(capacity);
         }
-        if let Some(p) = self.past.get_mut(r.index()) {
+        if let Some(p) = self.past.get_mut(r) {
             p.0 = p.0.min(capacity);
             p.1 = p.1.min(capacity);
         }
@@ -128,7 +131,7 @@ impl ResourceLedger {
     /// Complete replanning (§3.6) starts from the aggregated levels, the pessimistic bound, never below
     /// empty.
     pub fn hand_to_planner(&self, problem: &mut Problem) {
-        for (s, past) in problem.resources.iter_mut().zip(&self.past) {
+        for (s, past) in problem.resources.iter_mut().zip(self.past.iter()) {
             s.level = past.0.max(0.0);
         }
     }

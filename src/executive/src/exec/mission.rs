@@ -585,7 +585,7 @@ pub fn moved_on(last: Option<(f64, f64)>, at: (f64, f64)) -> bool {
 /// The level the vehicle reported for resource `i` (telemetry or an action's report) if it is newer than
 /// `seen`, which then becomes it.
 pub fn fresh_level(ex: &Executive, i: usize, seen: &mut Option<(Time, f64)>) -> Option<f64> {
-    let last = ex.ledger.last_reported(i)?;
+    let last = ex.ledger.last_reported(ResourceId::from_index(i))?;
     (*seen != Some(last)).then(|| {
         *seen = Some(last);
         last.1

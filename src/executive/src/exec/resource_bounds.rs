@@ -6,6 +6,7 @@
 //! `past` (seed 1 §3.4: "executed resource propositions are aggregated in one proposition"); it starts as the
 //! problem's initial level (the paper's C(r)).
 
+use crate::id_vec::IdVec;
 use mavtempo_temporal::model::{ResourceId, Time};
 use mavtempo_temporal::plan::{ActionId, PartialPlan, UsageKind};
 
@@ -131,12 +132,14 @@ pub fn level_bounds(
 
 /// Folds the usages of a removed (past) action into the aggregate `past` of its resources (called when the
 /// action leaves the plan, so eq. (1) keeps counting it).
-pub fn fold_removed(plan: &PartialPlan, a: ActionId, past: &mut [(f64, f64)]) {
+pub fn fold_removed(plan: &PartialPlan, a: ActionId, past: &mut IdVec<ResourceId, (f64, f64)>) {
     for &u in &plan.action(a).usages {
         let us = plan.usage(u);
         let (qlo, qhi) = plan.numeric().term(us.quantity);
         let capacity = plan.domain().resource(us.resource).capacity;
-        let p = &mut past[us.resource.index()];
+        let Some(p) = past.get_mut(us.resource) else {
+            continue;
+        };
         *p = match us.kind {
             UsageKind::Produce { .. } => add(p.0, p.1, qlo, qhi, us.saturating, capacity),
             UsageKind::Consume { .. } => add(p.0, p.1, -qhi, -qlo, false, capacity),

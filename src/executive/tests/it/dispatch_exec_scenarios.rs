@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 
-use mavtempo_executive::dispatch::{search_for_goal, ActionKey, PlanView, PolicyKind, SupportForm};
+use mavtempo_executive::dispatch::{search_for_goal, PlanView, PolicyKind, SupportForm};
 use mavtempo_executive::exec::config::ExecConfig;
 use mavtempo_executive::exec::cycle::CycleOutcome;
 use mavtempo_executive::exec::executable::{action_executable, flawed_actions};
@@ -259,7 +259,7 @@ fn check_algorithm_1(
             ex.plan().temporal_network().lb(st),
             ex.plan().temporal_network().ub(st),
         );
-        let supports = search_for_goal(&PlanView(ex.plan()), ActionKey(a.0));
+        let supports = search_for_goal(&PlanView(ex.plan()), a);
         let longest = latest_at_longest(ex.plan()).map(|l| l[st.index()]);
         let ub = deferral_ub(kind, supports, lb, ub, longest);
         assert!(
@@ -295,7 +295,7 @@ fn check_algorithm_1(
         else {
             continue;
         };
-        let supports = search_for_goal(&PlanView(ex.plan()), ActionKey(a.0));
+        let supports = search_for_goal(&PlanView(ex.plan()), a);
         if let (false, Some(&ub)) = (supports && kind != PolicyKind::Latest, ub_before.get(&a)) {
             assert!(
                 ub - TS <= now,

@@ -4,8 +4,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use mavtempo_executive::dispatch::{
-    search_for_goal, ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey,
-    MarkLevel, Marking, Node,
+    search_for_goal, ActionId, CausalGraph, Change, Establisher, GoalId, Link, LinkId, MarkLevel,
+    Marking, Node,
 };
 use mavtempo_temporal::model::GoalOrigin;
 use proptest::prelude::*;
@@ -57,13 +57,13 @@ impl Model {
     fn graph(&self) -> CausalGraph {
         let mut g = CausalGraph::new();
         for &a in &self.actions {
-            g.apply(&Change::ActionAdded(ActionKey(a))).unwrap();
+            g.apply(&Change::ActionAdded(ActionId(a))).unwrap();
         }
         for (&k, &kind) in &self.goals {
-            g.apply(&Change::GoalAdded(GoalKey(k), kind)).unwrap();
+            g.apply(&Change::GoalAdded(GoalId(k), kind)).unwrap();
         }
         for (&l, &link) in &self.links {
-            g.apply(&Change::LinkAdded(LinkKey(l), link)).unwrap();
+            g.apply(&Change::LinkAdded(LinkId(l), link)).unwrap();
         }
         g
     }
@@ -77,7 +77,7 @@ impl Model {
                 l.to == n
                     || matches!((l.from, n), (Establisher::Action(a), Node::Action(b)) if a == b)
             })
-            .map(|(&l, _)| Change::LinkRemoved(LinkKey(l)))
+            .map(|(&l, _)| Change::LinkRemoved(LinkId(l)))
             .collect();
         out.push(match n {
             Node::Action(a) => Change::ActionRemoved(a),
@@ -136,7 +136,7 @@ struct Saved {
 fn check(marking: &Marking, model: &Model) -> Result<(), TestCaseError> {
     let oracle = model.graph();
     for &a in &model.actions {
-        let a = ActionKey(a);
+        let a = ActionId(a);
         prop_assert_eq!(
             marking.supports_external_goal(a),
             search_for_goal(&oracle, a),
@@ -188,40 +188,40 @@ proptest! {
             let changes: Vec<Change> = match op {
                 Op::AddAction => {
                     next_action += 1;
-                    vec![Change::ActionAdded(ActionKey(next_action))]
+                    vec![Change::ActionAdded(ActionId(next_action))]
                 }
                 Op::RemoveAction(i) => nth(model.actions.iter().copied(), i)
-                    .map(|a| model.removal(Node::Action(ActionKey(a))))
+                    .map(|a| model.removal(Node::Action(ActionId(a))))
                     .unwrap_or_default(),
                 Op::AddGoal(external) => {
                     next_goal += 1;
                     let kind = if external { GoalOrigin::External } else { GoalOrigin::Internal };
-                    vec![Change::GoalAdded(GoalKey(next_goal), kind)]
+                    vec![Change::GoalAdded(GoalId(next_goal), kind)]
                 }
                 Op::RemoveGoal(i) => nth(model.goals.keys().copied(), i)
-                    .map(|g| model.removal(Node::Goal(GoalKey(g))))
+                    .map(|g| model.removal(Node::Goal(GoalId(g))))
                     .unwrap_or_default(),
                 Op::AddLink { from, initial, to, to_goal } => {
                     let from = if initial {
                         Some(Establisher::Initial)
                     } else {
-                        nth(model.actions.iter().copied(), from).map(|a| Establisher::Action(ActionKey(a)))
+                        nth(model.actions.iter().copied(), from).map(|a| Establisher::Action(ActionId(a)))
                     };
                     let to = if to_goal {
-                        nth(model.goals.keys().copied(), to).map(|g| Node::Goal(GoalKey(g)))
+                        nth(model.goals.keys().copied(), to).map(|g| Node::Goal(GoalId(g)))
                     } else {
-                        nth(model.actions.iter().copied(), to).map(|a| Node::Action(ActionKey(a)))
+                        nth(model.actions.iter().copied(), to).map(|a| Node::Action(ActionId(a)))
                     };
                     match (from, to) {
                         (Some(from), Some(to)) => {
                             next_link += 1;
-                            vec![Change::LinkAdded(LinkKey(next_link), Link { from, to })]
+                            vec![Change::LinkAdded(LinkId(next_link), Link { from, to })]
                         }
                         _ => vec![],
                     }
                 }
                 Op::RemoveLink(i) => nth(model.links.keys().copied(), i)
-                    .map(|l| vec![Change::LinkRemoved(LinkKey(l))])
+                    .map(|l| vec![Change::LinkRemoved(LinkId(l))])
                     .unwrap_or_default(),
                 Op::Save => {
                     saved.push(Saved { level: marking.save(), model: model.clone(), log_len: log.len() });

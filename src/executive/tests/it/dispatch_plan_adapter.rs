@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use mavtempo_executive::dispatch::{search_for_goal, ActionKey, PlanMarking, PlanView};
+use mavtempo_executive::dispatch::{search_for_goal, PlanMarking, PlanView};
 use mavtempo_temporal::lang::load_problem_and_domain;
 use mavtempo_temporal::plan::PartialPlan;
 use mavtempo_temporal::planner::{Search, StepOutcome};
@@ -22,7 +22,7 @@ fn check(marking: &mut PlanMarking, plan: &PartialPlan, when: &str) -> usize {
     let view = PlanView(plan);
     let mut marked = 0;
     for a in plan.live_actions() {
-        let oracle = search_for_goal(&view, ActionKey(a.0));
+        let oracle = search_for_goal(&view, a);
         assert_eq!(
             marking.supports_external_goal(a),
             oracle,

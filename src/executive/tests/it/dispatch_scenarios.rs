@@ -11,7 +11,7 @@
 
 use mavtempo_executive::dispatch::dispatcher::Dispatcher;
 use mavtempo_executive::dispatch::{
-    ActionKey, CausalGraph, Change, Establisher, GoalKey, Link, LinkKey, Marking, Node, PolicyKind,
+    ActionId, CausalGraph, Change, Establisher, GoalId, Link, LinkId, Marking, Node, PolicyKind,
     StartWindow, SupportForm, Tick,
 };
 use mavtempo_temporal::model::GoalOrigin;
@@ -48,7 +48,7 @@ struct Sim {
     /// An independent mirror fed the same changes, read by Algorithm 2 in the search form.
     mirror: CausalGraph,
     dispatcher: Dispatcher,
-    links: Vec<(LinkKey, Link)>,
+    links: Vec<(LinkId, Link)>,
     next_link: u32,
     now: Time,
 }
@@ -86,22 +86,22 @@ impl Sim {
             removed: false,
             after: Vec::new(),
         });
-        self.change(Change::ActionAdded(ActionKey(i as u32)));
+        self.change(Change::ActionAdded(ActionId(i as u32)));
         i
     }
 
     fn goal(&mut self, g: u32, kind: GoalOrigin) {
-        self.change(Change::GoalAdded(GoalKey(g), kind));
+        self.change(Change::GoalAdded(GoalId(g), kind));
     }
 
     /// A causal link from `from`'s effect (the initial state if `None`) to `to`; the establisher precedes
     /// the consumer.
     fn link(&mut self, from: Option<usize>, to: Node) {
-        let key = LinkKey(self.next_link);
+        let key = LinkId(self.next_link);
         self.next_link += 1;
         let link = Link {
             from: from.map_or(Establisher::Initial, |a| {
-                Establisher::Action(ActionKey(a as u32))
+                Establisher::Action(ActionId(a as u32))
             }),
             to,
         };
@@ -131,8 +131,8 @@ impl Sim {
 
     /// Plan repair removes action `a`: its causal links, then itself; its constraints are relaxed.
     fn remove(&mut self, a: usize) {
-        let key = ActionKey(a as u32);
-        let mine: Vec<LinkKey> = self
+        let key = ActionId(a as u32);
+        let mine: Vec<LinkId> = self
             .links
             .iter()
             .filter(|(_, l)| l.to == Node::Action(key) || l.from == Establisher::Action(key))
@@ -154,7 +154,7 @@ impl Sim {
 
     fn supports(&mut self, a: usize) -> bool {
         self.dispatcher
-            .supports(ActionKey(a as u32), &self.mirror, &self.marking)
+            .supports(ActionId(a as u32), &self.mirror, &self.marking)
     }
 
     /// One cycle at `now`, then the clock moves one timestep.
@@ -174,7 +174,7 @@ impl Sim {
                 lb: self.stn.lb(act.st).max(self.now),
                 ub: self.stn.ub(act.st),
             };
-            let key = ActionKey(i as u32);
+            let key = ActionId(i as u32);
             let decision = self
                 .dispatcher
                 .decide(key, window, tick, &self.mirror, &self.marking);
@@ -231,11 +231,11 @@ const NOTHING: Fragment = Fragment {
 };
 
 const fn action_node(a: usize) -> Node {
-    Node::Action(ActionKey(a as u32))
+    Node::Action(ActionId(a as u32))
 }
 
 const fn goal_node(g: u32) -> Node {
-    Node::Goal(GoalKey(g))
+    Node::Goal(GoalId(g))
 }
 
 impl Fragment {

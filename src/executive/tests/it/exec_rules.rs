@@ -119,11 +119,18 @@ fn eq_1_and_2_resource_bounds_in_both_cases() {
         "{b:?}"
     );
     // Removed from the plan, it is aggregated into the past level: same bounds.
-    let mut agg = vec![(0.0, 0.0); plan.domain().resources.len()];
-    agg[r.index()] = past;
+    let mut levels = vec![(0.0, 0.0); plan.domain().resources.len()];
+    levels[r.index()] = past;
+    let mut agg = mavtempo_executive::id_vec::IdVec::from_items(levels);
     remove_past(&mut plan, 9_000);
     fold_removed(&plan, p, &mut agg);
-    let b2 = level_bounds(&plan, r, 9_000, &[], agg[r.index()]);
+    let b2 = level_bounds(
+        &plan,
+        r,
+        9_000,
+        &[],
+        agg.get(r).copied().unwrap_or_default(),
+    );
     assert!((b2.lb - b.lb).abs() < 1e-9 && (b2.ub - b.ub).abs() < 1e-9);
 }
 
