@@ -265,3 +265,71 @@ impl GoalBook {
         self.parked.iter()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mavtempo_temporal::model::{AttrId, Goal, GoalOrigin, TimeInterval, Value};
+
+    fn waiting(name: &str, priority: i64) -> Insertion {
+        Insertion {
+            goal: Goal {
+                name: name.to_string(),
+                kind: GoalOrigin::External,
+                priority,
+                attr: AttrId(0),
+                args: Vec::new(),
+                value: Value::Unknown,
+                start_window: TimeInterval::at_least(0),
+                duration: TimeInterval::exactly(0),
+                achieve: 0,
+            },
+            reply: (0, 0),
+            search: None,
+            steps: 0,
+            cycles: 0,
+            id: None,
+            watch: None,
+            tries: 1,
+        }
+    }
+
+    fn queue(book: &GoalBook) -> Vec<&str> {
+        book.insertions().map(|i| i.goal.name.as_str()).collect()
+    }
+
+    #[test]
+    fn insertions_wait_by_priority_and_a_goal_on_its_way_in_is_open() {
+        let mut book = GoalBook::default();
+        assert!(!book.any_open());
+        book.queue_insertion(waiting("low", 1));
+        book.queue_insertion(waiting("high", 5));
+        book.queue_insertion(waiting("high2", 5));
+        assert_eq!(queue(&book), ["high", "high2", "low"]);
+        assert!(book.any_open());
+        // The one in progress keeps its place whatever arrives.
+        if let Some(front) = book.current_mut() {
+            front.cycles = 1;
+        }
+        book.queue_insertion(waiting("urgent", 9));
+        assert_eq!(queue(&book), ["high", "urgent", "high2", "low"]);
+        assert!(book.take_insertion_named("high2").is_some());
+        assert!(book.take_insertion_named("high2").is_none());
+        assert_eq!(queue(&book), ["high", "urgent", "low"]);
+    }
+
+    #[test]
+    fn a_refusal_withdrawn_leaves_the_goal_out_of_the_fates_until_its_next_verdict() {
+        let mut book = GoalBook::default();
+        let reason = FateReason::Inserting;
+        book.never_held("g", Fate::Rejected, reason.clone());
+        book.never_held("h", Fate::Rejected, reason);
+        book.withdraw_refusal("g");
+        let names: Vec<_> = book.goal_fates().into_iter().map(|f| f.name).collect();
+        assert_eq!(names, ["h"]);
+        book.hold(GoalId(3), "g", None);
+        assert!(book.is_pending(GoalId(3)));
+        book.set_fate(GoalId(3), Fate::Achieved, None);
+        assert!(!book.is_pending(GoalId(3)) && book.pending_goals().is_empty());
+    }
+}

@@ -121,3 +121,28 @@ impl Journal {
         &self.replannings
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn events_leave_with_their_cycle_and_insertion_steps_are_repair_steps() {
+        let mut j = Journal::default();
+        assert!(j.flush(0).is_none());
+        j.trace(TraceEvent::RepairDone { steps: 3 });
+        j.close_cycle(10, PartTimes::default());
+        assert!(j.pending().is_empty());
+        assert_eq!(j.cycles().count(), 1);
+        j.trace(TraceEvent::RepairDone { steps: 4 });
+        let flushed = j.flush(20).map(|c| (c.index, c.events.len()));
+        assert_eq!(flushed, Some((2, 1)));
+        assert!(j.flush(30).is_none());
+        j.repair_steps(5);
+        j.insertion_steps(2);
+        assert_eq!(
+            (j.counters().repair_steps, j.counters().insertion_steps),
+            (7, 2)
+        );
+    }
+}
