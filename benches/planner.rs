@@ -8,6 +8,11 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use mavtempo::lang::load_problem_and_domain;
 use mavtempo::planner::{solve, Budget};
 
+/// The repository root: cargo runs a bench in its package's directory, `benches/`.
+fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
+
 fn bench(c: &mut Criterion) {
     for path in [
         "domains/rover/problems/fig2.ixt",
@@ -15,7 +20,7 @@ fn bench(c: &mut Criterion) {
         "domains/auv/problems/vents.ixt",
         "domains/shopping/problems/day.ixt",
     ] {
-        let Ok((d, p)) = load_problem_and_domain(Path::new(path)) else {
+        let Ok((d, p)) = load_problem_and_domain(&root().join(path)) else {
             continue;
         };
         let (d, p) = (Arc::new(d), Arc::new(p));
@@ -26,7 +31,7 @@ fn bench(c: &mut Criterion) {
 }
 
 fn grid(c: &mut Criterion) {
-    let Ok(d) = mavtempo::lang::load_domain(Path::new("domains/rover/rover.ixt")) else {
+    let Ok(d) = mavtempo::lang::load_domain(&root().join("domains/rover/rover.ixt")) else {
         return;
     };
     let text = mavtempo::lang::generate::rover_grid_problem(10);

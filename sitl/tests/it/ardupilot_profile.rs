@@ -3,12 +3,10 @@
 //! GUIDED's submodes and speeds, WP_SPEED by default.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 const ARDUPILOT: &str = "[autopilot]\nprofile = \"ardupilot\"\n";
 /// The ArduPilot profile with the boot delays off, for tests about something else.

@@ -1,13 +1,11 @@
 //! Identity, modes, arming and commands over a real socket, with ArduPilot's COMMAND_ACK results.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
 use mavlink::MavlinkVersion;
-use support::*;
 
 #[tokio::test]
 async fn heartbeat_identifies_an_ardupilot_rover() {

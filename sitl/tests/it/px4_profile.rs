@@ -4,12 +4,10 @@
 //! pre-arm bit in SYS_STATUS, no EKF_STATUS_REPORT but ESTIMATOR_STATUS, its custom modes, no camera.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 const PX4: &str = "[autopilot]\nprofile = \"px4\"\n";
 /// The PX4 profile with the boot delays off, for tests about something else.

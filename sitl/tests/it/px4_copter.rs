@@ -4,12 +4,10 @@
 //! PX4 switches to AUTO.LOITER by itself once up, and a landing disarms and hands back Hold.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 /// PX4's custom_mode for main/sub (px4_custom_mode.h).
 const fn px4_mode(main: u32, sub: u32) -> u32 {

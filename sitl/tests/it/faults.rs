@@ -1,12 +1,10 @@
 //! Each fault kind of a scenario file, observed over a socket (and on the ground-truth snapshot).
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 const STEP: Duration = Duration::from_millis(100);
 

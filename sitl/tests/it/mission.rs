@@ -1,11 +1,9 @@
 //! Mission protocol and AUTO over a real socket, as an independent ground station sees them.
 #![allow(deprecated)]
 
-mod support;
-
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
 use sitl::SimConfig;
-use support::*;
 
 #[tokio::test]
 async fn three_waypoint_mission_runs_in_auto() {

@@ -1,12 +1,10 @@
 //! The sim clock: paced at a speed-up (>= 200x must work) and deterministic for a seed + scenario.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 #[tokio::test]
 async fn a_mission_runs_paced_at_500x() {

@@ -3,12 +3,10 @@
 //! EXTENDED_SYS_STATE, LAND and RTL landing and disarming, hover drain, and the auto-disarm on the ground.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 const GUIDED: u32 = 4;
 const LOITER: u32 = 5;

@@ -1,12 +1,10 @@
 //! The mission protocol as ArduPilot runs it, seen from an independent client over a socket.
 #![allow(deprecated)]
 
-mod support;
-
 use std::time::Duration;
 
+use crate::support::*;
 use mavlink::dialects::ardupilotmega::*;
-use support::*;
 
 fn square() -> Vec<MISSION_ITEM_INT_DATA> {
     vec![

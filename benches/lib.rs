@@ -1,0 +1,1 @@
+//! mavtempo's criterion benches (`stn.rs`, `stnu.rs`, `planner.rs`); this library is empty.
