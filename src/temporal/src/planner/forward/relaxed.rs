@@ -14,7 +14,6 @@
 //! achievers and their conditions are counted like any other's, so a rover short of energy is estimated
 //! to need a recharge; a condition no achiever reaches is a dead end, soundly (nothing else changes it).
 
-
 use super::{AtomId, GroundTask, NumCond, NumExpr, State};
 use crate::pddl::ast::{Cmp, NumOp};
 
