@@ -105,7 +105,8 @@ def run_peer(planner, dom, prob, limit):
     else:
         outcome = "unsolved"
     row = {"outcome": outcome, "secs": round((ms or 0) / 1e3, 3), "reason": r["error"] if outcome != "solved"
-           else None, "valid": r["valid"], "check": r["error"] if r["valid"] is not True else None}
+           else None, "valid": r["valid"], "check": r["error"] if r["valid"] is not True else None,
+           "rewritten": r.get("rewritten")}
     return row, r.get("plan") if outcome == "solved" else None
 
 
@@ -114,6 +115,7 @@ def check(dom, prob, plan, row):
     res = peerslib.in_child(peerslib.check_one, (dom, prob, plan), CHECK_LIMIT)
     row["valid"] = res.get("valid")
     row["check"] = res.get("error") if row["valid"] is not True else None
+    row["rewritten"] = res.get("rewritten")
 
 
 def plan_stats(plan, row):
@@ -226,6 +228,13 @@ def report(rows):
         for r in bad:
             peer = " (a peer solves it)" if (r["folder"], r["instance"]) in solved_by_peer else ""
             print(f"- {r['folder']} p{r['instance']}{peer}: {r['reason']}")
+    through = [r for r in rows if r.get("rewritten") and r.get("valid") is not None]
+    if through:
+        print("\nChecked through the rewrite (benches/peers/uprewrite.py: unified-planning cannot read the files as "
+              "they are):")
+        for (folder, planner), rs in sorted(group_by(through, lambda r: (r["folder"], r["planner"])).items()):
+            ns = ",".join(f"p{r['instance']}" for r in sorted(rs, key=lambda r: r["instance"]))
+            print(f"- {folder} {planner} {ns}: {rs[0]['rewritten']}")
     unchecked = [r for r in rows if r["outcome"] == "solved" and r.get("valid") is None]
     if unchecked:
         print("\nSolved, plan not checked by unified-planning:")
@@ -236,6 +245,13 @@ def report(rows):
         print("\nPlans rejected by the validator:")
         for r in rejected:
             print(f"- {r['folder']} p{r['instance']} {r['planner']}: {' '.join(str(r.get('check')).split())[:200]}")
+
+
+def group_by(rows, key):
+    out = {}
+    for r in rows:
+        out.setdefault(key(r), []).append(r)
+    return out
 
 
 def read_rows(paths):

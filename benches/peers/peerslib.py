@@ -6,6 +6,7 @@ mavtempo's IPC plans checked by an independent validator). unified-planning is i
 the scripts print their usage and errors without it.
 """
 
+import itertools
 import json
 import multiprocessing as mp
 import re
@@ -53,12 +54,58 @@ def environment(up_shortcuts):
 def read_problem(domain_file, problem_file):
     """unified-planning's reading of the PDDL files, the metric cleared: satisficing runs take the first plan each
     planner finds (the metric would make some run anytime until the limit)."""
+    return read_noted(domain_file, problem_file)[0]
+
+
+def read_noted(domain_file, problem_file):
+    """(problem, rewrite) as read_problem; where unified-planning cannot read the files as they are, it reads
+    them through uprewrite's semantics-preserving rewrite and `rewrite` is (notes, actions whose ?duration was
+    rewritten), else None."""
     warnings.filterwarnings("ignore")
     from unified_planning.io import PDDLReader
 
-    problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
+    try:
+        problem = PDDLReader().parse_problem(str(domain_file), str(problem_file))
+        rewrite = None
+    except Exception as first:
+        import tempfile
+
+        import uprewrite
+
+        try:
+            dom, prob, notes, acts = uprewrite.rewrite(Path(domain_file).read_text(), Path(problem_file).read_text())
+        except Exception:
+            raise first from None
+        if not notes:
+            raise first
+        with tempfile.TemporaryDirectory() as tmp:
+            (Path(tmp) / "domain.pddl").write_text(dom)
+            (Path(tmp) / "problem.pddl").write_text(prob)
+            problem = PDDLReader().parse_problem(str(Path(tmp) / "domain.pddl"), str(Path(tmp) / "problem.pddl"))
+        rewrite = (notes, acts)
+        # The functions the rewrite declares start at 0 (each is assigned before it is read).
+        for f in problem.fluents:
+            if f.name.startswith(uprewrite.DURATION_FUNCTION):
+                for args in itertools.product(*(problem.objects(p.type) for p in f.signature)):
+                    problem.set_initial_value(f(*args), 0)
     problem.clear_quality_metrics()
-    return problem
+    return problem, rewrite
+
+
+def note_rewrite(res, rewrite, steps):
+    """Records in `res` that the plan is checked through the rewrite; False when the rewrite cannot check this
+    plan (a rewritten action overlapping itself: its duration function would be overwritten)."""
+    if rewrite is None:
+        return True
+    import uprewrite
+
+    notes, acts = rewrite
+    res["rewritten"] = "; ".join(notes)
+    overlap = uprewrite.self_overlap(steps, set(acts))
+    if overlap:
+        res["error"] = f"not validated: the rewrite cannot check it: {overlap}"
+        return False
+    return True
 
 
 def ipc_steps(text):
@@ -227,11 +274,12 @@ def _solve_lpg(domain_file, problem_file, limit, res):
     steps = ipc_steps(text)
     res["actions"], res["makespan"], res["plan"] = len(steps), ipc_makespan(steps), text
     try:
-        problem = read_problem(domain_file, problem_file)
+        problem, rewrite = read_noted(domain_file, problem_file)
     except Exception as e:
         res["error"] = f"not validated: unified-planning cannot read it: {type(e).__name__}: {str(e)[:200]}"
         return
-    validate(up, problem, ipc_plan(problem, text), res)
+    if note_rewrite(res, rewrite, steps):
+        validate(up, problem, ipc_plan(problem, text), res)
 
 
 def _solve_up(planner, domain_file, problem_file, limit, res):
@@ -239,7 +287,7 @@ def _solve_up(planner, domain_file, problem_file, limit, res):
     import unified_planning.shortcuts as up
 
     environment(up)
-    problem = read_problem(domain_file, problem_file)
+    problem, rewrite = read_noted(domain_file, problem_file)
     with up.OneshotPlanner(name=planner) as engine:
         t0 = time.perf_counter()
         r = engine.solve(problem, timeout=limit)
@@ -249,7 +297,8 @@ def _solve_up(planner, domain_file, problem_file, limit, res):
         res["actions"] = len(r.plan.timed_actions)
         res["makespan"] = makespan(r.plan)
         res["plan"] = ipc_text(r.plan)
-        validate(up, problem, r.plan, res)
+        if note_rewrite(res, rewrite, ipc_steps(res["plan"])):
+            validate(up, problem, r.plan, res)
     elif r.log_messages:
         res["error"] = " | ".join(m.message for m in r.log_messages)[:300]
 
@@ -319,8 +368,9 @@ def check_text(domain_file, problem_file, text, problem=None):
     res = {"valid": None, "validator": None, "error": None}
     try:
         steps = ipc_steps(text)
+        rewrite = None
         if problem is None:
-            problem = read_problem(domain_file, problem_file)
+            problem, rewrite = read_noted(domain_file, problem_file)
         plan = ipc_plan(problem, text)
     except PlanFormatError as e:
         res.update(valid=False, error=f"malformed plan: {e}")
@@ -329,6 +379,8 @@ def check_text(domain_file, problem_file, text, problem=None):
         res["error"] = f"unified-planning cannot read it: {type(e).__name__}: {str(e)[:200]}"
         return res
     res["actions"], res["makespan"] = len(steps), ipc_makespan(steps)
+    if not note_rewrite(res, rewrite, steps):
+        return res
     validate(up, problem, plan, res)
     if res["validator"] is None:
         res["error"] = "no validator could check it: " + "; ".join(res.get("validator_errors", []))

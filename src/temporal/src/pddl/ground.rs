@@ -240,7 +240,10 @@ pub fn ground(d: &ast::Domain, p: &ast::Problem) -> Result<GroundTask, GroundErr
         })
     };
     let mut task_init: Vec<AtomId> = Vec::new();
-    for k in &init {
+    // In a fixed order: atom numbers break the heuristic's ties, and a hash set's order changes per run.
+    let mut init_sorted: Vec<&Key> = init.iter().collect();
+    init_sorted.sort();
+    for k in init_sorted {
         let pred_name = names
             .preds
             .iter()

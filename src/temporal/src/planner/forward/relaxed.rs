@@ -14,14 +14,41 @@
 //! achievers and their conditions are counted like any other's, so a rover short of energy is estimated
 //! to need a recharge; a condition no achiever reaches is a dead end, soundly (nothing else changes it).
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use super::{AtomId, GroundTask, NumCond, NumExpr, State};
 use crate::pddl::ast::{Cmp, NumOp};
 
 const UNREACHED: u32 = u32::MAX;
 const NO_ACTION: u32 = u32::MAX;
+/// A cost above any a real relaxed plan reaches, below [`UNREACHED`].
+const MAX_COST: u32 = 1 << 20;
+
+/// The per-estimate arrays, kept between estimates so that an estimate allocates nothing.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    cost: Vec<u32>,
+    supporter: Vec<u32>,
+    waiting: Vec<u32>,
+    sum: Vec<u32>,
+    buckets: Vec<Vec<AtomId>>,
+    in_plan: Vec<bool>,
+    marked: Vec<bool>,
+}
+
+impl Scratch {
+    fn reset(&mut self, n_facts: usize, pre: &[Vec<AtomId>]) {
+        self.cost.clear();
+        self.cost.resize(n_facts, UNREACHED);
+        self.supporter.clear();
+        self.supporter.resize(n_facts, NO_ACTION);
+        self.waiting.clear();
+        self.waiting.extend(pre.iter().map(|p| p.len() as u32));
+        self.sum.clear();
+        self.sum.resize(pre.len(), 0);
+        for b in &mut self.buckets {
+            b.clear();
+        }
+    }
+}
 
 /// A state's estimates; `None` from [`Relaxed::estimate`] when a goal is not even relaxed-reachable (a dead
 /// end: no plan goes through the state).
@@ -36,6 +63,8 @@ pub struct Estimate {
 /// The relaxation of a ground task, precomputed once.
 #[derive(Clone, Debug)]
 pub struct Relaxed {
+    /// Buffers reused from one estimate to the next (an estimate per evaluated state).
+    scratch: Scratch,
     pre: Vec<Vec<AtomId>>,
     add: Vec<Vec<AtomId>>,
     /// Per atom, the actions that need it.
@@ -187,6 +216,7 @@ impl Relaxed {
         goal.sort_unstable();
         goal.dedup();
         Relaxed {
+            scratch: Scratch::default(),
             pre,
             add,
             users,
@@ -198,18 +228,31 @@ impl Relaxed {
     }
 
     /// h_add, h_FF and the helpful actions of `state`.
-    pub fn estimate(&self, state: &State) -> Option<Estimate> {
+    pub fn estimate(&mut self, state: &State) -> Option<Estimate> {
         let n = self.n_facts;
-        let mut cost = vec![UNREACHED; n];
-        let mut supporter = vec![NO_ACTION; n];
-        let mut done = vec![false; n];
-        let mut waiting: Vec<u32> = self.pre.iter().map(|p| p.len() as u32).collect();
-        let mut sum: Vec<u32> = vec![0; self.pre.len()];
-        let mut queue: BinaryHeap<Reverse<(u32, AtomId)>> = BinaryHeap::new();
+        let mut sc = std::mem::take(&mut self.scratch);
+        sc.reset(n, &self.pre);
+        let Scratch {
+            cost,
+            supporter,
+            waiting,
+            sum,
+            buckets,
+            ..
+        } = &mut sc;
+        // Costs are small integers that only grow as facts are settled: a bucket queue (Dial's Dijkstra)
+        // instead of a heap.
+        let push = |buckets: &mut Vec<Vec<AtomId>>, c: u32, a: AtomId| {
+            let c = c as usize;
+            if buckets.len() <= c {
+                buckets.resize_with(c + 1, Vec::new);
+            }
+            buckets[c].push(a);
+        };
         for a in 0..self.n_atoms as AtomId {
             if state.has(a) {
                 cost[a as usize] = 0;
-                queue.push(Reverse((0, a)));
+                push(buckets, 0, a);
             }
         }
         for (k, c) in self.conds.iter().enumerate() {
@@ -219,7 +262,7 @@ impl Relaxed {
             );
             if c.cmp.holds(x, y) {
                 cost[self.n_atoms + k] = 0;
-                queue.push(Reverse((0, (self.n_atoms + k) as AtomId)));
+                push(buckets, 0, (self.n_atoms + k) as AtomId);
             }
         }
         let mut goals_left = self.goal.iter().filter(|g| !state.has(**g)).count();
@@ -227,41 +270,60 @@ impl Relaxed {
                     c: u32,
                     cost: &mut Vec<u32>,
                     supporter: &mut Vec<u32>,
-                    queue: &mut BinaryHeap<Reverse<(u32, AtomId)>>| {
-            let c = c.saturating_add(1);
+                    buckets: &mut Vec<Vec<AtomId>>| {
+            // Capped well below UNREACHED so that the bucket index stays small on absurd sums.
+            let c = c.saturating_add(1).min(MAX_COST);
             for &p in &self.add[act] {
                 if c < cost[p as usize] {
                     cost[p as usize] = c;
                     supporter[p as usize] = act as u32;
-                    queue.push(Reverse((c, p)));
+                    push(buckets, c, p);
                 }
             }
         };
         for (act, _) in self.pre.iter().enumerate().filter(|(_, p)| p.is_empty()) {
             // An action without conditions fires at once.
-            fire(act, 0, &mut cost, &mut supporter, &mut queue);
+            fire(act, 0, cost, supporter, buckets);
         }
-        while let Some(Reverse((c, a))) = queue.pop() {
-            let i = a as usize;
-            if done[i] || c != cost[i] {
-                continue;
-            }
-            done[i] = true;
-            if self.goal.binary_search(&a).is_ok() && c > 0 {
-                goals_left -= 1;
-                if goals_left == 0 {
-                    break;
+        let mut level = 0usize;
+        'settle: while level < buckets.len() {
+            while let Some(a) = buckets[level].pop() {
+                let i = a as usize;
+                let c = level as u32;
+                if c != cost[i] {
+                    continue; // settled at a lower cost already
+                }
+                if self.goal.binary_search(&a).is_ok() && c > 0 {
+                    goals_left -= 1;
+                    if goals_left == 0 {
+                        break 'settle;
+                    }
+                }
+                for &act in &self.users[i] {
+                    let act = act as usize;
+                    waiting[act] -= 1;
+                    sum[act] = sum[act].saturating_add(c);
+                    if waiting[act] == 0 {
+                        fire(act, sum[act], cost, supporter, buckets);
+                    }
                 }
             }
-            for &act in &self.users[i] {
-                let act = act as usize;
-                waiting[act] -= 1;
-                sum[act] = sum[act].saturating_add(c);
-                if waiting[act] == 0 {
-                    fire(act, sum[act], &mut cost, &mut supporter, &mut queue);
-                }
-            }
+            level += 1;
         }
+        let out = self.extract(&mut sc);
+        self.scratch = sc;
+        out
+    }
+
+    /// h_add from the costs in `sc`, and the relaxed plan extracted from its supporters.
+    fn extract(&self, sc: &mut Scratch) -> Option<Estimate> {
+        let Scratch {
+            cost,
+            supporter,
+            in_plan,
+            marked,
+            ..
+        } = sc;
         let mut h_add = 0u32;
         for &g in &self.goal {
             match cost[g as usize] {
@@ -270,8 +332,10 @@ impl Relaxed {
             }
         }
         // The relaxed plan: each open atom's cheapest achiever, and that achiever's conditions in turn.
-        let mut in_plan = vec![false; self.pre.len()];
-        let mut marked = vec![false; n];
+        in_plan.clear();
+        in_plan.resize(self.pre.len(), false);
+        marked.clear();
+        marked.resize(self.n_facts, false);
         let mut plan: Vec<u32> = Vec::new();
         let mut stack: Vec<AtomId> = self.goal.clone();
         while let Some(a) = stack.pop() {
@@ -360,7 +424,7 @@ mod tests {
     #[test]
     fn hand_computed_values_on_a_tiny_problem() {
         let t = tiny();
-        let r = Relaxed::new(&t);
+        let mut r = Relaxed::new(&t);
         let e = r.estimate(&t.initial_state()).expect("g is reachable");
         // h_add counts a twice (once under finish, once under a-to-b): 1 + 2 + 1 = 4; h_FF counts each
         // action of the relaxed plan once: get-a, a-to-b, finish.

@@ -1,9 +1,14 @@
-//! Greedy best-first search over the compressed ground problem, guided by h_FF with helpful actions
-//! (Fast Downward's "boosted dual queue": one open list of every successor, one of those reached by a
-//! helpful action, taken in turn, the helpful one given a run of extra turns each time the best h_FF
-//! improves). Duplicate states are detected; dead ends (a goal not even relaxed-reachable) are pruned. The
-//! search is resumable: [`Forward::run`] expands at most a given number of states, so it can be
-//! interleaved with the POCL searches.
+//! Lazy greedy best-first search over the compressed ground problem, guided by h_FF with helpful actions
+//! (Fast Downward's lazy search with preferred operators and its "boosted dual queue"). A state is
+//! evaluated only when it is taken from an open list, not when it is generated: its successors enter the
+//! open lists with *its* h_FF, those reached by one of its helpful actions in a second list as well. The
+//! two lists are taken in turn, the helpful one given a run of extra turns each time the best h_FF
+//! improves. On wide problems (hundreds of ground actions, tens applicable in a state) this evaluates one
+//! state per expansion instead of one per successor; the order is only guidance, so every successor of
+//! every evaluated state still enters the plain list and the search stays complete: duplicate states are
+//! detected, dead ends (a goal not even relaxed-reachable) pruned, and [`ForwardOutcome::Exhausted`] is
+//! only answered once the lists are empty. The search is resumable: [`Forward::run`] evaluates at most a
+//! given number of states, so it can be interleaved with the POCL searches.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -26,25 +31,24 @@ pub enum ForwardOutcome {
     Paused,
 }
 
+/// An evaluated state and how it was reached.
 struct Node {
     state: State,
     parent: u32,
     action: u32,
-    /// The state's helpful actions, kept from its evaluation until it is expanded.
-    helpful: Box<[u32]>,
-    expanded: bool,
 }
 
-type Open = BinaryHeap<Reverse<(u32, u32, u32)>>;
+/// Entries `(h_FF of the parent, insertion number, parent node, action)`: the successor is computed and
+/// evaluated when the entry is taken.
+type Open = BinaryHeap<Reverse<(u32, u32, u32, u32)>>;
 
-/// A resumable greedy best-first search.
+/// A resumable lazy greedy best-first search.
 pub struct Forward {
     task: GroundTask,
     successors: Successors,
     relaxed: Relaxed,
     nodes: Vec<Node>,
     seen: HashMap<State, u32>,
-    /// Entries `(h_FF, insertion number, node)`.
     open: Open,
     helpful: Open,
     counter: u32,
@@ -74,6 +78,10 @@ impl Forward {
             done: None,
             task,
         };
+        if f.task.goal.holds(&init) {
+            f.done = Some(ForwardOutcome::Plan(Vec::new()));
+            return f;
+        }
         match f.relaxed.estimate(&init) {
             None => f.done = Some(ForwardOutcome::Exhausted),
             Some(e) => {
@@ -83,10 +91,8 @@ impl Forward {
                     state: init,
                     parent: u32::MAX,
                     action: u32::MAX,
-                    helpful: e.helpful.into(),
-                    expanded: false,
                 });
-                f.open.push(Reverse((e.h_ff, 0, 0)));
+                f.expand(0, e.h_ff, &e.helpful);
             }
         }
         f
@@ -97,7 +103,7 @@ impl Forward {
         &self.task
     }
 
-    /// States expanded so far.
+    /// States evaluated so far.
     pub fn expanded(&self) -> u64 {
         self.expanded
     }
@@ -115,7 +121,7 @@ impl Forward {
         out
     }
 
-    fn pop(&mut self) -> Option<u32> {
+    fn pop(&mut self) -> Option<(u32, u32)> {
         let prefer_helpful = self.boost > 0 || self.turn;
         self.turn = !self.turn;
         let first = if prefer_helpful {
@@ -124,69 +130,75 @@ impl Forward {
         } else {
             self.open.pop().or_else(|| self.helpful.pop())
         };
-        first.map(|Reverse((_, _, n))| n)
+        first.map(|Reverse((_, _, parent, action))| (parent, action))
     }
 
-    /// Expands at most `max_expansions` states.
+    /// Files the successors of node `n` (h_FF `h`, helpful actions `helpful`, sorted) in the open lists:
+    /// every applicable action not leading to a state already seen, unevaluated.
+    fn expand(&mut self, n: u32, h: u32, helpful: &[u32]) {
+        let Some(node) = self.nodes.get(n as usize) else {
+            return;
+        };
+        for i in self.successors.candidates(&node.state) {
+            let Some(next) = self.task.actions[i].successor(&node.state) else {
+                continue;
+            };
+            if self.seen.contains_key(&next) {
+                continue;
+            }
+            self.counter += 1;
+            let entry = Reverse((h, self.counter, n, i as u32));
+            if helpful.binary_search(&(i as u32)).is_ok() {
+                self.helpful.push(entry);
+            }
+            self.open.push(entry);
+        }
+    }
+
+    /// Evaluates at most `max_expansions` states.
     pub fn run(&mut self, max_expansions: u64) -> ForwardOutcome {
         if let Some(d) = &self.done {
             return d.clone();
         }
-        if self.task.goal.holds(&self.nodes[0].state) {
-            let out = ForwardOutcome::Plan(Vec::new());
-            self.done = Some(out.clone());
-            return out;
-        }
         let mut budget = max_expansions;
         while budget > 0 {
-            let Some(n) = self.pop() else {
+            let Some((parent, action)) = self.pop() else {
                 self.done = Some(ForwardOutcome::Exhausted);
                 return ForwardOutcome::Exhausted;
             };
-            let node = &mut self.nodes[n as usize];
-            if std::mem::replace(&mut node.expanded, true) {
-                continue; // in both open lists: expanded once
+            let Some(next) = self
+                .nodes
+                .get(parent as usize)
+                .and_then(|p| self.task.actions[action as usize].successor(&p.state))
+            else {
+                continue;
+            };
+            if self.seen.contains_key(&next) {
+                continue; // reached since the entry was filed, or filed in both lists
             }
+            let id = self.nodes.len() as u32;
+            self.seen.insert(next.clone(), id);
             budget -= 1;
             self.expanded += 1;
-            let helpful = std::mem::take(&mut node.helpful);
-            let state = node.state.clone();
-            for i in self.successors.candidates(&state) {
-                let Some(next) = self.task.actions[i].successor(&state) else {
-                    continue;
-                };
-                if self.seen.contains_key(&next) {
-                    continue;
-                }
-                let id = self.nodes.len() as u32;
-                self.seen.insert(next.clone(), id);
-                let Some(e) = self.relaxed.estimate(&next) else {
-                    continue;
-                };
-                let goal = self.task.goal.holds(&next);
-                self.nodes.push(Node {
-                    state: next,
-                    parent: n,
-                    action: i as u32,
-                    helpful: e.helpful.into(),
-                    expanded: false,
-                });
-                if goal {
-                    let out = ForwardOutcome::Plan(self.plan_to(id));
-                    self.done = Some(out.clone());
-                    return out;
-                }
-                if e.h_ff < self.best_h {
-                    self.best_h = e.h_ff;
-                    self.boost += BOOST;
-                }
-                self.counter += 1;
-                let entry = Reverse((e.h_ff, self.counter, id));
-                if helpful.binary_search(&(i as u32)).is_ok() {
-                    self.helpful.push(entry);
-                }
-                self.open.push(entry);
+            let goal = self.task.goal.holds(&next);
+            self.nodes.push(Node {
+                state: next,
+                parent,
+                action,
+            });
+            if goal {
+                let out = ForwardOutcome::Plan(self.plan_to(id));
+                self.done = Some(out.clone());
+                return out;
             }
+            let Some(e) = self.relaxed.estimate(&self.nodes[id as usize].state) else {
+                continue; // a dead end: its successors are not filed
+            };
+            if e.h_ff < self.best_h {
+                self.best_h = e.h_ff;
+                self.boost += BOOST;
+            }
+            self.expand(id, e.h_ff, &e.helpful);
         }
         ForwardOutcome::Paused
     }
