@@ -94,5 +94,9 @@ fn the_replanning_wall_bound_trips_on_a_manual_clock_moved_past_it() {
         ends.iter().all(|(end, _)| *end != AttemptEnd::WallBudget),
         "{ends:?}"
     );
-    assert_eq!(ends.first().map(|e| e.0), Some(AttemptEnd::Solved), "{ends:?}");
+    assert_eq!(
+        ends.first().map(|e| e.0),
+        Some(AttemptEnd::Solved),
+        "{ends:?}"
+    );
 }
