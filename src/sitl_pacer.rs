@@ -1,8 +1,9 @@
 //! The in-process SITL on a manual clock, as a [`Pacer`]: deterministic missions as fast as the machine
 //! goes (`demo`, `soak`, `run --sim`). It lives above the executive because it drives the `sitl` crate.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
+use crate::exec::clock::{wall_clock, SharedClock};
 use crate::exec::cycle::mission_time as since;
 use crate::exec::mission::Pacer;
 use crate::exec::pacer::{LinkCounted, StepGate};
@@ -27,6 +28,8 @@ pub struct SitlStepPacer {
     /// Set once a wait ran out: the link is broken or stalled, later waits are kept short (a stalled link
     /// must not cost `settle` per cycle).
     stalled: std::cell::Cell<bool>,
+    /// The companion's clock the waits are bounded on (a `ManualClock` in tests).
+    wall: SharedClock,
 }
 
 /// The bound of the waits once the link has stalled.
@@ -50,7 +53,20 @@ impl SitlStepPacer {
             settle,
             gate,
             stalled: std::cell::Cell::new(false),
+            wall: wall_clock(),
         }
+    }
+
+    /// The clock that bounds the waits for the link (a `ManualClock` in tests).
+    pub fn with_wall_clock(mut self, wall: SharedClock) -> Self {
+        self.wall = wall;
+        self
+    }
+
+    /// The end of a wait bounded by [`Self::bound`], µs on the companion's clock.
+    fn deadline_us(&self) -> u64 {
+        let bound = self.bound().as_micros().min(u64::MAX as u128) as u64;
+        self.wall.now_us().saturating_add(bound)
     }
 
     fn bound(&self) -> Duration {
@@ -65,7 +81,7 @@ impl SitlStepPacer {
     /// every frame the simulator sent and the simulator every frame the companion produced, with the
     /// simulator's count read again last (a reply to the companion's last frames would show there).
     fn settle<V: LinkCounted>(&self, v: &V) -> bool {
-        let deadline = Instant::now() + self.bound();
+        let deadline = self.deadline_us();
         loop {
             let sim_sent = self.sim.frames_sent();
             let link = v.link_counts();
@@ -76,7 +92,7 @@ impl SitlStepPacer {
             {
                 return true;
             }
-            if Instant::now() >= deadline {
+            if self.wall.now_us() >= deadline {
                 self.stalled.set(true);
                 tracing::warn!(
                     sim_sent,
@@ -105,9 +121,9 @@ impl SitlStepPacer {
     /// Waits (bounded) until the goal batches the gate was promised are in the executive's channel (not
     /// taken: the next cycle integrates them with the rest).
     fn promised<V: LinkCounted>(&self, v: &V) {
-        let deadline = Instant::now() + self.bound();
+        let deadline = self.deadline_us();
         while v.link_counts().goal_batches < self.gate.promised() {
-            if Instant::now() >= deadline {
+            if self.wall.now_us() >= deadline {
                 self.stalled.set(true);
                 tracing::warn!("sitl step: a promised goal upload did not arrive; stepping on");
                 self.gate.cancel_goal_batch();

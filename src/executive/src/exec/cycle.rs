@@ -2,8 +2,6 @@
 //! plan repair is in progress; it senses (integrates the messages), repairs for at most μ·ts, and acts. After
 //! every step an executable plan is in hand; otherwise execution is aborted and a complete replanning starts.
 
-use std::time::Instant;
-
 use super::clock::VehicleClock;
 use super::executive::Executive;
 use super::failures::PlanChangeKind;
@@ -30,11 +28,13 @@ pub use super::clock::mission_time;
 
 impl Executive {
     pub fn cycle(&mut self, vehicle: &mut dyn Vehicle, now: Time) -> CycleOutcome {
-        let t0 = Instant::now();
+        // The parts' CPU times are measured on the companion's clock (a manual one in tests).
+        let wall = self.wall.clone();
+        let t0 = wall.now_us();
         while let Some(ev) = vehicle.try_event() {
             self.integrate(ev, now);
         }
-        let t1 = Instant::now();
+        let t1 = wall.now_us();
         let mut repairing = false;
         if self.operator.is_held() {
             // The operator has the vehicle: time goes on, nothing is commanded, no plan is made.
@@ -50,7 +50,7 @@ impl Executive {
         }
         // Uploads are answered once this cycle's insertion attempt had its share (its verdict, or "to follow").
         self.answer_goal_batches();
-        let t2 = Instant::now();
+        let t2 = wall.now_us();
         let next = if !self.abort.is_raised() && !self.operator.is_held() {
             self.act(vehicle, now)
         } else {
@@ -73,13 +73,13 @@ impl Executive {
                 reason: reason.clone(),
             });
         }
-        let t3 = Instant::now();
+        let t3 = wall.now_us();
         self.journal.close_cycle(
             now,
             PartTimes {
-                sense_us: (t1 - t0).as_micros() as u64,
-                repair_us: (t2 - t1).as_micros() as u64,
-                act_us: (t3 - t2).as_micros() as u64,
+                sense_us: t1.saturating_sub(t0),
+                repair_us: t2.saturating_sub(t1),
+                act_us: t3.saturating_sub(t2),
             },
         );
         if let Some(reason) = aborted {

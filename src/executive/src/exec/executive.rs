@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use super::abort::Abort;
 use super::abstraction::Hierarchy;
+use super::clock::{wall_clock, SharedClock};
 use super::config::ExecConfig;
 use super::cycle_log::CycleLog;
 use super::dispatch_policy::PlanDispatch;
@@ -51,6 +52,9 @@ pub struct Executive {
     pub(crate) failures: FailureMemory,
     /// The operator has the vehicle (why): no action is launched or stopped (src/executive/src/exec/authority.rs).
     pub(crate) operator: OperatorHold,
+    /// The companion's own time: the cycle's and the replanning's wall-time bounds and the per-part
+    /// timings read it (a `WallClock` unless [`Executive::with_wall_clock`] gives another).
+    pub(crate) wall: SharedClock,
 }
 
 impl Executive {
@@ -76,7 +80,15 @@ impl Executive {
             journal: Journal::default(),
             failures,
             operator: OperatorHold::default(),
+            wall: wall_clock(),
         }
+    }
+
+    /// The clock the wall-time bounds and the per-part timings read: a `ManualClock` in tests, which drives
+    /// `cycle_max_wall_ms` and `replan_max_wall_ms` without waiting.
+    pub fn with_wall_clock(mut self, clock: SharedClock) -> Self {
+        self.wall = clock;
+        self
     }
 
     /// Where the vehicle may go (`[limits]`, the autopilot's fence): a goal at a place outside is

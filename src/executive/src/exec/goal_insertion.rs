@@ -95,6 +95,7 @@ impl Executive {
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
         let wall = self.cycle_wall_deadline();
+        let wall_clock = self.wall.clone();
         let Some(ins) = self.goals.current_mut() else {
             return RepairOutcome::Idle;
         };
@@ -105,7 +106,7 @@ impl Executive {
         let outcome = loop {
             if search.steps() - first >= max_steps
                 || deadline.is_some_and(|d| clock.now() >= d)
-                || std::time::Instant::now() >= wall
+                || wall_clock.now() >= wall
             {
                 break None;
             }

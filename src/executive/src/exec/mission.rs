@@ -8,7 +8,6 @@ use std::time::Duration;
 
 use serde::Serialize;
 
-use super::clock::{Clock, WallClock};
 use super::cycle::CycleOutcome;
 pub use super::cycle_log::CycleTimes;
 use super::executive::{Counters, Executive, Fate, GoalFate};
@@ -429,10 +428,10 @@ fn collect_stop_reports<V: Vehicle>(
     pacer: &mut dyn Pacer<V>,
 ) {
     // Bounded in mission time (the pacer lets it pass, a stepped simulator's too) and in wall time.
-    let wall = WallClock::start();
+    let wall = ex.wall.clone();
+    let wall_until = wall.now().saturating_add(STOP_REPORT_WAIT_MS);
     let until = pacer.now(v.inner).saturating_add(STOP_REPORT_WAIT_MS);
-    let waiting =
-        |pacer: &dyn Pacer<V>, v: &V| wall.now() < STOP_REPORT_WAIT_MS && pacer.now(v) < until;
+    let waiting = |pacer: &dyn Pacer<V>, v: &V| wall.now() < wall_until && pacer.now(v) < until;
     let mut kept = VecDeque::new();
     let outstanding = |ex: &Executive| {
         ex.dispatched

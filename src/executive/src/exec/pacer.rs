@@ -3,9 +3,9 @@
 //! machine goes) drives the `sitl` crate, so it is the application's (`mavtempo::sitl_pacer`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use super::clock::{mission_time as since, Clock, VehicleClock};
+use super::clock::{mission_time as since, wall_clock, Clock, SharedClock, VehicleClock};
 use super::interrupt::Interrupt;
 use super::mission::Pacer;
 use mavtempo_temporal::model::Time;
@@ -43,14 +43,26 @@ impl Pacer<MockVehicle> for MockPacer {
 /// time for a second). A vehicle that stops sending its time (silent, vanished) does not stop the mission's
 /// clock: once the vehicle's clock has not moved for `stale_after` of wall time, mission time runs on the
 /// companion's wall clock (times `speedup`) from the vehicle's last time, and never goes back when the
-/// vehicle's clock comes back behind it.
-#[derive(Debug)]
+/// vehicle's clock comes back behind it. A wait is bounded on the companion's clock (`wall`, a `WallClock`
+/// unless [`LivePacer::with_wall_clock`] gives another).
 pub struct LivePacer {
     pub origin_ms: u64,
     pub speedup: f64,
     pub stale_after: Duration,
     /// The latest mission time given: the clock never goes back.
     last: std::cell::Cell<Time>,
+    wall: SharedClock,
+}
+
+impl std::fmt::Debug for LivePacer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LivePacer")
+            .field("origin_ms", &self.origin_ms)
+            .field("speedup", &self.speedup)
+            .field("stale_after", &self.stale_after)
+            .field("last", &self.last.get())
+            .finish_non_exhaustive()
+    }
 }
 
 impl LivePacer {
@@ -60,7 +72,14 @@ impl LivePacer {
             speedup,
             stale_after,
             last: std::cell::Cell::new(0),
+            wall: wall_clock(),
         }
+    }
+
+    /// The clock that bounds a wait (a `ManualClock` in tests).
+    pub fn with_wall_clock(mut self, wall: SharedClock) -> Self {
+        self.wall = wall;
+        self
     }
 
     /// The vehicle's time, or the companion's estimate of it while the vehicle's clock is stale.
@@ -122,9 +141,13 @@ impl LivePacer {
     ) -> Option<VehicleEvent> {
         // A clock that stops (a vanished vehicle under a pacer that never calls it stale) still gives the
         // executive its cycle, to notice the silence.
-        let give_up = Instant::now() + self.wall_left(v, until) + CLOCK_GRACE;
+        let bound = self.wall_left(v, until) + CLOCK_GRACE;
+        let give_up = self
+            .wall
+            .now_us()
+            .saturating_add(bound.as_micros().min(u64::MAX as u128) as u64);
         loop {
-            if Pacer::now(self, v) >= until || Instant::now() >= give_up {
+            if Pacer::now(self, v) >= until || self.wall.now_us() >= give_up {
                 return None;
             }
             let mut slice = self.wall_left(v, until).max(CLOCK_POLL);
@@ -279,6 +302,28 @@ mod tests {
         // time polled in CLOCK_POLL slices, no executive cycle in between.
         assert_eq!(Pacer::now(&p, &v), 51_000);
         assert!(v.waits <= 101, "{} waits", v.waits);
+    }
+
+    #[test]
+    fn a_wait_on_a_vehicle_clock_that_stopped_gives_up_on_the_companion_clock() {
+        // The vehicle's clock stopped at 10 s and is never called stale: the wait for 12 s (2 s of wall
+        // time at 1x, plus the grace) ends on the companion's clock, a manual one moved 100 ms per read.
+        let hand = super::super::clock::ManualClock::new(0);
+        let ticking = hand.clone();
+        let mut p = LivePacer::new(0, 1.0, Duration::from_secs(3600)).with_wall_clock(
+            std::sync::Arc::new(move || {
+                ticking.advance(100);
+                ticking.now()
+            }),
+        );
+        let mut v = Stopped {
+            ms: 10_000,
+            age: Duration::ZERO,
+        };
+        assert!(Pacer::wait(&mut p, &mut v, 12_000).is_none());
+        let waited = hand.now();
+        assert!((2_500..=2_700).contains(&waited), "{waited} ms");
+        assert_eq!(Pacer::now(&p, &v), 10_000);
     }
 
     #[test]

@@ -75,9 +75,11 @@ impl Executive {
         }
     }
 
-    /// This cycle's wall-time bound (`cycle_max_wall_ms` from now), whatever the mission clock does.
-    pub fn cycle_wall_deadline(&self) -> std::time::Instant {
-        std::time::Instant::now() + std::time::Duration::from_millis(self.cfg.cycle_max_wall_ms)
+    /// This cycle's wall-time bound (`cycle_max_wall_ms` from now on the executive's wall clock), whatever
+    /// the mission clock does.
+    pub fn cycle_wall_deadline(&self) -> Time {
+        let max = self.cfg.cycle_max_wall_ms.min(i64::MAX as u64) as Time;
+        self.wall.now().saturating_add(max)
     }
 
     /// The plan repair part of a cycle at `now`; `clock` is the executive's clock (mission time, ms since
@@ -112,6 +114,7 @@ impl Executive {
         }
         let (max_steps, deadline) = self.cycle_budget(clock);
         let wall = self.cycle_wall_deadline();
+        let wall_clock = self.wall.clone();
         // ExecutingPlan is about to change: an insertion rooted at it starts again.
         self.plan.restart_insertion();
         let Some(rep) = self.repair.tree.as_mut() else {
@@ -121,7 +124,7 @@ impl Executive {
         let outcome = loop {
             if rep.search.steps() - first >= max_steps
                 || deadline.is_some_and(|d| clock.now() >= d)
-                || std::time::Instant::now() >= wall
+                || wall_clock.now() >= wall
             {
                 break None;
             }

@@ -147,10 +147,11 @@ pub fn plan_until_limit(
 
 /// What bounds a replanning attempt besides the time limit l: steps, wall time, and the plan's size (its
 /// memory), whatever a step costs.
-#[derive(Clone, Copy, Debug)]
-pub struct AttemptBounds {
+#[derive(Clone, Copy)]
+pub struct AttemptBounds<'a> {
     pub max_steps: u64,
-    pub wall: Option<Instant>,
+    /// The wall-time end and the (companion's) clock it is read on.
+    pub wall: Option<(Time, &'a dyn super::clock::Clock)>,
     pub max_actions: usize,
 }
 
@@ -159,7 +160,7 @@ pub fn plan_within(
     search: &mut Search,
     t_end: Timepoint,
     slack: Time,
-    bounds: AttemptBounds,
+    bounds: AttemptBounds<'_>,
     clock: &dyn super::clock::Clock,
 ) -> AttemptEnd {
     let limit = |s: &Search| s.plan().latest(t_end).saturating_sub(slack);
@@ -167,7 +168,7 @@ pub fn plan_within(
         if search.steps() >= bounds.max_steps {
             return AttemptEnd::StepCap;
         }
-        if bounds.wall.is_some_and(|w| Instant::now() >= w) {
+        if bounds.wall.is_some_and(|(end, wall)| wall.now() >= end) {
             return AttemptEnd::WallBudget;
         }
         if search.plan().num_actions() >= bounds.max_actions {
@@ -320,7 +321,10 @@ impl Executive {
         steps: &mut u64,
     ) -> ReplanResult {
         self.journal.replanning();
-        let wall_end = Instant::now() + Duration::from_millis(self.cfg.replan_max_wall_ms);
+        let wall = self.wall.clone();
+        let wall_end = wall
+            .now()
+            .saturating_add(self.cfg.replan_max_wall_ms.min(i64::MAX as u64) as Time);
         let mut dropped: Vec<GoalId> = Vec::new();
         let first_cap = self.replan_step_cap();
         let budget = first_cap.saturating_mul(2);
@@ -381,8 +385,14 @@ impl Executive {
                 );
                 // A goal no plan achieves even alone is rejected at once, with why, rather than costing
                 // every goal after it an attempt; a plan found for a goal alone is kept as a fallback.
-                let singles =
-                    single_goal_searches_until(&ext.plan, STEPS_PER_GOAL, false, Some(wall_end));
+                // The planner's bound is an `Instant`: the wall time left, from the companion's clock.
+                let left = Duration::from_millis(wall_end.saturating_sub(wall.now()).max(0) as u64);
+                let singles = single_goal_searches_until(
+                    &ext.plan,
+                    STEPS_PER_GOAL,
+                    false,
+                    Some(Instant::now() + left),
+                );
                 *steps += singles.steps;
                 for u in singles.unreachable {
                     let reason = FateReason::Unreachable {
@@ -416,10 +426,11 @@ impl Executive {
             let alone = goals.len() == 1;
             let mut search = Search::new(ext.plan).bounded_regress();
             // Half of the wall time left (the last goal gets all of it): later attempts keep some.
-            let left = wall_end.saturating_duration_since(Instant::now());
+            let now = wall.now();
+            let left = wall_end.saturating_sub(now).max(0);
             let bounds = AttemptBounds {
                 max_steps,
-                wall: Some(Instant::now() + if alone { left } else { left / 2 }),
+                wall: Some((now + if alone { left } else { left / 2 }, &*wall)),
                 max_actions: self.cfg.plan_max_actions,
             };
             let end = plan_within(&mut search, t_end, slack, bounds, clock);

@@ -31,4 +31,5 @@ mod exec_reserve;
 mod exec_rover;
 mod exec_rules;
 mod exec_squeeze;
+mod exec_wall_budget;
 mod geodesy_one_model;
