@@ -14,6 +14,7 @@
 
 pub mod deorder;
 pub mod embed;
+pub mod novelty;
 pub mod relaxed;
 pub mod search;
 
