@@ -30,7 +30,8 @@ pub enum Flaw {
 }
 
 /// A threat candidate's event (or link) with at least this many candidates undecided by the bounds has them
-/// decided by one pair of shortest-path trees rather than one search each.
+/// decided by one pair of shortest-path trees rather than one search each — unless the network keeps its
+/// matrix of paths: a query is then a look-up, and a tree a whole row or column of it.
 const BATCH: usize = 16;
 
 /// The timepoints whose order decides a threat candidate: the threatening event's, the link's
@@ -67,16 +68,16 @@ impl PartialPlan {
     pub fn check_threat(&self, e: EventId, l: LinkId) -> ThreatCheck {
         match self.threat_window(e, l) {
             Err(check) => check,
-            Ok(w) => {
-                if necessarily_after(&self.stn, w.event, w.establisher, 1)
-                    || necessarily_after(&self.stn, w.cond_end, w.event, w.end_delay)
-                {
-                    ThreatCheck::Resolved
-                } else {
-                    ThreatCheck::Threat
-                }
-            }
+            Ok(w) => self.window_verdict(&w),
         }
+    }
+
+    /// Whether the order of a threat candidate's timepoints resolves it.
+    fn window_verdict(&self, w: &ThreatWindow) -> ThreatCheck {
+        threat_verdict(
+            necessarily_after(&self.stn, w.event, w.establisher, 1)
+                || necessarily_after(&self.stn, w.cond_end, w.event, w.end_delay),
+        )
     }
 
     /// Whether `e` can never threaten `l`, whatever happens to the plan: `e` establishes `l`, or `l` supports
@@ -138,11 +139,13 @@ impl PartialPlan {
     /// Candidates the bounds cannot decide are answered by shortest paths; when one event has many of them
     /// (a new action's events, a plan just built, or candidates recomputed by the executive: ~n per event),
     /// two searches from that event answer them all instead of one search per candidate; likewise two
-    /// searches from a link's ends for a new link's candidates. The answers are the same.
+    /// searches from a link's ends for a new link's candidates. The answers are the same. With the matrix of
+    /// paths kept, each is answered by its look-ups at once.
     pub fn live_threats(&mut self) -> Vec<(EventId, LinkId)> {
         let pending = self.threats.pending();
         let mut verdicts: Vec<(usize, ThreatCheck)> = Vec::with_capacity(pending.len());
         let mut open: Vec<(usize, ThreatWindow)> = Vec::new();
+        let paths = self.stn.has_paths();
         for i in pending {
             let c = self.threats.get(i);
             if self.never_threatens(c.a, c.b) {
@@ -162,6 +165,7 @@ impl PartialPlan {
             match (first, second) {
                 (Some(true), _) | (_, Some(true)) => verdicts.push((i, ThreatCheck::Resolved)),
                 (Some(false), Some(false)) => verdicts.push((i, ThreatCheck::Threat)),
+                _ if paths => verdicts.push((i, self.window_verdict(&w))),
                 _ => open.push((i, w)),
             }
         }
