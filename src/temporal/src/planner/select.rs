@@ -21,7 +21,7 @@ use std::cmp::Reverse;
 
 use super::hierarchy::Hierarchy;
 use super::resolvers::{refine, resolvers, resolvers_below, Resolver};
-use crate::plan::{Flaw, PartialPlan};
+use crate::plan::{CondId, EventId, Flaw, LinkId, PartialPlan, UsageId};
 
 /// Rank of a flaw on an attribute in the hierarchy (higher first): attribute levels doubled, so that
 /// resource conflicts can sit between two levels.
@@ -181,18 +181,22 @@ fn rank_open(
 }
 
 /// The live threats, unary conflicts and open conditions with their ranks, and the best rank present.
-type Ranked = Vec<(Flaw, u64)>;
-fn ranked_flaws(
-    plan: &mut PartialPlan,
-    h: &Hierarchy,
-    order: Order,
-) -> (Ranked, Ranked, Ranked, u64) {
-    let threats: Vec<(Flaw, u64)> = plan
+/// Listed as their identifiers (a [`Flaw`] is as large as a reservoir conflict: copying and sorting
+/// hundreds of them at every step showed in the profile); [`ranked`] makes the flaws.
+type Ranked<T> = Vec<(T, u64)>;
+type RankedFlaws = (
+    Ranked<(EventId, LinkId)>,
+    Ranked<(UsageId, UsageId)>,
+    Ranked<CondId>,
+    u64,
+);
+fn ranked_flaws(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> RankedFlaws {
+    let threats: Ranked<(EventId, LinkId)> = plan
         .live_threats()
         .into_iter()
         .map(|(event, link)| {
             let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
-            (Flaw::Threat { event, link }, rank)
+            ((event, link), rank)
         })
         .collect();
     // Conditions that take any value wait until no other open condition is left (see `open_condition`).
@@ -202,23 +206,23 @@ fn ranked_flaws(
     if open.is_empty() {
         open = any;
     }
-    let open: Vec<(Flaw, u64)> = open
+    let open: Ranked<CondId> = open
         .into_iter()
-        .map(|c| {
-            let f = Flaw::OpenCondition(c);
-            let rank = rank_open(plan, h, order, &f, c);
-            (f, rank)
-        })
+        .map(|c| (c, rank_open(plan, h, order, &Flaw::OpenCondition(c), c)))
         .collect();
-    let top = threats.iter().chain(&open).map(|&(_, r)| r).max();
+    let top = threats
+        .iter()
+        .map(|&(_, r)| r)
+        .chain(open.iter().map(|&(_, r)| r))
+        .max();
     // Unary conflicts rank below every other flaw but a static condition's: listed (a pass over them all)
     // only when nothing ranks above them, the only case the selection looks at them.
-    let unary: Vec<(Flaw, u64)> = if top.is_some_and(|t| t > RANK_UNARY) {
+    let unary: Ranked<(UsageId, UsageId)> = if top.is_some_and(|t| t > RANK_UNARY) {
         Vec::new()
     } else {
         plan.live_unary_conflicts()
             .into_iter()
-            .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
+            .map(|pair| (pair, RANK_UNARY))
             .collect()
     };
     let top = top
@@ -233,24 +237,34 @@ fn ranked_flaws(
 /// first, then most recent: the order the selection examines them in.
 fn open_candidates(
     plan: &PartialPlan,
-    open: Vec<(Flaw, u64)>,
+    open: Ranked<CondId>,
     top: u64,
 ) -> Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> {
-    let mut candidates: Vec<_> = open
+    let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, u64)> = open
         .into_iter()
         .filter(|&(_, rank)| rank >= top)
-        .filter_map(|(f, rank)| match f {
-            Flaw::OpenCondition(c) => Some((
-                plan.stn.ub(plan.cond(c).from),
-                std::cmp::Reverse(c.0),
-                f,
-                rank,
-            )),
-            _ => None,
-        })
+        .map(|(c, rank)| (plan.stn.ub(plan.cond(c).from), std::cmp::Reverse(c.0), rank))
         .collect();
-    candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+    candidates.sort_by_key(|&(u, r, _)| (u, r));
     candidates
+        .into_iter()
+        .map(|(u, r, rank)| (u, r, Flaw::OpenCondition(CondId(r.0)), rank))
+        .collect()
+}
+
+/// The threats, then the unary conflicts, as flaws with their ranks (the order the selection examines
+/// them in).
+fn ranked(
+    threats: Ranked<(EventId, LinkId)>,
+    unary: Ranked<(UsageId, UsageId)>,
+) -> impl Iterator<Item = (Flaw, u64)> {
+    let threats = threats
+        .into_iter()
+        .map(|((event, link), rank)| (Flaw::Threat { event, link }, rank));
+    let unary = unary
+        .into_iter()
+        .map(|((a, b), rank)| (Flaw::UnaryConflict { a, b }, rank));
+    threats.chain(unary)
 }
 
 /// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
@@ -289,7 +303,7 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> Option<(Flaw
         let rank = rank_reservoir(plan, h, &f);
         best.consider(key(rank, &rs, false, 2, 0, 0), (1, i), f, rs);
     }
-    for (i, (f, rank)) in threats.into_iter().chain(unary).enumerate() {
+    for (i, (f, rank)) in ranked(threats, unary).enumerate() {
         if rank < top {
             continue;
         }
@@ -390,7 +404,7 @@ mod tests {
                 best = Some((key, f, rs));
             }
         };
-        for (f, rank) in threats.into_iter().chain(unary) {
+        for (f, rank) in ranked(threats, unary) {
             if rank < top {
                 continue;
             }
