@@ -234,15 +234,33 @@ impl PartialPlan {
     /// The live unary-resource conflicts (marks resolved candidates done).
     pub fn live_unary_conflicts(&mut self) -> Vec<(UsageId, UsageId)> {
         let mut out = Vec::new();
-        for i in self.unary.pending() {
-            let Candidate { a, b, .. } = self.unary.get(i);
-            match self.check_unary(a, b) {
-                Some(true) => out.push((a, b)),
-                Some(false) => self.mark_unary_done(i),
-                None => {}
+        for i in self.unary_candidates() {
+            if self.unary_live(i) == Some(true) {
+                out.push(self.unary_pair(i));
             }
         }
         out
+    }
+
+    /// The unary-resource candidates not resolved yet (indices, in the order they were recorded).
+    pub(crate) fn unary_candidates(&mut self) -> Vec<usize> {
+        self.unary.pending()
+    }
+
+    /// The two borrowings of unary candidate `i`.
+    pub(crate) fn unary_pair(&self, i: usize) -> (UsageId, UsageId) {
+        let Candidate { a, b, .. } = self.unary.get(i);
+        (a, b)
+    }
+
+    /// [`Self::check_unary`] of candidate `i`, marked done when ordered for good.
+    pub(crate) fn unary_live(&mut self, i: usize) -> Option<bool> {
+        let (a, b) = self.unary_pair(i);
+        let live = self.check_unary(a, b);
+        if live == Some(false) {
+            self.mark_unary_done(i);
+        }
+        live
     }
 
     /// The reservoir conflicts (re-checks the reservoirs marked dirty, marks clean ones).

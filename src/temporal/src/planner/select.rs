@@ -347,13 +347,20 @@ pub fn propagate_forced(
         }
         applied |= apply_if_forced(plan, &Flaw::Threat { event, link })?;
     }
-    let conflicts = plan.live_unary_conflicts();
-    applied = false; // listed after the threats' constraints
-    for (a, b) in conflicts {
-        if applied && plan.check_unary(a, b) != Some(true) {
+    // Unary conflicts, each examined in the current network: its ordering resolvers first, and only when
+    // fewer than two remain whether it is still a conflict (a pair that can go either way is not forced,
+    // ordered for good or not: its verdict waits for a listing of the live conflicts). There are ~n² of
+    // them while the tour is being built, nearly all with both orders possible: this pass asks two
+    // ordering queries of those instead of four.
+    for i in plan.unary_candidates() {
+        let (a, b) = plan.unary_pair(i);
+        let f = Flaw::UnaryConflict { a, b };
+        let Some(rs) = resolvers_below(plan, &f, 2) else {
             continue;
+        };
+        if plan.unary_live(i) == Some(true) {
+            apply_forced(plan, &f, &rs)?;
         }
-        applied |= apply_if_forced(plan, &Flaw::UnaryConflict { a, b })?;
     }
     // Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
     // order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
@@ -382,7 +389,17 @@ fn apply_if_forced(plan: &mut PartialPlan, f: &Flaw) -> Result<bool, crate::plan
     let Some(rs) = resolvers_below(plan, f, 2) else {
         return Ok(false);
     };
-    match rs.as_slice() {
+    apply_forced(plan, f, &rs)
+}
+
+/// Fails on a flaw without resolver, applies the only one of a flaw that has one (and inserts nothing);
+/// whether it applied one.
+fn apply_forced(
+    plan: &mut PartialPlan,
+    f: &Flaw,
+    rs: &[Resolver],
+) -> Result<bool, crate::plan::PlanError> {
+    match rs {
         [] => Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(f))),
         [r] if !r.inserts() => super::resolvers::apply(plan, r).map(|()| true),
         _ => Ok(false),
