@@ -231,6 +231,31 @@ impl PartialPlan {
         out
     }
 
+    /// The threat candidates not resolved yet (indices, in the order they were recorded).
+    pub(crate) fn threat_candidates(&mut self) -> Vec<usize> {
+        self.threats.pending()
+    }
+
+    /// The event and the link of threat candidate `i`.
+    pub(crate) fn threat_pair(&self, i: usize) -> (EventId, LinkId) {
+        let Candidate { a, b, .. } = self.threats.get(i);
+        (a, b)
+    }
+
+    /// [`Self::check_threat`] of candidate `i`, marked done when resolved for good.
+    pub(crate) fn threat_live(&mut self, i: usize) -> ThreatCheck {
+        let (e, l) = self.threat_pair(i);
+        let check = if self.never_threatens(e, l) {
+            ThreatCheck::Resolved
+        } else {
+            self.check_threat(e, l)
+        };
+        if check == ThreatCheck::Resolved {
+            self.mark_threat_done(i);
+        }
+        check
+    }
+
     /// The live unary-resource conflicts (marks resolved candidates done).
     pub fn live_unary_conflicts(&mut self) -> Vec<(UsageId, UsageId)> {
         let mut out = Vec::new();

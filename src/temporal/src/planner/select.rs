@@ -335,23 +335,22 @@ pub fn propagate_forced(
     h: &Hierarchy,
     order: Order,
 ) -> Result<(), crate::plan::PlanError> {
-    // One pass: a conflict made forced by a constraint applied in this pass waits for the next step's
-    // pass (a full re-scan per application would cost more than it prunes).
-    // A conflict listed live may have been resolved by a constraint applied earlier in the pass: checked
-    // again only once something was applied.
-    let mut applied = false;
-    let threats = plan.live_threats();
-    for (event, link) in threats {
-        if applied && plan.check_threat(event, link) != crate::plan::ThreatCheck::Threat {
+    // One pass over the threats, then one over the unary conflicts (a full re-scan per application would
+    // cost more than it prunes). Each candidate is examined in the current network, constraints applied
+    // earlier in the pass included: its resolvers first, and only when fewer than two remain whether it
+    // is still a conflict — one that can be resolved in two ways is not forced, resolved for good or not,
+    // and its verdict waits for a listing of the live flaws. Nearly all of them can while the tour is
+    // being built (~n² unary conflicts): this asks two ordering queries of those instead of four.
+    for i in plan.threat_candidates() {
+        let (event, link) = plan.threat_pair(i);
+        let f = Flaw::Threat { event, link };
+        let Some(rs) = resolvers_below(plan, &f, 2) else {
             continue;
+        };
+        if plan.threat_live(i) == crate::plan::ThreatCheck::Threat {
+            apply_forced(plan, &f, &rs)?;
         }
-        applied |= apply_if_forced(plan, &Flaw::Threat { event, link })?;
     }
-    // Unary conflicts, each examined in the current network: its ordering resolvers first, and only when
-    // fewer than two remain whether it is still a conflict (a pair that can go either way is not forced,
-    // ordered for good or not: its verdict waits for a listing of the live conflicts). There are ~n² of
-    // them while the tour is being built, nearly all with both orders possible: this pass asks two
-    // ordering queries of those instead of four.
     for i in plan.unary_candidates() {
         let (a, b) = plan.unary_pair(i);
         let f = Flaw::UnaryConflict { a, b };
@@ -384,25 +383,17 @@ pub fn propagate_forced(
     Ok(())
 }
 
-fn apply_if_forced(plan: &mut PartialPlan, f: &Flaw) -> Result<bool, crate::plan::PlanError> {
-    // Only whether there are 0, 1 or more resolvers matters here.
-    let Some(rs) = resolvers_below(plan, f, 2) else {
-        return Ok(false);
-    };
-    apply_forced(plan, f, &rs)
-}
-
-/// Fails on a flaw without resolver, applies the only one of a flaw that has one (and inserts nothing);
-/// whether it applied one.
+/// Fails on a flaw without resolver, applies the only resolver of a flaw that has one (unless it inserts
+/// an action: that is a choice of the selection's).
 fn apply_forced(
     plan: &mut PartialPlan,
     f: &Flaw,
     rs: &[Resolver],
-) -> Result<bool, crate::plan::PlanError> {
+) -> Result<(), crate::plan::PlanError> {
     match rs {
         [] => Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(f))),
-        [r] if !r.inserts() => super::resolvers::apply(plan, r).map(|()| true),
-        _ => Ok(false),
+        [r] if !r.inserts() => super::resolvers::apply(plan, r),
+        _ => Ok(()),
     }
 }
 
