@@ -9,6 +9,8 @@
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
 mod controllability;
+#[cfg(test)]
+mod forced_tests;
 pub mod forward;
 pub mod hierarchy;
 pub mod reachability;

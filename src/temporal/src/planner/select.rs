@@ -361,10 +361,18 @@ pub fn propagate_forced(
             apply_forced(plan, &f, &rs)?;
         }
     }
-    // Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
-    // order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
-    // dead end now, and one left with a single fact is linked to it (which may bind variables further —
-    // checked at the next step's pass).
+    forward_check_statics(plan, h, order)
+}
+
+/// Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
+/// order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
+/// dead end now, and one left with a single fact is linked to it (which may bind variables further —
+/// checked at the next step's pass).
+pub(super) fn forward_check_statics(
+    plan: &mut PartialPlan,
+    h: &Hierarchy,
+    order: Order,
+) -> Result<(), crate::plan::PlanError> {
     if order != Order::StaticChoicesLast {
         return Ok(());
     }
@@ -385,7 +393,7 @@ pub fn propagate_forced(
 
 /// Fails on a flaw without resolver, applies the only resolver of a flaw that has one (unless it inserts
 /// an action: that is a choice of the selection's).
-fn apply_forced(
+pub(super) fn apply_forced(
     plan: &mut PartialPlan,
     f: &Flaw,
     rs: &[Resolver],
