@@ -48,32 +48,14 @@ fn after_pass(plan: &mut PartialPlan, outcome: Result<(), PlanError>) -> String 
     format!("{outcome:?}\n{constraints:?}\n{:?}", plan.flaws())
 }
 
-/// On generated rover grids and the shipped problems, at every step of the search, each resolver of the
+/// On generated rover grids, the shipped problems and a grid with too short a horizon, at every step of the search, each resolver of the
 /// selected flaw applied and followed by either pass leaves the same plan (or the same dead end).
 #[test]
 fn forced_pass_equals_the_listing_pass() {
-    let domains =
-        std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("domains");
-    let rover = Arc::new(
-        crate::lang::load_domain(&domains.join("rover").join("rover.ixt")).expect("rover domain"),
-    );
-    let mut problems = Vec::new();
-    for n in [3, 7, 12] {
-        let text = crate::lang::generate::rover_grid_problem(n);
-        problems.push(
-            crate::lang::parse_problem(&format!("grid{n}"), &text, &rover).expect("grid problem"),
-        );
-    }
+    let (rover, mut problems) = super::test_problems::rover_problems();
     // A horizon too short for every tour: forced orderings that contradict each other (dead ends).
     let tight = crate::lang::generate::rover_grid_problem(6).replace("horizon 6h", "horizon 2min");
     problems.push(crate::lang::parse_problem("tight", &tight, &rover).expect("tight problem"));
-    for name in ["fig2", "dala"] {
-        let path = domains
-            .join("rover")
-            .join("problems")
-            .join(format!("{name}.ixt"));
-        problems.push(crate::lang::load_problem(&path, &rover).expect("rover problem"));
-    }
     let (mut applied, mut dead_ends) = (0, 0);
     for p in problems {
         let steps = if p.name == "tight" { 300 } else { 2_000 };

@@ -16,6 +16,8 @@ pub mod hierarchy;
 pub mod reachability;
 pub mod resolvers;
 pub mod select;
+#[cfg(test)]
+mod test_problems;
 
 use std::time::Instant;
 

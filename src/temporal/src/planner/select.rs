@@ -457,27 +457,7 @@ mod tests {
     /// selection equals the exhaustive one (flaw and ordered resolvers).
     #[test]
     fn lazy_pick_equals_exhaustive() {
-        let domains =
-            std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("domains");
-        let rover = Arc::new(
-            crate::lang::load_domain(&domains.join("rover").join("rover.ixt"))
-                .expect("rover domain"),
-        );
-        let mut problems = Vec::new();
-        for n in [3, 7, 12] {
-            let text = crate::lang::generate::rover_grid_problem(n);
-            problems.push(
-                crate::lang::parse_problem(&format!("grid{n}"), &text, &rover)
-                    .expect("grid problem"),
-            );
-        }
-        for name in ["fig2", "dala"] {
-            let path = domains
-                .join("rover")
-                .join("problems")
-                .join(format!("{name}.ixt"));
-            problems.push(crate::lang::load_problem(&path, &rover).expect("rover problem"));
-        }
+        let (rover, problems) = crate::planner::test_problems::rover_problems();
         for p in problems {
             let root = PartialPlan::new(rover.clone(), Arc::new(p)).expect("root plan");
             let mut search = crate::planner::Search::new(root);
