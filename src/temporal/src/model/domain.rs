@@ -192,7 +192,14 @@ impl Domain {
     pub fn tasks_establishing(&self, attr: AttrId) -> Vec<TaskId> {
         (0..self.tasks.len())
             .map(TaskId::from_index)
-            .filter(|&t| self.task(t).main_attributes().contains(&attr))
+            // A main attribute is one a primary event changes ([`Task::main_attributes`]), tested without
+            // listing them: the planner asks this for every open condition it examines.
+            .filter(|&t| {
+                self.task(t)
+                    .events
+                    .iter()
+                    .any(|e| e.primary && e.attr == attr)
+            })
             .collect()
     }
 

@@ -30,7 +30,8 @@ pub enum Flaw {
 }
 
 /// A threat candidate's event (or link) with at least this many candidates undecided by the bounds has them
-/// decided by one pair of shortest-path trees rather than one search each.
+/// decided by one pair of shortest-path trees rather than one search each — unless the network keeps its
+/// matrix of paths: a query is then a look-up, and a tree a whole row or column of it.
 const BATCH: usize = 16;
 
 /// The timepoints whose order decides a threat candidate: the threatening event's, the link's
@@ -67,16 +68,16 @@ impl PartialPlan {
     pub fn check_threat(&self, e: EventId, l: LinkId) -> ThreatCheck {
         match self.threat_window(e, l) {
             Err(check) => check,
-            Ok(w) => {
-                if necessarily_after(&self.stn, w.event, w.establisher, 1)
-                    || necessarily_after(&self.stn, w.cond_end, w.event, w.end_delay)
-                {
-                    ThreatCheck::Resolved
-                } else {
-                    ThreatCheck::Threat
-                }
-            }
+            Ok(w) => self.window_verdict(&w),
         }
+    }
+
+    /// Whether the order of a threat candidate's timepoints resolves it.
+    fn window_verdict(&self, w: &ThreatWindow) -> ThreatCheck {
+        threat_verdict(
+            necessarily_after(&self.stn, w.event, w.establisher, 1)
+                || necessarily_after(&self.stn, w.cond_end, w.event, w.end_delay),
+        )
     }
 
     /// Whether `e` can never threaten `l`, whatever happens to the plan: `e` establishes `l`, or `l` supports
@@ -138,11 +139,13 @@ impl PartialPlan {
     /// Candidates the bounds cannot decide are answered by shortest paths; when one event has many of them
     /// (a new action's events, a plan just built, or candidates recomputed by the executive: ~n per event),
     /// two searches from that event answer them all instead of one search per candidate; likewise two
-    /// searches from a link's ends for a new link's candidates. The answers are the same.
+    /// searches from a link's ends for a new link's candidates. The answers are the same. With the matrix of
+    /// paths kept, each is answered by its look-ups at once.
     pub fn live_threats(&mut self) -> Vec<(EventId, LinkId)> {
         let pending = self.threats.pending();
         let mut verdicts: Vec<(usize, ThreatCheck)> = Vec::with_capacity(pending.len());
         let mut open: Vec<(usize, ThreatWindow)> = Vec::new();
+        let paths = self.stn.has_paths();
         for i in pending {
             let c = self.threats.get(i);
             if self.never_threatens(c.a, c.b) {
@@ -162,6 +165,7 @@ impl PartialPlan {
             match (first, second) {
                 (Some(true), _) | (_, Some(true)) => verdicts.push((i, ThreatCheck::Resolved)),
                 (Some(false), Some(false)) => verdicts.push((i, ThreatCheck::Threat)),
+                _ if paths => verdicts.push((i, self.window_verdict(&w))),
                 _ => open.push((i, w)),
             }
         }
@@ -227,18 +231,61 @@ impl PartialPlan {
         out
     }
 
+    /// The threat candidates not resolved yet (indices, in the order they were recorded).
+    pub(crate) fn threat_candidates(&mut self) -> Vec<usize> {
+        self.threats.pending()
+    }
+
+    /// The event and the link of threat candidate `i`.
+    pub(crate) fn threat_pair(&self, i: usize) -> (EventId, LinkId) {
+        let Candidate { a, b, .. } = self.threats.get(i);
+        (a, b)
+    }
+
+    /// [`Self::check_threat`] of candidate `i`, marked done when resolved for good.
+    pub(crate) fn threat_live(&mut self, i: usize) -> ThreatCheck {
+        let (e, l) = self.threat_pair(i);
+        let check = if self.never_threatens(e, l) {
+            ThreatCheck::Resolved
+        } else {
+            self.check_threat(e, l)
+        };
+        if check == ThreatCheck::Resolved {
+            self.mark_threat_done(i);
+        }
+        check
+    }
+
     /// The live unary-resource conflicts (marks resolved candidates done).
     pub fn live_unary_conflicts(&mut self) -> Vec<(UsageId, UsageId)> {
         let mut out = Vec::new();
-        for i in self.unary.pending() {
-            let Candidate { a, b, .. } = self.unary.get(i);
-            match self.check_unary(a, b) {
-                Some(true) => out.push((a, b)),
-                Some(false) => self.mark_unary_done(i),
-                None => {}
+        for i in self.unary_candidates() {
+            if self.unary_live(i) == Some(true) {
+                out.push(self.unary_pair(i));
             }
         }
         out
+    }
+
+    /// The unary-resource candidates not resolved yet (indices, in the order they were recorded).
+    pub(crate) fn unary_candidates(&mut self) -> Vec<usize> {
+        self.unary.pending()
+    }
+
+    /// The two borrowings of unary candidate `i`.
+    pub(crate) fn unary_pair(&self, i: usize) -> (UsageId, UsageId) {
+        let Candidate { a, b, .. } = self.unary.get(i);
+        (a, b)
+    }
+
+    /// [`Self::check_unary`] of candidate `i`, marked done when ordered for good.
+    pub(crate) fn unary_live(&mut self, i: usize) -> Option<bool> {
+        let (a, b) = self.unary_pair(i);
+        let live = self.check_unary(a, b);
+        if live == Some(false) {
+            self.mark_unary_done(i);
+        }
+        live
     }
 
     /// The reservoir conflicts (re-checks the reservoirs marked dirty, marks clean ones).

@@ -9,11 +9,15 @@
 //! root plan for planning, the partially executed *ExecutingPlan* for plan repair (§3.4).
 
 mod controllability;
+#[cfg(test)]
+mod forced_tests;
 pub mod forward;
 pub mod hierarchy;
 pub mod reachability;
 pub mod resolvers;
 pub mod select;
+#[cfg(test)]
+mod test_problems;
 
 use std::time::Instant;
 

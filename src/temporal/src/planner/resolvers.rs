@@ -236,11 +236,12 @@ fn open_condition(plan: &PartialPlan, c: CondId, limit: usize) -> Option<Vec<Res
     let mut existing: Vec<(Time, u32)> = Vec::new();
     let mut undecided: Vec<crate::plan::EventId> = Vec::new();
     for &e in plan.events_on(cond.attr) {
-        if Some(e) == own || !plan.event_in_effect(e) {
-            continue;
-        }
+        // The value first: it rules out most events (half of them change the attribute to `+oo`), and
+        // reads only the event, not its action.
         let ev = plan.event(e);
-        if !b.possibly_equal(ev.to, cond.value)
+        if Some(e) == own
+            || !b.possibly_equal(ev.to, cond.value)
+            || !plan.event_in_effect(e)
             || ev
                 .args
                 .iter()

@@ -21,7 +21,7 @@ use std::cmp::Reverse;
 
 use super::hierarchy::Hierarchy;
 use super::resolvers::{refine, resolvers, resolvers_below, Resolver};
-use crate::plan::{Flaw, PartialPlan};
+use crate::plan::{CondId, EventId, Flaw, LinkId, PartialPlan, UsageId};
 
 /// Rank of a flaw on an attribute in the hierarchy (higher first): attribute levels doubled, so that
 /// resource conflicts can sit between two levels.
@@ -181,18 +181,22 @@ fn rank_open(
 }
 
 /// The live threats, unary conflicts and open conditions with their ranks, and the best rank present.
-type Ranked = Vec<(Flaw, u64)>;
-fn ranked_flaws(
-    plan: &mut PartialPlan,
-    h: &Hierarchy,
-    order: Order,
-) -> (Ranked, Ranked, Ranked, u64) {
-    let threats: Vec<(Flaw, u64)> = plan
+/// Listed as their identifiers (a [`Flaw`] is as large as a reservoir conflict: copying and sorting
+/// hundreds of them at every step showed in the profile); [`ranked`] makes the flaws.
+type Ranked<T> = Vec<(T, u64)>;
+type RankedFlaws = (
+    Ranked<(EventId, LinkId)>,
+    Ranked<(UsageId, UsageId)>,
+    Ranked<CondId>,
+    u64,
+);
+fn ranked_flaws(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> RankedFlaws {
+    let threats: Ranked<(EventId, LinkId)> = plan
         .live_threats()
         .into_iter()
         .map(|(event, link)| {
             let rank = rank_attr(h, plan.cond(plan.link(link).cond).attr);
-            (Flaw::Threat { event, link }, rank)
+            ((event, link), rank)
         })
         .collect();
     // Conditions that take any value wait until no other open condition is left (see `open_condition`).
@@ -202,23 +206,23 @@ fn ranked_flaws(
     if open.is_empty() {
         open = any;
     }
-    let open: Vec<(Flaw, u64)> = open
+    let open: Ranked<CondId> = open
         .into_iter()
-        .map(|c| {
-            let f = Flaw::OpenCondition(c);
-            let rank = rank_open(plan, h, order, &f, c);
-            (f, rank)
-        })
+        .map(|c| (c, rank_open(plan, h, order, &Flaw::OpenCondition(c), c)))
         .collect();
-    let top = threats.iter().chain(&open).map(|&(_, r)| r).max();
+    let top = threats
+        .iter()
+        .map(|&(_, r)| r)
+        .chain(open.iter().map(|&(_, r)| r))
+        .max();
     // Unary conflicts rank below every other flaw but a static condition's: listed (a pass over them all)
     // only when nothing ranks above them, the only case the selection looks at them.
-    let unary: Vec<(Flaw, u64)> = if top.is_some_and(|t| t > RANK_UNARY) {
+    let unary: Ranked<(UsageId, UsageId)> = if top.is_some_and(|t| t > RANK_UNARY) {
         Vec::new()
     } else {
         plan.live_unary_conflicts()
             .into_iter()
-            .map(|(a, b)| (Flaw::UnaryConflict { a, b }, RANK_UNARY))
+            .map(|pair| (pair, RANK_UNARY))
             .collect()
     };
     let top = top
@@ -233,24 +237,34 @@ fn ranked_flaws(
 /// first, then most recent: the order the selection examines them in.
 fn open_candidates(
     plan: &PartialPlan,
-    open: Vec<(Flaw, u64)>,
+    open: Ranked<CondId>,
     top: u64,
 ) -> Vec<(i64, std::cmp::Reverse<u32>, Flaw, u64)> {
-    let mut candidates: Vec<_> = open
+    let mut candidates: Vec<(i64, std::cmp::Reverse<u32>, u64)> = open
         .into_iter()
         .filter(|&(_, rank)| rank >= top)
-        .filter_map(|(f, rank)| match f {
-            Flaw::OpenCondition(c) => Some((
-                plan.stn.ub(plan.cond(c).from),
-                std::cmp::Reverse(c.0),
-                f,
-                rank,
-            )),
-            _ => None,
-        })
+        .map(|(c, rank)| (plan.stn.ub(plan.cond(c).from), std::cmp::Reverse(c.0), rank))
         .collect();
-    candidates.sort_by_key(|&(u, r, _, _)| (u, r));
+    candidates.sort_by_key(|&(u, r, _)| (u, r));
     candidates
+        .into_iter()
+        .map(|(u, r, rank)| (u, r, Flaw::OpenCondition(CondId(r.0)), rank))
+        .collect()
+}
+
+/// The threats, then the unary conflicts, as flaws with their ranks (the order the selection examines
+/// them in).
+fn ranked(
+    threats: Ranked<(EventId, LinkId)>,
+    unary: Ranked<(UsageId, UsageId)>,
+) -> impl Iterator<Item = (Flaw, u64)> {
+    let threats = threats
+        .into_iter()
+        .map(|((event, link), rank)| (Flaw::Threat { event, link }, rank));
+    let unary = unary
+        .into_iter()
+        .map(|((a, b), rank)| (Flaw::UnaryConflict { a, b }, rank));
+    threats.chain(unary)
 }
 
 /// The selected flaw and its ordered resolvers; `None` when the plan has no flaw (a solution).
@@ -289,7 +303,7 @@ pub fn pick(plan: &mut PartialPlan, h: &Hierarchy, order: Order) -> Option<(Flaw
         let rank = rank_reservoir(plan, h, &f);
         best.consider(key(rank, &rs, false, 2, 0, 0), (1, i), f, rs);
     }
-    for (i, (f, rank)) in threats.into_iter().chain(unary).enumerate() {
+    for (i, (f, rank)) in ranked(threats, unary).enumerate() {
         if rank < top {
             continue;
         }
@@ -321,30 +335,44 @@ pub fn propagate_forced(
     h: &Hierarchy,
     order: Order,
 ) -> Result<(), crate::plan::PlanError> {
-    // One pass: a conflict made forced by a constraint applied in this pass waits for the next step's
-    // pass (a full re-scan per application would cost more than it prunes).
-    // A conflict listed live may have been resolved by a constraint applied earlier in the pass: checked
-    // again only once something was applied.
-    let mut applied = false;
-    let threats = plan.live_threats();
-    for (event, link) in threats {
-        if applied && plan.check_threat(event, link) != crate::plan::ThreatCheck::Threat {
+    // One pass over the threats, then one over the unary conflicts (a full re-scan per application would
+    // cost more than it prunes). Each candidate is examined in the current network, constraints applied
+    // earlier in the pass included: its resolvers first, and only when fewer than two remain whether it
+    // is still a conflict — one that can be resolved in two ways is not forced, resolved for good or not,
+    // and its verdict waits for a listing of the live flaws. Nearly all of them can while the tour is
+    // being built (~n² unary conflicts): this asks two ordering queries of those instead of four.
+    for i in plan.threat_candidates() {
+        let (event, link) = plan.threat_pair(i);
+        let f = Flaw::Threat { event, link };
+        let Some(rs) = resolvers_below(plan, &f, 2) else {
             continue;
+        };
+        if plan.threat_live(i) == crate::plan::ThreatCheck::Threat {
+            apply_forced(plan, &f, &rs)?;
         }
-        applied |= apply_if_forced(plan, &Flaw::Threat { event, link })?;
     }
-    let conflicts = plan.live_unary_conflicts();
-    applied = false; // listed after the threats' constraints
-    for (a, b) in conflicts {
-        if applied && plan.check_unary(a, b) != Some(true) {
+    for i in plan.unary_candidates() {
+        let (a, b) = plan.unary_pair(i);
+        let f = Flaw::UnaryConflict { a, b };
+        let Some(rs) = resolvers_below(plan, &f, 2) else {
             continue;
+        };
+        if plan.unary_live(i) == Some(true) {
+            apply_forced(plan, &f, &rs)?;
         }
-        applied |= apply_if_forced(plan, &Flaw::UnaryConflict { a, b })?;
     }
-    // Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
-    // order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
-    // dead end now, and one left with a single fact is linked to it (which may bind variables further —
-    // checked at the next step's pass).
+    forward_check_statics(plan, h, order)
+}
+
+/// Forward checking of the static conditions left open by [`Order::StaticChoicesLast`] (the other
+/// order takes them first): they only constrain bindings, so one the bindings made unsupportable is a
+/// dead end now, and one left with a single fact is linked to it (which may bind variables further —
+/// checked at the next step's pass).
+pub(super) fn forward_check_statics(
+    plan: &mut PartialPlan,
+    h: &Hierarchy,
+    order: Order,
+) -> Result<(), crate::plan::PlanError> {
     if order != Order::StaticChoicesLast {
         return Ok(());
     }
@@ -363,15 +391,17 @@ pub fn propagate_forced(
     Ok(())
 }
 
-fn apply_if_forced(plan: &mut PartialPlan, f: &Flaw) -> Result<bool, crate::plan::PlanError> {
-    // Only whether there are 0, 1 or more resolvers matters here.
-    let Some(rs) = resolvers_below(plan, f, 2) else {
-        return Ok(false);
-    };
-    match rs.as_slice() {
+/// Fails on a flaw without resolver, applies the only resolver of a flaw that has one (unless it inserts
+/// an action: that is a choice of the selection's).
+pub(super) fn apply_forced(
+    plan: &mut PartialPlan,
+    f: &Flaw,
+    rs: &[Resolver],
+) -> Result<(), crate::plan::PlanError> {
+    match rs {
         [] => Err(crate::plan::PlanError::DeadEnd(plan.flaw_text(f))),
-        [r] if !r.inserts() => super::resolvers::apply(plan, r).map(|()| true),
-        _ => Ok(false),
+        [r] if !r.inserts() => super::resolvers::apply(plan, r),
+        _ => Ok(()),
     }
 }
 
@@ -390,7 +420,7 @@ mod tests {
                 best = Some((key, f, rs));
             }
         };
-        for (f, rank) in threats.into_iter().chain(unary) {
+        for (f, rank) in ranked(threats, unary) {
             if rank < top {
                 continue;
             }
@@ -427,27 +457,7 @@ mod tests {
     /// selection equals the exhaustive one (flaw and ordered resolvers).
     #[test]
     fn lazy_pick_equals_exhaustive() {
-        let domains =
-            std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("domains");
-        let rover = Arc::new(
-            crate::lang::load_domain(&domains.join("rover").join("rover.ixt"))
-                .expect("rover domain"),
-        );
-        let mut problems = Vec::new();
-        for n in [3, 7, 12] {
-            let text = crate::lang::generate::rover_grid_problem(n);
-            problems.push(
-                crate::lang::parse_problem(&format!("grid{n}"), &text, &rover)
-                    .expect("grid problem"),
-            );
-        }
-        for name in ["fig2", "dala"] {
-            let path = domains
-                .join("rover")
-                .join("problems")
-                .join(format!("{name}.ixt"));
-            problems.push(crate::lang::load_problem(&path, &rover).expect("rover problem"));
-        }
+        let (rover, problems) = crate::planner::test_problems::rover_problems();
         for p in problems {
             let root = PartialPlan::new(rover.clone(), Arc::new(p)).expect("root plan");
             let mut search = crate::planner::Search::new(root);
