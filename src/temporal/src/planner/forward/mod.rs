@@ -13,9 +13,11 @@
 //! happening (`?duration` the action's duration, evaluated in the state at its start).
 
 pub mod deorder;
+pub mod dominance;
 pub mod embed;
 pub mod relaxed;
 pub mod search;
+pub mod shortfall;
 
 pub use embed::{embed, EmbedError};
 pub use search::{Forward, ForwardOutcome};
@@ -72,6 +74,23 @@ pub struct NumCond {
     pub cmp: Cmp,
     pub lhs: NumExpr,
     pub rhs: NumExpr,
+}
+
+impl NumCond {
+    /// The variable it bounds from below, when it is `v >= e` or `v > e` (or `e <= v`, `e < v`) with
+    /// `e` reading no variable.
+    pub fn lower_bound(&self) -> Option<u32> {
+        let constant = |e: &NumExpr| {
+            let mut vars = Vec::new();
+            e.vars(&mut vars);
+            vars.is_empty()
+        };
+        match (&self.lhs, &self.rhs, self.cmp) {
+            (NumExpr::Var(v), r, Cmp::Ge | Cmp::Gt) if constant(r) => Some(*v),
+            (l, NumExpr::Var(v), Cmp::Le | Cmp::Lt) if constant(l) => Some(*v),
+            _ => None,
+        }
+    }
 }
 
 /// `(op var expr)`: `increase`, `decrease`, `assign`, `scale-up`, `scale-down`.
@@ -294,6 +313,11 @@ impl State {
             bits: vec![0; n_atoms.div_ceil(64)].into_boxed_slice(),
             nums: Box::new([]),
         }
+    }
+
+    /// Its true atoms, as bits (states with the same atoms have the same bits).
+    pub fn atoms(&self) -> &[u64] {
+        &self.bits
     }
 
     pub fn has(&self, a: AtomId) -> bool {

@@ -13,6 +13,7 @@
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
+use super::dominance::Dominance;
 use super::relaxed::Relaxed;
 use super::{GroundTask, State};
 
@@ -34,13 +35,15 @@ pub enum ForwardOutcome {
 /// An evaluated state and how it was reached.
 struct Node {
     state: State,
+    /// The resources its path consumed ([`Dominance::consumed`], summed along it).
+    consumed: u32,
     parent: u32,
     action: u32,
 }
 
 /// Entries `(h_FF of the parent, insertion number, parent node, action)`: the successor is computed and
 /// evaluated when the entry is taken.
-type Open = BinaryHeap<Reverse<(u32, u32, u32, u32)>>;
+type Open = BinaryHeap<Reverse<(u32, u32, u32, u32, u32)>>;
 
 /// A resumable lazy greedy best-first search.
 pub struct Forward {
@@ -51,6 +54,10 @@ pub struct Forward {
     seen: HashMap<State, u32>,
     open: Open,
     helpful: Open,
+    /// Entries whose state is dominated by one evaluated before ([`Dominance`]), taken only when both
+    /// lists are empty, first filed first.
+    deferred: std::collections::VecDeque<(u32, u32)>,
+    dominance: Dominance,
     counter: u32,
     best_h: u32,
     boost: u32,
@@ -70,6 +77,8 @@ impl Forward {
             seen: HashMap::new(),
             open: BinaryHeap::new(),
             helpful: BinaryHeap::new(),
+            deferred: Default::default(),
+            dominance: Dominance::new(&task),
             counter: 0,
             best_h: u32::MAX,
             boost: 0,
@@ -87,8 +96,10 @@ impl Forward {
             Some(e) => {
                 f.best_h = e.h_ff;
                 f.seen.insert(init.clone(), 0);
+                f.dominance.record(&init);
                 f.nodes.push(Node {
                     state: init,
+                    consumed: 0,
                     parent: u32::MAX,
                     action: u32::MAX,
                 });
@@ -121,7 +132,8 @@ impl Forward {
         out
     }
 
-    fn pop(&mut self) -> Option<(u32, u32)> {
+    /// The next entry, and whether it comes from the deferred list.
+    fn pop(&mut self) -> Option<(u32, u32, bool)> {
         let prefer_helpful = self.boost > 0 || self.turn;
         self.turn = !self.turn;
         let first = if prefer_helpful {
@@ -130,7 +142,9 @@ impl Forward {
         } else {
             self.open.pop().or_else(|| self.helpful.pop())
         };
-        first.map(|Reverse((_, _, parent, action))| (parent, action))
+        first
+            .map(|Reverse((_, _, _, parent, action))| (parent, action, false))
+            .or_else(|| self.deferred.pop_front().map(|(p, a)| (p, a, true)))
     }
 
     /// Files the successors of node `n` (h_FF `h`, helpful actions `helpful`, sorted) in the open lists:
@@ -147,7 +161,10 @@ impl Forward {
                 continue;
             }
             self.counter += 1;
-            let entry = Reverse((h, self.counter, n, i as u32));
+            let consumed = node
+                .consumed
+                .saturating_add(self.dominance.consumed(&node.state, &next));
+            let entry = Reverse((h, consumed, self.counter, n, i as u32));
             if helpful.binary_search(&(i as u32)).is_ok() {
                 self.helpful.push(entry);
             }
@@ -162,7 +179,7 @@ impl Forward {
         }
         let mut budget = max_expansions;
         while budget > 0 {
-            let Some((parent, action)) = self.pop() else {
+            let Some((parent, action, was_deferred)) = self.pop() else {
                 self.done = Some(ForwardOutcome::Exhausted);
                 return ForwardOutcome::Exhausted;
             };
@@ -176,13 +193,23 @@ impl Forward {
             if self.seen.contains_key(&next) {
                 continue; // reached since the entry was filed, or filed in both lists
             }
+            if !was_deferred && std::env::var("NO_DOM").is_err() && self.dominance.dominated(&next) {
+                self.deferred.push_back((parent, action));
+                continue;
+            }
+            self.dominance.record(&next);
             let id = self.nodes.len() as u32;
             self.seen.insert(next.clone(), id);
             budget -= 1;
             self.expanded += 1;
             let goal = self.task.goal.holds(&next);
+            let consumed = self.nodes.get(parent as usize).map_or(0, |p| {
+                p.consumed
+                    .saturating_add(self.dominance.consumed(&p.state, &next))
+            });
             self.nodes.push(Node {
                 state: next,
+                consumed,
                 parent,
                 action,
             });
@@ -195,6 +222,13 @@ impl Forward {
                 continue; // a dead end: its successors are not filed
             };
             if e.h_ff < self.best_h {
+                tracing::trace!(h_ff = e.h_ff, expanded = self.expanded, "forward search progress");
+                if std::env::var("FWD_DUMP").is_ok() {
+                    let st = &self.nodes[id as usize].state;
+                    let atoms: Vec<&str> = (0..self.task.atoms.len()).filter(|&a| st.has(a as u32)).map(|a| self.task.atoms[a].as_str()).collect();
+                    let plan: Vec<String> = self.plan_to(id).iter().map(|&a| format!("{} {:?}", self.task.actions[a as usize].name, self.task.actions[a as usize].args)).collect();
+                    eprintln!("STATE {:?}\nNUMS {:?} {:?}\nPLAN {:?}\nHELP {:?}", atoms, self.task.nums, st.nums, plan, e.helpful.iter().map(|&a| format!("{} {:?}", self.task.actions[a as usize].name, self.task.actions[a as usize].args)).collect::<Vec<_>>());
+                }
                 self.best_h = e.h_ff;
                 self.boost += BOOST;
             }
