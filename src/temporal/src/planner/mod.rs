@@ -578,28 +578,41 @@ pub fn solve_portfolio(
 /// for about as long as the POCL searches took in the previous round (`time`; their steps and the other
 /// search's are too different in cost to share steps), within `steps`, and returns a plan if it found
 /// one, else the steps it took (the forward search of a PDDL problem, [`forward`]). Only the POCL searches, complete, can end the portfolio without a plan.
+///
+/// Its first slice comes before the root's reachability analysis ([`checked_root`]): a plan it finds
+/// there needs none, and on wide problems (Depots: a POCL search per goal) the analysis alone takes
+/// longer than the forward search's plan.
 pub fn solve_portfolio_with(
     domain: std::sync::Arc<crate::model::Domain>,
     problem: std::sync::Arc<crate::model::Problem>,
     budget: Budget,
     other: &mut dyn FnMut(u64, std::time::Duration) -> Result<Planned, u64>,
 ) -> Result<Planned, PlanFailure> {
+    let mut steps = 0u64;
+    let mut share = FIRST_OTHER_SHARE;
+    let mut other_slice = |steps: &mut u64, share: std::time::Duration| {
+        let left = budget.max_steps.map(|m| m.saturating_sub(*steps));
+        if left == Some(0) || budget.deadline.is_some_and(|d| Instant::now() >= d) {
+            return None;
+        }
+        match other(left.unwrap_or(u64::MAX), share) {
+            Ok(p) => Some(p),
+            Err(used) => {
+                *steps += used;
+                None
+            }
+        }
+    };
+    if let Some(p) = other_slice(&mut steps, share) {
+        return Ok(p);
+    }
     let root = checked_root(domain, problem)?;
     let mut searches = [
         Search::with_order(root.clone(), select::Order::Hierarchy),
         Search::with_order(root, select::Order::StaticChoicesLast),
     ];
     let mut slice = FIRST_SLICE;
-    let mut steps = 0u64;
-    let mut share = FIRST_OTHER_SHARE;
     loop {
-        let left = budget.max_steps.map(|m| m.saturating_sub(steps));
-        if left != Some(0) && budget.deadline.is_none_or(|d| Instant::now() < d) {
-            match other(left.unwrap_or(u64::MAX), share) {
-                Ok(p) => return Ok(p),
-                Err(used) => steps += used,
-            }
-        }
         let round = Instant::now();
         for search in &mut searches {
             let left = budget.max_steps.map(|m| m.saturating_sub(steps));
@@ -622,5 +635,8 @@ pub fn solve_portfolio_with(
         }
         slice = slice.saturating_mul(2);
         share = share.max(round.elapsed());
+        if let Some(p) = other_slice(&mut steps, share) {
+            return Ok(p);
+        }
     }
 }

@@ -4,6 +4,7 @@
 #[macro_use]
 extern crate mavtempo_testkit;
 
+mod forward_plateaus;
 mod lang_domains;
 mod lang_fixtures;
 mod lang_fuzz;

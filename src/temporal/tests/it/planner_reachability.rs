@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use mavtempo_temporal::plan::PartialPlan;
 use mavtempo_temporal::planner::reachability::{unreachable_goals, STEPS_PER_GOAL};
-use mavtempo_temporal::planner::{solve, Budget, PlanFailure};
+use mavtempo_temporal::planner::{solve, solve_portfolio_with, Budget, PlanFailure};
 
 #[test]
 fn a_target_beyond_the_battery_is_refused_at_once_and_named() {
@@ -22,6 +22,26 @@ fn a_target_beyond_the_battery_is_refused_at_once_and_named() {
         }
         other => panic!("expected gfar refused before the search, got {other:?}"),
     }
+}
+
+/// The portfolio's other search (the forward search of a PDDL problem) has its first slice before the
+/// root's reachability analysis — a plan it finds there needs none — and the analysis still refuses what
+/// it refuses when it does not.
+#[test]
+fn the_other_search_has_its_first_slice_before_the_reachability_analysis() {
+    let d = Arc::new(common::rover());
+    let p = Arc::new(common::fig2_with_far_target(&d, 500.0, 1));
+    let mut slices = Vec::new();
+    let out = solve_portfolio_with(d, p, Budget::steps(200_000), &mut |steps, share| {
+        slices.push((steps, share));
+        Err(7)
+    });
+    match out {
+        Err(PlanFailure::Unreachable(u)) => assert_eq!(u.name, "gfar"),
+        other => panic!("expected gfar refused, got {other:?}"),
+    }
+    assert_eq!(slices.len(), 1, "one slice, before gfar was refused");
+    assert_eq!(slices[0].0, 200_000, "the whole step budget is left to it");
 }
 
 #[test]

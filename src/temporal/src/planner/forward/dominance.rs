@@ -81,23 +81,6 @@ impl Dominance {
         }
     }
 
-    /// How much of its resources the step from `before` to `after` consumed, each resource as a share of
-    /// its level before, in thousandths summed: the search's tie-breaker between states of equal
-    /// estimate (what was produced is not counted back: a refuel is no reason to prefer a state).
-    pub fn consumed(&self, before: &State, after: &State) -> u32 {
-        let mut total = 0.0;
-        for (v, o) in self.order.iter().enumerate() {
-            if *o != Order::MoreIsBetter {
-                continue;
-            }
-            let (a, b) = (before.nums[v], after.nums[v]);
-            if a.is_finite() && b.is_finite() && a > 0.0 && b < a {
-                total += (a - b) / a;
-            }
-        }
-        (total * 1000.0).min(f64::from(u32::MAX / 2)) as u32
-    }
-
     /// Whether numeric vector `a` is at least as good as `b` on every variable.
     fn covers(&self, a: &[f64], b: &[f64]) -> bool {
         self.order
@@ -130,5 +113,65 @@ impl Dominance {
             .entry(state.atoms().into())
             .or_default()
             .push(state.nums.clone());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::numeric_tests::{line, tank, ENERGY};
+    use super::super::search::{Forward, ForwardOutcome};
+    use super::*;
+
+    #[test]
+    fn less_energy_with_the_same_atoms_is_dominated_more_is_not() {
+        let t = line(3, 0, 50.0);
+        let mut d = Dominance::new(&t);
+        let s = t.initial_state();
+        assert!(!d.dominated(&s), "nothing recorded yet");
+        d.record(&s);
+        let mut less = s.clone();
+        less.nums[ENERGY as usize] = 42.0;
+        let mut more = s.clone();
+        more.nums[ENERGY as usize] = 58.0;
+        let mut elsewhere = less.clone();
+        elsewhere.set(0, false);
+        elsewhere.set(1, true);
+        assert!(d.dominated(&less));
+        assert!(d.dominated(&s), "equal is covered");
+        assert!(!d.dominated(&more));
+        assert!(!d.dominated(&elsewhere), "other atoms: not comparable");
+    }
+
+    #[test]
+    fn a_variable_read_only_by_an_upper_bound_must_be_equal() {
+        // The tank's level is bounded from below by `spill` too: more is better. Take the bound away and
+        // it is only read by `seal`'s upper bound: values must then be equal to compare.
+        let mut t = tank(5.0, 2.0);
+        t.actions[0].start.pre.num.clear();
+        let mut d = Dominance::new(&t);
+        let s = t.initial_state();
+        d.record(&s);
+        let mut less = s.clone();
+        less.nums[0] = 4.0;
+        assert!(!d.dominated(&less));
+    }
+
+    #[test]
+    fn a_plan_through_dominated_states_is_still_found() {
+        // Every state before the goal has the atoms of the first and less in the tank: all deferred,
+        // and still expanded once nothing else is left.
+        let t = tank(6.0, 2.0);
+        let mut f = Forward::new(t.clone());
+        let ForwardOutcome::Plan(plan) = f.run(1_000) else {
+            panic!("the tank can be drained");
+        };
+        let names: Vec<&str> = plan
+            .iter()
+            .map(|&a| t.actions[a as usize].name.as_str())
+            .collect();
+        assert_eq!(names, ["spill", "spill", "spill", "spill", "seal"]);
+        // Below what it holds minus all it can spill: no plan, and the search says so.
+        let mut f = Forward::new(tank(3.0, -1.0));
+        assert_eq!(f.run(1_000), ForwardOutcome::Exhausted);
     }
 }

@@ -15,6 +15,7 @@
 pub mod deorder;
 pub mod dominance;
 pub mod embed;
+pub mod novelty;
 pub mod relaxed;
 pub mod search;
 pub mod shortfall;
@@ -338,3 +339,6 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+pub(crate) mod numeric_tests;

@@ -340,7 +340,7 @@ impl Relaxed {
         let mut repeats = 0u32;
         // Producers the shortfall adds that are not worth applying in this state: not helpful.
         let mut not_now: Vec<u32> = Vec::new();
-        if self.shortfall.any() && std::env::var("NO_SHORT").is_err() {
+        if self.shortfall.any() {
             let action_cost = |act: u32| {
                 let i = act as usize;
                 (sc.waiting.get(i) == Some(&0)).then(|| sc.sum[i].saturating_add(1))
@@ -372,7 +372,11 @@ impl Relaxed {
                     && !not_now.contains(&act)
             })
             .collect();
-        Some(Estimate { h_add, h_ff, helpful })
+        Some(Estimate {
+            h_add,
+            h_ff,
+            helpful,
+        })
     }
 
     /// Extends relaxed plan `plan` with each open fact's cheapest achiever, and that achiever's

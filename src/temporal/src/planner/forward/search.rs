@@ -1,19 +1,30 @@
 //! Lazy greedy best-first search over the compressed ground problem, guided by h_FF with helpful actions
-//! (Fast Downward's lazy search with preferred operators and its "boosted dual queue"). A state is
+//! (Fast Downward's lazy search with preferred operators and its "boosted dual queue"), with a third open
+//! list ordered by novelty (Lipovetzky & Geffner's best-first width search, [`super::novelty`]). A state is
 //! evaluated only when it is taken from an open list, not when it is generated: its successors enter the
-//! open lists with *its* h_FF, those reached by one of its helpful actions in a second list as well. The
-//! two lists are taken in turn, the helpful one given a run of extra turns each time the best h_FF
-//! improves. On wide problems (hundreds of ground actions, tens applicable in a state) this evaluates one
-//! state per expansion instead of one per successor; the order is only guidance, so every successor of
-//! every evaluated state still enters the plain list and the search stays complete: duplicate states are
-//! detected, dead ends (a goal not even relaxed-reachable) pruned, and [`ForwardOutcome::Exhausted`] is
-//! only answered once the lists are empty. The search is resumable: [`Forward::run`] evaluates at most a
-//! given number of states, so it can be interleaved with the POCL searches.
+//! open lists with *its* h_FF, those reached by one of its helpful actions in a second list as well, and
+//! every one in the third list keyed by its novelty among the successors of states of the same h_FF,
+//! then by that h_FF. The lists are taken in turn, the helpful one given a run of extra turns each time
+//! the best h_FF improves. On wide problems (hundreds of ground actions, tens applicable in a state) this
+//! evaluates one state per expansion instead of one per successor.
+//!
+//! The novelty list is what crosses plateaus: in stacking domains (Depots) h_FF ignores that a hoist
+//! holds one crate at a time, the relaxed plan's actions lead back to states already seen, and the h_FF
+//! lists dig deep into one corner of the plateau (tens of thousands of states on Depots p5, p6, p9); the
+//! successors that make a new atom or pair of atoms true spread the search over the plateau instead
+//! (a few thousand states).
+//!
+//! The order is only guidance, so every successor of every evaluated state still enters the plain list
+//! and the search stays complete: duplicate states are detected, dead ends (a goal not even
+//! relaxed-reachable) pruned, and [`ForwardOutcome::Exhausted`] is only answered once all the lists are
+//! empty. The search is resumable: [`Forward::run`] evaluates at most a given number of states, so it can
+//! be interleaved with the POCL searches.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
 use super::dominance::Dominance;
+use super::novelty::Novelty;
 use super::relaxed::Relaxed;
 use super::{GroundTask, State};
 
@@ -35,14 +46,13 @@ pub enum ForwardOutcome {
 /// An evaluated state and how it was reached.
 struct Node {
     state: State,
-    /// The resources its path consumed ([`Dominance::consumed`], summed along it).
-    consumed: u32,
     parent: u32,
     action: u32,
 }
 
-/// Entries `(h_FF of the parent, insertion number, parent node, action)`: the successor is computed and
-/// evaluated when the entry is taken.
+/// Entries `(first key, second key, insertion number, parent node, action)`: the successor is computed
+/// and evaluated when the entry is taken. The keys are (h_FF of the parent, 0) in the h_FF lists and
+/// (novelty, h_FF of the parent) in the novelty list.
 type Open = BinaryHeap<Reverse<(u32, u32, u32, u32, u32)>>;
 
 /// A resumable lazy greedy best-first search.
@@ -54,14 +64,17 @@ pub struct Forward {
     seen: HashMap<State, u32>,
     open: Open,
     helpful: Open,
-    /// Entries whose state is dominated by one evaluated before ([`Dominance`]), taken only when both
-    /// lists are empty, first filed first.
+    novel: Open,
+    novelty: Novelty,
+    /// Entries whose state is dominated by one evaluated before ([`Dominance`]), taken only when the
+    /// other lists are empty, first filed first.
     deferred: std::collections::VecDeque<(u32, u32)>,
     dominance: Dominance,
     counter: u32,
     best_h: u32,
     boost: u32,
-    turn: bool,
+    /// Which list's turn it is: 0 helpful, 1 plain (helpful while boosted), 2 novelty.
+    turn: u8,
     expanded: u64,
     done: Option<ForwardOutcome>,
 }
@@ -77,12 +90,14 @@ impl Forward {
             seen: HashMap::new(),
             open: BinaryHeap::new(),
             helpful: BinaryHeap::new(),
+            novel: BinaryHeap::new(),
+            novelty: Novelty::new(task.atoms.len()),
             deferred: Default::default(),
             dominance: Dominance::new(&task),
             counter: 0,
             best_h: u32::MAX,
             boost: 0,
-            turn: false,
+            turn: 0,
             expanded: 0,
             done: None,
             task,
@@ -99,7 +114,6 @@ impl Forward {
                 f.dominance.record(&init);
                 f.nodes.push(Node {
                     state: init,
-                    consumed: 0,
                     parent: u32::MAX,
                     action: u32::MAX,
                 });
@@ -134,21 +148,28 @@ impl Forward {
 
     /// The next entry, and whether it comes from the deferred list.
     fn pop(&mut self) -> Option<(u32, u32, bool)> {
-        let prefer_helpful = self.boost > 0 || self.turn;
-        self.turn = !self.turn;
-        let first = if prefer_helpful {
-            self.boost = self.boost.saturating_sub(1);
-            self.helpful.pop().or_else(|| self.open.pop())
-        } else {
-            self.open.pop().or_else(|| self.helpful.pop())
+        let turn = self.turn;
+        self.turn = (self.turn + 1) % 3;
+        let boosted = self.boost > 0;
+        let first = match turn {
+            2 => self.novel.pop(),
+            0 => self.helpful.pop(),
+            _ if boosted => self.helpful.pop(),
+            _ => self.open.pop(),
         };
+        if turn != 2 && (turn == 0 || boosted) {
+            self.boost = self.boost.saturating_sub(1);
+        }
         first
+            .or_else(|| self.open.pop())
+            .or_else(|| self.helpful.pop())
+            .or_else(|| self.novel.pop())
             .map(|Reverse((_, _, _, parent, action))| (parent, action, false))
             .or_else(|| self.deferred.pop_front().map(|(p, a)| (p, a, true)))
     }
 
     /// Files the successors of node `n` (h_FF `h`, helpful actions `helpful`, sorted) in the open lists:
-    /// every applicable action not leading to a state already seen, unevaluated.
+    /// every applicable action not leading to a state already seen, unevaluated (its novelty measured).
     fn expand(&mut self, n: u32, h: u32, helpful: &[u32]) {
         let Some(node) = self.nodes.get(n as usize) else {
             return;
@@ -161,14 +182,15 @@ impl Forward {
                 continue;
             }
             self.counter += 1;
-            let consumed = node
-                .consumed
-                .saturating_add(self.dominance.consumed(&node.state, &next));
-            let entry = Reverse((h, consumed, self.counter, n, i as u32));
+            let entry = Reverse((h, 0, self.counter, n, i as u32));
             if helpful.binary_search(&(i as u32)).is_ok() {
                 self.helpful.push(entry);
             }
             self.open.push(entry);
+            let act = &self.task.actions[i];
+            let added: Vec<u32> = act.start.add.iter().chain(&act.end.add).copied().collect();
+            let w = self.novelty.measure(h, &next, &added);
+            self.novel.push(Reverse((w, h, self.counter, n, i as u32)));
         }
     }
 
@@ -193,7 +215,7 @@ impl Forward {
             if self.seen.contains_key(&next) {
                 continue; // reached since the entry was filed, or filed in both lists
             }
-            if !was_deferred && std::env::var("NO_DOM").is_err() && self.dominance.dominated(&next) {
+            if !was_deferred && self.dominance.dominated(&next) {
                 self.deferred.push_back((parent, action));
                 continue;
             }
@@ -203,13 +225,8 @@ impl Forward {
             budget -= 1;
             self.expanded += 1;
             let goal = self.task.goal.holds(&next);
-            let consumed = self.nodes.get(parent as usize).map_or(0, |p| {
-                p.consumed
-                    .saturating_add(self.dominance.consumed(&p.state, &next))
-            });
             self.nodes.push(Node {
                 state: next,
-                consumed,
                 parent,
                 action,
             });
@@ -222,13 +239,11 @@ impl Forward {
                 continue; // a dead end: its successors are not filed
             };
             if e.h_ff < self.best_h {
-                tracing::trace!(h_ff = e.h_ff, expanded = self.expanded, "forward search progress");
-                if std::env::var("FWD_DUMP").is_ok() {
-                    let st = &self.nodes[id as usize].state;
-                    let atoms: Vec<&str> = (0..self.task.atoms.len()).filter(|&a| st.has(a as u32)).map(|a| self.task.atoms[a].as_str()).collect();
-                    let plan: Vec<String> = self.plan_to(id).iter().map(|&a| format!("{} {:?}", self.task.actions[a as usize].name, self.task.actions[a as usize].args)).collect();
-                    eprintln!("STATE {:?}\nNUMS {:?} {:?}\nPLAN {:?}\nHELP {:?}", atoms, self.task.nums, st.nums, plan, e.helpful.iter().map(|&a| format!("{} {:?}", self.task.actions[a as usize].name, self.task.actions[a as usize].args)).collect::<Vec<_>>());
-                }
+                tracing::trace!(
+                    h_ff = e.h_ff,
+                    expanded = self.expanded,
+                    "forward search progress"
+                );
                 self.best_h = e.h_ff;
                 self.boost += BOOST;
             }
@@ -239,8 +254,11 @@ impl Forward {
 }
 
 /// The actions that may apply in a state, found without testing every action (Fast Downward's
-/// successor generator, in its simplest form): each action is filed under one atom its start requires,
-/// and only the actions filed under true atoms (and those that require none) are tested.
+/// successor generator, in its simplest form): each action is filed under one atom that must be true
+/// before it, and only the actions filed under true atoms (and those that require none) are tested. That
+/// atom is one its start requires or else one its `over all` or `at end` conditions require and its start
+/// does not add (checked after the start, which does not add it, it must already hold before): actions
+/// with all their conditions `over all`, as Depots' drop and load, are not tested in every state.
 struct Successors {
     by_atom: Vec<Vec<usize>>,
     always: Vec<usize>,
@@ -251,7 +269,14 @@ impl Successors {
         let mut by_atom = vec![Vec::new(); task.atoms.len()];
         let mut always = Vec::new();
         for (i, a) in task.actions.iter().enumerate() {
-            match a.start.pre.pos.first() {
+            let later = a.over_all.pos.iter().chain(&a.end.pre.pos);
+            let before = a
+                .start
+                .pre
+                .pos
+                .first()
+                .or_else(|| later.into_iter().find(|x| !a.start.add.contains(x)));
+            match before {
                 Some(&x) if (x as usize) < by_atom.len() => by_atom[x as usize].push(i),
                 _ => always.push(i),
             }
@@ -270,5 +295,132 @@ impl Successors {
         }
         out.sort_unstable();
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Cond, GroundAction, Happening};
+    use super::*;
+
+    /// Blocksworld with one arm, `n` blocks, as a ground task (each action one instantaneous start):
+    /// atoms on(a, b) = a·n + b, ontable(a), clear(a), holding(a), handempty.
+    struct Blocks {
+        n: u32,
+    }
+
+    impl Blocks {
+        fn on(&self, a: u32, b: u32) -> u32 {
+            a * self.n + b
+        }
+        fn ontable(&self, a: u32) -> u32 {
+            self.n * self.n + a
+        }
+        fn clear(&self, a: u32) -> u32 {
+            self.n * self.n + self.n + a
+        }
+        fn holding(&self, a: u32) -> u32 {
+            self.n * self.n + 2 * self.n + a
+        }
+        fn handempty(&self) -> u32 {
+            self.n * self.n + 3 * self.n
+        }
+
+        fn action(name: &str, pre: Vec<u32>, add: Vec<u32>, del: Vec<u32>) -> GroundAction {
+            GroundAction {
+                name: name.into(),
+                args: Vec::new(),
+                start: Happening {
+                    pre: Cond {
+                        pos: pre,
+                        ..Cond::default()
+                    },
+                    add,
+                    del,
+                    num: Vec::new(),
+                },
+                over_all: Cond::default(),
+                end: Happening::default(),
+                duration: None,
+            }
+        }
+
+        /// Towers as lists of blocks, bottom first.
+        fn atoms_of(&self, towers: &[Vec<u32>]) -> Vec<u32> {
+            let mut out = vec![self.handempty()];
+            for t in towers {
+                out.push(self.ontable(t[0]));
+                out.extend(t.windows(2).map(|w| self.on(w[1], w[0])));
+                out.push(self.clear(t[t.len() - 1]));
+            }
+            out
+        }
+
+        fn task(&self, init: &[Vec<u32>], goal: &[Vec<u32>]) -> GroundTask {
+            let n = self.n;
+            let mut actions = Vec::new();
+            for a in 0..n {
+                let (h, c, t, e) = (
+                    self.holding(a),
+                    self.clear(a),
+                    self.ontable(a),
+                    self.handempty(),
+                );
+                actions.push(Self::action(
+                    "pickup",
+                    vec![c, t, e],
+                    vec![h],
+                    vec![c, t, e],
+                ));
+                actions.push(Self::action("putdown", vec![h], vec![c, t, e], vec![h]));
+                for b in (0..n).filter(|&b| b != a) {
+                    let (on, cb) = (self.on(a, b), self.clear(b));
+                    actions.push(Self::action(
+                        "stack",
+                        vec![h, cb],
+                        vec![on, c, e],
+                        vec![h, cb],
+                    ));
+                    actions.push(Self::action(
+                        "unstack",
+                        vec![on, c, e],
+                        vec![h, cb],
+                        vec![on, c, e],
+                    ));
+                }
+            }
+            // The goal: every `on` and `ontable` of the goal towers (clear and handempty left free).
+            let goal = self
+                .atoms_of(goal)
+                .into_iter()
+                .filter(|&x| x < n * n + n)
+                .collect();
+            GroundTask {
+                atoms: (0..=self.handempty()).map(|i| i.to_string()).collect(),
+                init: self.atoms_of(init),
+                goal: Cond {
+                    pos: goal,
+                    ..Cond::default()
+                },
+                actions,
+                ..GroundTask::default()
+            }
+        }
+    }
+
+    /// The novelty list only reorders: with a goal no sequence reaches (a block on itself is never an
+    /// atom any action adds), every reachable state is expanded and the answer is Exhausted.
+    #[test]
+    fn an_unreachable_goal_is_exhausted_not_paused() {
+        let b = Blocks { n: 3 };
+        let mut task = b.task(&[vec![0, 1, 2]], &[vec![2, 1, 0]]);
+        // Reachable in the relaxation (so not pruned as a dead end at once) but not really: holding two
+        // blocks at once.
+        task.goal.pos = vec![b.holding(0), b.holding(1)];
+        let mut f = Forward::new(task);
+        assert_eq!(f.run(100_000), ForwardOutcome::Exhausted);
+        // The 3-block state space: 22 states (13 arrangements with the arm empty, 9 with a block in
+        // hand), each evaluated once but the initial one, which no expansion counts.
+        assert_eq!(f.expanded(), 21);
     }
 }

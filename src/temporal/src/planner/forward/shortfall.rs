@@ -142,7 +142,8 @@ impl Shortfall {
         }
         let mut out = Vec::new();
         for (v, &b) in balance.iter().enumerate() {
-            if !self.resource[v] || !(b < 0.0) {
+            // NaN (an undefined level) is no shortfall.
+            if !self.resource[v] || b.is_nan() || b >= 0.0 {
                 continue;
             }
             // A producer's yield where the resource is spent: what a recharge to full gives is then
@@ -174,4 +175,71 @@ impl Shortfall {
 
 fn num_effects(a: &GroundAction) -> impl Iterator<Item = &NumEffect> {
     a.start.num.iter().chain(&a.end.num)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::numeric_tests::{line, ENERGY};
+    use super::super::relaxed::Relaxed;
+    use super::*;
+
+    fn names(t: &GroundTask, acts: &[u32]) -> Vec<String> {
+        acts.iter()
+            .map(|&a| t.actions[a as usize].name.clone())
+            .collect()
+    }
+
+    #[test]
+    fn energy_is_a_resource_and_the_recharge_its_producer() {
+        let t = line(4, 0, 50.0);
+        let s = Shortfall::new(&t);
+        assert!(s.any());
+        let recharge = t.actions.len() as u32 - 1;
+        assert_eq!(s.producers[ENERGY as usize], vec![recharge]);
+    }
+
+    #[test]
+    fn a_relaxed_plan_that_spends_more_than_the_rover_has_counts_a_recharge() {
+        // Three moves (24) from waypoint 0, the sun there: with 50 nothing is short; with 10 one
+        // recharge (a whole fill of 80) covers the 14 missing, and applying it now is worth it.
+        let t = line(4, 0, 50.0);
+        let mut r = Relaxed::new(&t);
+        let plenty = r.estimate(&t.initial_state()).expect("reachable");
+        assert_eq!(plenty.h_ff, 3);
+        assert_eq!(names(&t, &plenty.helpful), vec!["move-0-1"]);
+        let mut low = t.initial_state();
+        low.nums[ENERGY as usize] = 10.0;
+        let short = r.estimate(&low).expect("reachable");
+        assert_eq!(short.h_ff, 4, "three moves and a recharge");
+        assert!(names(&t, &short.helpful).contains(&"recharge-0".to_string()));
+    }
+
+    #[test]
+    fn a_recharge_that_would_only_top_up_is_counted_but_not_helpful() {
+        // 78 of 80 and nine moves (72) to go from waypoint 0: nothing short. With a tenth waypoint
+        // farther (9 moves = 72 plus 8): still enough. Make it 11 moves (88): 10 short, and a recharge
+        // now gives 2, under half of the 10: counted, not helpful.
+        let t = line(12, 0, 78.0);
+        let mut r = Relaxed::new(&t);
+        let e = r.estimate(&t.initial_state()).expect("reachable");
+        assert_eq!(e.h_ff, 12, "eleven moves and one recharge");
+        assert_eq!(names(&t, &e.helpful), vec!["move-0-1"]);
+        // Far from full, the same recharge is worth it.
+        let mut low = t.initial_state();
+        low.nums[ENERGY as usize] = 20.0;
+        let e = r.estimate(&low).expect("reachable");
+        assert!(names(&t, &e.helpful).contains(&"recharge-0".to_string()));
+    }
+
+    #[test]
+    fn without_a_reachable_producer_nothing_is_added() {
+        // The sun at the far end: the recharge needs the moves it would pay for. The cover still
+        // names it (its conditions are relaxed-reachable), and the estimate stays finite.
+        let t = line(4, 3, 10.0);
+        let mut r = Relaxed::new(&t);
+        let e = r.estimate(&t.initial_state());
+        assert!(e.is_some());
+        let s = Shortfall::new(&t);
+        assert!(s.cover(&[], &t.initial_state(), |_| None).is_empty());
+    }
 }
