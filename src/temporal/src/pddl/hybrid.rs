@@ -76,6 +76,13 @@ impl<'a> Hybrid<'a> {
             return Err(used);
         };
         tracing::debug!(actions = seq.len(), "sequential plan found");
+        if tracing::enabled!(tracing::Level::TRACE) {
+            for &i in &seq {
+                if let Some(a) = forward.task().actions.get(i as usize) {
+                    tracing::trace!("({} {})", a.name, a.args.join(" "));
+                }
+            }
+        }
         let t = &self.loaded.translated;
         let max_steps = COMPLETION_STEPS_PER_ACTION * (seq.len() as u64 + 10);
         let embedded = embed(

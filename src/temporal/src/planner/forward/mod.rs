@@ -13,10 +13,12 @@
 //! happening (`?duration` the action's duration, evaluated in the state at its start).
 
 pub mod deorder;
+pub mod dominance;
 pub mod embed;
 pub mod novelty;
 pub mod relaxed;
 pub mod search;
+pub mod shortfall;
 
 pub use embed::{embed, EmbedError};
 pub use search::{Forward, ForwardOutcome};
@@ -73,6 +75,23 @@ pub struct NumCond {
     pub cmp: Cmp,
     pub lhs: NumExpr,
     pub rhs: NumExpr,
+}
+
+impl NumCond {
+    /// The variable it bounds from below, when it is `v >= e` or `v > e` (or `e <= v`, `e < v`) with
+    /// `e` reading no variable.
+    pub fn lower_bound(&self) -> Option<u32> {
+        let constant = |e: &NumExpr| {
+            let mut vars = Vec::new();
+            e.vars(&mut vars);
+            vars.is_empty()
+        };
+        match (&self.lhs, &self.rhs, self.cmp) {
+            (NumExpr::Var(v), r, Cmp::Ge | Cmp::Gt) if constant(r) => Some(*v),
+            (l, NumExpr::Var(v), Cmp::Le | Cmp::Lt) if constant(l) => Some(*v),
+            _ => None,
+        }
+    }
 }
 
 /// `(op var expr)`: `increase`, `decrease`, `assign`, `scale-up`, `scale-down`.
@@ -297,6 +316,11 @@ impl State {
         }
     }
 
+    /// Its true atoms, as bits (states with the same atoms have the same bits).
+    pub fn atoms(&self) -> &[u64] {
+        &self.bits
+    }
+
     pub fn has(&self, a: AtomId) -> bool {
         let i = a as usize;
         self.bits
@@ -315,3 +339,6 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+pub(crate) mod numeric_tests;

@@ -14,6 +14,7 @@
 //! achievers and their conditions are counted like any other's, so a rover short of energy is estimated
 //! to need a recharge; a condition no achiever reaches is a dead end, soundly (nothing else changes it).
 
+use super::shortfall::Shortfall;
 use super::{AtomId, GroundTask, NumCond, NumExpr, State};
 use crate::pddl::ast::{Cmp, NumOp};
 
@@ -74,6 +75,8 @@ pub struct Relaxed {
     n_facts: usize,
     n_atoms: usize,
     conds: Vec<NumCond>,
+    /// The resources the relaxed plan may run short of.
+    shortfall: Shortfall,
 }
 
 /// Which way a numeric condition needs its variable to move, or an action may move one.
@@ -224,6 +227,7 @@ impl Relaxed {
             n_facts,
             n_atoms,
             conds,
+            shortfall: Shortfall::new(task),
         }
     }
 
@@ -295,7 +299,8 @@ impl Relaxed {
                 }
                 if self.goal.binary_search(&a).is_ok() && c > 0 {
                     goals_left -= 1;
-                    if goals_left == 0 {
+                    // With resources, the producers that cover a shortfall need their costs too.
+                    if goals_left == 0 && !self.shortfall.any() {
                         break 'settle;
                     }
                 }
@@ -310,48 +315,52 @@ impl Relaxed {
             }
             level += 1;
         }
-        let out = self.extract(&mut sc);
+        let out = self.extract(&mut sc, state);
         self.scratch = sc;
         out
     }
 
-    /// h_add from the costs in `sc`, and the relaxed plan extracted from its supporters.
-    fn extract(&self, sc: &mut Scratch) -> Option<Estimate> {
-        let Scratch {
-            cost,
-            supporter,
-            in_plan,
-            marked,
-            ..
-        } = sc;
+    /// h_add from the costs in `sc`, and the relaxed plan extracted from its supporters, with the
+    /// producers that cover its resource shortfall in `state` ([`Shortfall`]).
+    fn extract(&self, sc: &mut Scratch, state: &State) -> Option<Estimate> {
         let mut h_add = 0u32;
         for &g in &self.goal {
-            match cost[g as usize] {
+            match sc.cost[g as usize] {
                 UNREACHED => return None,
                 c => h_add = h_add.saturating_add(c),
             }
         }
-        // The relaxed plan: each open atom's cheapest achiever, and that achiever's conditions in turn.
-        in_plan.clear();
-        in_plan.resize(self.pre.len(), false);
-        marked.clear();
-        marked.resize(self.n_facts, false);
+        sc.in_plan.clear();
+        sc.in_plan.resize(self.pre.len(), false);
+        sc.marked.clear();
+        sc.marked.resize(self.n_facts, false);
         let mut plan: Vec<u32> = Vec::new();
-        let mut stack: Vec<AtomId> = self.goal.clone();
-        while let Some(a) = stack.pop() {
-            let i = a as usize;
-            if marked[i] || cost[i] == 0 {
-                continue;
+        self.support(sc, self.goal.clone(), &mut plan);
+        // Applications of a producer beyond the one the plan holds.
+        let mut repeats = 0u32;
+        // Producers the shortfall adds that are not worth applying in this state: not helpful.
+        let mut not_now: Vec<u32> = Vec::new();
+        if self.shortfall.any() {
+            let action_cost = |act: u32| {
+                let i = act as usize;
+                (sc.waiting.get(i) == Some(&0)).then(|| sc.sum[i].saturating_add(1))
+            };
+            for added in self.shortfall.cover(&plan, state, action_cost) {
+                let act = added.action as usize;
+                if sc.in_plan[act] {
+                    repeats = repeats.saturating_add(added.times);
+                } else {
+                    if !added.worth_now {
+                        not_now.push(added.action);
+                    }
+                    repeats = repeats.saturating_add(added.times - 1);
+                    sc.in_plan[act] = true;
+                    plan.push(added.action);
+                    self.support(sc, self.pre[act].clone(), &mut plan);
+                }
             }
-            marked[i] = true;
-            let act = supporter[i];
-            if act == NO_ACTION || in_plan[act as usize] {
-                continue;
-            }
-            in_plan[act as usize] = true;
-            plan.push(act);
-            stack.extend(&self.pre[act as usize]);
         }
+        let h_ff = (plan.len() as u32).saturating_add(repeats);
         plan.sort_unstable();
         let helpful = plan
             .iter()
@@ -359,14 +368,34 @@ impl Relaxed {
             .filter(|&act| {
                 self.pre[act as usize]
                     .iter()
-                    .all(|&p| cost[p as usize] == 0)
+                    .all(|&p| sc.cost[p as usize] == 0)
+                    && !not_now.contains(&act)
             })
             .collect();
         Some(Estimate {
             h_add,
-            h_ff: plan.len() as u32,
+            h_ff,
             helpful,
         })
+    }
+
+    /// Extends relaxed plan `plan` with each open fact's cheapest achiever, and that achiever's
+    /// conditions in turn, from `stack`.
+    fn support(&self, sc: &mut Scratch, mut stack: Vec<AtomId>, plan: &mut Vec<u32>) {
+        while let Some(a) = stack.pop() {
+            let i = a as usize;
+            if sc.marked[i] || sc.cost[i] == 0 {
+                continue;
+            }
+            sc.marked[i] = true;
+            let act = sc.supporter[i];
+            if act == NO_ACTION || sc.in_plan[act as usize] {
+                continue;
+            }
+            sc.in_plan[act as usize] = true;
+            plan.push(act);
+            stack.extend(&self.pre[act as usize]);
+        }
     }
 }
 

@@ -23,6 +23,7 @@
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
+use super::dominance::Dominance;
 use super::novelty::Novelty;
 use super::relaxed::Relaxed;
 use super::{GroundTask, State};
@@ -65,6 +66,10 @@ pub struct Forward {
     helpful: Open,
     novel: Open,
     novelty: Novelty,
+    /// Entries whose state is dominated by one evaluated before ([`Dominance`]), taken only when the
+    /// other lists are empty, first filed first.
+    deferred: std::collections::VecDeque<(u32, u32)>,
+    dominance: Dominance,
     counter: u32,
     best_h: u32,
     boost: u32,
@@ -87,6 +92,8 @@ impl Forward {
             helpful: BinaryHeap::new(),
             novel: BinaryHeap::new(),
             novelty: Novelty::new(task.atoms.len()),
+            deferred: Default::default(),
+            dominance: Dominance::new(&task),
             counter: 0,
             best_h: u32::MAX,
             boost: 0,
@@ -104,6 +111,7 @@ impl Forward {
             Some(e) => {
                 f.best_h = e.h_ff;
                 f.seen.insert(init.clone(), 0);
+                f.dominance.record(&init);
                 f.nodes.push(Node {
                     state: init,
                     parent: u32::MAX,
@@ -138,7 +146,8 @@ impl Forward {
         out
     }
 
-    fn pop(&mut self) -> Option<(u32, u32)> {
+    /// The next entry, and whether it comes from the deferred list.
+    fn pop(&mut self) -> Option<(u32, u32, bool)> {
         let turn = self.turn;
         self.turn = (self.turn + 1) % 3;
         let boosted = self.boost > 0;
@@ -155,7 +164,8 @@ impl Forward {
             .or_else(|| self.open.pop())
             .or_else(|| self.helpful.pop())
             .or_else(|| self.novel.pop())
-            .map(|Reverse((_, _, _, parent, action))| (parent, action))
+            .map(|Reverse((_, _, _, parent, action))| (parent, action, false))
+            .or_else(|| self.deferred.pop_front().map(|(p, a)| (p, a, true)))
     }
 
     /// Files the successors of node `n` (h_FF `h`, helpful actions `helpful`, sorted) in the open lists:
@@ -191,7 +201,7 @@ impl Forward {
         }
         let mut budget = max_expansions;
         while budget > 0 {
-            let Some((parent, action)) = self.pop() else {
+            let Some((parent, action, was_deferred)) = self.pop() else {
                 self.done = Some(ForwardOutcome::Exhausted);
                 return ForwardOutcome::Exhausted;
             };
@@ -205,6 +215,11 @@ impl Forward {
             if self.seen.contains_key(&next) {
                 continue; // reached since the entry was filed, or filed in both lists
             }
+            if !was_deferred && self.dominance.dominated(&next) {
+                self.deferred.push_back((parent, action));
+                continue;
+            }
+            self.dominance.record(&next);
             let id = self.nodes.len() as u32;
             self.seen.insert(next.clone(), id);
             budget -= 1;
@@ -224,6 +239,11 @@ impl Forward {
                 continue; // a dead end: its successors are not filed
             };
             if e.h_ff < self.best_h {
+                tracing::trace!(
+                    h_ff = e.h_ff,
+                    expanded = self.expanded,
+                    "forward search progress"
+                );
                 self.best_h = e.h_ff;
                 self.boost += BOOST;
             }
