@@ -118,8 +118,8 @@ impl Dominance {
 
 #[cfg(test)]
 mod tests {
-    use super::super::numeric_tests::{line, tank, ENERGY};
     use super::super::search::{Forward, ForwardOutcome};
+    use super::super::test_tasks::{line, tank, ENERGY};
     use super::*;
 
     #[test]

@@ -341,4 +341,4 @@ impl State {
 }
 
 #[cfg(test)]
-pub(crate) mod numeric_tests;
+pub(crate) mod test_tasks;

@@ -401,7 +401,7 @@ impl Relaxed {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Cond, GroundAction, Happening};
+    use super::super::{Cond, GroundAction};
     use super::*;
 
     fn action(
@@ -410,24 +410,15 @@ mod tests {
         start_add: &[AtomId],
         end_add: &[AtomId],
     ) -> GroundAction {
-        GroundAction {
-            name: name.into(),
-            args: Vec::new(),
-            start: Happening {
-                pre: Cond {
-                    pos: pre.to_vec(),
-                    ..Cond::default()
-                },
-                add: start_add.to_vec(),
-                ..Happening::default()
-            },
-            over_all: Cond::default(),
-            end: Happening {
-                add: end_add.to_vec(),
-                ..Happening::default()
-            },
-            duration: None,
-        }
+        let mut a = super::super::test_tasks::action(
+            name,
+            pre.to_vec(),
+            Vec::new(),
+            start_add.to_vec(),
+            Vec::new(),
+        );
+        a.end.add = end_add.to_vec();
+        a
     }
 
     /// Atoms a=0, b=1, g=2, c=3 (never reached). `get-a`: ∅ → a (cost 1); `a-to-b`: a → b (1 + 1 = 2);

@@ -300,7 +300,7 @@ impl Successors {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Cond, GroundAction, Happening};
+    use super::super::{Cond, GroundAction};
     use super::*;
 
     /// Blocksworld with one arm, `n` blocks, as a ground task (each action one instantaneous start):
@@ -327,22 +327,7 @@ mod tests {
         }
 
         fn action(name: &str, pre: Vec<u32>, add: Vec<u32>, del: Vec<u32>) -> GroundAction {
-            GroundAction {
-                name: name.into(),
-                args: Vec::new(),
-                start: Happening {
-                    pre: Cond {
-                        pos: pre,
-                        ..Cond::default()
-                    },
-                    add,
-                    del,
-                    num: Vec::new(),
-                },
-                over_all: Cond::default(),
-                end: Happening::default(),
-                duration: None,
-            }
+            super::super::test_tasks::action(name, pre, Vec::new(), add, del)
         }
 
         /// Towers as lists of blocks, bottom first.

@@ -179,8 +179,8 @@ fn num_effects(a: &GroundAction) -> impl Iterator<Item = &NumEffect> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::numeric_tests::{line, ENERGY};
     use super::super::relaxed::Relaxed;
+    use super::super::test_tasks::{line, ENERGY};
     use super::*;
 
     fn names(t: &GroundTask, acts: &[u32]) -> Vec<String> {

@@ -1,5 +1,5 @@
-//! Small numeric ground tasks for the forward search's tests: a rover on a line of waypoints that spends
-//! energy to move and recharges to full in the sun, and a tank that must be drained below a level.
+//! Ground tasks for the forward search's tests: one-happening actions, a rover on a line of waypoints
+//! that spends energy to move and recharges to full in the sun, and a tank drained below a level.
 
 use super::{Cond, GroundAction, GroundTask, Happening, NumCond, NumEffect, NumExpr};
 use crate::pddl::ast::{Cmp, NumOp};
@@ -19,7 +19,8 @@ fn ge(var: u32, v: f64) -> NumCond {
     }
 }
 
-fn action(
+/// An action of one happening: its start needs `pos` and `num`, adds `add` and deletes `del`.
+pub fn action(
     name: &str,
     pos: Vec<u32>,
     num: Vec<NumCond>,
