@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use super::ground::ground;
 use super::Loaded;
-use crate::planner::forward::{embed, Forward, ForwardOutcome};
+use crate::planner::forward::{embed, ForwardOutcome, Restarting};
 use crate::planner::Planned;
 
 /// Expansions between two looks at the clock.
@@ -22,7 +22,7 @@ const COMPLETION_STEPS_PER_ACTION: u64 = 60;
 /// The forward search's state between slices.
 pub struct Hybrid<'a> {
     loaded: &'a Loaded,
-    forward: Option<Forward>,
+    forward: Option<Restarting>,
     deadline: Option<Instant>,
     /// Why it stepped aside, for the log.
     pub aside: Option<String>,
@@ -38,7 +38,7 @@ impl<'a> Hybrid<'a> {
                     atoms = task.atoms.len(),
                     "grounded"
                 );
-                (Some(Forward::new(task)), None)
+                (Some(Restarting::new(task)), None)
             }
             Err(e) => (None, Some(format!("not grounded: {e}"))),
         };

@@ -17,10 +17,12 @@ pub mod dominance;
 pub mod embed;
 pub mod novelty;
 pub mod relaxed;
+pub mod restarts;
 pub mod search;
 pub mod shortfall;
 
 pub use embed::{embed, EmbedError};
+pub use restarts::Restarting;
 pub use search::{Forward, ForwardOutcome};
 
 use crate::pddl::ast::{arithmetic, Cmp, NumOp};

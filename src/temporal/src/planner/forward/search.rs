@@ -71,6 +71,9 @@ pub struct Forward {
     deferred: std::collections::VecDeque<(u32, u32)>,
     dominance: Dominance,
     counter: u32,
+    /// Ties between equal keys broken by a seeded shuffle of the insertion order, not first in first
+    /// out ([`super::restarts`]).
+    seed: Option<u64>,
     best_h: u32,
     boost: u32,
     /// Which list's turn it is: 0 helpful, 1 plain (helpful while boosted), 2 novelty.
@@ -81,6 +84,11 @@ pub struct Forward {
 
 impl Forward {
     pub fn new(task: GroundTask) -> Self {
+        Self::seeded(task, None)
+    }
+
+    /// A search whose ties are broken by a shuffle seeded by `seed` (`None`: first in, first out).
+    pub fn seeded(task: GroundTask, seed: Option<u64>) -> Self {
         let relaxed = Relaxed::new(&task);
         let init = task.initial_state();
         let mut f = Forward {
@@ -95,6 +103,7 @@ impl Forward {
             deferred: Default::default(),
             dominance: Dominance::new(&task),
             counter: 0,
+            seed,
             best_h: u32::MAX,
             boost: 0,
             turn: 0,
@@ -182,7 +191,7 @@ impl Forward {
                 continue;
             }
             self.counter += 1;
-            let entry = Reverse((h, 0, self.counter, n, i as u32));
+            let entry = Reverse((h, self.tie(), self.counter, n, i as u32));
             if helpful.binary_search(&(i as u32)).is_ok() {
                 self.helpful.push(entry);
             }
@@ -192,6 +201,18 @@ impl Forward {
             let w = self.novelty.measure(h, &next, &added);
             self.novel.push(Reverse((w, h, self.counter, n, i as u32)));
         }
+    }
+
+    /// The second key of the h_FF lists: 0 (first in, first out), or the insertion number shuffled by
+    /// the seed (splitmix64).
+    fn tie(&self) -> u32 {
+        let Some(seed) = self.seed else {
+            return 0;
+        };
+        let mut z = u64::from(self.counter) ^ seed.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        (z >> 32) as u32
     }
 
     /// Evaluates at most `max_expansions` states.
