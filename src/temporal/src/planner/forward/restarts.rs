@@ -63,7 +63,8 @@ impl Restarting {
             let left = max_expansions - (self.expanded() - start);
             let step = CHUNK.min(left);
             self.turn += 1;
-            let trial_turn = self.main.expanded() >= WARM_UP && self.turn.is_multiple_of(TRIAL_SHARE);
+            let trial_turn =
+                self.main.expanded() >= WARM_UP && self.turn.is_multiple_of(TRIAL_SHARE);
             let out = if trial_turn {
                 self.trial_run(step)
             } else {
